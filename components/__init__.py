@@ -1,0 +1,12 @@
+"""The component catalogue: every FMU musclesim builds, by name, with the slave class behind it.
+
+Each subsystem folder holds pure physics cores (no FMI), thin FMU slaves (`slaves.py`) and a
+README with the equations and the SPEC.md sections they come from.
+"""
+
+# component name -> "module:class" of its FMU slave (the FMU file is fmus/<name>.fmu)
+CATALOGUE = {
+    "CrawlerBody": "musclesim.components.crawler.slaves:CrawlerBody",
+    "FrictionBlock": "musclesim.components.crawler.slaves:FrictionBlock",
+    "FrictionSwitchingInputs": "musclesim.components.crawler.slaves:FrictionSwitchingInputs",
+}

@@ -1,0 +1,80 @@
+"""Stick-slip friction of a crawler block (SPEC 1.3, Karnopp style) with switchable coefficients.
+
+The indicator u in [0, 1] selects low (casing on the ground, 0) or high (inflated silicone, 1)
+friction. With a switching time t_switch > 0 the contact state s follows u at a finite rate instead
+of jumping (a candidate unmodelled effect; SPEC 1.1 says switching takes up to 0.4 s).
+"""
+import math
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class FrictionParams:
+    """Friction coefficients and numerics (defaults: SPEC 1.3)."""
+
+    mu_s_high: float = 1.0  # inflated silicone, static (SPEC 1.3)
+    mu_k_high: float = 0.75  # inflated silicone, kinetic = 0.75 mu_s (SPEC 1.3)
+    mu_s_low: float = 0.13  # ABS casing, static (SPEC 1.3)
+    mu_k_low: float = 0.0975  # ABS casing, kinetic = 0.75 mu_s (SPEC 1.3)
+    v_s: float = 1e-3  # m/s, stick velocity band (SPEC 1.3)
+    t_switch: float = 0.0  # s, low<->high transition time; 0 = the study's square switching
+
+    def check(self):
+        """Raise ValueError naming the first parameter outside its valid range."""
+        for name in ("mu_s_high", "mu_k_high", "mu_s_low", "mu_k_low", "t_switch"):
+            if not getattr(self, name) >= 0:
+                raise ValueError(f"{name} must be non-negative (got {getattr(self, name)!r})")
+        if not self.v_s > 0:
+            raise ValueError(f"v_s must be positive (got {self.v_s!r})")
+
+
+def coefficients(s, p):
+    """Static and kinetic coefficients at contact state s (0 = low, 1 = high friction)."""
+    return (p.mu_s_low + s * (p.mu_s_high - p.mu_s_low),
+            p.mu_k_low + s * (p.mu_k_high - p.mu_k_low))
+
+
+def friction_force(v, f_n, normal, mu_s, mu_k, v_s):
+    """Friction force on a block (SPEC 1.3).
+
+    Parameters
+    ----------
+    v : float
+        Block velocity along the surface [m/s].
+    f_n : float
+        Net non-friction force along the surface [N].
+    normal : float
+        Normal force [N].
+    mu_s, mu_k : float
+        Static and kinetic coefficients.
+    v_s : float
+        Velocity band below which the block counts as at rest [m/s].
+
+    Returns
+    -------
+    float
+        Friction force [N]: kinetic against the motion, or holding (-f_n) while stuck, or kinetic
+        against f_n when f_n breaks away from rest.
+
+    Examples
+    --------
+    >>> friction_force(0.0, 0.5, 1.0, 1.0, 0.75, 1e-3)
+    -0.5
+    >>> friction_force(0.0, 2.0, 1.0, 1.0, 0.75, 1e-3)
+    -0.75
+    >>> friction_force(-0.1, 2.0, 1.0, 1.0, 0.75, 1e-3)
+    0.75
+    """
+    if abs(v) > v_s:
+        return -math.copysign(mu_k * normal, v)
+    if abs(f_n) <= mu_s * normal:
+        return -f_n
+    return -math.copysign(mu_k * normal, f_n)
+
+
+def advance_contact(s, u, dt, t_switch):
+    """Contact state after dt: jumps to u when t_switch == 0, else ramps towards u at 1/t_switch."""
+    if t_switch <= 0.0:
+        return u
+    rate = dt / t_switch
+    return min(u, s + rate) if u > s else max(u, s - rate)

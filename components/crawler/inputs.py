@@ -1,0 +1,28 @@
+"""Ideal open-loop actuation of SPEC 1.4: a sinusoidal actuator force and two friction indicators."""
+import math
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class InputParams:
+    """Signal parameters (defaults: SPEC 1.4 nominal case)."""
+
+    f_mean: float = 10.28  # N, mean of f_a, which oscillates between 0.66 N and 19.9 N (SPEC 1.4)
+    f_amp: float = 9.62  # N, amplitude of f_a (SPEC 1.4)
+    f_f: float = 1.0  # Hz, frequency of f_a (SPEC 1.4)
+    f_u: float = 1.0  # Hz, frequency of the friction indicators (SPEC 1.4)
+    phi: float = 1.64  # rad, phase lag of u2 behind u1; steers the direction (SPEC 1.4)
+
+    def check(self):
+        """Raise ValueError naming the first parameter outside its valid range."""
+        for name in ("f_f", "f_u", "f_amp"):
+            if not getattr(self, name) >= 0:
+                raise ValueError(f"{name} must be non-negative (got {getattr(self, name)!r})")
+
+
+def signals(t, p):
+    """Return (f_a [N], u1, u2) at time t: u_i = 1 while its square wave is high (inflated)."""
+    f_a = p.f_mean + p.f_amp * math.sin(2 * math.pi * p.f_f * t)
+    u1 = 1.0 if math.sin(2 * math.pi * p.f_u * t) >= 0 else 0.0
+    u2 = 1.0 if math.sin(2 * math.pi * p.f_u * t - p.phi) >= 0 else 0.0
+    return f_a, u1, u2

@@ -1,0 +1,123 @@
+"""FMU slaves of the crawler components: thin adapters from FMI variables to the physics cores."""
+import numpy as np
+
+from musclesim.components.crawler import body, friction, inputs
+from musclesim.fmislave import Slave
+
+
+def _params(slave, cls):
+    """Build a core parameter dataclass from the slave's parameter attributes of the same names."""
+    return cls(**{name: getattr(slave, name) for name in cls.__dataclass_fields__})
+
+
+class CrawlerBody(Slave):
+    """Two-mass crawler body (SPEC 1.2) discretised by zero-order hold at the communication step."""
+
+    description = "Crawler body: two blocks joined by the central actuator's spring, damper and force (SPEC 1.2)"
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        d = body.BodyParams()
+        self.parameter("m1", d.m1, "kg", "Mass of the rear block 1 (SPEC 1.4)")
+        self.parameter("m2", d.m2, "kg", "Mass of the front block 2 (SPEC 1.4)")
+        self.parameter("k", d.k, "N/m", "Stiffness of the central actuator (SPEC 1.4)")
+        self.parameter("c", d.c, "N.s/m", "Damping of the central actuator (SPEC 1.4)")
+        self.parameter("theta", d.theta, "rad", "Incline of the ground, climbing positive (SPEC 1.2)")
+        self.input("f_a", 0.0, "N", "Actuator force pushing the blocks apart")
+        self.input("flange1.f", 0.0, "N", "Friction force on block 1")
+        self.input("flange2.f", 0.0, "N", "Friction force on block 2")
+        for i in (1, 2):
+            self.output(f"flange{i}.s", "m", f"Position of block {i} (variation from rest)")
+            self.output(f"flange{i}.v", "m/s", f"Velocity of block {i}")
+            self.output(f"flange{i}.f_n", "N", f"Net non-friction force along the surface on block {i}",
+                        depends=["f_a"])
+            self.output(f"flange{i}.N", "N", f"Normal force of block {i} on the ground")
+        self.output("x_cm", "m", "Position of the centre of mass")
+
+    def setup(self):
+        self.p = _params(self, body.BodyParams)
+        self.p.check()
+        self.x = np.zeros(4)  # zero initial state (SPEC 1.4)
+        self.dt = None
+        self.flange1_N, self.flange2_N = body.normal_forces(self.p)
+
+    def evaluate(self):
+        x = self.x
+        self.flange1_s, self.flange1_v, self.flange2_s, self.flange2_v = x
+        self.flange1_f_n, self.flange2_f_n = body.nonfriction_forces(x, self.f_a, self.p)
+        self.x_cm = body.centre_of_mass(x, self.p)
+
+    def advance(self, t, dt):
+        if dt != self.dt:
+            self.Ad, self.Bd = body.discretise(self.p, dt)
+            self.dt = dt
+        self.x = body.step_state(self.x, (self.f_a, self.flange1_f, self.flange2_f), self.Ad, self.Bd)
+
+
+class FrictionBlock(Slave):
+    """Stick-slip friction of one block with coefficients switched by an indicator (SPEC 1.3)."""
+
+    description = "Stick-slip friction block with switchable high/low coefficients (SPEC 1.3)"
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        d = friction.FrictionParams()
+        self.parameter("mu_s_high", d.mu_s_high, "1", "Static coefficient, high friction (SPEC 1.3)")
+        self.parameter("mu_k_high", d.mu_k_high, "1", "Kinetic coefficient, high friction (SPEC 1.3)")
+        self.parameter("mu_s_low", d.mu_s_low, "1", "Static coefficient, low friction (SPEC 1.3)")
+        self.parameter("mu_k_low", d.mu_k_low, "1", "Kinetic coefficient, low friction (SPEC 1.3)")
+        self.parameter("v_s", d.v_s, "m/s", "Stick velocity band (SPEC 1.3)")
+        self.parameter("t_switch", d.t_switch, "s",
+                       "Low/high friction transition time; 0 = instantaneous (SPEC 1.1, effect off)")
+        self.input("flange.v", 0.0, "m/s", "Velocity of the block")
+        self.input("flange.f_n", 0.0, "N", "Net non-friction force along the surface on the block")
+        self.input("flange.N", 0.0, "N", "Normal force of the block on the ground")
+        self.input("u", 0.0, "1", "Friction indicator: 1 = inflated (high), 0 = deflated (low)")
+        ins = ["flange.v", "flange.f_n", "flange.N", "u"]
+        self.output("flange.f", "N", "Friction force on the block", depends=ins)
+        self.output("contact", "1", "Contact state: 0 = low, 1 = high friction", depends=["u"])
+        self.output("stuck", "1", "1 while the block sticks, else 0", depends=ins)
+
+    def setup(self):
+        self.p = _params(self, friction.FrictionParams)
+        self.p.check()
+        self.s = self.u
+
+    def initialize(self):
+        self.s = self.u  # the contact starts settled in the state the indicator asks for
+
+    def evaluate(self):
+        p = self.p
+        self.contact = self.u if p.t_switch <= 0 else self.s
+        mu_s, mu_k = friction.coefficients(self.contact, p)
+        self.flange_f = friction.friction_force(self.flange_v, self.flange_f_n, self.flange_N,
+                                                mu_s, mu_k, p.v_s)
+        self.stuck = float(abs(self.flange_v) <= p.v_s and abs(self.flange_f_n) <= mu_s * self.flange_N)
+
+    def advance(self, t, dt):
+        self.s = friction.advance_contact(self.s, self.u, dt, self.p.t_switch)
+
+
+class FrictionSwitchingInputs(Slave):
+    """Ideal actuation of SPEC 1.4: sinusoidal actuator force and square-wave friction indicators."""
+
+    description = "Open-loop friction-switching inputs: f_a sinusoid and indicators u1, u2 (SPEC 1.4)"
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        d = inputs.InputParams()
+        self.parameter("f_mean", d.f_mean, "N", "Mean actuator force (SPEC 1.4)")
+        self.parameter("f_amp", d.f_amp, "N", "Amplitude of the actuator force (SPEC 1.4)")
+        self.parameter("f_f", d.f_f, "Hz", "Frequency of the actuator force (SPEC 1.4)")
+        self.parameter("f_u", d.f_u, "Hz", "Frequency of the friction indicators (SPEC 1.4)")
+        self.parameter("phi", d.phi, "rad", "Phase lag of u2 behind u1 (SPEC 1.4)")
+        self.output("f_a", "N", "Actuator force")
+        self.output("u1", "1", "Friction indicator of block 1")
+        self.output("u2", "1", "Friction indicator of block 2")
+
+    def setup(self):
+        self.p = _params(self, inputs.InputParams)
+        self.p.check()
+
+    def evaluate(self):
+        self.f_a, self.u1, self.u2 = inputs.signals(self.time, self.p)

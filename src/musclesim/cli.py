@@ -1,0 +1,128 @@
+"""The `musclesim` command line: build, run, export, sweep, linear.
+
+Mistakes a user can fix end in one sentence on stderr and exit status 2; a failed simulation
+exits with status 1 after writing the results it reached.
+"""
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from musclesim.errors import UserError
+
+
+def _cmd_build(args):
+    from musclesim.build import build_all
+
+    for path in build_all(args.fmus):
+        print(f"built {path}")
+    return 0
+
+
+def run_scenario(path, out, fmu_dir="fmus", overrides=(), stop_time=None):
+    """Load, run and write one scenario; return (summary dict, results)."""
+    from musclesim import build, master, results, scenario
+
+    s = scenario.load(path, overrides, stop_time)
+    build.check_fresh(fmu_dir)
+    m = master.Master(s, fmu_dir)
+    res = m.run()
+    summary = results.write_all(out, s, res, results.signal_units(m))
+    return summary, res
+
+
+def _cmd_run(args):
+    summary, res = run_scenario(args.scenario, args.out, args.fmus, args.set, args.stop_time)
+    out = Path(args.out)
+    for name, unit in summary["units"].items():
+        print(f"{name} = {summary[name]:.6g} {unit}")
+    print(f"wrote {out / 'results.csv'}, {out / 'summary.json'} and {out / 'results.png'}")
+    if res.error:
+        print(f"musclesim: run stopped: {res.error} (results up to then are kept)", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _cmd_export(args):
+    from musclesim import build, scenario, ssp
+
+    s = scenario.load(args.scenario, args.set, args.stop_time)
+    build.check_fresh(args.fmus)
+    print(f"wrote {ssp.export(s, args.fmus, args.ssp)}")
+    return 0
+
+
+def _cmd_sweep(args):
+    from musclesim import sweep
+
+    summary = sweep.run(args.scenario, grid=args.grid, out=args.out, fmu_dir=args.fmus,
+                        scheduler=args.scheduler, workers=args.workers, overrides=args.set,
+                        stop_time=args.stop_time)
+    print(json.dumps(summary, indent=2))
+    return 1 if summary.get("failed") else 0
+
+
+def _cmd_linear(args):
+    from musclesim import linear
+
+    report = linear.crawler()
+    print(json.dumps(report, indent=2) if args.json else linear.format_crawler(report))
+    return 0
+
+
+def _parser():
+    p = argparse.ArgumentParser(prog="musclesim", description=__doc__.splitlines()[0])
+    sub = p.add_subparsers(dest="command", required=True)
+
+    def common(q):
+        q.add_argument("--fmus", default="fmus", help="folder of built FMUs (default: fmus)")
+
+    def scenario_args(q):
+        q.add_argument("scenario", help="scenario TOML file")
+        q.add_argument("--set", action="append", default=[], metavar="INST.PARAM=VALUE",
+                       help="override a parameter (repeatable)")
+        q.add_argument("--stop-time", type=float, help="replace the scenario's stop time [s]")
+        common(q)
+
+    q = sub.add_parser("build", help="build every component into FMUs")
+    common(q)
+    q.set_defaults(func=_cmd_build)
+
+    q = sub.add_parser("run", help="run a scenario, write results.csv, summary.json, a plot")
+    scenario_args(q)
+    q.add_argument("--out", required=True, help="output folder")
+    q.set_defaults(func=_cmd_run)
+
+    q = sub.add_parser("export", help="export a scenario as an SSP archive")
+    scenario_args(q)
+    q.add_argument("--ssp", required=True, help="the .ssp file to write")
+    q.set_defaults(func=_cmd_export)
+
+    q = sub.add_parser("sweep", help="run a scenario over a parameter grid on Dask")
+    scenario_args(q)
+    q.add_argument("--grid", action="append", default=[], metavar="INST.PARAM=START:STOP:N",
+                   help="a grid axis (repeatable)")
+    q.add_argument("--out", required=True, help="output folder (one result per case)")
+    q.add_argument("--scheduler", help="address of an existing Dask scheduler")
+    q.add_argument("--workers", type=int, help="workers of the local cluster")
+    q.set_defaults(func=_cmd_sweep)
+
+    q = sub.add_parser("linear", help="linear analysis with python-control")
+    q.add_argument("system", choices=["crawler"], help="the system to analyse")
+    q.add_argument("--json", action="store_true", help="print JSON instead of text")
+    q.set_defaults(func=_cmd_linear)
+    return p
+
+
+def main(argv=None):
+    """Entry point of the `musclesim` console script."""
+    args = _parser().parse_args(argv)
+    try:
+        return args.func(args)
+    except UserError as exc:
+        print(f"musclesim: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

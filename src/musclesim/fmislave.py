@@ -1,0 +1,204 @@
+"""The project's pythonfmu base class: SI units, a complete ModelStructure and real FMU state.
+
+Every component's FMU slave derives from `Slave`. It fixes, once, what pythonfmu 0.7 leaves out:
+
+- ``ModelStructure/InitialUnknowns`` (pythonfmu writes none, so fmpy's ``validate_fmu`` complains
+  about every calculated output) and ``Outputs`` dependencies, which declare direct feedthrough
+  so that a master can order the exchange of values at a communication point;
+- units: every Real carries an SI unit, declared in ``UnitDefinitions``;
+- FMU state: pythonfmu's default ``_get_fmu_state`` copies registered variables only, losing
+  internal state (integrator state, memories, random generators); ours deep-copies all of it.
+
+A component slave declares its variables with `parameter`, `input` and `output`, turns parameters
+into its physics core in `setup`, computes outputs in `evaluate` and advances state in `advance`.
+This module must import nothing but the standard library, numpy and pythonfmu: it is shipped inside
+every FMU, which must run where only Python, numpy and scipy are installed.
+"""
+import copy
+from xml.etree.ElementTree import Element, SubElement
+
+from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Real
+
+# SI base-unit exponents of every unit a variable may carry (FMI 2.0 BaseUnit attributes).
+UNITS = {
+    "m": {"m": 1},
+    "m/s": {"m": 1, "s": -1},
+    "m/s2": {"m": 1, "s": -2},
+    "m2": {"m": 2},
+    "kg": {"kg": 1},
+    "s": {"s": 1},
+    "Hz": {"s": -1},
+    "rad": {"rad": 1},
+    "N": {"kg": 1, "m": 1, "s": -2},
+    "N/m": {"kg": 1, "s": -2},
+    "N.s/m": {"kg": 1, "s": -1},
+    "Pa": {"kg": 1, "m": -1, "s": -2},
+    "K": {"K": 1},
+    "W": {"kg": 1, "m": 2, "s": -3},
+    "V": {"kg": 1, "m": 2, "s": -3, "A": -1},
+    "A": {"A": 1},
+    "Ohm": {"kg": 1, "m": 2, "s": -3, "A": -2},
+    "kg/s": {"kg": 1, "s": -1},
+    "1": {},
+}
+
+# attributes that belong to the FMI plumbing, not to the model's state
+_NOT_STATE = frozenset({"vars", "log_queue", "_getters", "_setters", "_meta", "_parameters"})
+
+
+class Slave(Fmi2Slave):
+    """Base of every musclesim FMU slave (FMI 2.0 co-simulation through pythonfmu).
+
+    Subclasses declare variables in ``__init__`` and override:
+
+    - `setup()`: check parameters (raise ``ValueError`` with a sentence naming the parameter) and
+      build the physics core; runs before outputs are first needed, again if a parameter changes
+      during initialization;
+    - `initialize()`: set the initial internal state once inputs are known (leaving
+      initialization mode);
+    - `evaluate()`: set the outputs from the current state and inputs (outputs declared with
+      ``depends`` are direct feedthrough and are re-evaluated whenever an input was set);
+    - `advance(t, dt)`: advance the internal state from ``t`` to ``t + dt`` with the current inputs.
+    """
+
+    author = "musclesim"
+    license = "MIT"
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self._getters = []
+        self._setters = []
+        self._meta = {}
+        self._parameters = set()  # value references of parameters
+        self._configured = False  # setup() has run for the current parameter values
+        self._initialized = False  # initialization mode has been left
+        self._dirty = True  # an input changed since the outputs were evaluated
+        self.time = 0.0
+
+    # ---- declaring variables -------------------------------------------------------------------
+    def _declare(self, name, value, unit, description, causality, variability, initial, depends):
+        if unit not in UNITS:
+            raise ValueError(f"variable {name}: unit {unit!r} is not in musclesim.fmislave.UNITS")
+        attr = name.replace(".", "_")
+        setattr(self, attr, float(value))  # assign before registering, or pythonfmu makes no setter
+        self.register_variable(Real(
+            name, causality=causality, description=description, variability=variability,
+            initial=initial, getter=lambda: getattr(self, attr),
+            setter=lambda v: setattr(self, attr, float(v))))
+        var = self.vars[len(self.vars) - 1]
+        self._getters.append(var.getter)
+        self._setters.append(var.setter)
+        if causality == Fmi2Causality.parameter:
+            self._parameters.add(var.value_reference)
+        self._meta[name] = (unit, depends)
+
+    def parameter(self, name, default, unit, description):
+        """Declare a fixed Real parameter (set before initialization), stored as attribute."""
+        self._declare(name, default, unit, description, Fmi2Causality.parameter,
+                      Fmi2Variability.fixed, Fmi2Initial.exact, None)
+
+    def input(self, name, start, unit, description):
+        """Declare a continuous Real input with its start value."""
+        self._declare(name, start, unit, description, Fmi2Causality.input,
+                      Fmi2Variability.continuous, None, None)
+
+    def output(self, name, unit, description, depends=()):
+        """Declare a calculated Real output; ``depends`` names the inputs it depends on directly."""
+        self._declare(name, 0.0, unit, description, Fmi2Causality.output,
+                      Fmi2Variability.continuous, Fmi2Initial.calculated, tuple(depends))
+
+    # ---- hooks for subclasses ------------------------------------------------------------------
+    def setup(self):
+        """Check parameters and build the physics core; may run again while initializing."""
+
+    def initialize(self):
+        """Set the initial internal state from parameters and inputs (leaving initialization)."""
+
+    def evaluate(self):
+        """Set the outputs from the state and the current inputs."""
+
+    def advance(self, t, dt):
+        """Advance the internal state from t to t + dt."""
+
+    # ---- FMI calls -----------------------------------------------------------------------------
+    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+        self.time = float(start_time)
+
+    def _refresh(self):
+        if not self._configured:
+            self.setup()
+            self._configured = True
+            self._dirty = True
+        if self._dirty:
+            self.evaluate()
+            self._dirty = False
+
+    def exit_initialization_mode(self):
+        if not self._configured:
+            self.setup()
+            self._configured = True
+        self.initialize()
+        self._initialized = True
+        self.evaluate()
+        self._dirty = False
+
+    def do_step(self, current_time, step_size):
+        self._refresh()
+        self.advance(current_time, step_size)
+        self.time = current_time + step_size
+        self.evaluate()
+        return True
+
+    def get_real(self, vrs):
+        self._refresh()
+        getters = self._getters
+        return [getters[vr]() for vr in vrs]
+
+    def set_real(self, vrs, values):
+        setters = self._setters
+        for vr, value in zip(vrs, values):
+            if vr in self._parameters:
+                if self._initialized:
+                    raise ValueError(f"parameter {self.vars[vr].name} is fixed: it can only be set "
+                                     "before initialization ends")
+                self._configured = False
+            setters[vr](value)
+        self._dirty = True
+
+    def _get_fmu_state(self):
+        return copy.deepcopy({k: v for k, v in self.__dict__.items() if k not in _NOT_STATE})
+
+    def _set_fmu_state(self, state):
+        # copy again: the same saved state may be restored several times
+        self.__dict__.update(copy.deepcopy(state))
+
+    # ---- model description ---------------------------------------------------------------------
+    def to_xml(self, model_options=None):
+        root = super().to_xml(model_options or {})
+        index = {v.get("name"): i for i, v in enumerate(root.find("ModelVariables"), start=1)}
+        used = set()
+        for v in root.find("ModelVariables"):
+            unit = self._meta[v.get("name")][0]
+            if unit != "1":
+                v.find("Real").set("unit", unit)
+                used.add(unit)
+        units = Element("UnitDefinitions")
+        for unit in sorted(used):
+            SubElement(SubElement(units, "Unit", name=unit), "BaseUnit",
+                       {k: str(e) for k, e in UNITS[unit].items()})
+        root.insert(list(root).index(root.find("CoSimulation")) + 1, units)
+
+        structure = root.find("ModelStructure")
+        for child in list(structure):
+            structure.remove(child)
+        outputs = [(n, deps) for n, (_, deps) in self._meta.items() if deps is not None]
+        if outputs:
+            node = SubElement(structure, "Outputs")
+            for name, deps in outputs:
+                SubElement(node, "Unknown", index=str(index[name]),
+                           dependencies=" ".join(str(index[d]) for d in deps))
+            # outputs are initial="calculated": they are initial unknowns, depending on everything
+            node = SubElement(structure, "InitialUnknowns")
+            for name, _ in outputs:
+                SubElement(node, "Unknown", index=str(index[name]))
+        return root

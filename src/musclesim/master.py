@@ -1,0 +1,368 @@
+"""The co-simulation master: fixed communication step over fmpy's FMU2Slave.
+
+At every communication point t_k the master first *exchanges* values: it visits the instances in
+the order of direct feedthrough (an output that depends on an input at the same instant, declared
+in ModelStructure/Outputs), sets each one's inputs and reads its outputs, so that every value in a
+row of results belongs to t_k. A cycle of feedthrough is an algebraic loop this master cannot
+order: it is refused with the instances named. Then it *steps*:
+
+- ``jacobi``: every instance steps from t_k with its inputs at t_k (all inputs are sampled and held,
+  as in a zero-order-hold discrete model);
+- ``gauss-seidel``: instances step one after the other in data-flow order (sources before their
+  consumers; a feedback cycle is entered at the instance declared first in the scenario), and
+  each refreshes its inputs right before its step from the instances already stepped, i.e. with
+  their values at t_k+1.
+
+Values move through one preallocated float64 buffer and preallocated ctypes arrays: one batched
+fmi2GetReal / fmi2SetReal per instance and phase, no Python allocation per step.
+"""
+import ctypes
+import math
+import shutil
+import tempfile
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import FMICallException
+from fmpy.logging import addLoggerProxy
+from fmpy.fmi2 import FMU2Slave, fmi2CallbackFunctions, fmi2CallbackLoggerTYPE, \
+    fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE, calloc, free
+
+from musclesim.errors import UserError
+from musclesim.scenario import split_signal
+
+
+@dataclass
+class Results:
+    """Recorded signals: ``time[i]`` and ``data[i, j]`` for column ``names[j]``, rows 0..n-1.
+
+    ``error`` is None for a complete run, else the sentence saying which instance failed, when
+    and why; the rows before the failure are kept.
+    """
+
+    time: np.ndarray
+    names: list
+    data: np.ndarray
+    error: str = None
+
+    def __getitem__(self, name):
+        return self.data[:, self.names.index(name)]
+
+
+def read_fmu(path):
+    """Read an FMU's model description, refusing XML with a DTD (no entity expansion)."""
+    path = Path(path)
+    try:
+        with zipfile.ZipFile(path) as zf:
+            xml = zf.read("modelDescription.xml")
+    except (OSError, KeyError, zipfile.BadZipFile) as exc:
+        raise UserError(f"{path} is not a readable FMU: {exc}") from None
+    if b"<!DOCTYPE" in xml or b"<!ENTITY" in xml:
+        raise UserError(f"{path}: modelDescription.xml declares a DTD or entities, refused")
+    try:
+        md = read_model_description(str(path), validate=False)
+    except Exception as exc:  # fmpy raises bare Exceptions for malformed descriptions
+        raise UserError(f"{path}: cannot read modelDescription.xml: {exc}") from None
+    if md.coSimulation is None:
+        raise UserError(f"{path} is not a co-simulation FMU")
+    return md
+
+
+def _topological(nodes, edges, pick_in_cycle):
+    """Order `nodes` so that a -> b edges put a first; `pick_in_cycle(remaining)` breaks cycles."""
+    incoming = {n: {a for a, b in edges if b == n and a != n} for n in nodes}
+    order, remaining = [], list(nodes)
+    while remaining:
+        ready = [n for n in remaining if not incoming[n] & set(remaining)]
+        nxt = ready[0] if ready else pick_in_cycle(remaining)
+        order.append(nxt)
+        remaining.remove(nxt)
+    return order
+
+
+class _Instance:
+    """An instantiated FMU with the value-reference and buffer-slot tables the loop uses."""
+
+    def __init__(self, name, component, md):
+        self.name, self.component, self.md = name, component, md
+        self.vars = {v.name: v for v in md.modelVariables}
+        self.feedthrough = {}  # input name -> True if some output depends on it directly
+        for out in md.outputs:
+            deps = out.dependencies
+            for v in md.modelVariables:
+                if v.causality == "input" and (deps is None or v in deps):
+                    self.feedthrough[v.name] = True
+        self.slave = None
+        self.log = []
+
+
+class Master:
+    """Load a scenario's FMUs, check the wiring against their model descriptions, run it.
+
+    Parameters
+    ----------
+    scenario : musclesim.scenario.Scenario
+    fmu_dir : str or Path
+        Folder with ``<component>.fmu`` files (output of ``musclesim build``).
+
+    Raises
+    ------
+    UserError
+        Listing every wiring problem (unknown instance or variable, wrong causality, unit
+        mismatch, input connected twice, algebraic loop).
+    """
+
+    def __init__(self, scenario, fmu_dir="fmus"):
+        self.scenario = scenario
+        self.fmu_dir = Path(fmu_dir)
+        problems = []
+        mds = {}
+        for comp in sorted({i.component for i in scenario.instances.values()}):
+            path = self.fmu_dir / f"{comp}.fmu"
+            if path.is_file():
+                mds[comp] = read_fmu(path)
+            else:
+                known = sorted(p.stem for p in self.fmu_dir.glob("*.fmu"))
+                problems.append(f"component {comp!r} has no FMU {path} (found: "
+                                f"{', '.join(known) or 'none'}; `musclesim build` builds them)")
+        self.instances = {n: _Instance(n, i.component, mds[i.component])
+                          for n, i in scenario.instances.items() if i.component in mds}
+        if problems:
+            raise UserError("; ".join(problems))
+        self._check(problems)
+        if problems:
+            raise UserError(f"scenario {scenario.path}: " + "; ".join(problems))
+        self._plan(problems)
+        if problems:
+            raise UserError(f"scenario {scenario.path}: " + "; ".join(problems))
+
+    # ---- checks --------------------------------------------------------------------------------
+    def _variable(self, signal, problems, what):
+        inst, var = split_signal(signal)
+        if inst not in self.instances:
+            problems.append(f"{what} {signal!r}: no instance {inst!r}")
+            return None
+        v = self.instances[inst].vars.get(var)
+        if v is None:
+            problems.append(f"{what} {signal!r}: {self.instances[inst].component} has no variable "
+                            f"{var!r} (variables: {', '.join(self.instances[inst].vars)})")
+        elif v.type != "Real":
+            problems.append(f"{what} {signal!r}: only Real variables are supported, not {v.type}")
+            return None
+        return v
+
+    def _check(self, problems):
+        s = self.scenario
+        for name, spec in s.instances.items():
+            for par in spec.parameters:
+                v = self._variable(f"{name}.{par}", problems, "parameter")
+                if v is not None and v.causality != "parameter":
+                    problems.append(f"{name}.{par} is a {v.causality}, not a parameter")
+        targets = {}
+        for src, dst in s.connections:
+            vs = self._variable(src, problems, "connection source")
+            vd = self._variable(dst, problems, "connection destination")
+            if vs is None or vd is None:
+                continue
+            if vs.causality != "output":
+                problems.append(f"connection {src} -> {dst}: {src} is a {vs.causality}, not an output")
+            if vd.causality != "input":
+                problems.append(f"connection {src} -> {dst}: {dst} is a {vd.causality}, not an input")
+            if (vs.unit or "1") != (vd.unit or "1"):
+                problems.append(f"connection {src} -> {dst} joins incompatible units "
+                                f"{vs.unit or '1'!r} and {vd.unit or '1'!r}")
+            if dst in targets:
+                problems.append(f"input {dst} is connected twice (from {targets[dst]} and {src})")
+            targets[dst] = src
+        signals = [*s.record, *(sig for sig, _ in s.metrics.values()),
+                   *(sig for panel in s.plots for sig in panel["signals"])]
+        for sig in dict.fromkeys(signals):
+            self._variable(sig, problems, "recorded signal")
+
+    # ---- planning ------------------------------------------------------------------------------
+    def _plan(self, problems):
+        s = self.scenario
+        names = list(self.instances)
+        ft_edges, edges = set(), set()
+        for src, dst in s.connections:
+            a, b = split_signal(src)[0], split_signal(dst)[0]
+            edges.add((a, b))
+            if self.instances[b].feedthrough.get(split_signal(dst)[1]):
+                ft_edges.add((a, b))
+
+        def algebraic_loop(remaining):
+            loop = [n for n in remaining if any((m, n) in ft_edges for m in remaining)]
+            problems.append("algebraic loop: outputs of " + ", ".join(loop) + " depend on each "
+                            "other's inputs at the same instant (direct feedthrough in a cycle)")
+            return remaining[0]
+
+        self.exchange_order = _topological(names, ft_edges, algebraic_loop)
+        self.step_order = _topological(names, edges, lambda remaining: remaining[0])
+        if problems:
+            return
+
+        # one buffer slot per distinct signal read from an instance
+        slots = {}
+
+        def slot(signal):
+            return slots.setdefault(signal, len(slots))
+
+        source_of = dict((dst, src) for src, dst in s.connections)
+        reads = {n: [] for n in names}
+        for src, _ in s.connections:
+            reads[split_signal(src)[0]].append(src)
+        self.columns = list(dict.fromkeys([*s.record, *(sig for sig, _ in s.metrics.values()),
+                                           *(sig for p in s.plots for sig in p["signals"])]))
+        for sig in self.columns:
+            if sig not in source_of:
+                reads[split_signal(sig)[0]].append(sig)
+        position = {n: i for i, n in enumerate(self.exchange_order)}
+        for name, inst in self.instances.items():
+            out = list(dict.fromkeys(reads[name]))
+            inst.get = self._transfer([inst.vars[split_signal(x)[1]] for x in out],
+                                      [slot(x) for x in out])
+            ins = [(dst, src) for dst, src in source_of.items() if split_signal(dst)[0] == name]
+            # inputs from instances exchanged earlier are set during the exchange if they feed
+            # through; all others are set just before the step
+            early = [(d, x) for d, x in ins if inst.feedthrough.get(split_signal(d)[1])
+                     and position[split_signal(x)[0]] < position[name]]
+            late = [pair for pair in ins if pair not in early]
+            inst.set_early = self._transfer([inst.vars[split_signal(d)[1]] for d, _ in early],
+                                            [slot(x) for _, x in early])
+            inst.set_late = self._transfer([inst.vars[split_signal(d)[1]] for d, _ in late],
+                                           [slot(x) for _, x in late])
+            inst.set_all = self._transfer([inst.vars[split_signal(d)[1]] for d, _ in ins],
+                                          [slot(x) for _, x in ins])
+        self.values = np.zeros(len(slots))
+        self.record_slots = np.array([slot(source_of.get(c, c)) for c in self.columns], dtype=np.intp)
+
+    @staticmethod
+    def _transfer(variables, slot_list):
+        """Preallocated (count, value refs, values array, numpy view, buffer slots) of one call."""
+        vrs = (ctypes.c_uint * max(1, len(variables)))(*[v.valueReference for v in variables])
+        vals = (ctypes.c_double * max(1, len(variables)))()
+        view = np.ctypeslib.as_array(vals)[:len(variables)]
+        return len(variables), vrs, vals, view, np.array(slot_list, dtype=np.intp)
+
+    # ---- running -------------------------------------------------------------------------------
+    def _get(self, inst):
+        n, vrs, vals, view, slots = inst.get
+        if n:
+            inst.slave.fmi2GetReal(inst.slave.component, vrs, n, vals)
+            self.values[slots] = view
+
+    def _set(self, inst, transfer):
+        n, vrs, vals, view, slots = transfer
+        if n:
+            np.take(self.values, slots, out=view)
+            inst.slave.fmi2SetReal(inst.slave.component, vrs, n, vals)
+
+    def _exchange(self):
+        for name in self.exchange_order:
+            inst = self.instances[name]
+            self._set(inst, inst.set_early)
+            self._get(inst)
+
+    def _make_callbacks(self):
+        def logger(env, instance_name, status, category, message):
+            name = instance_name.decode("utf-8", "replace") if instance_name else ""
+            if name in self.instances:
+                self.instances[name].log.append(message.decode("utf-8", "replace").strip())
+
+        cb = fmi2CallbackFunctions()
+        cb.logger = fmi2CallbackLoggerTYPE(logger)
+        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+        # a native proxy formats the variadic message, which ctypes cannot pass to Python
+        addLoggerProxy(ctypes.byref(cb))
+        return cb
+
+    def _failure(self, inst, phase, t):
+        lines = [ln for msg in inst.log for ln in msg.splitlines() if ln.strip()]
+        cause = lines[-1] if lines else "the FMU reported an error"
+        return f"instance {inst.name!r} ({inst.component}) failed {phase} at t = {t:.6g} s: {cause}"
+
+    def run(self):
+        """Run the scenario; return `Results` (with ``error`` set if an instance failed)."""
+        s = self.scenario
+        n = s.n_steps
+        h = s.step
+        time = np.empty(n + 1)
+        data = np.empty((n + 1, len(self.columns)))
+        self.callbacks = self._make_callbacks()
+        tmp = Path(tempfile.mkdtemp(prefix="musclesim_run_"))
+        row, t, error = 0, s.start_time, None
+        phase, current = "while loading", None
+        try:
+            unzipped = {}
+            for inst in self.instances.values():
+                current = inst
+                if inst.component not in unzipped:
+                    unzipped[inst.component] = extract(self.fmu_dir / f"{inst.component}.fmu",
+                                                       tmp / inst.component)
+                inst.slave = FMU2Slave(guid=inst.md.guid, unzipDirectory=unzipped[inst.component],
+                                       modelIdentifier=inst.md.coSimulation.modelIdentifier,
+                                       instanceName=inst.name)
+                inst.slave.instantiate(callbacks=self.callbacks)
+                inst.slave.setupExperiment(startTime=s.start_time, stopTime=s.stop_time)
+                params = s.instances[inst.name].parameters
+                if params:
+                    inst.slave.setReal([inst.vars[p].valueReference for p in params],
+                                       list(params.values()))
+            phase = "during initialization"
+            for inst in self.instances.values():
+                current = inst
+                inst.slave.enterInitializationMode()
+            current = None
+            self._exchange()
+            for inst in self.instances.values():
+                current = inst
+                self._set(inst, inst.set_late)
+                inst.slave.exitInitializationMode()
+            current = None
+            self._exchange()
+            phase = "in a step"
+            gauss_seidel = s.algorithm == "gauss-seidel"
+            order = [self.instances[x] for x in self.step_order]
+            values, rec = self.values, self.record_slots
+            while True:
+                time[row] = t
+                np.take(values, rec, out=data[row])
+                if not np.isfinite(data[row]).all():
+                    bad = [c for c, x in zip(self.columns, data[row]) if not math.isfinite(x)]
+                    error = f"signal {bad[0]} became {data[row][self.columns.index(bad[0])]} at t = {t:.6g} s"
+                    row += 1
+                    break
+                row += 1
+                if row > n:
+                    break
+                for inst in order:
+                    current = inst
+                    if gauss_seidel:
+                        self._set(inst, inst.set_all)
+                    else:
+                        self._set(inst, inst.set_late)
+                    inst.slave.fmi2DoStep(inst.slave.component, t, h, 1)
+                    if gauss_seidel:
+                        self._get(inst)
+                current = None
+                t += h
+                self._exchange()
+        except FMICallException:
+            error = self._failure(current, phase, t) if current else \
+                next((self._failure(i, phase, t) for i in self.instances.values() if i.log),
+                     f"an FMU call failed {phase} at t = {t:.6g} s")
+        finally:
+            for inst in self.instances.values():
+                if inst.slave is not None and inst.slave.component is not None:
+                    try:
+                        inst.slave.terminate()
+                    except FMICallException:
+                        pass
+                    inst.slave.freeInstance()
+                    inst.slave = None
+            shutil.rmtree(tmp, ignore_errors=True)
+        return Results(time[:row].copy(), list(self.columns), data[:row].copy(), error)

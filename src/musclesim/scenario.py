@@ -1,0 +1,196 @@
+"""Scenario files: parse and check the TOML that wires FMU instances into an experiment.
+
+A scenario names instances (component + parameter values), connections ``"a.y" -> "b.u"``, the
+communication step, start and stop time, the master algorithm, the signals to record, the metrics
+to compute and the plot panels. Checks collect every problem and raise once with the whole list.
+"""
+import math
+import tomllib
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+from musclesim.errors import UserError
+
+ALGORITHMS = ("gauss-seidel", "jacobi")
+METRIC_OPS = ("final", "initial", "mean", "min", "max", "rms", "rate", "peak_to_peak")
+_TOP_KEYS = {"name", "description", "spec", "step", "start_time", "stop_time", "algorithm",
+             "connections", "record", "instances", "metrics", "plots"}
+
+
+@dataclass(frozen=True)
+class Instance:
+    """One FMU instance: its name, the component (FMU) it instantiates and parameter values."""
+
+    name: str
+    component: str
+    parameters: dict = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """A checked scenario (see the module docstring); signals are ``"instance.variable"`` strings."""
+
+    name: str
+    path: Path
+    instances: dict
+    connections: tuple  # ((source signal, destination signal), ...)
+    step: float
+    stop_time: float
+    start_time: float = 0.0
+    algorithm: str = "gauss-seidel"
+    record: tuple = ()
+    metrics: dict = field(default_factory=dict)  # name -> (signal, op)
+    plots: tuple = ()  # ({"title": str, "signals": [..]}, ...)
+    description: str = ""
+    spec: str = ""
+
+    @property
+    def n_steps(self):
+        """Number of communication steps from start to stop time."""
+        return int(round((self.stop_time - self.start_time) / self.step))
+
+
+def split_signal(signal):
+    """Split ``"instance.variable"`` (the variable may itself contain dots) into its two parts."""
+    inst, _, var = signal.partition(".")
+    return inst, var
+
+
+def _number(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def load(path, overrides=(), stop_time=None):
+    """Read and check the scenario file at `path`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The scenario TOML file.
+    overrides : sequence of str
+        ``"instance.parameter=value"`` assignments applied on top of the file (``--set``).
+    stop_time : float, optional
+        Replaces the file's stop time.
+
+    Raises
+    ------
+    UserError
+        Naming the file and every problem found.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise UserError(f"scenario file {path} does not exist")
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise UserError(f"scenario file {path} is not valid TOML: {exc}") from None
+    problems = []
+    scenario = _parse(data, path, problems)
+    if scenario is not None:
+        scenario = apply_overrides(scenario, overrides, problems)
+        if stop_time is not None:
+            scenario = replace(scenario, stop_time=float(stop_time))
+        _check_times(scenario, problems)
+    if problems:
+        raise UserError(f"scenario {path} has {len(problems)} problem(s): " + "; ".join(problems))
+    return scenario
+
+
+def _parse(data, path, problems):
+    for key in sorted(set(data) - _TOP_KEYS):
+        problems.append(f"unknown key {key!r} (known: {', '.join(sorted(_TOP_KEYS))})")
+    instances = {}
+    raw = data.get("instances")
+    if not isinstance(raw, dict) or not raw:
+        problems.append("no [instances.NAME] tables")
+        raw = {}
+    for name, spec in raw.items():
+        if not isinstance(spec, dict) or not isinstance(spec.get("component"), str):
+            problems.append(f"instance {name!r} needs a 'component' name")
+            continue
+        if "." in name:
+            problems.append(f"instance name {name!r} must not contain '.'")
+        params = spec.get("parameters", {})
+        for key in sorted(set(spec) - {"component", "parameters"}):
+            problems.append(f"instance {name!r}: unknown key {key!r} (known: component, parameters)")
+        bad = [k for k, v in params.items() if not _number(v)]
+        for k in bad:
+            problems.append(f"parameter {name}.{k} = {params[k]!r} is not a finite number")
+        instances[name] = Instance(name, spec["component"],
+                                   {k: float(v) for k, v in params.items() if k not in bad})
+
+    connections = []
+    for item in data.get("connections", []):
+        if (not isinstance(item, list) or len(item) != 2
+                or not all(isinstance(s, str) and "." in s for s in item)):
+            problems.append(f"connection {item!r} is not a pair [\"src.output\", \"dst.input\"]")
+            continue
+        connections.append(tuple(item))
+    record = data.get("record", [])
+    if not isinstance(record, list) or not all(isinstance(s, str) for s in record):
+        problems.append("'record' must be a list of \"instance.variable\" strings")
+        record = []
+
+    metrics = {}
+    for name, spec in data.get("metrics", {}).items():
+        if not isinstance(spec, dict) or spec.get("op") not in METRIC_OPS \
+                or not isinstance(spec.get("signal"), str):
+            problems.append(f"metric {name!r} needs signal = \"inst.var\" and op in {METRIC_OPS}")
+            continue
+        metrics[name] = (spec["signal"], spec["op"])
+    plots = data.get("plots", [])
+    for panel in plots:
+        if not isinstance(panel, dict) or not isinstance(panel.get("signals"), list):
+            problems.append(f"plot panel {panel!r} needs a 'signals' list")
+    algorithm = data.get("algorithm", "gauss-seidel")
+    if algorithm not in ALGORITHMS:
+        problems.append(f"algorithm {algorithm!r} is not one of {ALGORITHMS}")
+    for key in ("step", "stop_time"):
+        if key not in data:
+            problems.append(f"missing '{key}'")
+    for key in ("step", "stop_time", "start_time"):
+        if key in data and not _number(data[key]):
+            problems.append(f"'{key}' = {data[key]!r} is not a finite number")
+    if problems:
+        return None
+    return Scenario(
+        name=str(data.get("name", path.stem)), path=path, instances=instances,
+        connections=tuple(connections), step=float(data["step"]),
+        stop_time=float(data["stop_time"]), start_time=float(data.get("start_time", 0.0)),
+        algorithm=algorithm, record=tuple(record), metrics=metrics, plots=tuple(plots),
+        description=str(data.get("description", "")), spec=str(data.get("spec", "")))
+
+
+def apply_overrides(scenario, overrides, problems):
+    """Return `scenario` with ``instance.parameter=value`` overrides applied; problems appended."""
+    instances = dict(scenario.instances)
+    for text in overrides:
+        target, sep, value = text.partition("=")
+        inst, var = split_signal(target.strip())
+        if not sep or not var:
+            problems.append(f"--set {text!r} is not of the form instance.parameter=value")
+            continue
+        if inst not in instances:
+            problems.append(f"--set {text!r}: no instance {inst!r} (instances: {', '.join(instances)})")
+            continue
+        try:
+            number = float(value)
+        except ValueError:
+            problems.append(f"--set {text!r}: {value.strip()!r} is not a number")
+            continue
+        if not math.isfinite(number):
+            problems.append(f"--set {text!r}: the value must be finite")
+            continue
+        old = instances[inst]
+        instances[inst] = replace(old, parameters={**old.parameters, var: number})
+    return replace(scenario, instances=instances)
+
+
+def _check_times(s, problems):
+    if not s.step > 0:
+        problems.append(f"step must be positive (got {s.step!r})")
+    elif not s.stop_time > s.start_time:
+        problems.append(f"stop_time {s.stop_time!r} must be after start_time {s.start_time!r}")
+    elif abs(s.n_steps * s.step - (s.stop_time - s.start_time)) > 1e-9 * max(1.0, s.stop_time):
+        problems.append(f"stop_time - start_time = {s.stop_time - s.start_time!r} s is not a whole "
+                        f"number of steps of {s.step!r} s")
