@@ -18,6 +18,7 @@ fmi2GetReal / fmi2SetReal per instance and phase, no Python allocation per step.
 """
 import ctypes
 import math
+import re
 import shutil
 import tempfile
 import zipfile
@@ -262,7 +263,7 @@ class Master:
 
     def _exchange(self):
         for name in self.exchange_order:
-            inst = self.instances[name]
+            inst = self.current = self.instances[name]
             self._set(inst, inst.set_early)
             self._get(inst)
 
@@ -280,89 +281,96 @@ class Master:
         addLoggerProxy(ctypes.byref(cb))
         return cb
 
-    def _failure(self, inst, phase, t):
+    def _failure(self, inst, t):
         lines = [ln for msg in inst.log for ln in msg.splitlines() if ln.strip()]
         cause = lines[-1] if lines else "the FMU reported an error"
-        return f"instance {inst.name!r} ({inst.component}) failed {phase} at t = {t:.6g} s: {cause}"
+        # pythonfmu reports an exception as its repr, e.g. ValueError('m1 must be positive')
+        cause = re.sub(r"^\w+(?:Error|Exception)\((['\"])(.*)\1\)$", r"\2", cause)
+        return (f"instance {inst.name!r} ({inst.component}) failed {self.phase} "
+                f"at t = {t:.6g} s: {cause}")
 
     def run(self):
         """Run the scenario; return `Results` (with ``error`` set if an instance failed)."""
         s = self.scenario
-        n = s.n_steps
-        h = s.step
-        time = np.empty(n + 1)
-        data = np.empty((n + 1, len(self.columns)))
+        time = np.empty(s.n_steps + 1)
+        data = np.empty((s.n_steps + 1, len(self.columns)))
         self.callbacks = self._make_callbacks()
+        self.current, self.phase, self.row, self.t = None, "while loading", 0, s.start_time
+        failed, error = None, None
         tmp = Path(tempfile.mkdtemp(prefix="musclesim_run_"))
-        row, t, error = 0, s.start_time, None
-        phase, current = "while loading", None
         try:
-            unzipped = {}
-            for inst in self.instances.values():
-                current = inst
-                if inst.component not in unzipped:
-                    unzipped[inst.component] = extract(self.fmu_dir / f"{inst.component}.fmu",
-                                                       tmp / inst.component)
-                inst.slave = FMU2Slave(guid=inst.md.guid, unzipDirectory=unzipped[inst.component],
-                                       modelIdentifier=inst.md.coSimulation.modelIdentifier,
-                                       instanceName=inst.name)
-                inst.slave.instantiate(callbacks=self.callbacks)
-                inst.slave.setupExperiment(startTime=s.start_time, stopTime=s.stop_time)
-                params = s.instances[inst.name].parameters
-                if params:
-                    inst.slave.setReal([inst.vars[p].valueReference for p in params],
-                                       list(params.values()))
-            phase = "during initialization"
-            for inst in self.instances.values():
-                current = inst
-                inst.slave.enterInitializationMode()
-            current = None
-            self._exchange()
-            for inst in self.instances.values():
-                current = inst
-                self._set(inst, inst.set_late)
-                inst.slave.exitInitializationMode()
-            current = None
-            self._exchange()
-            phase = "in a step"
-            gauss_seidel = s.algorithm == "gauss-seidel"
-            order = [self.instances[x] for x in self.step_order]
-            values, rec = self.values, self.record_slots
-            while True:
-                time[row] = t
-                np.take(values, rec, out=data[row])
-                if not np.isfinite(data[row]).all():
-                    bad = [c for c, x in zip(self.columns, data[row]) if not math.isfinite(x)]
-                    error = f"signal {bad[0]} became {data[row][self.columns.index(bad[0])]} at t = {t:.6g} s"
-                    row += 1
-                    break
-                row += 1
-                if row > n:
-                    break
-                for inst in order:
-                    current = inst
-                    if gauss_seidel:
-                        self._set(inst, inst.set_all)
-                    else:
-                        self._set(inst, inst.set_late)
-                    inst.slave.fmi2DoStep(inst.slave.component, t, h, 1)
-                    if gauss_seidel:
-                        self._get(inst)
-                current = None
-                t += h
-                self._exchange()
+            self._instantiate(tmp)
+            self.phase = "during initialization"
+            self._initialize()
+            self.phase = "in a step"
+            error = self._loop(time, data)
         except FMICallException:
-            error = self._failure(current, phase, t) if current else \
-                next((self._failure(i, phase, t) for i in self.instances.values() if i.log),
-                     f"an FMU call failed {phase} at t = {t:.6g} s")
+            failed = self.current
+            error = self._failure(failed, self.t)
         finally:
             for inst in self.instances.values():
                 if inst.slave is not None and inst.slave.component is not None:
-                    try:
+                    if inst is not failed:  # after an error FMI allows only freeing the instance
                         inst.slave.terminate()
-                    except FMICallException:
-                        pass
                     inst.slave.freeInstance()
-                    inst.slave = None
+                inst.slave = None
             shutil.rmtree(tmp, ignore_errors=True)
-        return Results(time[:row].copy(), list(self.columns), data[:row].copy(), error)
+        return Results(time[:self.row].copy(), list(self.columns), data[:self.row].copy(), error)
+
+    def _instantiate(self, tmp):
+        s = self.scenario
+        unzipped = {}
+        for inst in self.instances.values():
+            self.current = inst
+            if inst.component not in unzipped:
+                unzipped[inst.component] = extract(self.fmu_dir / f"{inst.component}.fmu",
+                                                   tmp / inst.component)
+            inst.slave = FMU2Slave(guid=inst.md.guid, unzipDirectory=unzipped[inst.component],
+                                   modelIdentifier=inst.md.coSimulation.modelIdentifier,
+                                   instanceName=inst.name)
+            inst.slave.instantiate(callbacks=self.callbacks, loggingOn=True)
+            inst.slave.setupExperiment(startTime=s.start_time, stopTime=s.stop_time)
+            params = s.instances[inst.name].parameters
+            if params:
+                inst.slave.setReal([inst.vars[p].valueReference for p in params],
+                                   list(params.values()))
+
+    def _initialize(self):
+        """Initialization mode: propagate start values in feedthrough order, then leave it."""
+        for inst in self.instances.values():
+            self.current = inst
+            inst.slave.enterInitializationMode()
+        self._exchange()
+        for inst in self.instances.values():
+            self.current = inst
+            self._set(inst, inst.set_late)
+            inst.slave.exitInitializationMode()
+        self._exchange()
+
+    def _loop(self, time, data):
+        """Record, step, exchange until the stop time; return an error sentence or None."""
+        s = self.scenario
+        n, h, t, row = s.n_steps, s.step, self.t, 0
+        gauss_seidel = s.algorithm == "gauss-seidel"
+        order = [self.instances[x] for x in self.step_order]
+        values, rec = self.values, self.record_slots
+        try:
+            while True:
+                time[row] = t
+                np.take(values, rec, out=data[row])
+                row += 1
+                if not np.isfinite(data[row - 1]).all():
+                    col = next(j for j, x in enumerate(data[row - 1]) if not math.isfinite(x))
+                    return f"signal {self.columns[col]} became {data[row - 1, col]} at t = {t:.6g} s"
+                if row > n:
+                    return None
+                for inst in order:
+                    self.current = inst
+                    self._set(inst, inst.set_all if gauss_seidel else inst.set_late)
+                    inst.slave.fmi2DoStep(inst.slave.component, t, h, 1)
+                    if gauss_seidel:
+                        self._get(inst)
+                t += h  # accumulated like the FMUs' own time, so both agree to the bit
+                self._exchange()
+        finally:
+            self.row, self.t = row, t

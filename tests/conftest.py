@@ -1,0 +1,17 @@
+"""Shared fixtures: the FMUs are built once per test session into a temporary folder."""
+from pathlib import Path
+
+import pytest
+
+from musclesim.build import build_all
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENARIOS = ROOT / "scenarios"
+
+
+@pytest.fixture(scope="session")
+def fmu_dir(tmp_path_factory):
+    """Folder holding freshly built FMUs of the whole catalogue (with BUILD.json)."""
+    path = tmp_path_factory.mktemp("fmus")
+    build_all(path)
+    return path

@@ -1,0 +1,115 @@
+"""The command line on good and bad input: one clear sentence for every mistake, kept results."""
+import json
+import shutil
+
+import pytest
+
+from musclesim import cli
+
+from conftest import SCENARIOS
+
+IDEAL = SCENARIOS / "crawler-ideal.toml"
+
+
+def run(capsys, *argv):
+    code = cli.main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_run_writes_results_summary_and_plot_reproducibly(fmu_dir, tmp_path, capsys):
+    for out in ("a", "b"):
+        code, text, err = run(capsys, "run", IDEAL, "--out", tmp_path / out, "--fmus", fmu_dir,
+                              "--stop-time", "2", "--set", "inputs.phi=1.0")
+        assert code == 0, err
+    assert "mean_speed" in text and str(tmp_path / "b" / "results.png") in text
+    summary = json.loads((tmp_path / "a" / "summary.json").read_text())
+    for key in ("x1_final", "x2_final", "x_cm_final", "mean_speed"):
+        assert isinstance(summary[key], float)
+    assert summary["units"]["mean_speed"] == "m/s" and summary["completed"] is True
+    assert summary["parameters"]["inputs"]["phi"] == 1.0
+    a, b = ((tmp_path / d / "results.csv").read_bytes() for d in "ab")
+    assert a == b  # reruns are bit-identical
+    header = a.decode().splitlines()[0].split(",")
+    assert header[0] == "time" and "body.flange1.s" in header and len(a.decode().splitlines()) == 2002
+    assert (tmp_path / "a" / "results.png").stat().st_size > 10_000
+
+
+def write(tmp_path, text, name="bad.toml"):
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def ideal_with(tmp_path, old, new):
+    text = IDEAL.read_text()
+    assert old in text
+    return write(tmp_path, text.replace(old, new))
+
+
+CASES = {
+    "missing-file": (lambda p: p / "nope.toml", [], "does not exist"),
+    "malformed-toml": (lambda p: write(p, "step = [1,"), [], "not valid TOML"),
+    "unknown-component": (lambda p: ideal_with(p, 'component = "CrawlerBody"', 'component = "Crawler"'),
+                          [], "component 'Crawler' has no FMU"),
+    "unknown-instance": (lambda p: ideal_with(p, '["inputs.f_a", "body.f_a"]', '["input.f_a", "body.f_a"]'),
+                         [], "no instance 'input'"),
+    "unknown-variable": (lambda p: ideal_with(p, '"body.x_cm", op', '"body.xcm", op'),
+                         [], "has no variable 'xcm'"),
+    "incompatible-units": (lambda p: ideal_with(p, '["inputs.f_a", "body.f_a"]',
+                                                '["inputs.f_a", "friction1.flange.v"]'),
+                           [], "incompatible units 'N' and 'm/s'"),
+    "output-to-output": (lambda p: ideal_with(p, '["inputs.f_a", "body.f_a"]', '["inputs.f_a", "body.x_cm"]'),
+                         [], "body.x_cm is a output, not an input"),
+    "non-positive-step": (lambda p: ideal_with(p, "step = 1e-3", "step = -1e-3"), [], "step must be positive"),
+    "unknown-parameter": (lambda p: IDEAL, ["--set", "body.mass=1"], "has no variable 'mass'"),
+    "unknown-set-instance": (lambda p: IDEAL, ["--set", "robot.m1=1"], "no instance 'robot'"),
+    "non-numeric-set": (lambda p: IDEAL, ["--set", "body.m1=heavy"], "'heavy' is not a number"),
+    "set-an-input": (lambda p: IDEAL, ["--set", "body.f_a=1"], "body.f_a is a input, not a parameter"),
+    "algebraic-loop": (lambda p: ideal_with(p, '["inputs.f_a", "body.f_a"]', '["friction1.flange.f", "body.f_a"]'),
+                       [], "algebraic loop: outputs of body, friction1"),
+}
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_bad_input_is_one_sentence(case, fmu_dir, tmp_path, capsys):
+    make, extra, expected = CASES[case]
+    code, out, err = run(capsys, "run", make(tmp_path), "--out", tmp_path / "out",
+                         "--fmus", fmu_dir, *extra)
+    assert code == 2
+    assert expected in err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+
+
+def test_problems_are_collected_not_first_only(fmu_dir, tmp_path, capsys):
+    path = ideal_with(tmp_path, '["inputs.u1", "friction1.u"]', '["inputs.u9", "friction1.w"]')
+    code, _, err = run(capsys, "run", path, "--out", tmp_path / "o", "--fmus", fmu_dir)
+    assert code == 2 and "'u9'" in err and "'w'" in err
+
+
+def test_fmu_error_during_initialization_names_instance_and_cause(fmu_dir, tmp_path, capsys):
+    code, _, err = run(capsys, "run", IDEAL, "--out", tmp_path / "o", "--fmus", fmu_dir,
+                       "--set", "body.m1=-0.2")
+    assert code == 1
+    assert "instance 'body' (CrawlerBody) failed during initialization at t = 0 s" in err
+    assert "m1 must be positive (got -0.2)" in err
+
+
+def test_failure_mid_run_keeps_results_up_to_then(fmu_dir, tmp_path, capsys):
+    # f_a = 1.7e308 + 1e308 sin(2 pi t) overflows once sin(2 pi t) > 0.0977, at t = 0.0156 s
+    code, _, err = run(capsys, "run", IDEAL, "--out", tmp_path / "o", "--fmus", fmu_dir,
+                       "--set", "inputs.f_mean=1.7e308", "--set", "inputs.f_amp=1e308")
+    assert code == 1
+    assert "signal inputs.f_a became inf at t = 0.016 s" in err
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert summary["completed"] is False and summary["end_time"] == pytest.approx(0.016)
+    rows = (tmp_path / "o" / "results.csv").read_text().splitlines()
+    assert len(rows) == 1 + 17 and rows[-1].split(",")[0] == repr(summary["end_time"])
+
+
+def test_stale_fmus_are_refused(fmu_dir, tmp_path, capsys):
+    stale = tmp_path / "fmus"
+    shutil.copytree(fmu_dir, stale)
+    (stale / "BUILD.json").write_text('{"sources": "old"}')
+    code, _, err = run(capsys, "run", IDEAL, "--out", tmp_path / "o", "--fmus", stale)
+    assert code == 2 and "musclesim build" in err

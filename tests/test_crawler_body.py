@@ -1,0 +1,59 @@
+"""Crawler body plant (SPEC 1.2): matrices, zero-order hold, momentum and gravity invariants."""
+import math
+
+import control as ct
+import numpy as np
+import pytest
+
+from musclesim.components.crawler import body
+
+UNEQUAL = body.BodyParams(m1=0.3, m2=0.2, k=150.0, c=0.9)
+
+
+def test_state_space_is_spec_matrices():
+    m1, m2, k, c = UNEQUAL.m1, UNEQUAL.m2, UNEQUAL.k, UNEQUAL.c
+    A, B = body.state_space(UNEQUAL)
+    np.testing.assert_array_equal(A, [[0, 1, 0, 0], [-k / m1, -c / m1, k / m1, c / m1],
+                                      [0, 0, 0, 1], [k / m2, c / m2, -k / m2, -c / m2]])
+    np.testing.assert_array_equal(B, [[0, 0, 0], [-1 / m1, 1 / m1, 0], [0, 0, 0], [1 / m2, 0, 1 / m2]])
+
+
+def test_zoh_is_python_control_sample():
+    A, B = body.state_space(UNEQUAL)
+    sysd = ct.ss(A, B, np.eye(4), np.zeros((4, 3))).sample(1e-3, method="zoh")
+    Ad, Bd = body.discretise(UNEQUAL, 1e-3)
+    np.testing.assert_allclose(Ad, sysd.A, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(Bd[:, :3], sysd.B, rtol=0, atol=1e-14)
+
+
+def test_actuator_alone_cannot_move_centre_of_mass():
+    """Without friction, internal forces leave the centre of mass where it is (momentum)."""
+    Ad, Bd = body.discretise(UNEQUAL, 1e-3)
+    rng = np.random.default_rng(1)
+    x = np.zeros(4)
+    for f_a in rng.uniform(0.0, 20.0, 5000):
+        x = body.step_state(x, (f_a, 0.0, 0.0), Ad, Bd)
+        assert abs(body.centre_of_mass(x, UNEQUAL)) < 1e-12
+    assert abs(x[0] - x[2]) > 1e-3  # the blocks did move relative to each other
+
+
+def test_free_slide_on_incline_is_exact_parabola():
+    """No friction, no actuation on an incline: x_cm = -g sin(theta) t^2 / 2 (ZOH is exact)."""
+    p = body.BodyParams(theta=math.radians(10.0))
+    Ad, Bd = body.discretise(p, 1e-3)
+    x = np.zeros(4)
+    for _ in range(1000):
+        x = body.step_state(x, (0.0, 0.0, 0.0), Ad, Bd)
+    assert body.centre_of_mass(x, p) == pytest.approx(-0.5 * body.G * math.sin(p.theta), rel=1e-9)
+
+
+def test_nonfriction_forces_balance_without_gravity():
+    f1, f2 = body.nonfriction_forces([0.01, 0.2, -0.01, 0.1], 3.0, UNEQUAL)
+    assert f1 + f2 == pytest.approx(0.0, abs=1e-12)  # spring, damper and actuator are internal
+
+
+@pytest.mark.parametrize("field, value", [("m1", 0.0), ("m2", -1.0), ("k", -1.0), ("c", -0.1),
+                                          ("theta", 2.0)])
+def test_parameter_check_names_the_parameter(field, value):
+    with pytest.raises(ValueError, match=field):
+        body.BodyParams(**{field: value}).check()
