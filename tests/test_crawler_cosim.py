@@ -16,7 +16,7 @@ from musclesim import master, scenario
 from musclesim.components.crawler import body, friction, inputs
 from musclesim.components.crawler.monolithic import simulate_ideal
 
-from conftest import SCENARIOS
+from conftest import ROOT, SCENARIOS
 
 IDEAL = SCENARIOS / "crawler-ideal.toml"
 
@@ -79,3 +79,11 @@ def test_rows_belong_to_their_time_stamp(fmu_dir):
         mu_s, mu_k = friction.coefficients(u1, fp)
         expected = friction.friction_force(x[1], f_n1, body.normal_forces(p)[0], mu_s, mu_k, fp.v_s)
         assert res["friction1.flange.f"][k] == expected
+
+
+def test_reference_result_is_reproduced(fmu_dir):
+    """The co-simulation still gives the reference result kept next to the components."""
+    ref = np.loadtxt(ROOT / "components" / "crawler" / "reference.csv", delimiter=",", skiprows=1)
+    res = cosim(fmu_dir, stop_time=5.0)
+    assert_matches(type(res)(res.time[::10], res.names, res.data[::10]), ref[:, 0], ref[:, 1:],
+                   tol=1e-12)

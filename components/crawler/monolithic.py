@@ -49,3 +49,10 @@ def simulate_ideal(body_p=body.BodyParams(), friction_p=(friction.FrictionParams
         x = body.step_state(x, (f_next if actuator_lead else f_a, *forces), Ad, Bd)
         t, f_a = t_next, f_next
     return times, states
+
+
+def write_reference(path, stop_time=5.0, every=10):
+    """Write the reference result CSV kept next to the components (time, x1, v1, x2, v2)."""
+    times, states = simulate_ideal(stop_time=stop_time)
+    np.savetxt(path, np.column_stack([times, states])[::every], delimiter=",", fmt="%.17g",
+               header="time,x1,v1,x2,v2", comments="")
