@@ -113,3 +113,12 @@ def test_stale_fmus_are_refused(fmu_dir, tmp_path, capsys):
     (stale / "BUILD.json").write_text('{"sources": "old"}')
     code, _, err = run(capsys, "run", IDEAL, "--out", tmp_path / "o", "--fmus", stale)
     assert code == 2 and "musclesim build" in err
+
+
+def test_build_command_writes_every_fmu(tmp_path, capsys):
+    from musclesim.components import CATALOGUE
+
+    code, out, _ = run(capsys, "build", "--fmus", tmp_path)
+    assert code == 0
+    assert sorted(p.stem for p in tmp_path.glob("*.fmu")) == sorted(CATALOGUE)
+    assert (tmp_path / "BUILD.json").is_file() and "built" in out
