@@ -36,6 +36,36 @@ from musclesim.errors import UserError
 from musclesim.scenario import split_signal
 
 
+# fmpy's native proxy formats an FMU's variadic log message (ctypes cannot) and hands it to one
+# process-wide Python function. Registering a new function per run would leave the proxy pointing at
+# a freed callback once that run ends, so one function lives as long as the process and routes each
+# message to the running master named by the componentEnvironment in its callbacks.
+_LOG_SINKS = {}  # componentEnvironment -> {instance name: _Instance}
+
+
+def _route_log(env, instance_name, status, category, message):
+    instances = _LOG_SINKS.get(env)
+    name = instance_name.decode("utf-8", "replace") if instance_name else ""
+    if instances is not None and name in instances:
+        instances[name].log.append(message.decode("utf-8", "replace").strip())
+
+
+_ROUTE_LOG = fmi2CallbackLoggerTYPE(_route_log)
+_PROXY = fmi2CallbackFunctions()
+_PROXY.logger = _ROUTE_LOG
+addLoggerProxy(ctypes.byref(_PROXY))  # _PROXY.logger is now the native proxy
+
+
+def _callbacks(key):
+    """FMI callbacks whose log messages reach the master registered under `key`."""
+    cb = fmi2CallbackFunctions()
+    cb.logger = _PROXY.logger
+    cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+    cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+    cb.componentEnvironment = key
+    return cb
+
+
 @dataclass
 class Results:
     """Recorded signals: ``time[i]`` and ``data[i, j]`` for column ``names[j]``, rows 0..n-1.
@@ -267,20 +297,6 @@ class Master:
             self._set(inst, inst.set_early)
             self._get(inst)
 
-    def _make_callbacks(self):
-        def logger(env, instance_name, status, category, message):
-            name = instance_name.decode("utf-8", "replace") if instance_name else ""
-            if name in self.instances:
-                self.instances[name].log.append(message.decode("utf-8", "replace").strip())
-
-        cb = fmi2CallbackFunctions()
-        cb.logger = fmi2CallbackLoggerTYPE(logger)
-        cb.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-        cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-        # a native proxy formats the variadic message, which ctypes cannot pass to Python
-        addLoggerProxy(ctypes.byref(cb))
-        return cb
-
     def _failure(self, inst, t):
         lines = [ln for msg in inst.log for ln in msg.splitlines() if ln.strip()]
         cause = lines[-1] if lines else "the FMU reported an error"
@@ -294,7 +310,8 @@ class Master:
         s = self.scenario
         time = np.empty(s.n_steps + 1)
         data = np.empty((s.n_steps + 1, len(self.columns)))
-        self.callbacks = self._make_callbacks()
+        self.callbacks = _callbacks(id(self))
+        _LOG_SINKS[id(self)] = self.instances
         self.current, self.phase, self.row, self.t = None, "while loading", 0, s.start_time
         failed, error = None, None
         tmp = Path(tempfile.mkdtemp(prefix="musclesim_run_"))
@@ -315,6 +332,7 @@ class Master:
                     inst.slave.freeInstance()
                 inst.slave = None
             shutil.rmtree(tmp, ignore_errors=True)
+            del _LOG_SINKS[id(self)]
         return Results(time[:self.row].copy(), list(self.columns), data[:self.row].copy(), error)
 
     def _instantiate(self, tmp):
