@@ -19,15 +19,15 @@ def _cmd_build(args):
     return 0
 
 
-def run_scenario(path, out, fmu_dir="fmus", overrides=(), stop_time=None):
-    """Load, run and write one scenario; return (summary dict, results)."""
+def run_scenario(path, out, fmu_dir="fmus", overrides=(), stop_time=None, with_plot=True):
+    """Load, run and write one scenario (the plot only `with_plot`); return (summary, results)."""
     from musclesim import build, master, results, scenario
 
     s = scenario.load(path, overrides, stop_time)
     build.check_fresh(fmu_dir)
     m = master.Master(s, fmu_dir)
     res = m.run()
-    summary = results.write_all(out, s, res, results.signal_units(m))
+    summary = results.write_all(out, s, res, results.signal_units(m), with_plot)
     return summary, res
 
 
@@ -78,7 +78,7 @@ def _parser():
         q.add_argument("--fmus", default="fmus", help="folder of built FMUs (default: fmus)")
 
     def scenario_args(q):
-        q.add_argument("scenario", help="scenario TOML file")
+        q.add_argument("scenario", help="scenario TOML file (for sweep: or a sweep file)")
         q.add_argument("--set", action="append", default=[], metavar="INST.PARAM=VALUE",
                        help="override a parameter (repeatable)")
         q.add_argument("--stop-time", type=float, help="replace the scenario's stop time [s]")

@@ -65,8 +65,10 @@ def plot(path, results, panels, units, title=""):
     plt.close(fig)
 
 
-def write_all(out_dir, scenario, results, units):
-    """Write results.csv, summary.json and results.png into `out_dir`; return the summary dict.
+def write_all(out_dir, scenario, results, units, with_plot=True):
+    """Write results.csv, summary.json and (unless not `with_plot`) results.png into `out_dir`.
+
+    Returns the summary dict.
 
     `units` maps each recorded signal to its unit. The summary holds the metrics at top level
     (with their units under ``"units"``), and the run's scenario, algorithm, step, times and error.
@@ -92,7 +94,7 @@ def write_all(out_dir, scenario, results, units):
         "end_time": float(results.time[-1]) if len(results.time) else None,
     }
     (out / "summary.json").write_text(json.dumps(summary, indent=2, allow_nan=True) + "\n")
-    if len(results.time) > 1:
+    if with_plot and len(results.time) > 1:
         plot(out / "results.png", results, scenario.plots, units,
              title=f"{scenario.name} ({scenario.spec})" if scenario.spec else scenario.name)
     return summary
