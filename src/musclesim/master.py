@@ -326,9 +326,10 @@ class Master:
             error = self._failure(failed, self.t)
         finally:
             for inst in self.instances.values():
-                if inst.slave is not None and inst.slave.component is not None:
-                    if inst is not failed:  # after an error FMI allows only freeing the instance
-                        inst.slave.terminate()
+                # An instance that failed is left alone: pythonfmu 0.7 has already released its
+                # Python objects without forgetting them, and freeing it would release them again.
+                if inst.slave is not None and inst.slave.component is not None and inst is not failed:
+                    inst.slave.terminate()
                     inst.slave.freeInstance()
                 inst.slave = None
             shutil.rmtree(tmp, ignore_errors=True)
