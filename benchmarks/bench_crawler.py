@@ -1,0 +1,282 @@
+"""Benchmark: the 60 s crawler-ideal scenario run four ways in one process, timed.
+
+    .venv/bin/python benchmarks/bench_crawler.py [--fmus fmus] [--stop-time 60] [--json out.json]
+
+(i) our master (`musclesim.master.Master`), (ii) libcosim (libcosimpy) on the exported SSP archive,
+(iii) a hand-written fmpy loop over the same FMUs doing what our Jacobi master does, (iv) the
+monolithic numpy model. Each time covers loading the FMUs, initializing and stepping; exporting
+the archive and building FMUs are not timed. Goals: ours >= 4x faster than libcosim, and at most
+1.5x the time of the hand loop. Run on a quiet machine: libcosim's worker threads and pythonfmu's
+FMUs share one GIL, so other load skews it most.
+"""
+import argparse
+import ctypes
+import json
+import platform
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+from fmpy import extract
+from fmpy.fmi2 import FMU2Slave
+
+from musclesim import build, scenario, ssp
+from musclesim.components.crawler import body, friction, inputs
+from musclesim.components.crawler.monolithic import simulate_ideal
+from musclesim.master import Master, read_fmu
+
+ROOT = Path(__file__).resolve().parents[1]
+IDEAL = ROOT / "scenarios" / "crawler-ideal.toml"
+GOAL_VS_LIBCOSIM = 4.0  # ours at least this many times faster than libcosim
+GOAL_VS_HAND = 1.5  # ours at most this many times slower than the hand loop
+
+
+def run_ours(s, fmu_dir):
+    """Our master; returns {signal: values}."""
+    res = Master(s, fmu_dir).run()
+    assert res.error is None, res.error
+    return {name: res[name] for name in res.names}
+
+
+def run_libcosim(s, ssp_path):
+    """libcosim's fixed-step master on the archive, recording the scenario's signals."""
+    from libcosimpy import CosimLogging
+    from libcosimpy.CosimEnums import CosimVariableType
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimObserver import CosimObserver
+
+    CosimLogging.log_output_level(CosimLogging.CosimLogLevel.WARNING)
+    execution = CosimExecution.from_ssp_file(str(ssp_path))
+    observer = CosimObserver.create_time_series()
+    execution.add_observer(observer)
+    ids = {}
+    for signal in s.record:
+        inst, var = scenario.split_signal(signal)
+        index = execution.slave_index_from_instance_name(inst)
+        ref = next(v.reference for v in execution.slave_variables(index) if v.name.decode() == var)
+        observer.start_time_series(index, ref, CosimVariableType.REAL)
+        ids[signal] = index, ref
+    assert execution.simulate_until(s.n_steps * round(s.step * 1e9))
+    # step n only: libcosimpy 0.0.6 drops a sample from reads that include step 0
+    return {sig: observer.time_series_real_samples(i, r, s.n_steps, 1)[2][0]
+            for sig, (i, r) in ids.items()}
+
+
+class _Fmu:
+    """One FMU instance with preallocated value references and values for its get and set.
+
+    Its outputs are read straight into ``buffer[offset:offset + len(outputs)]``.
+    """
+
+    def __init__(self, fmu_dir, tmp, component, name, parameters, outputs, buffer, offset):
+        path = Path(fmu_dir) / f"{component}.fmu"
+        md = read_fmu(path)
+        self.vr = {v.name: v.valueReference for v in md.modelVariables}
+        self.slave = FMU2Slave(guid=md.guid, unzipDirectory=extract(path, Path(tmp) / name),
+                               modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
+        self.slave.instantiate()
+        self.slave.setupExperiment(startTime=0.0)
+        if parameters:
+            self.slave.setReal([self.vr[p] for p in parameters], list(parameters.values()))
+        self.c = self.slave.component
+        self.out_vr = self.refs(outputs)
+        self.out = (ctypes.c_double * len(outputs)).from_buffer(buffer, offset * buffer.itemsize)
+
+    def refs(self, names):
+        """A ctypes array of the value references of `names`."""
+        return (ctypes.c_uint * len(names))(*[self.vr[x] for x in names])
+
+
+def run_hand_loop(s, fmu_dir):
+    """crawler-ideal stepped by hand with fmpy, as our Jacobi master does; {signal: values}.
+
+    At t_k: read inputs, set the body's f_a, read the body, set and read each friction block
+    (feedthrough order); then set the body's friction forces and step every instance from t_k.
+    """
+    p = {name: inst.parameters for name, inst in s.instances.items()}
+    body_out = ["flange1.s", "flange1.v", "flange1.f_n", "flange1.N",
+                "flange2.s", "flange2.v", "flange2.f_n", "flange2.N", "x_cm"]
+    fric_in = ["flange.v", "flange.f_n", "flange.N", "u"]
+    values = np.zeros(14)  # inputs' 3 outputs, the body's 9, the two friction forces
+    with tempfile.TemporaryDirectory(prefix="bench_hand_") as tmp:
+        src = _Fmu(fmu_dir, tmp, "FrictionSwitchingInputs", "inputs", p["inputs"],
+                   ["f_a", "u1", "u2"], values, 0)
+        bod = _Fmu(fmu_dir, tmp, "CrawlerBody", "body", p["body"], body_out, values, 3)
+        fr1 = _Fmu(fmu_dir, tmp, "FrictionBlock", "friction1", p["friction1"], ["flange.f"],
+                   values, 12)
+        fr2 = _Fmu(fmu_dir, tmp, "FrictionBlock", "friction2", p["friction2"], ["flange.f"],
+                   values, 13)
+        f_a_vr, forces_vr = bod.refs(["f_a"]), bod.refs(["flange1.f", "flange2.f"])
+        fric_vr = fr1.refs(fric_in)
+        f_a, forces = (ctypes.c_double * 1)(), (ctypes.c_double * 2)()
+        f1_in, f2_in = (ctypes.c_double * 4)(), (ctypes.c_double * 4)()
+        so, bo, f1o, f2o = src.out, bod.out, fr1.out, fr2.out
+        # each instance through its own FMU's functions (every FMU loads its own library)
+        (get0, _), (get1, set1), (get2, set2), (get3, set3) = (
+            (f.slave.fmi2GetReal, f.slave.fmi2SetReal) for f in (src, bod, fr1, fr2))
+
+        def exchange():
+            get0(src.c, src.out_vr, 3, so)
+            f_a[0] = so[0]
+            set1(bod.c, f_a_vr, 1, f_a)
+            get1(bod.c, bod.out_vr, 9, bo)
+            f1_in[0], f1_in[1], f1_in[2], f1_in[3] = bo[1], bo[2], bo[3], so[1]
+            set2(fr1.c, fric_vr, 4, f1_in)
+            get2(fr1.c, fr1.out_vr, 1, f1o)
+            f2_in[0], f2_in[1], f2_in[2], f2_in[3] = bo[5], bo[6], bo[7], so[2]
+            set3(fr2.c, fric_vr, 4, f2_in)
+            get3(fr2.c, fr2.out_vr, 1, f2o)
+            forces[0], forces[1] = f1o[0], f2o[0]
+
+        fmus = (src, bod, fr1, fr2)
+        for f in fmus:
+            f.slave.enterInitializationMode()
+        exchange()
+        set1(bod.c, forces_vr, 2, forces)
+        for f in fmus:
+            f.slave.exitInitializationMode()
+        exchange()
+        n, h, t = s.n_steps, s.step, s.start_time
+        # columns: flange1.s, flange2.s, x_cm, flange1.v, flange2.v, f_a, u1, u2, f1, f2
+        record = np.array([3, 7, 11, 4, 8, 0, 1, 2, 12, 13])
+        data = np.empty((n + 1, len(record)))
+        steps = [(f.slave.fmi2DoStep, f.c) for f in fmus]
+        for k in range(n + 1):
+            np.take(values, record, out=data[k])
+            if k == n:
+                break
+            set1(bod.c, forces_vr, 2, forces)
+            for do_step, c in steps:
+                do_step(c, t, h, 1)
+            t += h
+            exchange()
+        for f in fmus:
+            f.slave.terminate()
+            f.slave.freeInstance()
+    names = ["body.flange1.s", "body.flange2.s", "body.x_cm", "body.flange1.v", "body.flange2.v",
+             "inputs.f_a", "inputs.u1", "inputs.u2", "friction1.flange.f", "friction2.flange.f"]
+    return dict(zip(names, data.T))
+
+
+def run_monolithic(s):
+    """The monolithic numpy model of the same equations; {signal: values} of the block states."""
+    p = {name: inst.parameters for name, inst in s.instances.items()}
+    _, x = simulate_ideal(body.BodyParams(**p["body"]),
+                          [friction.FrictionParams(**p[n]) for n in ("friction1", "friction2")],
+                          inputs.InputParams(**p["inputs"]), s.step, s.stop_time)
+    return {"body.flange1.s": x[:, 0], "body.flange1.v": x[:, 1],
+            "body.flange2.s": x[:, 2], "body.flange2.v": x[:, 3]}
+
+
+class DiscretiseMeter:
+    """Counts and times `body.discretise` while active.
+
+    The FMUs' slaves run in this process and call the installed module, so this sees the
+    CrawlerBody FMU re-discretising whenever its step size changes, even in the last bit.
+    """
+
+    def __enter__(self):
+        self.calls, self.seconds, self.original = 0, 0.0, body.discretise
+
+        def metered(*args):
+            start = time.perf_counter()
+            try:
+                return self.original(*args)
+            finally:
+                self.calls += 1
+                self.seconds += time.perf_counter() - start
+
+        body.discretise = metered
+        return self
+
+    def __exit__(self, *exc):
+        body.discretise = self.original
+
+
+def timed(fn, *args, repeat=1):
+    """Best wall time of `repeat` calls of fn(*args), with that call's result and meter."""
+    best = (float("inf"), None, None)
+    for _ in range(repeat):
+        with DiscretiseMeter() as meter:
+            start = time.perf_counter()
+            out = fn(*args)
+            best = min(best, (time.perf_counter() - start, out, meter), key=lambda b: b[0])
+    return best
+
+
+def measure(s, fmu_dir, ssp_path, repeat):
+    """Time the four ways; return ({name: seconds}, {name: results}, {name: discretisations})."""
+    times, results, discretise = {}, {}, {}
+    for name, fn, args in (("ours", run_ours, (s, fmu_dir)),
+                           ("hand_loop", run_hand_loop, (s, fmu_dir)),
+                           ("libcosim", run_libcosim, (s, ssp_path)),
+                           ("monolithic", run_monolithic, (s,))):
+        times[name], results[name], meter = timed(fn, *args, repeat=repeat)
+        discretise[name] = {"calls": meter.calls, "seconds": meter.seconds}
+        print(f"{name:>10}: {times[name]:8.3f} s  ({meter.calls} body discretisations, "
+              f"{meter.seconds:.3f} s)", flush=True)
+    return times, results, discretise
+
+
+def report(times, results, discretise):
+    """Check that the runs agree, print the ratios; return them with the goals met."""
+    ours = results["ours"]
+    for name in ("hand_loop", "monolithic"):  # the same algorithm: the same numbers
+        for signal, values in results[name].items():
+            np.testing.assert_allclose(values, ours[signal], rtol=0,
+                                       atol=1e-9 * max(1.0, np.abs(ours[signal]).max()),
+                                       err_msg=f"{name} {signal}")
+    ratios = {"libcosim_over_ours": times["libcosim"] / times["ours"],
+              "ours_over_hand_loop": times["ours"] / times["hand_loop"],
+              "ours_over_monolithic": times["ours"] / times["monolithic"],
+              # libcosim hands the FMUs t_k+1 - t_k from its integer-nanosecond clock, which
+              # varies in the last bits, and CrawlerBody re-discretises on every change
+              "libcosim_less_discretisation_over_ours":
+                  (times["libcosim"] - discretise["libcosim"]["seconds"]) / times["ours"]}
+    goals = {"libcosim_over_ours": ratios["libcosim_over_ours"] >= GOAL_VS_LIBCOSIM,
+             "ours_over_hand_loop": ratios["ours_over_hand_loop"] <= GOAL_VS_HAND}
+    print(f"ours vs libcosim : {ratios['libcosim_over_ours']:.2f}x faster "
+          f"(goal >= {GOAL_VS_LIBCOSIM}x: {'met' if goals['libcosim_over_ours'] else 'MISSED'})")
+    print(f"ours vs hand loop: {ratios['ours_over_hand_loop']:.2f}x its time "
+          f"(goal <= {GOAL_VS_HAND}x: {'met' if goals['ours_over_hand_loop'] else 'MISSED'})")
+    print(f"ours vs monolithic numpy: {ratios['ours_over_monolithic']:.1f}x its time")
+    print(f"ours vs libcosim less its {discretise['libcosim']['calls']} re-discretisations: "
+          f"{ratios['libcosim_less_discretisation_over_ours']:.2f}x faster")
+    # libcosim delays direct feedthrough by a step (tests/test_ssp.py), so it ends elsewhere
+    print(f"final x_cm: ours {ours['body.x_cm'][-1]:.6f} m, "
+          f"libcosim {results['libcosim']['body.x_cm']:.6f} m")
+    return ratios, goals
+
+
+def main(argv=None):
+    """Run the benchmark, print times and ratios; return 0 (goals are reported, not enforced)."""
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--fmus", help="folder of built FMUs (default: build fresh ones in a temp dir)")
+    ap.add_argument("--stop-time", type=float, help="replace the scenario's 60 s [s]")
+    ap.add_argument("--repeat", type=int, default=1, help="best of this many runs per method")
+    ap.add_argument("--json", help="also write the numbers to this JSON file")
+    args = ap.parse_args(argv)
+    s = scenario.load(IDEAL, stop_time=args.stop_time)
+    with tempfile.TemporaryDirectory(prefix="bench_crawler_") as tmp:
+        fmu_dir = Path(args.fmus) if args.fmus else Path(tmp) / "fmus"
+        if args.fmus:
+            build.check_fresh(fmu_dir)
+        else:
+            build.build_all(fmu_dir)
+        ssp_path = ssp.export(s, fmu_dir, Path(tmp) / "crawler-ideal.ssp")
+        times, results, discretise = measure(s, fmu_dir, ssp_path, args.repeat)
+    ratios, goals = report(times, results, discretise)
+    if args.json:
+        Path(args.json).write_text(json.dumps({
+            "scenario": s.name, "stop_time": s.stop_time, "step": s.step, "n_steps": s.n_steps,
+            "repeat": args.repeat, "times_s": times, "ratios": ratios, "goals_met": goals,
+            "body_discretisations": discretise, "python": sys.version.split()[0],
+            "machine": platform.platform()}, indent=2) + "\n")
+        print(f"wrote {args.json}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
