@@ -87,3 +87,12 @@ def test_reference_result_is_reproduced(fmu_dir):
     res = cosim(fmu_dir, stop_time=5.0)
     assert_matches(type(res)(res.time[::10], res.names, res.data[::10]), ref[:, 0], ref[:, 1:],
                    tol=1e-12)
+
+
+def test_runs_leave_no_fmu_copy_of_musclesim_on_sys_path(fmu_dir):
+    """pythonfmu prepends each FMU's resources; left there, child processes import the FMU's copy."""
+    import sys
+    from pathlib import Path
+
+    cosim(fmu_dir, stop_time=0.01)
+    assert not [p for p in sys.path if (Path(p) / "slavemodule.txt").is_file()]

@@ -1,5 +1,6 @@
 """Every FMU of the catalogue: clean fmpy validation, documented SI variables, real FMU state,
 and self-containment (runs in a virtual environment with only numpy, scipy and fmpy)."""
+import inspect
 import json
 import subprocess
 import sys
@@ -11,6 +12,7 @@ from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 from fmpy.validation import validate_fmu
 
+from musclesim import master
 from musclesim.components import CATALOGUE
 from musclesim.fmislave import UNITS
 
@@ -90,15 +92,18 @@ def test_fmu_runs_in_a_venv_without_musclesim(fmu_dir, tmp_path):
     subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
     py = venv / "bin" / "python"
     subprocess.run([str(py), "-m", "pip", "install", "-q", "numpy", "scipy", "fmpy"], check=True)
+    # the process ends with the same exit-time workaround for pythonfmu 0.7 as musclesim's own
+    release = inspect.getsource(master.release_pythonfmu_libraries)
     script = textwrap.dedent(f"""
-        import importlib.util, json
+        import ctypes, importlib.util, json
+        from pathlib import Path
         from fmpy import simulate_fmu
         assert importlib.util.find_spec("musclesim") is None
         assert importlib.util.find_spec("pythonfmu") is None
         r = simulate_fmu({str(fmu_dir / 'CrawlerBody.fmu')!r}, stop_time=0.5, output_interval=1e-3,
                          start_values={{"f_a": 2.0}}, output=["flange1.s", "flange2.s", "x_cm"])
         print(json.dumps([float(r["flange1.s"][-1]), float(r["flange2.s"][-1]), float(r["x_cm"][-1])]))
-    """)
+    """) + textwrap.dedent(release) + "release_pythonfmu_libraries()\n"
     out = subprocess.run([str(py), "-c", script], capture_output=True, text=True, cwd=tmp_path)
     assert out.returncode == 0, out.stderr
     x1, x2, x_cm = json.loads(out.stdout.strip().splitlines()[-1])

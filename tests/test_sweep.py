@@ -101,8 +101,8 @@ def test_sweep_writes_one_result_per_case_on_a_local_cluster(fmu_dir, tmp_path):
     out = tmp_path / "out"
     summary = sweep.run(IDEAL, ["inputs.phi=0,pi"], out, fmu_dir=fmu_dir, workers=2,
                         stop_time=STOP)
-    assert (summary["cases"], summary["ran"], summary["completed"]) == (2, 2, 2)
     assert summary["failed"] == {}
+    assert (summary["cases"], summary["ran"], summary["completed"]) == (2, 2, 2)
     rows = _rows(out)
     assert set(rows) == {"inputs.phi=0", "inputs.phi=3.14159265359"}
     for cid, row in rows.items():

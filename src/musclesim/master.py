@@ -16,10 +16,12 @@ order: it is refused with the instances named. Then it *steps*:
 Values move through one preallocated float64 buffer and preallocated ctypes arrays: one batched
 fmi2GetReal / fmi2SetReal per instance and phase, no Python allocation per step.
 """
+import atexit
 import ctypes
 import math
 import re
 import shutil
+import sys
 import tempfile
 import zipfile
 from dataclasses import dataclass
@@ -64,6 +66,44 @@ def _callbacks(key):
     cb.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
     cb.componentEnvironment = key
     return cb
+
+
+def release_pythonfmu_libraries():
+    """Reset the interpreter handle of every pythonfmu FMU library still loaded (Linux).
+
+    pythonfmu 0.7.0's library resets its global interpreter handle from an ELF destructor that,
+    at process exit, runs after the handle's own C++ destructor: a use-after-free that corrupts
+    the heap now and then as the process ends. Resetting the handle earlier through the
+    library's exported ``finalizePythonInterpreter`` (safe while Python runs: the handle owns
+    nothing when the host started Python) makes both later resets no-ops. Registered with atexit,
+    so it covers the FMUs any library (fmpy, libcosim) loaded into this process.
+    """
+    try:
+        maps = Path("/proc/self/maps").read_text().splitlines()
+    except OSError:
+        return
+    paths = {line.split(None, 5)[5].removesuffix(" (deleted)") for line in maps
+             if len(line.split(None, 5)) == 6 and "/binaries/linux64/" in line}
+    for path in paths:
+        try:
+            lib = ctypes.CDLL(path)  # already loaded: the loader matches the name, even if deleted
+        except OSError:
+            continue
+        if hasattr(lib, "finalizePythonInterpreter"):
+            lib.finalizePythonInterpreter()
+
+
+atexit.register(release_pythonfmu_libraries)
+
+
+def forget_fmu_resource_paths():
+    """Drop the FMU resource folders pythonfmu puts at the front of ``sys.path``.
+
+    Once an FMU's slave module is imported they serve no purpose, and left there they shadow
+    this package with the copy each FMU ships, in this process and in the child processes that
+    inherit ``sys.path`` (Dask workers).
+    """
+    sys.path[:] = [p for p in sys.path if not (Path(p) / "slavemodule.txt").is_file()]
 
 
 @dataclass
@@ -112,6 +152,29 @@ def _topological(nodes, edges, pick_in_cycle):
         order.append(nxt)
         remaining.remove(nxt)
     return order
+
+
+def _check(status, function):
+    """Raise like fmpy does for a status above fmi2Warning."""
+    if status > 1:
+        raise FMICallException(function=function, status=status)
+
+
+def _recorded(s):
+    """The signals a scenario records, plots or computes metrics of, each once, in order."""
+    return list(dict.fromkeys([*s.record, *(sig for sig, _ in s.metrics.values()),
+                               *(sig for panel in s.plots for sig in panel["signals"])]))
+
+
+def _vrs(variables):
+    return (ctypes.c_uint * max(1, len(variables)))(*[v.valueReference for v in variables])
+
+
+def _transfer(variables, slots):
+    """Preallocated (count, value refs, values array, its numpy view, buffer slots) of a set."""
+    vals = (ctypes.c_double * max(1, len(variables)))()
+    return (len(variables), _vrs(variables), vals, np.ctypeslib.as_array(vals)[:len(variables)],
+            np.array(slots, dtype=np.intp))
 
 
 class _Instance:
@@ -208,9 +271,7 @@ class Master:
             if dst in targets:
                 problems.append(f"input {dst} is connected twice (from {targets[dst]} and {src})")
             targets[dst] = src
-        signals = [*s.record, *(sig for sig, _ in s.metrics.values()),
-                   *(sig for panel in s.plots for sig in panel["signals"])]
-        for sig in dict.fromkeys(signals):
+        for sig in _recorded(s):
             self._variable(sig, problems, "recorded signal")
 
     # ---- planning ------------------------------------------------------------------------------
@@ -235,61 +296,50 @@ class Master:
         if problems:
             return
 
-        # one buffer slot per distinct signal read from an instance
-        slots = {}
-
-        def slot(signal):
-            return slots.setdefault(signal, len(slots))
-
-        source_of = dict((dst, src) for src, dst in s.connections)
+        # One buffer slot per signal read from an instance, each instance's slots contiguous so
+        # that fmi2GetReal writes straight into the buffer.
+        source_of = {dst: src for src, dst in s.connections}
+        self.columns = _recorded(s)
         reads = {n: [] for n in names}
-        for src, _ in s.connections:
-            reads[split_signal(src)[0]].append(src)
-        self.columns = list(dict.fromkeys([*s.record, *(sig for sig, _ in s.metrics.values()),
-                                           *(sig for p in s.plots for sig in p["signals"])]))
-        for sig in self.columns:
-            if sig not in source_of:
-                reads[split_signal(sig)[0]].append(sig)
+        for sig in [src for src, _ in s.connections] + [c for c in self.columns if c not in source_of]:
+            reads[split_signal(sig)[0]].append(sig)
+        slots = {}
+        for name in names:
+            inst = self.instances[name]
+            inst.reads = list(dict.fromkeys(reads[name]))
+            inst.first = len(slots)
+            slots.update((sig, len(slots)) for sig in inst.reads)
+        self.values = np.zeros(max(1, len(slots)))
+        address = self.values.ctypes.data
         position = {n: i for i, n in enumerate(self.exchange_order)}
         for name, inst in self.instances.items():
-            out = list(dict.fromkeys(reads[name]))
-            inst.get = self._transfer([inst.vars[split_signal(x)[1]] for x in out],
-                                      [slot(x) for x in out])
+            n = len(inst.reads)
+            inst.get = (n, _vrs([inst.vars[split_signal(x)[1]] for x in inst.reads]),
+                        ctypes.cast(address + 8 * inst.first, ctypes.POINTER(ctypes.c_double)))
             ins = [(dst, src) for dst, src in source_of.items() if split_signal(dst)[0] == name]
             # inputs from instances exchanged earlier are set during the exchange if they feed
             # through; all others are set just before the step
             early = [(d, x) for d, x in ins if inst.feedthrough.get(split_signal(d)[1])
                      and position[split_signal(x)[0]] < position[name]]
             late = [pair for pair in ins if pair not in early]
-            inst.set_early = self._transfer([inst.vars[split_signal(d)[1]] for d, _ in early],
-                                            [slot(x) for _, x in early])
-            inst.set_late = self._transfer([inst.vars[split_signal(d)[1]] for d, _ in late],
-                                           [slot(x) for _, x in late])
-            inst.set_all = self._transfer([inst.vars[split_signal(d)[1]] for d, _ in ins],
-                                          [slot(x) for _, x in ins])
-        self.values = np.zeros(len(slots))
-        self.record_slots = np.array([slot(source_of.get(c, c)) for c in self.columns], dtype=np.intp)
-
-    @staticmethod
-    def _transfer(variables, slot_list):
-        """Preallocated (count, value refs, values array, numpy view, buffer slots) of one call."""
-        vrs = (ctypes.c_uint * max(1, len(variables)))(*[v.valueReference for v in variables])
-        vals = (ctypes.c_double * max(1, len(variables)))()
-        view = np.ctypeslib.as_array(vals)[:len(variables)]
-        return len(variables), vrs, vals, view, np.array(slot_list, dtype=np.intp)
+            inst.set_early, inst.set_late, inst.set_all = (
+                _transfer([inst.vars[split_signal(d)[1]] for d, _ in pairs], [slots[x] for _, x in pairs])
+                for pairs in (early, late, ins))
+        self.record_slots = np.array([slots[source_of.get(c, c)] for c in self.columns], dtype=np.intp)
 
     # ---- running -------------------------------------------------------------------------------
+    # FMI calls go to the FMU's functions directly (fmpy's wrapper costs a Python call each);
+    # the status is checked here as fmpy would: above fmi2Warning is a failure.
     def _get(self, inst):
-        n, vrs, vals, view, slots = inst.get
+        n, vrs, target = inst.get
         if n:
-            inst.slave.fmi2GetReal(inst.slave.component, vrs, n, vals)
-            self.values[slots] = view
+            _check(inst.get_real(inst.c, vrs, n, target), "fmi2GetReal")
 
     def _set(self, inst, transfer):
         n, vrs, vals, view, slots = transfer
         if n:
-            np.take(self.values, slots, out=view)
-            inst.slave.fmi2SetReal(inst.slave.component, vrs, n, vals)
+            self.values.take(slots, out=view)
+            _check(inst.set_real(inst.c, vrs, n, vals), "fmi2SetReal")
 
     def _exchange(self):
         for name in self.exchange_order:
@@ -348,11 +398,16 @@ class Master:
                                    modelIdentifier=inst.md.coSimulation.modelIdentifier,
                                    instanceName=inst.name)
             inst.slave.instantiate(callbacks=self.callbacks, loggingOn=True)
+            functions = inst.slave._functions  # the FMU's own functions, as fmpy loaded them
+            inst.c = inst.slave.component
+            inst.get_real, inst.set_real, inst.do_step = (
+                functions[f] for f in ("fmi2GetReal", "fmi2SetReal", "fmi2DoStep"))
             inst.slave.setupExperiment(startTime=s.start_time, stopTime=s.stop_time)
             params = s.instances[inst.name].parameters
             if params:
                 inst.slave.setReal([inst.vars[p].valueReference for p in params],
                                    list(params.values()))
+        forget_fmu_resource_paths()
 
     def _initialize(self):
         """Initialization mode: propagate start values in feedthrough order, then leave it."""
@@ -372,11 +427,11 @@ class Master:
         n, h, t, row = s.n_steps, s.step, self.t, 0
         gauss_seidel = s.algorithm == "gauss-seidel"
         order = [self.instances[x] for x in self.step_order]
-        values, rec = self.values, self.record_slots
+        take, rec = self.values.take, self.record_slots
         try:
             while True:
                 time[row] = t
-                np.take(values, rec, out=data[row])
+                take(rec, out=data[row])
                 row += 1
                 if not np.isfinite(data[row - 1]).all():
                     col = next(j for j, x in enumerate(data[row - 1]) if not math.isfinite(x))
@@ -386,7 +441,7 @@ class Master:
                 for inst in order:
                     self.current = inst
                     self._set(inst, inst.set_all if gauss_seidel else inst.set_late)
-                    inst.slave.fmi2DoStep(inst.slave.component, t, h, 1)
+                    _check(inst.do_step(inst.c, t, h, 1), "fmi2DoStep")
                     if gauss_seidel:
                         self._get(inst)
                 t += h  # accumulated like the FMUs' own time, so both agree to the bit
