@@ -25,7 +25,8 @@ from fmpy.fmi2 import FMU2Slave
 from musclesim import build, scenario, ssp
 from musclesim.components.crawler import body, friction, inputs
 from musclesim.components.crawler.monolithic import simulate_ideal
-from musclesim.master import Master, read_fmu
+from musclesim.fmuhost import read_fmu
+from musclesim.master import Master
 
 ROOT = Path(__file__).resolve().parents[1]
 IDEAL = ROOT / "scenarios" / "crawler-ideal.toml"

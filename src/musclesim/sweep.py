@@ -216,7 +216,7 @@ def _compute(todo, submit, scheduler, workers, record):
     from distributed import Client, LocalCluster, as_completed
     from tqdm import tqdm
 
-    from musclesim.master import forget_fmu_resource_paths
+    from musclesim.fmuhost import forget_fmu_resource_paths
 
     forget_fmu_resource_paths()  # workers inherit sys.path: no FMU's copy of musclesim in it
     cluster = None
