@@ -9,4 +9,7 @@ CATALOGUE = {
     "CrawlerBody": "musclesim.components.crawler.slaves:CrawlerBody",
     "FrictionBlock": "musclesim.components.crawler.slaves:FrictionBlock",
     "FrictionSwitchingInputs": "musclesim.components.crawler.slaves:FrictionSwitchingInputs",
+    "PID": "musclesim.components.control.slaves:PID",
+    "GainScheduledPID": "musclesim.components.control.slaves:GainScheduledPID",
+    "Thermocouple": "musclesim.components.sensors.slaves:Thermocouple",
 }

@@ -17,7 +17,12 @@ from musclesim.components import CATALOGUE
 from musclesim.fmislave import UNITS
 
 # parameter values that give each component internal state worth saving
-STATEFUL = {"FrictionBlock": {"t_switch": 0.05}}
+STATEFUL = {
+    "FrictionBlock": {"t_switch": 0.05},
+    "PID": {"Ki": 2.0, "Kd": 0.1, "Tf": 0.01},
+    "GainScheduledPID": {"Ki[1]": 2.0, "Kd[1]": 0.1, "Tf": 0.01},
+    "Thermocouple": {"tau": 0.01, "noise_std": 0.5, "seed": 3.0},  # the generator is state too
+}
 
 
 @pytest.mark.parametrize("name", CATALOGUE)

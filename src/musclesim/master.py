@@ -174,9 +174,9 @@ class Master:
                 problems.append(f"connection {src} -> {dst}: {src} is a {vs.causality}, not an output")
             if vd.causality != "input":
                 problems.append(f"connection {src} -> {dst}: {dst} is a {vd.causality}, not an input")
-            if (vs.unit or "1") != (vd.unit or "1"):
+            if vs.unit and vd.unit and vs.unit != vd.unit:  # a unitless port takes any signal
                 problems.append(f"connection {src} -> {dst} joins incompatible units "
-                                f"{vs.unit or '1'!r} and {vd.unit or '1'!r}")
+                                f"{vs.unit!r} and {vd.unit!r}")
             if dst in targets:
                 problems.append(f"input {dst} is connected twice (from {targets[dst]} and {src})")
             targets[dst] = src

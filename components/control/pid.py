@@ -1,0 +1,82 @@
+"""Discrete PID with derivative filter, output limits and anti-windup, and its gain scheduling.
+
+Parallel form u = Kp e + I + D with e = r - y, sampled at the communication step dt:
+
+    I[k+1] = I[k] + Ki e[k] dt            (held while the output saturates in the error's direction)
+    D[k]   = Tf/(Tf + dt) D[k-1] - Kd/(Tf + dt) (y[k] - y[k-1])   (on the measurement: no kick)
+    u[k]   = clip(Kp e[k] + I[k] + D[k], u_min, u_max)
+
+The integral is stored already multiplied by Ki, so changing gains (scheduling) does not bump u.
+"""
+import math
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class PIDParams:
+    """Gains, derivative filter time and output limits (defaults: a unit P controller)."""
+
+    Kp: float = 1.0
+    Ki: float = 0.0  # 1/s
+    Kd: float = 0.0  # s
+    Tf: float = 0.0  # s, derivative filter time constant (0: plain backward difference)
+    u_min: float = -math.inf
+    u_max: float = math.inf
+
+    def check(self):
+        """Raise ValueError naming the first parameter outside its valid range."""
+        for name in ("Kd", "Tf"):
+            if not getattr(self, name) >= 0:
+                raise ValueError(f"{name} must be non-negative (got {getattr(self, name)!r})")
+        if not self.u_min < self.u_max:
+            raise ValueError(f"u_min {self.u_min!r} must be below u_max {self.u_max!r}")
+
+
+@dataclass
+class PIDState:
+    """Integral term, last derivative term and last measurement."""
+
+    integral: float = 0.0
+    derivative: float = 0.0
+    y_last: float = math.nan  # NaN: no sample yet, so no derivative kick on the first one
+
+
+def derivative_term(state, y, dt, Kd, Tf):
+    """Filtered derivative of -y at this sample (0 on the first sample)."""
+    if math.isnan(state.y_last) or dt <= 0 or Kd == 0:
+        return 0.0
+    return (Tf * state.derivative - Kd * (y - state.y_last)) / (Tf + dt)
+
+
+def output(state, r, y, dt, gains, p):
+    """Controller output for reference r and measurement y; `gains` = (Kp, Ki, Kd)."""
+    Kp, _, Kd = gains
+    u = Kp * (r - y) + state.integral + derivative_term(state, y, dt, Kd, p.Tf)
+    return min(max(u, p.u_min), p.u_max)
+
+
+def update(state, r, y, dt, gains, p):
+    """Advance the state over one sample (conditional integration as anti-windup)."""
+    Kp, Ki, Kd = gains
+    e = r - y
+    d = derivative_term(state, y, dt, Kd, p.Tf)
+    unclipped = Kp * e + state.integral + d
+    winding_up = (unclipped > p.u_max and e > 0) or (unclipped < p.u_min and e < 0)
+    return PIDState(state.integral + (0.0 if winding_up else Ki * e * dt), d, y)
+
+
+def scheduled_gains(x, breakpoints, table):
+    """Gains (Kp, Ki, Kd) at scheduling variable x, linear between breakpoints, held at the ends.
+
+    Examples
+    --------
+    >>> scheduled_gains(2.5, [0.0, 5.0], [(1.0, 0.0, 0.0), (3.0, 1.0, 0.0)])
+    (2.0, 0.5, 0.0)
+    """
+    if x <= breakpoints[0]:
+        return tuple(table[0])
+    if x >= breakpoints[-1]:
+        return tuple(table[-1])
+    i = max(j for j in range(len(breakpoints) - 1) if breakpoints[j] <= x)
+    w = (x - breakpoints[i]) / (breakpoints[i + 1] - breakpoints[i])
+    return tuple(a + w * (b - a) for a, b in zip(table[i], table[i + 1]))

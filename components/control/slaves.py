@@ -1,0 +1,82 @@
+"""FMU slaves of the controllers: thin adapters over musclesim.components.control.pid."""
+from musclesim.components.control import pid
+from musclesim.fmislave import Slave
+
+# SPEC 2.5: 21 operating points of the temperature reference, 30..130 C every 5 C (in K)
+SCHEDULE_K = [273.15 + 30.0 + 5.0 * i for i in range(21)]
+UNLIMITED = 1e30  # output limits that never act (FMI start values must be finite)
+
+
+class _PIDBase(Slave):
+    """Inputs r, y; output u = PID(r - y) with direct feedthrough; limits and filter as parameters."""
+
+    def _declare_common(self):
+        self.parameter("Tf", 0.0, "s", "Derivative filter time constant (0: none)")
+        self.parameter("u_min", -UNLIMITED, "1", "Lower output limit")
+        self.parameter("u_max", UNLIMITED, "1", "Upper output limit")
+        self.input("r", 0.0, "1", "Reference")
+        self.input("y", 0.0, "1", "Measurement")
+        self.output("u", "1", "Controller output", depends=["r", "y"])
+        self.output("e", "1", "Control error r - y", depends=["r", "y"])
+
+    def setup(self):
+        self.p = pid.PIDParams(self.gains()[0], self.gains()[1], self.gains()[2], self.Tf,
+                               self.u_min, self.u_max)
+        self.p.check()
+        self.state = pid.PIDState()
+        self.dt = 0.0
+
+    def evaluate(self):
+        self.e = self.r - self.y
+        self.u = pid.output(self.state, self.r, self.y, self.dt, self.gains(), self.p)
+
+    def advance(self, t, dt):
+        self.dt = dt
+        self.state = pid.update(self.state, self.r, self.y, dt, self.gains(), self.p)
+
+
+class PID(_PIDBase):
+    """Discrete PID controller with derivative filter, output limits and anti-windup."""
+
+    description = "Discrete PID: derivative on measurement, output limits, conditional integration"
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self.parameter("Kp", 1.0, "1", "Proportional gain")
+        self.parameter("Ki", 0.0, "1", "Integral gain [1/s]")
+        self.parameter("Kd", 0.0, "1", "Derivative gain [s]")
+        self._declare_common()
+
+    def gains(self):
+        """Current (Kp, Ki, Kd)."""
+        return self.Kp, self.Ki, self.Kd
+
+
+class GainScheduledPID(_PIDBase):
+    """PID whose gains are interpolated from 21 sets scheduled on the reference (SPEC 2.5)."""
+
+    description = ("Gain-scheduled PID: 21 gain sets on the reference, 30..130 C every 5 C, "
+                   "linear in between (SPEC 2.5)")
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        for i, x in enumerate(SCHEDULE_K, start=1):
+            self.parameter(f"x[{i}]", x, "1", f"Scheduling point {i} of the reference (SPEC 2.5)")
+        for name, what in (("Kp", "Proportional gain"), ("Ki", "Integral gain [1/s]"),
+                           ("Kd", "Derivative gain [s]")):
+            for i in range(1, 22):
+                self.parameter(f"{name}[{i}]", 1.0 if name == "Kp" else 0.0, "1",
+                               f"{what} at scheduling point {i}")
+        self._declare_common()
+
+    def setup(self):
+        attr = lambda name, i: getattr(self, f"{name}[{i}]")
+        self.breakpoints = [attr("x", i) for i in range(1, 22)]
+        if any(b >= c for b, c in zip(self.breakpoints, self.breakpoints[1:])):
+            raise ValueError("the scheduling points x[1..21] must increase strictly")
+        self.table = [(attr("Kp", i), attr("Ki", i), attr("Kd", i)) for i in range(1, 22)]
+        super().setup()
+
+    def gains(self):
+        """(Kp, Ki, Kd) interpolated at the current reference."""
+        return pid.scheduled_gains(self.r, self.breakpoints, self.table)

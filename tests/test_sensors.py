@@ -1,0 +1,38 @@
+"""Thermocouple sensor: exact lag, bias, quantisation, reproducible noise; through its FMU too."""
+import math
+
+import numpy as np
+import pytest
+from fmpy import simulate_fmu
+
+from musclesim.components.sensors import thermocouple as tc
+
+
+def test_lag_is_exact_first_order_step_response():
+    x, dt, tau = 300.0, 1e-3, 0.05
+    for _ in range(100):
+        x = tc.lag(x, 400.0, dt, tau)
+    assert x == pytest.approx(400.0 - 100.0 * math.exp(-0.1 / tau), rel=1e-12)
+    assert tc.lag(300.0, 400.0, dt, 0.0) == 400.0
+
+
+def test_reading_bias_and_quantisation():
+    p = tc.SensorParams(bias=0.5, quantum=0.25)
+    assert tc.reading(300.2, p) == 300.75
+    assert tc.reading(300.2, tc.SensorParams()) == 300.2
+
+
+def test_noise_is_seeded_and_has_the_asked_spread():
+    p = tc.SensorParams(noise_std=0.3, seed=4)
+    a = [tc.noise_sample(p, r) for r in [tc.make_rng(p)] for _ in range(20000)]
+    b = [tc.noise_sample(p, r) for r in [tc.make_rng(p)] for _ in range(20000)]
+    assert a == b
+    assert np.std(a) == pytest.approx(0.3, rel=0.03) and abs(np.mean(a)) < 0.01
+
+
+def test_thermocouple_fmu_lags_a_step(fmu_dir):
+    r = simulate_fmu(str(fmu_dir / "Thermocouple.fmu"), stop_time=0.2, output_interval=1e-3,
+                     start_values={"tau": 0.05, "T": 350.0, "bias": -1.0},
+                     output=["T_meas"])
+    # the junction starts at the wire's temperature and the input is constant: reading = T + bias
+    np.testing.assert_allclose(r["T_meas"], 349.0, rtol=0, atol=1e-9)
