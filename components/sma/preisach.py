@@ -1,0 +1,286 @@
+"""Modified Preisach forward model of SPEC 2.2: temperature in, strain out, stress a correction."""
+import sys
+from bisect import bisect_right
+from dataclasses import dataclass
+
+from .surface import GRID_TEMPS, STRESSES, Hypersurface, RangeWarning, clamp
+
+__all__ = ["GRID_TEMPS", "STRESSES", "Hypersurface", "MemoryParams", "PreisachModel",
+           "RangeWarning", "stack_strain", "strain_falling", "strain_rising"]
+
+
+@dataclass(frozen=True)
+class MemoryParams:
+    """Numerics of the input memory (the extrema stack); SPEC 2.2 leaves them open."""
+
+    tol: float = 0.01  # C, reversals smaller than this make no stack entry (real-time noise guard)
+    max_extrema: int = 64  # stack bound incl. b0; beyond it the least important pair is forgotten
+
+    def check(self):
+        """Raise ValueError naming the first parameter outside its valid range."""
+        if not self.tol >= 0:
+            raise ValueError(f"tol must be non-negative (got {self.tol!r})")
+        if not (isinstance(self.max_extrema, int) and self.max_extrema >= 4):
+            raise ValueError(f"max_extrema must be an integer >= 4 (got {self.max_extrema!r})")
+
+
+class StressInput:
+    """Stress handling shared by the forward and inverse models: clamp, warn once, interpolate.
+
+    After `_set_stress`: ``_sig`` is the clamped stress, ``_k`` and ``_w`` its interval and
+    weight, ``_k_base = _k * stride`` the offset of the interval in the caller's tables.
+    """
+
+    def _init_stress(self, surface, stride):
+        self._s_lo, self._s_hi, self._levels, self._inv_ds, self._k_max = stress_grid(surface)
+        self._stride = stride
+        self._warned = set()
+        self._sigma = None
+
+    def _set_stress(self, sigma, t):
+        """Interpolation weights of a new stress (a single-level surface ignores stress)."""
+        self._sigma = sigma
+        if not self._s_lo <= sigma <= self._s_hi:
+            sigma = clamp(self._warned, "stress", sigma, self._s_lo, self._s_hi, "Pa", t)
+        levels = self._levels
+        k = bisect_right(levels, sigma) - 1
+        if k > self._k_max:
+            k = self._k_max
+        elif k < 0:
+            k = 0
+        self._sig = sigma
+        self._k = k
+        self._w = (sigma - levels[k]) * self._inv_ds[k]
+        self._k_base = k * self._stride
+
+
+class PreisachModel(StressInput):
+    """Forward model of SPEC 2.2 on a `Hypersurface`, stepped sample by sample in O(1).
+
+    The memory is the alternating stack ``extrema = [m_0 = b0, M_1, m_1, M_2, ...]`` with wiping-out
+    on every input. Each completed term (F(M_k, m_k-1) when M_k is recorded, -F(M_k, m_k) when m_k
+    is) is frozen at the stress of the last step spent at that extremum and kept as a running
+    prefix sum, so that a step evaluates F once: strain = prefix[-1] + the running term at the
+    current stress.
+
+    Memory rules (`MemoryParams`): a reversal is recorded only once the input has moved back more
+    than ``tol`` from the running extremum X; until then the input counts as X (the strain holds).
+    When a new extremum makes the stack longer than ``max_extrema``, the two consecutive entries
+    whose loss changes the strain least are forgotten (`forget_least_pair`, O(stack) F
+    evaluations, only then); the strain changes by that amount. Reaching b0 while cooling
+    empties the stack (all hysterons off, strain 0).
+
+    State: plain attributes (lists, floats, a bool), so ``copy.deepcopy`` saves it; the surface is
+    shared, not copied. Out-of-range policy: that of `Hypersurface` (clamp, warn once per model).
+    With time-varying stress the strain can leave [0, F(a0, b0)], since frozen terms keep their
+    stresses (SPEC 2.2).
+
+    Parameters
+    ----------
+    surface : Hypersurface
+    params : MemoryParams, optional
+
+    Examples
+    --------
+    >>> h = Hypersurface.from_function(lambda a, b, s: (a - b) ** 2 / 2e5, stresses=[1e8])
+    >>> m = PreisachModel(h, MemoryParams(tol=0.0))
+    >>> [round(m.step(T, 1e8) * 1e5, 6) for T in (90.0, 50.0, 70.0, 60.0, 95.0)]
+    [1800.0, 1000.0, 1200.0, 1150.0, 2112.5]
+    """
+
+    def __init__(self, surface, params=None):
+        self.params = params or MemoryParams()
+        self.params.check()
+        self.surface = surface
+        self._tol = float(self.params.tol)
+        self._t_lo, self._t_hi = surface.t_lo, surface.t_hi
+        self._nc, self._inv_h = surface.n_cells, surface.inv_h
+        self._init_stress(surface, self._nc * self._nc)
+        self.reset(surface.t_lo, surface.s_lo)
+
+    def reset(self, T, sigma, t=None):
+        """Start from the all-off state at b0 (fully martensitic), then take input T [C], sigma
+        [Pa]; return the strain."""
+        b0 = self._t_lo
+        self._set_stress(sigma, t)
+        self.extrema, self.prefix, self.stresses = [b0], [0.0], [self._sig]
+        self.rising, self.X, self.X_sigma, self.X_term = True, b0, self._sig, 0.0
+        return self.step(T, sigma, t)
+
+    def step(self, T, sigma, t=None):
+        """Take temperature T [C] and stress sigma [Pa] (at time t [s], used only in warnings);
+        return the strain [-]."""
+        if not self._t_lo <= T <= self._t_hi:
+            T = clamp(self._warned, "temperature", T, self._t_lo, self._t_hi, "C", t)
+        if sigma != self._sigma:
+            self._set_stress(sigma, t)
+        X = self.X
+        if self.rising:
+            if T < X - self._tol:
+                self._record()
+        elif T > X + self._tol:
+            self._record()
+        E = self.extrema
+        if self.rising:
+            if T >= X:
+                X = T
+                while len(E) > 2 and T >= E[-2]:  # wiping-out: a larger maximum (SPEC 2.2)
+                    self._wipe_pair()
+            a, b = X, E[-1]
+        else:
+            if T <= X:
+                X = T
+                while T <= E[-2]:  # wiping-out: a smaller minimum (SPEC 2.2)
+                    if len(E) == 2:
+                        return self._all_off()
+                    self._wipe_pair()
+            a, b = E[-1], X
+        nc = self._nc
+        x = (a - self._t_lo) * self._inv_h
+        i = int(x)
+        if i >= nc:
+            i = nc - 1
+        y = (b - self._t_lo) * self._inv_h
+        j = int(y)
+        if j >= nc:
+            j = nc - 1
+        u = x - i
+        v = y - j
+        c0, c1, c2, c3, d0, d1, d2, d3 = self.surface.cells[self._k_base + i * nc + j]
+        f = c0 + c1 * u + (c2 + c3 * u) * v + self._w * (d0 + d1 * u + (d2 + d3 * u) * v)
+        if not self.rising:
+            f = -f
+        self.X, self.X_sigma, self.X_term = X, self._sig, f
+        return self.prefix[-1] + f
+
+    def direct_strain(self):
+        """The strain of the current state summed term by term over the stack (O(stack))."""
+        return stack_strain(self.surface, self.extrema, self.stresses, self.X, self.X_sigma)
+
+    def _record(self):
+        """Push the running extremum X with its frozen term and turn round."""
+        push_extremum(self, self.X_term)
+
+    def _wipe_pair(self):
+        del self.extrema[-2:]
+        del self.prefix[-2:]
+        del self.stresses[-2:]
+
+    def _all_off(self):
+        """Cooling reached b0: every hysteron is off, the memory is empty."""
+        b0 = self._t_lo
+        self.extrema, self.prefix, self.stresses = [b0], [0.0], [self._sig]
+        self.rising, self.X, self.X_sigma, self.X_term = True, b0, self._sig, 0.0
+        return 0.0
+
+
+def push_extremum(model, term):
+    """Record model.X (stress model.X_sigma, frozen term `term`), bound the stack, turn round."""
+    E, P, S = model.extrema, model.prefix, model.stresses
+    E.append(model.X)
+    P.append(P[-1] + term)
+    S.append(model.X_sigma)
+    if len(E) > model.params.max_extrema:
+        forget_least_pair(model.surface, E, P, S)
+    model.rising = not model.rising
+
+
+def forget_least_pair(surface, extrema, prefix, stresses):
+    """Drop the two consecutive stack entries whose loss changes the strain least.
+
+    Neither b0 nor the newest entry is dropped. Dropping entries p, p+1 joins p-1 to p+2 with
+    the new term +-F(E[p+2], E[p-1]) at the stress of E[p+2]; the strain changes by the
+    Preisach mass of the rectangle the two corners enclosed (at constant stress). Costs one F
+    evaluation per entry; the prefix sums above p shift by that change.
+    """
+    E, P, S = extrema, prefix, stresses
+    best = None
+    for p in range(1, len(E) - 2):
+        q = p + 2
+        k, w = surface.stress_weights(S[q])
+        term = surface.eval(E[q], E[p - 1], k, w) if q % 2 else -surface.eval(E[p - 1], E[q], k, w)
+        change = P[q] - P[p - 1] - term
+        if best is None or abs(change) < abs(best[1]):
+            best = (p, change)
+    p, change = best
+    del E[p:p + 2], P[p:p + 2], S[p:p + 2]
+    for q in range(p, len(P)):
+        P[q] -= change
+
+
+def stress_grid(surface):
+    """(lo, hi, levels, 1 / level spacings, last interval) for inline stress interpolation.
+
+    A single level ignores stress: its range is every finite value and its weight is 0.
+    """
+    levels = [float(s) for s in surface.stresses]
+    if len(levels) == 1:
+        return -sys.float_info.max, sys.float_info.max, levels * 2, [0.0], 0
+    inv = [1.0 / (hi - lo) for lo, hi in zip(levels, levels[1:])]
+    return levels[0], levels[-1], levels, inv, len(levels) - 2
+
+
+def stack_strain(surface, extrema, stresses, T, sigma):
+    """Strain of an extrema stack summed term by term (the O(stack) form of SPEC 2.2).
+
+    Parameters
+    ----------
+    surface : Hypersurface
+    extrema : sequence of float
+        [m_0 = b0, M_1, m_1, ...] [C]; an odd length means the input is rising from the last
+        minimum, an even length that it is falling from the last maximum.
+    stresses : sequence of float
+        Stress [Pa] at which each extremum was recorded (each term's stress).
+    T, sigma : float
+        Current input [C] and stress [Pa] (the running term).
+    """
+    eps = 0.0
+    for p in range(1, len(extrema)):
+        if p % 2:
+            eps += surface.F(extrema[p], extrema[p - 1], stresses[p])
+        else:
+            eps -= surface.F(extrema[p - 1], extrema[p], stresses[p])
+    if len(extrema) % 2:
+        return eps + surface.F(T, extrema[-1], sigma)
+    return eps - surface.F(extrema[-1], T, sigma)
+
+
+def strain_rising(F, maxima, minima):
+    """SPEC 2.2, temperature rising (T = M_n, the last maximum), at one stress:
+
+    eps = sum_{k=1}^{n-1} [F(M_k, m_{k-1}) - F(M_k, m_k)] + F(M_n, m_{n-1})
+
+    with maxima = [M_1, ..., M_n], minima = [m_0 = b0, ..., m_{n-1}] and F(a, b) a callable.
+
+    Examples
+    --------
+    >>> strain_rising(lambda a, b: (a - b) ** 2 / 2, [90.0, 70.0], [30.0, 50.0])
+    1200.0
+    """
+    n = len(maxima)
+    if len(minima) != n:
+        raise ValueError(f"rising needs as many minima as maxima (m_0..m_n-1), got "
+                         f"{len(minima)} and {n}")
+    M = [None, *maxima]
+    return sum(F(M[k], minima[k - 1]) - F(M[k], minima[k]) for k in range(1, n)) + \
+        F(M[n], minima[n - 1])
+
+
+def strain_falling(F, maxima, minima):
+    """SPEC 2.2, temperature falling (T = m_n, the last minimum), at one stress:
+
+    eps = sum_{k=1}^{n} [F(M_k, m_{k-1}) - F(M_k, m_k)]
+
+    with maxima = [M_1, ..., M_n], minima = [m_0 = b0, ..., m_n] and F(a, b) a callable.
+
+    Examples
+    --------
+    >>> strain_falling(lambda a, b: (a - b) ** 2 / 2, [90.0, 70.0], [30.0, 50.0, 60.0])
+    1150.0
+    """
+    n = len(maxima)
+    if len(minima) != n + 1:
+        raise ValueError(f"falling needs one more minimum than maxima (m_0..m_n), got "
+                         f"{len(minima)} and {n}")
+    M = [None, *maxima]
+    return sum(F(M[k], minima[k - 1]) - F(M[k], minima[k]) for k in range(1, n + 1))

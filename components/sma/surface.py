@@ -1,0 +1,248 @@
+"""The Preisach hypersurface of SPEC 2.2: FORC increments F(a, b; stress) on a grid."""
+import bisect
+import math
+import warnings
+
+import numpy as np
+
+from . import forcfile
+
+GRID_TEMPS = tuple(30.0 + 5.0 * i for i in range(21))  # C, the Preisach triangle grid (SPEC 2.2)
+STRESSES = (105e6, 115e6, 125e6, 135e6, 145e6)  # Pa, the identified constant stresses (SPEC 2.2)
+_ATOL = 1e-12  # strain; round-off allowed in the monotonicity and zero-diagonal checks
+
+
+class RangeWarning(UserWarning):
+    """An input outside the identified range was clamped to it (make it an error with
+    ``warnings.simplefilter("error", RangeWarning)``)."""
+
+
+class Hypersurface:
+    """FORC-increment surfaces F(a, b; stress) at several constant stresses (SPEC 2.2).
+
+    Inside a grid cell of the Preisach triangle F is bilinear in (a, b); a cell on the diagonal is
+    half a square, and its missing corner (a = t_i, b = t_i+1) is taken as -F(t_i+1, t_i), which
+    makes F vanish on the diagonal and the half cell linear. Between stress levels F is linear in
+    stress; a single level means stress is ignored.
+
+    Out-of-range policy: a temperature outside [temps[0], temps[-1]] or a stress outside
+    [stresses[0], stresses[-1]] is clamped to the grid and a `RangeWarning` naming the variable,
+    the value, the range and (when the caller gives it) the time is issued once per variable and
+    object; NaN raises ValueError. The object is immutable apart from those warning flags, so
+    copies share it (``copy.deepcopy`` returns it unchanged).
+
+    Parameters
+    ----------
+    temps : sequence of float
+        Uniform, increasing temperature grid [C] (SPEC 2.2: 30..130 C at 5 C).
+    stresses : sequence of float
+        Increasing stresses [Pa] of the surfaces.
+    F : array_like, shape (len(stresses), len(temps), len(temps))
+        F[s, i, j] = F(a=temps[i], b=temps[j]; stresses[s]) for i >= j; entries above the
+        diagonal are ignored.
+
+    Raises
+    ------
+    ValueError
+        Bad grid, wrong shape, or an entry that is not finite, negative, off zero on the diagonal,
+        decreasing in a or increasing in b; the message names the entry.
+
+    Examples
+    --------
+    >>> h = Hypersurface.from_function(lambda a, b, s: (a - b) * s / 1e9, [30, 80, 130], [1e8])
+    >>> round(h.F(130.0, 30.0, 1e8), 12), round(h.F(105.0, 55.0, 1e8), 12)
+    (10.0, 5.0)
+    """
+
+    def __init__(self, temps, stresses, F):
+        temps = np.array(temps, dtype=float)
+        stresses = np.array(stresses, dtype=float)
+        table = np.array(F, dtype=float)
+        _check_grid(temps, stresses, table.shape)
+        _check_table(temps, stresses, table)
+        table = np.tril(table, -1)  # the diagonal is 0 up to round-off, above it is ignored
+        for arr in (temps, stresses, table):
+            arr.flags.writeable = False
+        self.temps, self.stresses, self.table = temps, stresses, table
+        self.t_lo, self.t_hi = float(temps[0]), float(temps[-1])
+        self.s_lo, self.s_hi = float(stresses[0]), float(stresses[-1])
+        self.n_cells = len(temps) - 1
+        self.inv_h = self.n_cells / (self.t_hi - self.t_lo)
+        self.cells = _cell_coefficients(table)
+        self._levels = [float(s) for s in stresses]
+        self._warned = set()
+
+    @classmethod
+    def from_function(cls, f, temps=GRID_TEMPS, stresses=STRESSES):
+        """Tabulate f(a, b, sigma) [strain] on the grid (defaults: SPEC 2.2) and validate it."""
+        temps = [float(t) for t in temps]
+        table = np.zeros((len(stresses), len(temps), len(temps)))
+        for s, sigma in enumerate(stresses):
+            for i, a in enumerate(temps):
+                for j in range(i + 1):
+                    table[s, i, j] = f(a, temps[j], float(sigma))
+        return cls(temps, stresses, table)
+
+    @classmethod
+    def load(cls, path):
+        """Read a FORC data file (format: `musclesim.components.sma.forcfile`).
+
+        Raises ValueError naming the file and the line of a malformed or non-monotonic entry.
+        """
+        temps, stresses, table, lines = forcfile.read(path)
+        try:
+            return cls(temps, stresses, table)
+        except forcfile.TableError as exc:
+            where = " and ".join(str(lines[k]) for k in exc.entries)
+            plural = "s" if len(exc.entries) > 1 else ""
+            raise ValueError(f"{path} line{plural} {where}: {exc}") from None
+        except ValueError as exc:
+            raise ValueError(f"{path}: {exc}") from None
+
+    def save(self, path):
+        """Write the surface as a FORC data file (format: `musclesim.components.sma.forcfile`)."""
+        forcfile.write(path, self.temps, self.stresses, self.table)
+
+    def at_stress(self, sigma):
+        """The single constant-stress surface at sigma [Pa]: a model on it ignores stress (the
+        comparison case of SPEC 2.4)."""
+        k, w = self.stress_weights(self.clamp_stress(sigma))
+        upper = min(k + 1, len(self.stresses) - 1)
+        G = (1 - w) * self.table[k] + w * self.table[upper]
+        return Hypersurface(self.temps, [float(sigma)], G[None])
+
+    def F(self, a, b, sigma, t=None):
+        """FORC increment F(a, b; sigma) [strain]; 0 for a <= b; out-of-range inputs clamped.
+
+        `t` [s], if given, only dates the out-of-range warning.
+        """
+        a = self.clamp_temperature(a, t)
+        b = self.clamp_temperature(b, t)
+        if a <= b:
+            return 0.0
+        k, w = self.stress_weights(self.clamp_stress(sigma, t))
+        return self.eval(a, b, k, w)
+
+    def eval(self, a, b, k, w):
+        """F at in-range a >= b, stress interval k, weight w (see `stress_weights`); no checks."""
+        nc = self.n_cells
+        x = (a - self.t_lo) * self.inv_h
+        y = (b - self.t_lo) * self.inv_h
+        i, j = min(int(x), nc - 1), min(int(y), nc - 1)
+        u, v = x - i, y - j
+        c0, c1, c2, c3, d0, d1, d2, d3 = self.cells[(k * nc + i) * nc + j]
+        return c0 + c1 * u + (c2 + c3 * u) * v + w * (d0 + d1 * u + (d2 + d3 * u) * v)
+
+    def stress_weights(self, sigma):
+        """(k, w): in-range sigma lies between levels k and k+1 with weight w on level k+1."""
+        levels = self._levels
+        if len(levels) == 1:
+            return 0, 0.0
+        k = min(max(bisect.bisect_right(levels, sigma) - 1, 0), len(levels) - 2)
+        return k, (sigma - levels[k]) / (levels[k + 1] - levels[k])
+
+    def clamp_temperature(self, T, t=None):
+        """T [C] clamped to the grid, with the one-time warning of the out-of-range policy."""
+        return self._clamp("temperature", T, self.t_lo, self.t_hi, "C", t)
+
+    def clamp_stress(self, sigma, t=None):
+        """sigma [Pa] clamped to the stress levels (any value when there is one level)."""
+        if len(self._levels) == 1:
+            return self._clamp("stress", sigma, -math.inf, math.inf, "Pa", t)
+        return self._clamp("stress", sigma, self.s_lo, self.s_hi, "Pa", t)
+
+    def _clamp(self, name, value, lo, hi, unit, t):
+        return clamp(self._warned, name, value, lo, hi, unit, t)
+
+    def __deepcopy__(self, memo):
+        return self
+
+    def __copy__(self):
+        return self
+
+
+def clamp(warned, name, value, lo, hi, unit, t=None):
+    """Clamp value to [lo, hi], warning once per name (recorded in the set `warned`).
+
+    Raises ValueError for NaN. `t` [s], if given, dates the warning.
+
+    Examples
+    --------
+    >>> clamp(set(), "temperature", 120.0, 30.0, 130.0, "C")
+    120.0
+    """
+    value = float(value)
+    if lo <= value <= hi:
+        return value
+    when = "" if t is None else f" at t = {t:g} s"
+    if math.isnan(value):
+        raise ValueError(f"{name} is NaN{when}")
+    clamped = min(max(value, lo), hi)
+    if name not in warned:
+        warned.add(name)
+        unit = f" {unit}" if unit else ""
+        warnings.warn(f"{name} {value:g}{unit}{when} is outside the identified range "
+                      f"[{lo:g}, {hi:g}]{unit}; clamped to {clamped:g}{unit} "
+                      "(warned once)", RangeWarning, stacklevel=4)
+    return clamped
+
+
+def _check_grid(temps, stresses, shape):
+    """Raise ValueError for a bad temperature grid, stress list or table shape."""
+    if temps.ndim != 1 or len(temps) < 2 or not np.all(np.isfinite(temps)):
+        raise ValueError("temps must be at least two finite temperatures [C]")
+    steps = np.diff(temps)
+    if not np.all(steps > 0) or np.ptp(steps) > 1e-9 * steps[0] * len(temps):
+        raise ValueError(f"temps must be uniform and increasing (got {temps.tolist()})")
+    if stresses.ndim != 1 or len(stresses) < 1 or not np.all(np.isfinite(stresses)):
+        raise ValueError("stresses must be at least one finite stress [Pa]")
+    if not np.all(np.diff(stresses) > 0):
+        raise ValueError(f"stresses must be increasing (got {stresses.tolist()})")
+    expected = (len(stresses), len(temps), len(temps))
+    if shape != expected:
+        raise ValueError(f"F must have shape {expected} (stresses, a, b), got {shape}")
+
+
+def _check_table(temps, stresses, F):
+    """Raise TableError at the first entry (lower triangle) a FORC surface cannot have: first
+    values (finite, zero diagonal, non-negative), then monotonicity between neighbours."""
+    n = len(temps)
+    lower = [(s, i, j) for s in range(len(stresses)) for i in range(n) for j in range(i + 1)]
+
+    def name(s, i, j):
+        return (f"F(a = {temps[i]:g} C, b = {temps[j]:g} C; stress {stresses[s]:g} Pa) "
+                f"= {float(F[s, i, j])!r}")
+    for s, i, j in lower:
+        v = F[s, i, j]
+        problem = ("is not finite" if not math.isfinite(v) else
+                   "is not 0 (F vanishes on the diagonal a = b)" if i == j and abs(v) > _ATOL else
+                   "is negative" if v < -_ATOL else "")
+        if problem:
+            raise forcfile.TableError(f"{name(s, i, j)} {problem}", [(s, i, j)])
+    for s, i, j in lower:
+        for other, rule in (((s, i - 1, j), "must not decrease in a"),
+                            ((s, i, j + 1), "must not increase in b")):
+            if other[1] >= other[2] and F[s, i, j] < F[other] - _ATOL:
+                raise forcfile.TableError(f"F {rule}: {name(s, i, j)} is below "
+                                          f"{name(*other)}", [other, (s, i, j)])
+
+
+def _cell_coefficients(table):
+    """Per stress interval and cell (i, j): F = c0 + c1 u + c2 v + c3 u v + w (d0 + ... + d3 u v).
+
+    u, v are the cell's fractional a and b, w the weight of the upper stress level. Cells above
+    the diagonal are zero; diagonal cells use the ghost corner -F(t_i+1, t_i).
+    """
+    S, n, _ = table.shape
+    G = np.tril(table, -1)
+    diag = np.arange(n - 1)
+    G[:, diag, diag + 1] = -table[:, diag + 1, diag]
+    f00, f10, f01, f11 = G[:, :-1, :-1], G[:, 1:, :-1], G[:, :-1, 1:], G[:, 1:, 1:]
+    c = np.stack([f00, f10 - f00, f01 - f00, f11 - f10 - f01 + f00], axis=-1)
+    c[:, np.triu_indices(n - 1, 1)[0], np.triu_indices(n - 1, 1)[1]] = 0.0
+    levels = [c[0], c[0]] if S == 1 else list(c)
+    cells = []
+    for k in range(len(levels) - 1):
+        coeff = np.concatenate([levels[k], levels[k + 1] - levels[k]], axis=-1)
+        cells.extend(tuple(row) for row in coeff.reshape(-1, 8).tolist())
+    return cells
