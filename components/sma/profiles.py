@@ -1,0 +1,114 @@
+"""Reference strain profiles SP I-IV and loading profiles LP I-VI of SPEC 2.4: signal generators."""
+import math
+
+import numpy as np
+
+EPS_MAX = 0.0376  # strain, top of the reference strain profiles (SPEC 2.4)
+SIGMA_LO, SIGMA_HI = 105e6, 145e6  # Pa, range of the loading profiles (SPEC 2.4)
+DURATION = 550.0  # s, length of a run (SPEC 2.4)
+F_FAST, F_SLOW = 1 / 17, 1 / 47  # Hz, the sinusoids of SP I, LP I and LP II (SPEC 2.4)
+STRAIN_PROFILES = ("SP I", "SP II", "SP III", "SP IV")
+LOADING_PROFILES = ("LP I", "LP II", "LP III", "LP IV", "LP V", "LP VI")
+
+
+class Profile:
+    """A signal of time: ``p(t)`` takes a float or an array of times [s], values in [lo, hi].
+
+    Attributes: ``name``, ``lo``, ``hi``, ``duration`` [s].
+    """
+
+    def __init__(self, name, fn, lo, hi, duration):
+        self.name, self.lo, self.hi, self.duration = name, lo, hi, duration
+        self._fn = fn
+
+    def __call__(self, t):
+        value = np.clip(self._fn(np.asarray(t, dtype=float)), self.lo, self.hi)
+        return float(value) if np.ndim(value) == 0 else value
+
+    def __repr__(self):
+        return f"Profile({self.name!r}, [{self.lo:g}, {self.hi:g}], {self.duration:g} s)"
+
+
+def strain_profile(name, lo=0.0, hi=EPS_MAX, duration=DURATION, seed=0):
+    """Reference strain profile SP I-IV of SPEC 2.4 within [lo, hi].
+
+    SP I: sinusoid at 1/17 Hz over the whole range, starting at lo. SP II: sinusoid at 1/17 Hz
+    about the middle, its amplitude decaying from the full range with time constant duration / 4
+    (nested minor loops). SP III: sinusoid at 1/17 Hz about the middle, its amplitude growing
+    linearly to the full range at `duration` (each peak wipes out the last). SP IV: random peaks
+    and troughs (generator seeded with `seed`), see `random_peaks`.
+
+    Examples
+    --------
+    >>> sp = strain_profile("SP I")
+    >>> sp(0.0), round(sp(8.5), 4)
+    (0.0, 0.0376)
+    """
+    mid, half = (lo + hi) / 2, (hi - lo) / 2
+    w = 2 * math.pi * F_FAST
+    fns = {
+        "SP I": lambda t: mid - half * np.cos(w * t),
+        "SP II": lambda t: mid - half * np.exp(-4 * t / duration) * np.cos(w * t),
+        "SP III": lambda t: mid - half * np.minimum(t / duration, 1.0) * np.cos(w * t),
+        "SP IV": random_peaks(lo, hi, duration, seed),
+    }
+    return Profile(name, _pick(fns, name), lo, hi, duration)
+
+
+def loading_profile(name, lo=SIGMA_LO, hi=SIGMA_HI, duration=DURATION, seed=0):
+    """Loading (stress) profile LP I-VI of SPEC 2.4 within [lo, hi] [Pa].
+
+    LP I and LP II: sinusoids at 1/17 Hz and 1/47 Hz over the range, starting at the middle.
+    LP III: linear increase lo -> hi over `duration`; LP IV: linear decrease hi -> lo (held after).
+    LP V and LP VI: random peaks and troughs, seeded with `seed` and `seed + 1`.
+
+    Examples
+    --------
+    >>> lp = loading_profile("LP III")
+    >>> lp(0.0), lp(275.0), lp(600.0)
+    (105000000.0, 125000000.0, 145000000.0)
+    """
+    mid, half = (lo + hi) / 2, (hi - lo) / 2
+    fns = {
+        "LP I": lambda t: mid + half * np.sin(2 * math.pi * F_FAST * t),
+        "LP II": lambda t: mid + half * np.sin(2 * math.pi * F_SLOW * t),
+        "LP III": lambda t: lo + (hi - lo) * np.clip(t / duration, 0.0, 1.0),
+        "LP IV": lambda t: hi - (hi - lo) * np.clip(t / duration, 0.0, 1.0),
+        "LP V": random_peaks(lo, hi, duration, seed, start=mid),
+        "LP VI": random_peaks(lo, hi, duration, seed + 1, start=mid),
+    }
+    return Profile(name, _pick(fns, name), lo, hi, duration)
+
+
+def random_peaks(lo, hi, duration, seed, start=None, segment=(4.0, 12.0)):
+    """A seeded signal through alternating random peaks and troughs, joined by half cosines.
+
+    Peaks are drawn from the upper 60 % of [lo, hi], troughs from the lower 60 %, each at least
+    10 % of the range from the previous extreme; each swing lasts a uniform random time in
+    `segment` [s]. The signal starts at `start` (default lo) and is smooth (C1).
+    """
+    rng = np.random.default_rng(seed)
+    span = hi - lo
+    times, values = [0.0], [lo if start is None else start]
+    up = True
+    while times[-1] <= duration:
+        while True:
+            frac = rng.uniform(0.4, 1.0) if up else rng.uniform(0.0, 0.6)
+            if abs(lo + frac * span - values[-1]) >= 0.1 * span:
+                break
+        times.append(times[-1] + rng.uniform(*segment))
+        values.append(lo + frac * span)
+        up = not up
+    times, values = np.array(times), np.array(values)
+
+    def fn(t):
+        i = np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2)
+        s = np.clip((t - times[i]) / (times[i + 1] - times[i]), 0.0, 1.0)
+        return values[i] + (values[i + 1] - values[i]) * (1 - np.cos(math.pi * s)) / 2
+    return fn
+
+
+def _pick(fns, name):
+    if name not in fns:
+        raise ValueError(f"unknown profile {name!r}; choose one of {', '.join(fns)}")
+    return fns[name]

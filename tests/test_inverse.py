@@ -1,0 +1,143 @@
+"""Inverse of the Preisach model (SPEC 2.4): the bases, tracking of the reference profiles SP I-IV
+under constant stress and under LP I-VI, memory agreement with the forward model; the profiles."""
+import copy
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from musclesim.components.sma.analytic import sma_like_surface
+from musclesim.components.sma.inverse import InverseBases, PreisachInverse
+from musclesim.components.sma.preisach import PreisachModel, RangeWarning
+from musclesim.components.sma.profiles import (LOADING_PROFILES, STRAIN_PROFILES, loading_profile,
+                                               strain_profile)
+
+SMA = sma_like_surface()
+BASES = InverseBases(SMA)
+RATE = 25.0  # Hz: the 550 s profiles keep their shape (>= 40 samples per 1/17 Hz period)
+TIMES = np.arange(0.0, 550.0, 1 / RATE)
+
+
+def track(eps_r, sigma, surface_for_inverse=SMA):
+    """Drive the forward model with the inverse's temperature; return (strain, inverse, model)."""
+    inverse = PreisachInverse(surface_for_inverse,
+                              bases=BASES if surface_for_inverse is SMA else None)
+    model = PreisachModel(SMA)
+    out = []
+    for t, e, s in zip(TIMES.tolist(), eps_r.tolist(), sigma.tolist()):
+        out.append(model.step(inverse.step(e, s, t), s, t))
+    return np.array(out), inverse, model
+
+
+def rmse_percent(eps, eps_r):
+    return 100 * math.sqrt(np.mean((eps - eps_r) ** 2)) / eps_r.max()
+
+
+@pytest.mark.parametrize("sigma", [105e6, 145e6], ids=["105MPa", "145MPa"])
+@pytest.mark.parametrize("sp", STRAIN_PROFILES)
+def test_tracks_strain_profiles_at_constant_stress(sp, sigma):
+    eps_r = strain_profile(sp)(TIMES)
+    eps, inverse, model = track(eps_r, np.full_like(TIMES, sigma))
+    assert rmse_percent(eps, eps_r) < 1.0
+    assert inverse.extrema == model.extrema  # the two memories agree
+
+
+@pytest.mark.parametrize("lp", LOADING_PROFILES)
+@pytest.mark.parametrize("sp", STRAIN_PROFILES)
+def test_tracks_strain_profiles_under_loading_profiles(sp, lp):
+    eps_r = strain_profile(sp)(TIMES)
+    eps, inverse, model = track(eps_r, loading_profile(lp)(TIMES))
+    assert rmse_percent(eps, eps_r) < 1.0
+    assert inverse.extrema == model.extrema
+    assert inverse.prefix == pytest.approx(model.prefix, abs=1e-15)
+
+
+def test_stress_aware_inverse_beats_a_single_surface():
+    """SPEC 2.4's comparison: an inverse that ignores stress (the 125 MPa surface) tracks worse."""
+    eps_r, sigma = strain_profile("SP I")(TIMES), loading_profile("LP I")(TIMES)
+    aware = rmse_percent(track(eps_r, sigma)[0], eps_r)
+    ignoring = rmse_percent(track(eps_r, sigma, SMA.at_stress(125e6))[0], eps_r)
+    assert ignoring > 3 * aware
+
+
+@pytest.mark.parametrize("sigma, tol", [
+    pytest.param(105e6, 0.002, id="105MPa-level"),
+    pytest.param(145e6, 0.002, id="145MPa-level"),
+    # between levels the inverse interpolates temperatures, the forward model F (SPEC 2.4)
+    pytest.param(118e6, 0.006, id="118MPa-between-levels"),
+])
+def test_bases_invert_the_surface(sigma, tol):
+    inverse = PreisachInverse(SMA, bases=BASES)
+    inverse.step(0.0, sigma)
+    top = SMA.F(130.0, 30.0, sigma)
+    rng = np.random.default_rng(1)
+    for _ in range(300):
+        b, a = np.sort(rng.uniform(30.0, 130.0, 2))
+        F = SMA.F(a, b, sigma)
+        assert abs(SMA.F(inverse._heat(b, F), b, sigma) - F) < tol * top
+        assert abs(SMA.F(a, inverse._cool(a, F), sigma) - F) < tol * top
+
+
+def test_saturation_and_all_off():
+    inverse = PreisachInverse(SMA, bases=BASES)
+    assert inverse.step(0.0376, 105e6) == 130.0  # the 105 MPa maximum needs full heating
+    assert inverse.step(0.0, 105e6) == 30.0 and inverse.extrema == [30.0]
+
+
+def test_deepcopy_saves_and_restores_the_state():
+    inverse = PreisachInverse(SMA, bases=BASES)
+    for e in (0.03, 0.01, 0.02):
+        inverse.step(e, 125e6)
+    saved = copy.deepcopy(inverse)
+    assert saved.bases is inverse.bases and saved.surface is inverse.surface
+    ahead = [inverse.step(e, 130e6) for e in (0.015, 0.025)]
+    assert [saved.step(e, 130e6) for e in (0.015, 0.025)] == ahead
+
+
+def test_out_of_range_reference_is_clamped_with_one_warning():
+    inverse = PreisachInverse(SMA, bases=BASES)
+    with pytest.warns(RangeWarning, match=r"reference strain 0\.05 at t = 7 s .*\[0, 0\.0"):
+        assert inverse.step(0.05, 145e6, t=7.0) == 130.0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        inverse.step(-0.01, 145e6)
+    with pytest.raises(ValueError, match="reference strain is NaN"):
+        inverse.step(math.nan, 145e6)
+
+
+# --- profiles -----------------------------------------------------------------------------
+
+@pytest.mark.parametrize("name", STRAIN_PROFILES)
+def test_strain_profiles_stay_in_range(name):
+    x = strain_profile(name)(TIMES)
+    assert x.min() >= 0.0 and x.max() <= 0.0376 and x.max() - x.min() > 0.03
+
+
+@pytest.mark.parametrize("name", LOADING_PROFILES)
+def test_loading_profiles_stay_in_range(name):
+    x = loading_profile(name)(TIMES)
+    assert x.min() >= 105e6 and x.max() <= 145e6 and x.max() - x.min() > 30e6
+
+
+def test_profile_shapes():
+    sp1, sp2, sp3 = (strain_profile(n) for n in ("SP I", "SP II", "SP III"))
+    assert sp1(3.0) == pytest.approx(sp1(3.0 + 17.0))  # 1/17 Hz
+    swing = [np.ptp(p(np.linspace(t, t + 17, 200))) for p in (sp2, sp3) for t in (0, 500)]
+    assert swing[0] > 5 * swing[1] and swing[3] > 5 * swing[2]  # damped, growing
+    lp2 = loading_profile("LP II")
+    assert lp2(10.0) == pytest.approx(lp2(57.0))  # 1/47 Hz
+    assert np.all(np.diff(loading_profile("LP III")(TIMES)) > 0)
+    assert np.all(np.diff(loading_profile("LP IV")(TIMES)) < 0)
+
+
+def test_random_profiles_are_seeded():
+    a, b = strain_profile("SP IV", seed=3)(TIMES), strain_profile("SP IV", seed=3)(TIMES)
+    assert np.array_equal(a, b)
+    assert not np.array_equal(a, strain_profile("SP IV", seed=4)(TIMES))
+    assert not np.array_equal(loading_profile("LP V")(TIMES), loading_profile("LP VI")(TIMES))
+
+
+def test_unknown_profile_is_an_error():
+    with pytest.raises(ValueError, match="unknown profile 'SP V'; choose one of SP I, SP II"):
+        strain_profile("SP V")
