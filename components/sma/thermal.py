@@ -1,0 +1,178 @@
+"""Lumped thermal model of an SMA wire (SPEC 2.1, data SPEC 5), candidate effects off by default.
+
+    m c_p dT/dt = P(u, xi) + m L xi_rate - h(T) A_s (T - T_amb) - G_clamp (T - T_clamp)
+
+P = R(xi) I^2 under current drive or V^2 / R(xi) under voltage drive, R(xi) = L (xi rho_M +
+(1 - xi) rho_A) / A with xi the martensite fraction. Effects (issue 3): latent heat L (heat
+absorbed while austenite forms, xi falling), conductive loss G_clamp to the clamps, and convection
+h(T) = h (|T - T_amb| / dT_ref)^n growing with the excess temperature. Temperatures in degrees C.
+The update is exponential (Rosenbrock-Euler): exact in one step when h is constant and the inputs
+are held, sub-stepped with h(T), stable at any step.
+"""
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+from scipy.optimize import brentq
+
+DRIVES = ("voltage", "current")
+
+
+@dataclass(frozen=True)
+class ThermalParams:
+    """Wire geometry, material data and effects (defaults: SPEC 2.1 and 5; effects off)."""
+
+    length: float = 58.42e-3  # m, main wire (SPEC 2.1)
+    diameter: float = 127e-6  # m, main wire (SPEC 2.1)
+    density: float = 6450.0  # kg/m^3, NiTi (SPEC 5)
+    specific_heat: float = 837.0  # J/(kg K), NiTi (SPEC 5)
+    rho_martensite: float = 80e-8  # Ohm m, 80 uOhm cm (SPEC 5)
+    rho_austenite: float = 100e-8  # Ohm m, 100 uOhm cm (SPEC 5)
+    h: float = 100.0  # W/(m^2 K), natural convection, 127 um wire at 50 K excess (SPEC 5)
+    drive: str = "voltage"  # electrical input: "voltage" [V] or "current" [A] (SPEC 2.1)
+    max_substep: float = 1e-4  # s, internal step limit (the study's loop runs at 0.4 ms, SPEC 2.1)
+    latent_heat: float = 0.0  # J/kg, effect: 12e3-24e3 when on (SPEC 5); 0 = off
+    clamp_conductance: float = 0.0  # W/K, effect: conduction into the clamps (fin estimate
+    #   2 k A / sqrt(k d / 4h) ~ 2e-4 W/K for 127 um, k = 18 W/(m K), SPEC 5); 0 = off
+    h_exponent: float = 0.0  # effect: n of h(T) (thin-wire correlations give 0.06-0.15); 0 = off
+    h_dT_ref: float = 50.0  # K, excess temperature at which h holds (SPEC 5)
+
+    def check(self):
+        """Raise ValueError naming the first parameter outside its valid range."""
+        for name in ("length", "diameter", "density", "specific_heat", "rho_martensite",
+                     "rho_austenite", "max_substep", "h_dT_ref"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"{name} must be positive (got {getattr(self, name)!r})")
+        for name in ("h", "latent_heat", "clamp_conductance", "h_exponent"):
+            if not getattr(self, name) >= 0:
+                raise ValueError(f"{name} must be non-negative (got {getattr(self, name)!r})")
+        if self.drive not in DRIVES:
+            raise ValueError(f"drive must be one of {DRIVES} (got {self.drive!r})")
+
+
+class ThermalInputs(NamedTuple):
+    """Inputs held over one step."""
+
+    u: float  # V or A, per ThermalParams.drive
+    T_amb: float  # C, ambient air
+    xi: float = 1.0  # martensite fraction (1 = cold wire), sets the resistance
+    xi_rate: float = 0.0  # 1/s, d xi / dt; matters only with latent heat
+    T_clamp: float | None = None  # C, clamp temperature; None = ambient
+
+
+def cross_section(p):
+    """Cross-section area pi d^2 / 4 [m^2]."""
+    return math.pi * p.diameter ** 2 / 4
+
+
+def lateral_surface(p):
+    """Lateral surface A_s = pi d L [m^2] (SPEC 2.1)."""
+    return math.pi * p.diameter * p.length
+
+
+def heat_capacity(p):
+    """Heat capacity m c_p of the wire [J/K]."""
+    return p.density * cross_section(p) * p.length * p.specific_heat
+
+
+def time_constant(p):
+    """Free-cooling time constant m c_p / (h A_s) = rho c d / 4h [s] (SPEC 5)."""
+    return heat_capacity(p) / (p.h * lateral_surface(p))
+
+
+def resistance(xi, p):
+    """Electrical resistance R(xi) = L (xi rho_M + (1 - xi) rho_A) / A [Ohm] (SPEC 2.1).
+
+    Examples
+    --------
+    >>> p = ThermalParams()
+    >>> round(resistance(1.0, p) / p.length, 1), round(resistance(0.0, p) / p.length, 1)
+    (63.2, 78.9)
+    """
+    rho = xi * p.rho_martensite + (1 - xi) * p.rho_austenite
+    return rho * p.length / cross_section(p)
+
+
+def joule_power(u, xi, p):
+    """Joule heating [W]: V^2 / R under voltage drive, R I^2 under current drive."""
+    r = resistance(xi, p)
+    return u * u / r if p.drive == "voltage" else r * u * u
+
+
+def convection_coefficient(T, T_amb, p):
+    """h(T) [W/(m^2 K)]: h, or h (|T - T_amb| / dT_ref)^n with the effect on."""
+    if p.h_exponent == 0:
+        return p.h
+    return p.h * (abs(T - T_amb) / p.h_dT_ref) ** p.h_exponent
+
+
+def martensite_fraction(eps, eps_max):
+    """xi = 1 - eps / eps_max clipped to [0, 1]: a hysteron switched on is austenite (SPEC 2.2)."""
+    return min(1.0, max(0.0, 1.0 - eps / eps_max))
+
+
+def derivative(T, inputs, p):
+    """dT/dt [K/s] of the lumped balance at wire temperature T [C] (module equation)."""
+    T_clamp = inputs.T_amb if inputs.T_clamp is None else inputs.T_clamp
+    h = convection_coefficient(T, inputs.T_amb, p)
+    heat = (joule_power(inputs.u, inputs.xi, p)
+            + p.density * cross_section(p) * p.length * p.latent_heat * inputs.xi_rate
+            - h * lateral_surface(p) * (T - inputs.T_amb)
+            - p.clamp_conductance * (T - T_clamp))
+    return heat / heat_capacity(p)
+
+
+def _phi(x):
+    """(1 - exp(-x)) / x, with its limit 1 at x = 0."""
+    return -math.expm1(-x) / x if x > 1e-12 else 1.0
+
+
+def step(T, inputs, dt, p):
+    """Wire temperature [C] after dt [s] with the inputs held.
+
+    Update T += dt_s f(T) phi(dt_s k / (m c_p)), phi(x) = (1 - e^-x) / x, k = (1 + n) h(T) A_s +
+    G_clamp the loss's derivative in T. With h constant (n = 0) one such update is the exact
+    solution; with h(T) it runs in ceil(dt / max_substep) sub-steps and is second order. Either
+    way it is stable at any step.
+
+    Examples
+    --------
+    >>> p = ThermalParams(drive="current")
+    >>> T = step(80.0, ThermalInputs(u=0.0, T_amb=20.0), time_constant(p), p)
+    >>> abs((T - 20.0) / 60.0 - math.exp(-1)) < 1e-12
+    True
+    """
+    n = 1 if p.h_exponent == 0 else max(1, math.ceil(dt / p.max_substep - 1e-9))
+    dt_s = dt / n
+    mc = heat_capacity(p)
+    for _ in range(n):
+        h = convection_coefficient(T, inputs.T_amb, p)
+        k = (1 + p.h_exponent) * h * lateral_surface(p) + p.clamp_conductance
+        T = T + dt_s * derivative(T, inputs, p) * _phi(dt_s * k / mc)
+    return T
+
+
+def step_coupled(T, inputs, dt, p, xi_at):
+    """Step with the latent heat coupled implicitly to the hysteresis: return (T_new, xi_new).
+
+    Solves T_new = step(T, inputs with xi_rate = (xi_new - xi) / dt, dt) with xi_new =
+    xi_at(T_new) clipped to [0, 1]. ``xi_at(T)`` is the martensite fraction the hysteresis model
+    would reach at T from its present memory (without committing it). Along a branch xi falls as
+    T rises, so the root is unique. An explicit xi_rate from the previous step would oscillate
+    wherever L |dxi/dT| > c_p, i.e. on steep branches. Without latent heat this is `step`
+    followed by one xi_at call.
+    """
+    def xi_end(T_end):
+        return min(1.0, max(0.0, xi_at(T_end)))
+
+    if p.latent_heat == 0:
+        T_new = step(T, inputs._replace(xi_rate=0.0), dt, p)
+        return T_new, xi_end(T_new)
+
+    def advance(T_end):
+        return step(T, inputs._replace(xi_rate=(xi_end(T_end) - inputs.xi) / dt), dt, p)
+
+    lo = step(T, inputs._replace(xi_rate=-inputs.xi / dt), dt, p)
+    hi = step(T, inputs._replace(xi_rate=(1.0 - inputs.xi) / dt), dt, p)
+    T_new = lo if hi - lo < 1e-12 else brentq(lambda x: x - advance(x), lo, hi, xtol=1e-10)
+    return T_new, xi_end(T_new)

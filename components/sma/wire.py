@@ -1,0 +1,235 @@
+"""Reference SMA wire (virtual hardware): stress-dependent hysteron density and its FORC increment.
+
+Each hysteron is a piece of wire that turns austenite (contracts) when heated to a and martensite
+again when cooled to b. Its centre c = (a + b) / 2 is its local transformation temperature and its
+width w = a - b its local hysteresis. Centres follow a sharp logistic population plus a diffuse
+Gaussian one, both moved by stress along the Clausius-Clapeyron slope (SPEC 5); widths are
+Gaussian. The strain amplitude grows with stress as martensite detwins. The density is zero
+outside the Preisach triangle T_low <= b <= a <= T_high (SPEC 2.1), so the wire saturates there.
+Temperatures in degrees C, stresses in Pa, strains as contraction / length (SPEC 2.1).
+"""
+import math
+import tomllib
+from dataclasses import dataclass, fields
+from pathlib import Path
+
+import numpy as np
+from scipy.special import expit, ndtr
+
+DEFAULT_PARAMS = Path(__file__).parent / "params" / "flexinol-127um-90C.toml"
+
+_NODES, _WEIGHTS = np.polynomial.legendre.leggauss(48)  # width quadrature, error ~1e-16
+_WIDTH_SDS = 4.0  # the width density is a Gaussian truncated at this many standard deviations
+
+
+@dataclass(frozen=True)
+class WireParams:
+    """Hysteron density parameters; values and their sources live in the parameter file."""
+
+    T_low: float  # C, lower saturation temperature b0 (SPEC 2.1)
+    T_high: float  # C, upper saturation temperature a0 (SPEC 2.1)
+    eps_sat: float  # saturated transformation strain (SPEC 2.3)
+    sigma_det: float  # Pa, detwinning stress scale of the strain amplitude (SPEC 2.3)
+    sigma_ref: float  # Pa, stress at which centre_ref holds (SPEC 2.3)
+    centre_ref: float  # C, median hysteron centre at sigma_ref (SPEC 2.3)
+    cc_slope: float  # Pa/K, Clausius-Clapeyron slope (SPEC 5)
+    width_mean: float  # K, mean hysteron width a - b (SPEC 2.3)
+    width_sd: float  # K, spread of the width
+    sharp_scale: float  # K, logistic scale of the sharp population (SPEC 5)
+    diffuse_fraction: float  # share of the diffuse population (SPEC 2.3)
+    diffuse_sd: float  # K, spread of the diffuse population (SPEC 2.3)
+
+    def check(self):
+        """Raise ValueError naming the first parameter outside its valid range."""
+        for name in ("eps_sat", "sigma_det", "cc_slope", "width_mean", "width_sd",
+                     "sharp_scale", "diffuse_sd"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"{name} must be positive (got {getattr(self, name)!r})")
+        if not 0 <= self.diffuse_fraction <= 1:
+            raise ValueError(f"diffuse_fraction must lie in [0, 1] (got {self.diffuse_fraction!r})")
+        if not self.T_low < self.T_high:
+            raise ValueError(f"T_low must be below T_high (got {self.T_low!r}, {self.T_high!r})")
+
+
+def load_params(path=DEFAULT_PARAMS):
+    """Read the [hysteresis] table of a wire parameter file into a checked WireParams.
+
+    Raises
+    ------
+    ValueError
+        Naming the file and the missing, unknown or non-numeric entry.
+
+    Examples
+    --------
+    >>> load_params().sigma_ref
+    155000000.0
+    """
+    path = Path(path)
+    try:
+        table = tomllib.loads(path.read_text(encoding="utf-8"))["hysteresis"]
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, KeyError) as exc:
+        raise ValueError(f"{path}: not a wire parameter file with a [hysteresis] table "
+                         f"({exc})") from exc
+    names = {f.name for f in fields(WireParams)}
+    for key in sorted(set(table) ^ names):
+        raise ValueError(f"{path}: {'unknown' if key in table else 'missing'} entry {key!r}")
+    for key, value in table.items():
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            raise ValueError(f"{path}: entry {key!r} must be a number (got {value!r})")
+    p = WireParams(**{k: float(v) for k, v in table.items()})
+    try:
+        p.check()
+    except ValueError as exc:
+        raise ValueError(f"{path}: {exc}") from None
+    return p
+
+
+def max_strain(sigma, p):
+    """Strain of the fully transformed wire, eps_sat (1 - exp(-sigma / sigma_det)) (SPEC 2.3)."""
+    return p.eps_sat * -np.expm1(-np.asarray(sigma, dtype=float) / p.sigma_det)
+
+
+def centre(sigma, p):
+    """Median hysteron centre [C] at stress sigma: moves up 1 / cc_slope K per Pa (SPEC 5)."""
+    return p.centre_ref + (np.asarray(sigma, dtype=float) - p.sigma_ref) / p.cc_slope
+
+
+def _centre_cdf(c, c0, p):
+    x = c - c0
+    f = p.diffuse_fraction
+    return (1 - f) * expit(x / p.sharp_scale) + f * ndtr(x / p.diffuse_sd)
+
+
+def _centre_pdf(c, c0, p):
+    x = c - c0
+    s = expit(x / p.sharp_scale)
+    gauss = np.exp(-0.5 * (x / p.diffuse_sd) ** 2) / (p.diffuse_sd * math.sqrt(2 * math.pi))
+    return (1 - p.diffuse_fraction) * s * (1 - s) / p.sharp_scale + p.diffuse_fraction * gauss
+
+
+def _width_support(p):
+    return max(0.0, p.width_mean - _WIDTH_SDS * p.width_sd), p.width_mean + _WIDTH_SDS * p.width_sd
+
+
+def _width_pdf(w, p):
+    lo, hi = _width_support(p)
+    mass = ndtr((hi - p.width_mean) / p.width_sd) - ndtr((lo - p.width_mean) / p.width_sd)
+    z = (w - p.width_mean) / p.width_sd
+    inside = (w >= lo) & (w <= hi)
+    norm = p.width_sd * math.sqrt(2 * math.pi) * mass
+    return np.where(inside, np.exp(-0.5 * z * z) / norm, 0.0)
+
+
+def _plane_mass(a, b, c0, p):
+    """Mass of the unit, untruncated density on {b <= b_h <= a_h <= a}: integral over the width w
+    of q(w) [P(a - w / 2) - P(b + w / 2)], P the centre CDF, by Gauss-Legendre on w's support."""
+    lo, hi = _width_support(p)
+    half = 0.5 * (np.clip(a - b, lo, hi) - lo)
+    w = lo + half[..., None] * (_NODES + 1)
+    c0 = c0[..., None]
+    inner = _centre_cdf(a[..., None] - w / 2, c0, p) - _centre_cdf(b[..., None] + w / 2, c0, p)
+    return half * np.sum(_WEIGHTS * _width_pdf(w, p) * inner, axis=-1)
+
+
+def _total_mass(sigma, p):
+    """_plane_mass over the whole triangle, evaluated once per distinct stress."""
+    levels, index = np.unique(sigma, return_inverse=True)
+    c0 = centre(levels, p)
+    total = _plane_mass(np.full_like(levels, p.T_high), np.full_like(levels, p.T_low), c0, p)
+    return total[index].reshape(sigma.shape)
+
+
+def _as_arrays(a, b, sigma):
+    a, b, sigma = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (a, b, sigma)))
+    if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b)) and np.all(np.isfinite(sigma))):
+        raise ValueError("temperatures and stress must be finite numbers")
+    if np.any(sigma < 0):
+        raise ValueError(f"stress must be non-negative (got {sigma.min()!r} Pa)")
+    return a, b, sigma
+
+
+def forc_increment(a, b, sigma, p):
+    """FORC increment F(a, b; sigma): strain of all hysterons in {b <= b_h <= a_h <= a} (SPEC 2.2).
+
+    Parameters
+    ----------
+    a, b : float or array_like
+        Peak and end temperature of the reversal curve [C]; outside [T_low, T_high] they count as
+        the nearest saturation temperature (no hysterons live there).
+    sigma : float or array_like
+        Stress [Pa], non-negative. All three broadcast together.
+    p : WireParams
+
+    Returns
+    -------
+    numpy.ndarray or numpy.float64
+        F >= 0; F(T_high, T_low; sigma) is the wire's maximum strain; 0 where a <= b.
+
+    Examples
+    --------
+    >>> p = load_params()
+    >>> round(float(forc_increment(130, 30, 105e6, p)), 4)
+    0.0376
+    """
+    a, b, sigma = _as_arrays(a, b, sigma)
+    c0 = centre(sigma, p)
+    a = np.clip(a, p.T_low, p.T_high)
+    b = np.clip(b, p.T_low, p.T_high)
+    total = _total_mass(sigma, p)
+    return (max_strain(sigma, p) * _plane_mass(a, b, c0, p) / total)[()]
+
+
+def density(a, b, sigma, p):
+    """Hysteron density mu(a, b; sigma) [1/K^2]: zero outside the triangle, integrates to F.
+
+    Examples
+    --------
+    >>> p = load_params()
+    >>> float(density(100, 110, 155e6, p)), float(density(120, 20, 155e6, p))
+    (0.0, 0.0)
+    """
+    a, b, sigma = _as_arrays(a, b, sigma)
+    c0 = centre(sigma, p)
+    total = _total_mass(sigma, p)
+    inside = (b >= p.T_low) & (a <= p.T_high) & (a >= b)
+    mu = _width_pdf(a - b, p) * _centre_pdf((a + b) / 2, c0, p) * max_strain(sigma, p) / total
+    return np.where(inside, mu, 0.0)[()]
+
+
+def outside_mass(sigma, p):
+    """Share of the untruncated density that falls outside the Preisach triangle at sigma."""
+    return (1.0 - _total_mass(np.asarray(sigma, dtype=float), p))[()]
+
+
+class ReferenceWire:
+    """The reference wire as a FORC-increment source: ``F(a, b, sigma)`` is what
+    ``Hypersurface.from_function`` tabulates and what the loop explorer cycles.
+
+    Parameters
+    ----------
+    params : WireParams or path-like, optional
+        Parameters, or a parameter file to load (default: the 127 um, 90 C wire).
+
+    Examples
+    --------
+    >>> wire = ReferenceWire()
+    >>> round(float(wire.F(130, 30, 155e6)), 4), round(float(wire.F(85, 60, 155e6)), 4)
+    (0.04, 0.0204)
+    """
+
+    def __init__(self, params=None):
+        if not isinstance(params, WireParams):
+            params = load_params(params or DEFAULT_PARAMS)
+        self.params = params
+
+    def F(self, a, b, sigma):
+        """FORC increment F(a, b; sigma) [-] (see `forc_increment`)."""
+        return forc_increment(a, b, sigma, self.params)
+
+    def mu(self, a, b, sigma):
+        """Hysteron density mu(a, b; sigma) [1/K^2] (see `density`)."""
+        return density(a, b, sigma, self.params)
+
+    def eps_max(self, sigma):
+        """Maximum strain F(T_high, T_low; sigma) [-]."""
+        return max_strain(sigma, self.params)
