@@ -10,11 +10,14 @@ import musclesim
 
 
 def _modules():
-    for info in pkgutil.walk_packages(musclesim.__path__, "musclesim."):
-        yield importlib.import_module(info.name)
+    import musclesim.components as components
+
+    for package in (musclesim, components):
+        for info in pkgutil.walk_packages(package.__path__, package.__name__ + "."):
+            yield importlib.import_module(info.name)
 
 
-MODULES = list(_modules())
+MODULES = list({m.__name__: m for m in _modules()}.values())
 
 
 @pytest.mark.parametrize("module", MODULES, ids=lambda m: m.__name__)

@@ -1,4 +1,4 @@
-"""The `musclesim` command line: build, run, export, sweep, linear.
+"""The `musclesim` command line: build, run, export, sweep, loops, bench, linear.
 
 Mistakes a user can fix end in one sentence on stderr and exit status 2; a failed simulation
 exits with status 1 after writing the results it reached.
@@ -70,6 +70,23 @@ def _cmd_linear(args):
     return 0
 
 
+def _cmd_loops(args):
+    from musclesim.loops import loops_main
+
+    out = loops_main(args.stress, args.band, model_path=args.model, as_json=args.json,
+                     plot_path=args.plot)
+    print(json.dumps(out, indent=2) if args.json else out)
+    return 0
+
+
+def _cmd_bench(args):
+    from musclesim import bench
+
+    report = bench.preisach()
+    print(json.dumps(report, indent=2) if args.json else bench.format_preisach(report))
+    return 0
+
+
 def _parser():
     p = argparse.ArgumentParser(prog="musclesim", description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="command", required=True)
@@ -106,6 +123,21 @@ def _parser():
     q.add_argument("--scheduler", help="address of an existing Dask scheduler")
     q.add_argument("--workers", type=int, help="workers of the local cluster")
     q.set_defaults(func=_cmd_sweep)
+
+    q = sub.add_parser("loops", help="steady strain loops of cycled temperature bands (SMA wire)")
+    q.add_argument("--stress", type=float, required=True, help="constant stress [Pa]")
+    q.add_argument("--band", action="append", required=True, metavar="T_LO:T_HI",
+                   help="temperature band in C (repeatable)")
+    q.add_argument("--model", help="FORC data file, or a wire parameter .toml (default: the "
+                                   "reference wire)")
+    q.add_argument("--plot", help="write the loops plot to this PNG")
+    q.add_argument("--json", action="store_true", help="print JSON instead of text")
+    q.set_defaults(func=_cmd_loops)
+
+    q = sub.add_parser("bench", help="timing benchmarks of the pure cores (on demand)")
+    q.add_argument("core", choices=["preisach"], help="the core to time")
+    q.add_argument("--json", action="store_true", help="print JSON instead of text")
+    q.set_defaults(func=_cmd_bench)
 
     q = sub.add_parser("linear", help="linear analysis with python-control")
     q.add_argument("system", choices=["crawler"], help="the system to analyse")
