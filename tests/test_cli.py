@@ -122,3 +122,17 @@ def test_build_command_writes_every_fmu(tmp_path, capsys):
     assert code == 0
     assert sorted(p.stem for p in tmp_path.glob("*.fmu")) == sorted(CATALOGUE)
     assert (tmp_path / "BUILD.json").is_file() and "built" in out
+
+
+def test_parameters_file_is_read_and_inline_values_win(fmu_dir, tmp_path, capsys):
+    (tmp_path / "body.toml").write_text("m1 = 0.3\nk = 150.0\n")
+    path = ideal_with(tmp_path, "parameters = { m1 = 0.2, m2 = 0.2, k = 200.0, c = 1.3, theta = 0.0 }",
+                      'parameters_file = "body.toml"\nparameters = { m2 = 0.25 }')
+    code, _, err = run(capsys, "run", path, "--out", tmp_path / "o", "--fmus", fmu_dir,
+                       "--stop-time", "0.01")
+    assert code == 0, err
+    params = json.loads((tmp_path / "o" / "summary.json").read_text())["parameters"]["body"]
+    assert params == {"m1": 0.3, "k": 150.0, "m2": 0.25}
+    (tmp_path / "body.toml").write_text("m1 = 'heavy'\n")
+    code, _, err = run(capsys, "run", path, "--out", tmp_path / "o", "--fmus", fmu_dir)
+    assert code == 2 and "sets m1 = 'heavy', not a number" in err

@@ -65,8 +65,15 @@ def _cmd_sweep(args):
 def _cmd_linear(args):
     from musclesim import linear
 
-    report = linear.crawler()
-    print(json.dumps(report, indent=2) if args.json else linear.format_crawler(report))
+    if args.system == "crawler":
+        report, text = linear.crawler(), linear.format_crawler
+    else:
+        report, text = linear.sma_thermal(), linear.format_sma_thermal
+        if args.write:
+            Path(args.write).write_text(linear.gain_table_toml(report))
+    print(json.dumps(report, indent=2) if args.json else text(report))
+    if args.write:
+        print(f"wrote the gain table to {args.write}", file=sys.stderr)
     return 0
 
 
@@ -140,8 +147,10 @@ def _parser():
     q.set_defaults(func=_cmd_bench)
 
     q = sub.add_parser("linear", help="linear analysis with python-control")
-    q.add_argument("system", choices=["crawler"], help="the system to analyse")
+    q.add_argument("system", choices=["crawler", "sma-thermal"], help="the system to analyse")
     q.add_argument("--json", action="store_true", help="print JSON instead of text")
+    q.add_argument("--write", metavar="FILE", help="sma-thermal: write the GainScheduledPID "
+                                                   "parameters (TOML) a scenario can read")
     q.set_defaults(func=_cmd_linear)
     return p
 

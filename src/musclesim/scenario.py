@@ -1,6 +1,7 @@
 """Scenario files: parse and check the TOML that wires FMU instances into an experiment.
 
-A scenario names instances (component + parameter values), connections ``"a.y" -> "b.u"``, the
+A scenario names instances (component + parameter values, inline or from a TOML file given as
+``parameters_file`` relative to the scenario, inline values winning), connections ``"a.y" -> "b.u"``, the
 communication step, start and stop time, the master algorithm, the signals to record, the metrics
 to compute and the plot panels. Checks collect every problem and raise once with the whole list.
 """
@@ -110,9 +111,11 @@ def _parse(data, path, problems):
             continue
         if "." in name:
             problems.append(f"instance name {name!r} must not contain '.'")
-        params = spec.get("parameters", {})
-        for key in sorted(set(spec) - {"component", "parameters"}):
-            problems.append(f"instance {name!r}: unknown key {key!r} (known: component, parameters)")
+        params = {**_parameters_file(path, name, spec.get("parameters_file"), problems),
+                  **spec.get("parameters", {})}
+        for key in sorted(set(spec) - {"component", "parameters", "parameters_file"}):
+            problems.append(f"instance {name!r}: unknown key {key!r} "
+                            "(known: component, parameters, parameters_file)")
         bad = [k for k, v in params.items() if not _number(v)]
         for k in bad:
             problems.append(f"parameter {name}.{k} = {params[k]!r} is not a finite number")
@@ -159,6 +162,22 @@ def _parse(data, path, problems):
         stop_time=float(data["stop_time"]), start_time=float(data.get("start_time", 0.0)),
         algorithm=algorithm, record=tuple(record), metrics=metrics, plots=tuple(plots),
         description=str(data.get("description", "")), spec=str(data.get("spec", "")))
+
+
+def _parameters_file(scenario_path, instance, name, problems):
+    """Parameter values from an instance's ``parameters_file`` (relative to the scenario)."""
+    if name is None:
+        return {}
+    path = scenario_path.parent / str(name)
+    try:
+        values = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
+        problems.append(f"instance {instance!r}: parameters_file {path} cannot be read: {exc}")
+        return {}
+    bad = [k for k, v in values.items() if not _number(v)]
+    for k in bad:
+        problems.append(f"instance {instance!r}: {path} sets {k} = {values[k]!r}, not a number")
+    return {k: v for k, v in values.items() if k not in bad}
 
 
 def apply_overrides(scenario, overrides, problems):
