@@ -12,4 +12,5 @@ CATALOGUE = {
     "PID": "musclesim.components.control.slaves:PID",
     "GainScheduledPID": "musclesim.components.control.slaves:GainScheduledPID",
     "Thermocouple": "musclesim.components.sensors.slaves:Thermocouple",
+    "SignalSource": "musclesim.components.sources.slaves:SignalSource",
 }

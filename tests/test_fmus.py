@@ -22,6 +22,7 @@ STATEFUL = {
     "PID": {"Ki": 2.0, "Kd": 0.1, "Tf": 0.01},
     "GainScheduledPID": {"Ki[1]": 2.0, "Kd[1]": 0.1, "Tf": 0.01},
     "Thermocouple": {"tau": 0.01, "noise_std": 0.5, "seed": 3.0},  # the generator is state too
+    "SignalSource": {"kind": 1.0, "amplitude": 1.0, "frequency": 5.0},
 }
 
 

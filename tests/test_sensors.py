@@ -36,3 +36,15 @@ def test_thermocouple_fmu_lags_a_step(fmu_dir):
                      output=["T_meas"])
     # the junction starts at the wire's temperature and the input is constant: reading = T + bias
     np.testing.assert_allclose(r["T_meas"], 349.0, rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("kind, t, expected", [
+    (0, 3.0, 2.0), (1, 0.25, 3.0), (2, 0.6, 1.0), (2, 0.1, 3.0), (3, 0.5, 3.0), (3, 0.0, 1.0),
+], ids=["constant", "sine-peak", "square-low", "square-high", "triangle-peak", "triangle-trough"])
+def test_signal_source_waves(kind, t, expected):
+    from musclesim.components.sources import signals
+
+    p = signals.SignalParams(kind=kind, offset=2.0, amplitude=1.0, frequency=1.0)
+    assert signals.value(t, p) == pytest.approx(expected, abs=1e-12)
+    late = signals.SignalParams(kind=kind, offset=2.0, amplitude=1.0, frequency=1.0, t_start=10.0)
+    assert signals.value(t, late) == 2.0  # the offset until the wave starts

@@ -1,0 +1,1 @@
+"""Signal sources: references and loads as FMUs (constant, sine, square, triangle)."""

@@ -1,0 +1,56 @@
+"""Periodic test signals: constant, sine, square and triangle waves around an offset.
+
+    y(t) = offset                                  for t < t_start or kind = constant
+    y(t) = offset + amplitude w(f (t - t_start) + phase / 2 pi)   otherwise
+
+with w the unit wave of the kind (sine; square: +1 over the first half period, -1 over the
+second; triangle: -1 -> +1 -> -1), so a square wave alternates between two set-points.
+"""
+import math
+from dataclasses import dataclass
+
+KINDS = ("constant", "sine", "square", "triangle")
+
+
+@dataclass(frozen=True)
+class SignalParams:
+    """Wave kind (an index into KINDS), offset, amplitude, frequency [Hz], phase [rad], start [s]."""
+
+    kind: float = 0.0
+    offset: float = 0.0
+    amplitude: float = 0.0
+    frequency: float = 0.0
+    phase: float = 0.0
+    t_start: float = 0.0
+
+    def check(self):
+        """Raise ValueError naming the first parameter outside its valid range."""
+        if self.kind not in range(len(KINDS)):
+            raise ValueError(f"kind must be one of 0..{len(KINDS) - 1} ({', '.join(KINDS)}), "
+                             f"got {self.kind!r}")
+        if not self.frequency >= 0:
+            raise ValueError(f"frequency must be non-negative (got {self.frequency!r})")
+
+
+def unit_wave(kind, cycles):
+    """The unit wave of `kind` after `cycles` periods (a float).
+
+    Examples
+    --------
+    >>> [unit_wave("square", c) for c in (0.25, 0.75)], unit_wave("triangle", 0.5)
+    ([1.0, -1.0], 1.0)
+    """
+    frac = cycles - math.floor(cycles)
+    if kind == "sine":
+        return math.sin(2 * math.pi * cycles)
+    if kind == "square":
+        return 1.0 if frac < 0.5 else -1.0
+    return 4 * frac - 1 if frac < 0.5 else 3 - 4 * frac  # triangle
+
+
+def value(t, p):
+    """y(t) of the module equation."""
+    kind = KINDS[int(p.kind)]
+    if kind == "constant" or t < p.t_start:
+        return p.offset
+    return p.offset + p.amplitude * unit_wave(kind, p.frequency * (t - p.t_start) + p.phase / (2 * math.pi))
