@@ -136,3 +136,16 @@ def test_parameters_file_is_read_and_inline_values_win(fmu_dir, tmp_path, capsys
     (tmp_path / "body.toml").write_text("m1 = 'heavy'\n")
     code, _, err = run(capsys, "run", path, "--out", tmp_path / "o", "--fmus", fmu_dir)
     assert code == 2 and "sets m1 = 'heavy', not a number" in err
+
+
+def test_metric_window_starts_at_from(fmu_dir, tmp_path, capsys):
+    import numpy as np
+
+    path = ideal_with(tmp_path, "[metrics]", '[metrics]\nlate = { signal = "body.x_cm", op = "rms", from = 1.5 }')
+    code, _, err = run(capsys, "run", path, "--out", tmp_path / "o", "--fmus", fmu_dir,
+                       "--stop-time", "2")
+    assert code == 0, err
+    data = np.genfromtxt(tmp_path / "o" / "results.csv", delimiter=",", names=True)
+    late = data["bodyx_cm"][data["time"] >= 1.5]
+    summary = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert summary["late"] == pytest.approx(float(np.sqrt(np.mean(late ** 2))), rel=1e-12)

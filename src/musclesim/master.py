@@ -71,7 +71,7 @@ def _check(status, function):
 
 def _recorded(s):
     """The signals a scenario records, plots or computes metrics of, each once, in order."""
-    return list(dict.fromkeys([*s.record, *(sig for sig, _ in s.metrics.values()),
+    return list(dict.fromkeys([*s.record, *(m.signal for m in s.metrics.values()),
                                *(sig for panel in s.plots for sig in panel["signals"])]))
 
 

@@ -27,11 +27,12 @@ def metric_unit(unit, op):
 
 
 def compute_metrics(results, metrics):
-    """Evaluate ``{name: (signal, op)}`` on `results`; a metric of an empty run is NaN."""
+    """Evaluate ``{name: Metric}`` on `results`; a metric without samples in its window is NaN."""
     out = {}
-    for name, (signal, op) in metrics.items():
-        y = results[signal]
-        out[name] = float(_OPS[op][0](results.time, y)) if len(y) else math.nan
+    for name, m in metrics.items():
+        window = results.time >= m.start
+        t, y = results.time[window], results[m.signal][window]
+        out[name] = float(_OPS[m.op][0](t, y)) if len(y) else math.nan
     return out
 
 
@@ -80,7 +81,7 @@ def write_all(out_dir, scenario, results, units, with_plot=True):
     summary = {
         **metrics,
         "units": {name: metric_unit(units.get(sig), op)
-                  for name, (sig, op) in scenario.metrics.items()},
+                  for name, (sig, op, _) in scenario.metrics.items()},
         "scenario": scenario.name,
         "scenario_file": str(scenario.path),
         "spec": scenario.spec,

@@ -9,6 +9,7 @@ import math
 import tomllib
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import NamedTuple
 
 from musclesim.errors import UserError
 
@@ -16,6 +17,14 @@ ALGORITHMS = ("gauss-seidel", "jacobi")
 METRIC_OPS = ("final", "initial", "mean", "min", "max", "rms", "rate", "peak_to_peak")
 _TOP_KEYS = {"name", "description", "spec", "step", "start_time", "stop_time", "algorithm",
              "connections", "record", "instances", "metrics", "plots"}
+
+
+class Metric(NamedTuple):
+    """A number computed from one signal: ``op`` over the samples from time ``start`` on."""
+
+    signal: str
+    op: str
+    start: float = -math.inf
 
 
 @dataclass(frozen=True)
@@ -40,7 +49,7 @@ class Scenario:
     start_time: float = 0.0
     algorithm: str = "gauss-seidel"
     record: tuple = ()
-    metrics: dict = field(default_factory=dict)  # name -> (signal, op)
+    metrics: dict = field(default_factory=dict)  # name -> Metric
     plots: tuple = ()  # ({"title": str, "signals": [..]}, ...)
     description: str = ""
     spec: str = ""
@@ -137,10 +146,12 @@ def _parse(data, path, problems):
     metrics = {}
     for name, spec in data.get("metrics", {}).items():
         if not isinstance(spec, dict) or spec.get("op") not in METRIC_OPS \
-                or not isinstance(spec.get("signal"), str):
-            problems.append(f"metric {name!r} needs signal = \"inst.var\" and op in {METRIC_OPS}")
+                or not isinstance(spec.get("signal"), str) or set(spec) - {"signal", "op", "from"} \
+                or not _number(spec.get("from", 0.0)):
+            problems.append(f"metric {name!r} needs signal = \"inst.var\", op in {METRIC_OPS} "
+                            "and optionally from = a start time [s]")
             continue
-        metrics[name] = (spec["signal"], spec["op"])
+        metrics[name] = Metric(spec["signal"], spec["op"], float(spec.get("from", -math.inf)))
     plots = data.get("plots", [])
     for panel in plots:
         if not isinstance(panel, dict) or not isinstance(panel.get("signals"), list):

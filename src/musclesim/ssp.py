@@ -36,7 +36,7 @@ def _sub(parent, qname, **attrib):
 def _used_variables(scenario):
     """``{instance: set of variable names}`` that the scenario connects, sets or records."""
     signals = [s for pair in scenario.connections for s in pair]
-    signals += [*scenario.record, *(sig for sig, _ in scenario.metrics.values()),
+    signals += [*scenario.record, *(m.signal for m in scenario.metrics.values()),
                 *(sig for panel in scenario.plots for sig in panel["signals"])]
     used = {name: set(inst.parameters) for name, inst in scenario.instances.items()}
     for signal in signals:
