@@ -290,6 +290,21 @@ def test_invalid_tables_name_the_entry(table, match):
         Hypersurface(GRID_TEMPS, STRESSES, table)
 
 
+@settings(max_examples=200, deadline=None)
+@given(st.integers(0, 4), st.integers(0, 20), st.integers(0, 20),
+       st.sampled_from([-1.0, -1e-11, 0.0, 1e-11, 1e-3, 0.05, 1.0, math.nan, math.inf]))
+def test_vectorised_table_check_agrees_with_the_entry_by_entry_check(s, i, j, value):
+    from musclesim.components.sma.surface import _check_table, _table_is_valid
+
+    table = _table_with(max(i, j), min(i, j), value, s=s)
+    try:
+        _check_table(np.array(GRID_TEMPS), np.array(STRESSES), table)
+    except ValueError:
+        assert not _table_is_valid(table)
+    else:
+        assert _table_is_valid(table)
+
+
 def test_grid_is_checked():
     with pytest.raises(ValueError, match="uniform"):
         Hypersurface([30, 40, 45], [1e8], np.zeros((1, 3, 3)))

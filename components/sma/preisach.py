@@ -1,4 +1,5 @@
 """Modified Preisach forward model of SPEC 2.2: temperature in, strain out, stress a correction."""
+import copy
 import sys
 from bisect import bisect_right
 from dataclasses import dataclass
@@ -152,6 +153,22 @@ class PreisachModel(StressInput):
             f = -f
         self.X, self.X_sigma, self.X_term = X, self._sig, f
         return self.prefix[-1] + f
+
+    def peek(self, T, sigma, t=None):
+        """The strain `step` would return for T [C], sigma [Pa], leaving the memory unchanged:
+        what an implicit coupling (the latent heat of ``thermal.step_coupled``) asks of the model
+        while it searches the end of a step. Out-of-range warnings count as given.
+
+        Examples
+        --------
+        >>> h = Hypersurface.from_function(lambda a, b, s: (a - b) ** 2 / 2e5, stresses=[1e8])
+        >>> m = PreisachModel(h)
+        >>> round(m.step(90.0, 1e8) * 1e5, 6), round(m.peek(50.0, 1e8) * 1e5, 6), m.extrema
+        (1800.0, 1000.0, [30.0])
+        """
+        trial = copy.copy(self)  # floats and flags are rebound by step, the lists change in place
+        trial.extrema, trial.prefix, trial.stresses = self.extrema[:], self.prefix[:], self.stresses[:]
+        return trial.step(T, sigma, t)
 
     def direct_strain(self):
         """The strain of the current state summed term by term over the stack (O(stack))."""

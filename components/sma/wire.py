@@ -16,6 +16,8 @@ from pathlib import Path
 import numpy as np
 from scipy.special import expit, ndtr
 
+from .surface import Hypersurface
+
 DEFAULT_PARAMS = Path(__file__).parent / "params" / "flexinol-127um-90C.toml"
 
 _NODES, _WEIGHTS = np.polynomial.legendre.leggauss(48)  # width quadrature, error ~1e-16
@@ -225,6 +227,24 @@ class ReferenceWire:
     def F(self, a, b, sigma):
         """FORC increment F(a, b; sigma) [-] (see `forc_increment`)."""
         return forc_increment(a, b, sigma, self.params)
+
+    def hypersurface(self, temps, stresses):
+        """The wire tabulated as a `Hypersurface` on temps [C] x stresses [Pa]: what
+        ``Hypersurface.from_function(self.F, temps, stresses)`` gives (up to round-off), vectorised
+        over the Preisach triangle (a 1 C grid takes ~25 ms per stress instead of seconds).
+
+        Examples
+        --------
+        >>> h = ReferenceWire().hypersurface(range(30, 131, 5), [105e6, 155e6])
+        >>> round(h.F(130.0, 30.0, 105e6), 4), round(h.F(85.0, 60.0, 155e6), 4)
+        (0.0376, 0.0204)
+        """
+        temps = np.asarray(temps, dtype=float)
+        i, j = np.tril_indices(len(temps))
+        table = np.zeros((len(stresses), len(temps), len(temps)))
+        for s, sigma in enumerate(stresses):
+            table[s, i, j] = self.F(temps[i], temps[j], float(sigma))
+        return Hypersurface(temps, stresses, table)
 
     def mu(self, a, b, sigma):
         """Hysteron density mu(a, b; sigma) [1/K^2] (see `density`)."""
