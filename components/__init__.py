@@ -12,5 +12,6 @@ CATALOGUE = {
     "PID": "musclesim.components.control.slaves:PID",
     "GainScheduledPID": "musclesim.components.control.slaves:GainScheduledPID",
     "Thermocouple": "musclesim.components.sensors.slaves:Thermocouple",
+    "SmaWire": "musclesim.components.sma.slaves:SmaWire",
     "SignalSource": "musclesim.components.sources.slaves:SignalSource",
 }

@@ -23,7 +23,11 @@ STATEFUL = {
     "GainScheduledPID": {"Ki[1]": 2.0, "Kd[1]": 0.1, "Tf": 0.01},
     "Thermocouple": {"tau": 0.01, "noise_std": 0.5, "seed": 3.0},  # the generator is state too
     "SignalSource": {"kind": 1.0, "amplitude": 1.0, "frequency": 5.0},
+    # hot in the transformation, so the hysteresis memory moves; latent heat and drift state too
+    "SmaWire": {"T_init": 350.0, "latent_heat": 20e3, "drift_shift": 3.0, "drift_amplitude": -0.1},
 }
+# added to the random inputs in [-1, 1] so that they stay physical: K, N (~116 MPa on the wire)
+INPUT_OFFSETS = {"SmaWire": {"T_amb": 293.15, "flange.f": 1.47}}
 
 
 @pytest.mark.parametrize("name", CATALOGUE)
@@ -56,19 +60,21 @@ def _open(fmu_dir, name, tmp_path):
     slave.exitInitializationMode()
     inputs = [v.valueReference for v in md.modelVariables if v.causality == "input"]
     outputs = [v.valueReference for v in md.modelVariables if v.causality == "output"]
-    return slave, inputs, outputs
+    offsets = INPUT_OFFSETS.get(name, {})
+    offset = np.array([offsets.get(v.name, 0.0) for v in md.modelVariables if v.causality == "input"])
+    return slave, inputs, outputs, offset
 
 
 @pytest.mark.parametrize("name", CATALOGUE)
 def test_state_save_step_restore_redo_is_bit_identical(fmu_dir, name, tmp_path):
-    slave, inputs, outputs = _open(fmu_dir, name, tmp_path)
+    slave, inputs, outputs, offset = _open(fmu_dir, name, tmp_path)
     rng = np.random.default_rng(7)
     t, h = 0.0, 1e-3
 
     def step(u):
         nonlocal t
         if inputs:
-            slave.setReal(inputs, list(u))
+            slave.setReal(inputs, list(u + offset))
         slave.doStep(t, h)
         t += h
         return slave.getReal(outputs)
@@ -93,24 +99,41 @@ def test_state_save_step_restore_redo_is_bit_identical(fmu_dir, name, tmp_path):
 
 
 def test_fmu_runs_in_a_venv_without_musclesim(fmu_dir, tmp_path):
-    """An FMU needs only Python, numpy and scipy (fmpy is the host here), not this project."""
+    """An FMU needs only Python, numpy and scipy (fmpy is the host here), not this project;
+    SmaWire finds its data files (wire parameters, FORC data sets) inside the FMU."""
     venv = tmp_path / "venv"
     subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
     py = venv / "bin" / "python"
     subprocess.run([str(py), "-m", "pip", "install", "-q", "numpy", "scipy", "fmpy"], check=True)
     # the process ends with the same exit-time workaround for pythonfmu 0.7 as musclesim's own
     release = inspect.getsource(fmuhost.release_pythonfmu_libraries)
-    script = textwrap.dedent(f"""
-        import ctypes, importlib.util, json
-        from pathlib import Path
-        from fmpy import simulate_fmu
-        assert importlib.util.find_spec("musclesim") is None
-        assert importlib.util.find_spec("pythonfmu") is None
+
+    def run(body):
+        script = textwrap.dedent("""
+            import ctypes, importlib.util, json
+            from pathlib import Path
+            from fmpy import simulate_fmu
+            assert importlib.util.find_spec("musclesim") is None
+            assert importlib.util.find_spec("pythonfmu") is None
+        """) + textwrap.dedent(body) + textwrap.dedent(release) + "release_pythonfmu_libraries()\n"
+        out = subprocess.run([str(py), "-c", script], capture_output=True, text=True, cwd=tmp_path)
+        assert out.returncode == 0, out.stderr
+        return json.loads(out.stdout.strip().splitlines()[-1])
+
+    x1, x2, x_cm = run(f"""
         r = simulate_fmu({str(fmu_dir / 'CrawlerBody.fmu')!r}, stop_time=0.5, output_interval=1e-3,
                          start_values={{"f_a": 2.0}}, output=["flange1.s", "flange2.s", "x_cm"])
         print(json.dumps([float(r["flange1.s"][-1]), float(r["flange2.s"][-1]), float(r["x_cm"][-1])]))
-    """) + textwrap.dedent(release) + "release_pythonfmu_libraries()\n"
-    out = subprocess.run([str(py), "-c", script], capture_output=True, text=True, cwd=tmp_path)
-    assert out.returncode == 0, out.stderr
-    x1, x2, x_cm = json.loads(out.stdout.strip().splitlines()[-1])
+    """)
     assert x1 < 0 < x2 and abs(x_cm) < 1e-12  # pushed apart, centre of mass fixed
+    # in the same process: simulate_fmu deleted CrawlerBody's folder, whose copy of musclesim the
+    # process imported; SmaWire must bring its own
+    wires = run(f"""
+        simulate_fmu({str(fmu_dir / 'CrawlerBody.fmu')!r}, stop_time=0.01, output_interval=1e-3)
+        wire = [simulate_fmu({str(fmu_dir / 'SmaWire.fmu')!r}, stop_time=0.4, output_interval=4e-4,
+                             start_values={{"u": 2.0, "hysteresis": k}}, output=["T", "strain"])
+                for k in (0.0, 1.0)]  # the reference wire's parameter file; a FORC data set
+        print(json.dumps([[float(w["T"][-1]), float(w["strain"][-1])] for w in wire]))
+    """)
+    for T_wire, strain in wires:
+        assert T_wire > 373.15 and strain > 0.03  # heated past the transformation: contracted

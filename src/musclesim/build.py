@@ -1,8 +1,8 @@
 """`musclesim build`: package every component of the catalogue as an FMI 2.0 co-simulation FMU.
 
-Each FMU is self-contained: its resources hold the slave, the physics cores and the base class
-(under the `musclesim` package name, with an empty package __init__), so it runs where only Python,
-numpy and scipy are installed. fmus/BUILD.json records a digest of the sources the FMUs came from,
+Each FMU is self-contained: its resources hold the slave, the physics cores with the data files
+they read, and the base class (under the `musclesim` package name, with an empty package
+__init__), so it runs where only Python, numpy and scipy are installed. fmus/BUILD.json records a digest of the sources the FMUs came from,
 so that the runner can tell when they are stale.
 """
 import hashlib
@@ -24,8 +24,17 @@ from musclesim.components import CATALOGUE
 # instantiation, and then releases a reference to that namespace it never owned; the second
 # instance of the same FMU in one process then crashes. Each execution therefore adds the
 # reference that is taken away (the module's first import adds one spare).
+# Where musclesim is not installed, the package comes from the first musclesim FMU's resources; a
+# host that deletes that folder (fmpy's simulate_fmu does) would leave a second FMU importing from
+# nowhere, so a package whose folder is gone is forgotten and imported again from this FMU.
 _STUB = '''"""FMU entry point of {name}."""
+import os
+import sys
+
 globals().setdefault("_pythonfmu_refs", []).append(globals())
+if not all(os.path.isdir(p) for p in getattr(sys.modules.get("musclesim"), "__path__", [])):
+    for _name in [n for n in sys.modules if n == "musclesim" or n.startswith("musclesim.")]:
+        del sys.modules[_name]
 
 from {module} import {cls} as _Slave
 
@@ -35,13 +44,20 @@ class {name}(_Slave):
 '''
 
 
+# what every FMU ships from components/: the code, and the data files the cores read at run time
+# (wire parameter sets, FORC data sets and their index) — not reference results such as CSVs of
+# scenario outputs
+_SHIPPED = ("*.py", "*/params/*.toml", "*/data/*.toml", "*/data/*.csv")
+
+
 def _component_sources():
-    """The Python files shipped in every FMU: {relative path in resources: source path}."""
+    """The files shipped in every FMU: {relative path in resources: source path}."""
     import musclesim.components as comps
 
     root = Path(comps.__file__).parent
     files = {Path("musclesim/fmislave.py"): Path(fmislave.__file__)}
-    for src in sorted(root.rglob("*.py")):
+    found = {src for pattern in _SHIPPED for src in root.rglob(pattern)}
+    for src in sorted(found):
         files[Path("musclesim/components") / src.relative_to(root)] = src
     return files
 

@@ -1,0 +1,183 @@
+"""FMU slave of the SMA wire: a thin adapter over the thermal, Preisach and drift cores."""
+import math
+import warnings
+from pathlib import Path
+
+from pythonfmu.enums import Fmi2Status
+
+from musclesim.components.sma import datasets, drift, thermal
+from musclesim.components.sma.preisach import PreisachModel
+from musclesim.components.sma.surface import clamp
+from musclesim.fmislave import Slave
+
+ZERO_C = 273.15  # K; the FMU speaks K, the cores C
+LOAD_150G = 0.150 * 9.80665  # N, the 150 g weight of the multiplier tests (SPEC 3.1): 116 MPa
+
+
+class SmaWire(Slave):
+    """SMA wire: Joule heating and convection (SPEC 2.1) drive the modified Preisach model (2.2).
+
+    Per communication step, with the inputs held from its start: the temperature advances by the
+    lumped thermal model (resistance from the martensite fraction at the start of the step), then
+    the hysteresis model takes the new temperature and the stress flange.f / area; its strain gives
+    the martensite fraction for the next step. No output depends directly on an input (stress and
+    power are those of the step just taken), so the wire closes loops with controllers and loads
+    without an algebraic loop. Temperatures outside the data set's grid (30..130 C)
+    saturate the hysteresis (SPEC 2.1); stresses outside its stresses are clamped with one warning
+    in the FMU log. Effects (latent heat, clamp loss, h(T), drift, stress ignored) are off by
+    default. Equations: components/sma/README.md.
+    """
+
+    description = ("SMA wire: lumped thermal model with phase-dependent resistance and modified "
+                   "Preisach hysteresis under stress (SPEC 2.1, 2.2)")
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        t, d = thermal.ThermalParams(), drift.DriftParams()
+        self.parameter("length", t.length, "m", "Wire length (SPEC 2.1)")
+        self.parameter("diameter", t.diameter, "m", "Wire diameter (SPEC 2.1)")
+        self.parameter("density", t.density, "kg/m3", "Density of NiTi (SPEC 5)")
+        self.parameter("specific_heat", t.specific_heat, "J/(kg.K)", "Specific heat of NiTi (SPEC 5)")
+        self.parameter("rho_martensite", t.rho_martensite, "Ohm.m",
+                       "Resistivity of martensite, 80 uOhm cm (SPEC 5)")
+        self.parameter("rho_austenite", t.rho_austenite, "Ohm.m",
+                       "Resistivity of austenite, 100 uOhm cm (SPEC 5)")
+        self.parameter("h", t.h, "W/(m2.K)", "Convection coefficient at 50 K excess (SPEC 5)")
+        self.parameter("T_init", 293.15, "K", "Initial wire temperature; the wire starts fully "
+                       "martensitic and heated to it (SPEC 2.2 memory)")
+        self.parameter("drive_current", 0.0, "1",
+                       "Electrical input u: 0 = voltage [V] (default), 1 = current [A] (SPEC 2.1)")
+        self.parameter("hysteresis", 0.0, "1",
+                       "Hysteresis data set: 0 = reference wire (1 C grid, 60-200 MPa); k >= 1 = "
+                       "FORC data set k of sma/data/forc-sets.toml shipped in the FMU")
+        self.parameter("sigma_surface", 0.0, "Pa",
+                       "Stress ignored (effect, 0 = off): > 0 uses the single surface at this "
+                       "stress for every stress (SPEC 2.4)")
+        self.parameter("latent_heat", t.latent_heat, "J/kg",
+                       "Latent heat of transformation (effect, 0 = off; 12e3-24e3 on, SPEC 5)")
+        self.parameter("clamp_conductance", t.clamp_conductance, "W/K",
+                       "Heat loss through the clamps at ambient (effect, 0 = off; ~2e-4 on)")
+        self.parameter("h_exponent", t.h_exponent, "1", "Convection h (|T - T_amb| / 50 K)^n "
+                       "(effect, 0 = off; 0.06-0.15 on, SPEC 5)")
+        self.parameter("drift_amplitude", d.amplitude_change, "1", "Training/fatigue drift: "
+                       "settled relative change of the strain (effect, 0 = off, SPEC 2.6)")
+        self.parameter("drift_shift", d.shift, "K", "Training/fatigue drift: settled shift of "
+                       "the transformation temperatures (effect, 0 = off, SPEC 2.6)")
+        self.parameter("drift_settle_cycles", d.cycles_to_settle, "1",
+                       "Training/fatigue drift: e-folding number of cycles (SPEC 2.6)")
+        self.parameter("drift_cycles_start", 0.0, "1",
+                       "Training/fatigue drift: transformation cycles done before the run")
+        self.input("u", 0.0, "1", "Electrical input: voltage across the wire [V], or current "
+                   "through it [A] when drive_current = 1")
+        self.input("T_amb", 293.15, "K", "Ambient air temperature")
+        self.input("flange.f", LOAD_150G, "N", "Tensile load on the wire, positive pulling "
+                   "(start: a 150 g weight, SPEC 3.1)")
+        self.output("T", "K", "Wire temperature")
+        self.output("strain", "1", "Strain: contraction / length, positive = contraction (SPEC 2.1)")
+        self.output("flange.s", "m", "Contraction strain x length; positive = the wire shortens, "
+                    "pulling its load toward the fixed clamp")
+        self.output("stress", "Pa", "Tensile stress flange.f / cross-section over the last "
+                    "step (SPEC 2.1)")
+        self.output("R", "Ohm", "Electrical resistance R(xi) (SPEC 2.1)")
+        self.output("P", "W", "Joule heating power over the last step (input held, resistance "
+                    "at its start)")
+        self.output("xi", "1", "Martensite fraction, 1 - hysteresis strain / its maximum")
+
+    def setup(self):
+        if self.drive_current not in (0.0, 1.0):
+            raise ValueError(f"drive_current must be 0 (voltage) or 1 (current), "
+                             f"got {self.drive_current!r}")
+        if not self.T_init > 0:
+            raise ValueError(f"T_init must be positive in K (got {self.T_init!r})")
+        if not self.drift_cycles_start >= 0:
+            raise ValueError(f"drift_cycles_start must be non-negative "
+                             f"(got {self.drift_cycles_start!r})")
+        self.p = thermal.ThermalParams(
+            length=self.length, diameter=self.diameter, density=self.density,
+            specific_heat=self.specific_heat, rho_martensite=self.rho_martensite,
+            rho_austenite=self.rho_austenite, h=self.h,
+            drive="current" if self.drive_current == 1 else "voltage",
+            latent_heat=self.latent_heat, clamp_conductance=self.clamp_conductance,
+            h_exponent=self.h_exponent)
+        self.p.check()
+        self.dp = drift.DriftParams(amplitude_change=self.drift_amplitude, shift=self.drift_shift,
+                                    cycles_to_settle=self.drift_settle_cycles)
+        self.dp.check()
+        # the data files this FMU ships: the folder the modules were first imported from may be
+        # another instance's, already deleted
+        root = datasets.PACKAGE_DIR if self.resources is None else \
+            Path(self.resources) / "musclesim" / "components" / "sma"
+        self.surface = datasets.surface(self.hysteresis, self.sigma_surface, root)
+        self.area = thermal.cross_section(self.p)
+        self._warned = set()
+        self._eps_max_at = (None, None)  # (stress, F(a0, b0; stress)): the last one computed
+        self._start()
+
+    def initialize(self):
+        self._start()  # the inputs (ambient, load) are known now
+
+    def _start(self):
+        """Initial state: a new (or drift_cycles_start old) wire heated to T_init."""
+        self.T_C = self.T_init - ZERO_C
+        self.cycles = self.drift_cycles_start
+        self.model = PreisachModel(self.surface)
+        sigma = self._stress(self.time)
+        eps = self.model.reset(self._seen(self.T_C), sigma, self.time)
+        self.xi = thermal.martensite_fraction(eps, self._eps_max(sigma))
+        self.eps = drift.strain_scale(self.cycles, self.dp) * eps
+        self.stress_held = self.flange_f / self.area
+        self.P_held = thermal.joule_power(self.u, self.xi, self.p)
+
+    def evaluate(self):
+        self.T = self.T_C + ZERO_C
+        self.strain = self.eps
+        self.flange_s = self.eps * self.length
+        self.stress = self.stress_held
+        self.R = thermal.resistance(self.xi, self.p)
+        self.P = self.P_held
+
+    def advance(self, t, dt):
+        for name, value in (("u", self.u), ("T_amb", self.T_amb), ("flange.f", self.flange_f)):
+            if not math.isfinite(value):
+                raise ValueError(f"input {name} is {value!r} at t = {t:g} s")
+        p, model = self.p, self.model
+        sigma = self._stress(t)
+        eps_max = self._eps_max(sigma)
+        shift = drift.temperature_shift(self.cycles, self.dp)
+        inputs = thermal.ThermalInputs(self.u, self.T_amb - ZERO_C, self.xi)
+        if p.latent_heat == 0:  # the nominal path: no trial steps of the hysteresis model
+            T_new = thermal.step(self.T_C, inputs, dt, p)
+        else:
+            def xi_at(T):
+                return thermal.martensite_fraction(model.peek(self._seen(T, shift), sigma), eps_max)
+            T_new = thermal.step_coupled(self.T_C, inputs, dt, p, xi_at)[0]
+        eps = model.step(self._seen(T_new, shift), sigma, t + dt)
+        xi_new = thermal.martensite_fraction(eps, eps_max)
+        self.eps = drift.strain_scale(self.cycles, self.dp) * eps
+        self.cycles = drift.count_cycles(self.cycles, self.xi, xi_new)
+        self.stress_held = self.flange_f / self.area
+        self.P_held = thermal.joule_power(self.u, self.xi, p)
+        self.T_C, self.xi = T_new, xi_new
+
+    def _seen(self, T, shift=0.0):
+        """Temperature [C] the hysteresis sees: drift-shifted, saturated at the grid's ends."""
+        return min(max(T - shift, self.surface.t_lo), self.surface.t_hi)
+
+    def _stress(self, t):
+        """Stress [Pa] for the hysteresis: clamped to the data set's stresses, warned once."""
+        sigma = self.flange_f / self.area
+        s = self.surface
+        if len(s.stresses) > 1 and not s.s_lo <= sigma <= s.s_hi:
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                sigma = clamp(self._warned, "stress", sigma, s.s_lo, s.s_hi, "Pa", t)
+            for w in caught:
+                self.log(f"{self.instance_name}: {w.message}", Fmi2Status.warning)
+        return sigma
+
+    def _eps_max(self, sigma):
+        """Maximum strain F(a0, b0; sigma) of the data set (one F evaluation per new stress)."""
+        if self._eps_max_at[0] != sigma:
+            s = self.surface
+            self._eps_max_at = (sigma, s.F(s.t_hi, s.t_lo, sigma))
+        return self._eps_max_at[1]
