@@ -14,4 +14,5 @@ CATALOGUE = {
     "Thermocouple": "musclesim.components.sensors.slaves:Thermocouple",
     "SmaWire": "musclesim.components.sma.slaves:SmaWire",
     "SignalSource": "musclesim.components.sources.slaves:SignalSource",
+    "ForcReference": "musclesim.components.sources.slaves:ForcReference",
 }

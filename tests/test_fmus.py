@@ -23,6 +23,7 @@ STATEFUL = {
     "GainScheduledPID": {"Ki[1]": 2.0, "Kd[1]": 0.1, "Tf": 0.01},
     "Thermocouple": {"tau": 0.01, "noise_std": 0.5, "seed": 3.0},  # the generator is state too
     "SignalSource": {"kind": 1.0, "amplitude": 1.0, "frequency": 5.0},
+    "ForcReference": {"period": 0.01},  # run 2 (5 K above T_low) spans the test steps
     # hot in the transformation, so the hysteresis memory moves; latent heat and drift state too
     "SmaWire": {"T_init": 350.0, "latent_heat": 20e3, "drift_shift": 3.0, "drift_amplitude": -0.1},
 }

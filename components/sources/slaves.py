@@ -1,5 +1,5 @@
-"""FMU slave of the signal source: a thin adapter over musclesim.components.sources.signals."""
-from musclesim.components.sources import signals
+"""FMU slaves of the sources: thin adapters over musclesim.components.sources.signals and .forc."""
+from musclesim.components.sources import forc, signals
 from musclesim.fmislave import Slave
 
 
@@ -25,3 +25,32 @@ class SignalSource(Slave):
 
     def evaluate(self):
         self.y = signals.value(self.time, self.p)
+
+
+class ForcReference(Slave):
+    """Temperature reference of the FORC identification runs with run index and phase markers."""
+
+    description = ("FORC experiment reference (SPEC 2.3): run j heats from T_low to T_low + j "
+                   "T_step along a raised cosine and cools back; outputs run index and phase")
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        d = forc.ForcParams()
+        self.parameter("T_low", d.T_low, "K", "Lower grid temperature b0, start and end of every "
+                       "run (SPEC 2.3: 30 C)")
+        self.parameter("T_high", d.T_high, "K", "Peak of the last run a0 (SPEC 2.3: 130 C)")
+        self.parameter("T_step", d.T_step, "K", "Grid step between the runs' peaks (SPEC 2.2: 5 K)")
+        self.parameter("period", d.period, "s", "Duration of one run (heating half + cooling "
+                       "half); must not outrun free cooling")
+        self.parameter("t_start", d.t_start, "s", "Start of the first run (T_low held before)")
+        self.output("T_ref", "K", "Reference temperature")
+        self.output("run", "1", "Run index j = 0..n-1 (peak T_low + j T_step); -1 outside the runs")
+        self.output("phase", "1", "+1 heating half, -1 cooling half, 0 outside the runs")
+
+    def setup(self):
+        self.p = forc.ForcParams(**{n: getattr(self, n)
+                                    for n in forc.ForcParams.__dataclass_fields__})
+        self.p.check()
+
+    def evaluate(self):
+        self.T_ref, self.run, self.phase = forc.value(self.time, self.p)

@@ -1,0 +1,112 @@
+"""Temperature reference of the FORC identification experiments (SPEC 2.3).
+
+Run j = 0 .. n-1 (n = (T_high - T_low) / T_step + 1, 21 on the study's 5 K grid) occupies
+[t_start + j P, t_start + (j + 1) P) and heats from T_low to its peak a_j = T_low + j T_step along a
+raised cosine, then cools back to T_low along the mirror image:
+
+    T_ref(t) = T_low + (a_j - T_low) (1 - cos(2 pi tau / P)) / 2,   tau = t - t_start - j P
+
+so each run starts and ends at T_low with zero slope. Besides the reference the source outputs
+the run index j and a phase flag (+1 heating, tau < P / 2; -1 cooling), which is what the
+identification (`musclesim.identify`) segments the records with. Outside the runs (before
+t_start, after the last run) the reference holds T_low, the run index is -1 and the phase 0.
+
+The period P must let the closed loop follow the cooling half: the wire cools by convection alone
+(time constant tau ~1.7 s toward the ambient air), and the falling reference must never be faster
+than free cooling. `min_period` gives the bound: about 16 s for the 100 K run with T_low 10 K above
+the ambient air.
+"""
+import math
+from dataclasses import dataclass
+
+IDLE, HEATING, COOLING = 0.0, 1.0, -1.0  # values of the phase flag
+
+
+@dataclass(frozen=True)
+class ForcParams:
+    """Grid [K], grid step [K], period of one run [s] and start of the first run [s]."""
+
+    T_low: float = 303.15
+    T_high: float = 403.15
+    T_step: float = 5.0
+    period: float = 20.0
+    t_start: float = 0.0
+
+    def check(self):
+        """Raise ValueError naming the first parameter outside its valid range."""
+        if not self.T_low < self.T_high:
+            raise ValueError(f"T_low must be below T_high (got {self.T_low!r}, {self.T_high!r})")
+        if not self.T_step > 0:
+            raise ValueError(f"T_step must be positive (got {self.T_step!r})")
+        n = (self.T_high - self.T_low) / self.T_step
+        if abs(n - round(n)) > 1e-9 * max(1.0, n):
+            raise ValueError(f"T_high - T_low = {self.T_high - self.T_low!r} K must be a whole "
+                             f"number of T_step = {self.T_step!r} K")
+        if not self.period > 0:
+            raise ValueError(f"period must be positive (got {self.period!r})")
+        if not math.isfinite(self.t_start):
+            raise ValueError(f"t_start must be finite (got {self.t_start!r})")
+
+    @property
+    def n_runs(self):
+        """Number of runs: one per grid peak, T_low (a flat run) to T_high."""
+        return int(round((self.T_high - self.T_low) / self.T_step)) + 1
+
+    @property
+    def duration(self):
+        """End of the last run [s], counted from t = 0."""
+        return self.t_start + self.n_runs * self.period
+
+
+def peak(j, p):
+    """Peak temperature a_j [K] of run j.
+
+    Examples
+    --------
+    >>> p = ForcParams()
+    >>> p.n_runs, round(peak(0, p), 2), round(peak(20, p), 2)
+    (21, 303.15, 403.15)
+    """
+    return p.T_low + j * p.T_step
+
+
+def value(t, p):
+    """(T_ref [K], run index, phase flag) at time t [s] (module equation).
+
+    Examples
+    --------
+    >>> p = ForcParams(period=20.0)
+    >>> [tuple(round(x, 6) for x in value(t, p)) for t in (25.0, 30.0, 35.0, 500.0)]
+    [(305.65, 1.0, 1.0), (308.15, 1.0, -1.0), (305.65, 1.0, -1.0), (303.15, -1.0, 0.0)]
+    """
+    tau_all = t - p.t_start
+    if tau_all < 0:
+        return p.T_low, -1.0, IDLE
+    j = int(math.floor(tau_all / p.period))
+    if j >= p.n_runs:
+        return p.T_low, -1.0, IDLE
+    tau = tau_all - j * p.period
+    x = tau / p.period
+    T = p.T_low + (peak(j, p) - p.T_low) * 0.5 * (1.0 - math.cos(2.0 * math.pi * x))
+    return T, float(j), HEATING if x < 0.5 else COOLING
+
+
+def min_period(amplitude, T_low_above_ambient, tau):
+    """Shortest period [s] whose falling half never outruns free cooling (heating power 0).
+
+    With x = the phase left to the end of the run, the reference falls at A pi sin(x) / P and is
+    then at A (1 - cos x) / 2 above T_low; free cooling from there manages (D + A (1 - cos x) / 2)
+    / tau with D = T_low - T_amb. The bound is the maximum over x of tau A pi sin(x) / (D + A (1 -
+    cos x) / 2) (evaluated on a fine grid).
+
+    Examples
+    --------
+    >>> round(min_period(100.0, 10.0, 1.71), 1)
+    16.2
+    """
+    best = 0.0
+    for k in range(1, 2000):
+        x = math.pi * k / 2000
+        best = max(best, tau * amplitude * math.pi * math.sin(x)
+                   / (T_low_above_ambient + amplitude * (1 - math.cos(x)) / 2))
+    return best
