@@ -246,7 +246,7 @@ def _wire(**params):
 
 
 @pytest.mark.parametrize("params, match", [
-    ({"hysteresis": 7.0}, r"hysteresis = 7 is no data set.*\[1\]"),
+    ({"hysteresis": 7.0}, r"hysteresis = 7 is no data set.*\[1, 2\]"),
     ({"hysteresis": 0.5}, "hysteresis must be 0"),
     ({"sigma_surface": 300e6}, r"sigma_surface must be 0 .*\[6e\+07, 2e\+08\] Pa"),
     ({"drive_current": 2.0}, "drive_current must be 0"),

@@ -34,10 +34,11 @@ class TableError(ValueError):
         self.entries = entries
 
 
-def write(path, temps, stresses, table):
-    """Write the lower triangle (a >= b) of table[s, i, j] = F(temps[i], temps[j]; stresses[s])."""
+def write(path, temps, stresses, table, comments=()):
+    """Write the lower triangle (a >= b) of table[s, i, j] = F(temps[i], temps[j]; stresses[s]);
+    `comments` (lines of text) follow the standard preamble as '#' lines."""
     with open(path, "w", newline="", encoding="utf-8") as fh:
-        fh.write("\n".join(_PREAMBLE) + "\n")
+        fh.write("\n".join([*_PREAMBLE, *(f"# {c}" for c in comments)]) + "\n")
         w = csv.writer(fh, lineterminator="\n")
         w.writerow(HEADER)
         for s, sigma in enumerate(stresses):

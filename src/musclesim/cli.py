@@ -1,4 +1,4 @@
-"""The `musclesim` command line: build, run, export, sweep, loops, bench, linear.
+"""The `musclesim` command line: build, run, export, sweep, loops, identify, bench, linear.
 
 Mistakes a user can fix end in one sentence on stderr and exit status 2; a failed simulation
 exits with status 1 after writing the results it reached.
@@ -94,6 +94,14 @@ def _cmd_bench(args):
     return 0
 
 
+def _cmd_identify(args):
+    from musclesim.identify import identify_main
+
+    out = identify_main(args.records, args.out, validate=args.validate, as_json=args.json)
+    print(json.dumps(out, indent=2) if args.json else out)
+    return 0
+
+
 def _parser():
     p = argparse.ArgumentParser(prog="musclesim", description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="command", required=True)
@@ -140,6 +148,15 @@ def _parser():
     q.add_argument("--plot", help="write the loops plot to this PNG")
     q.add_argument("--json", action="store_true", help="print JSON instead of text")
     q.set_defaults(func=_cmd_loops)
+
+    q = sub.add_parser("identify", help="FORC surfaces from identification records (SMA wire)")
+    q.add_argument("records", nargs="+",
+                   help="sweep output folder, run folders or results.csv files (one per stress)")
+    q.add_argument("--out", required=True, help="the FORC data file to write")
+    q.add_argument("--validate", action="store_true",
+                   help="also report errors against the virtual wire (SPEC 2.3)")
+    q.add_argument("--json", action="store_true", help="print JSON instead of text")
+    q.set_defaults(func=_cmd_identify)
 
     q = sub.add_parser("bench", help="timing benchmarks of the pure cores (on demand)")
     q.add_argument("core", choices=["preisach"], help="the core to time")
