@@ -10,7 +10,6 @@ import dataclasses
 import math
 
 import numpy as np
-import pytest
 
 from musclesim import master, scenario
 from musclesim.components.crawler import body, friction, inputs

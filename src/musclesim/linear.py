@@ -190,7 +190,7 @@ def gain_table_toml(report):
     """The GainScheduledPID parameters of a report, as the TOML a scenario's instance reads."""
     lines = ["# GainScheduledPID gains for the SMA wire's temperature (SPEC 2.5), written by",
              "# `musclesim linear sma-thermal --write FILE`: do not edit, rerun the design.",
-             f"u_min = 0.0  # V: the wire is only heated", f"u_max = {report['design']['u_max']!r}  # V"]
+             "u_min = 0.0  # V: the wire is only heated", f"u_max = {report['design']['u_max']!r}  # V"]
     for i, (x, q) in enumerate(zip(SCHEDULE_K, report["points"]), start=1):
         lines.append(f'"x[{i}]" = {x!r}  # K, {q["T_op"]:g} C')
         lines += [f'"{k}[{i}]" = {q[k]!r}' for k in ("Kp", "Ki", "Kd")]
