@@ -7,11 +7,6 @@ from musclesim.components.crawler import body, friction, inputs
 from musclesim.fmislave import Slave
 
 
-def _params(slave, cls):
-    """Build a core parameter dataclass from the slave's parameter attributes of the same names."""
-    return cls(**{name: getattr(slave, name) for name in cls.__dataclass_fields__})
-
-
 class CrawlerBody(Slave):
     """Two-mass crawler body (SPEC 1.2) discretised by zero-order hold at the communication step."""
 
@@ -37,8 +32,7 @@ class CrawlerBody(Slave):
         self.output("x_cm", "m", "Position of the centre of mass")
 
     def setup(self):
-        self.p = _params(self, body.BodyParams)
-        self.p.check()
+        self.p = self.core_params(body.BodyParams)
         self.x = np.zeros(4)  # zero initial state (SPEC 1.4)
         self.dt = None
         self.flange1_N, self.flange2_N = body.normal_forces(self.p)
@@ -83,8 +77,7 @@ class FrictionBlock(Slave):
         self.output("stuck", "1", "1 while the block sticks, else 0", depends=ins)
 
     def setup(self):
-        self.p = _params(self, friction.FrictionParams)
-        self.p.check()
+        self.p = self.core_params(friction.FrictionParams)
         self.s = self.u
 
     def initialize(self):
@@ -120,8 +113,7 @@ class FrictionSwitchingInputs(Slave):
         self.output("u2", "1", "Friction indicator of block 2")
 
     def setup(self):
-        self.p = _params(self, inputs.InputParams)
-        self.p.check()
+        self.p = self.core_params(inputs.InputParams)
 
     def evaluate(self):
         self.f_a, self.u1, self.u2 = inputs.signals(self.time, self.p)

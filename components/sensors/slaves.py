@@ -3,10 +3,6 @@ from musclesim.components.sensors import thermocouple as tc
 from musclesim.fmislave import Slave
 
 
-def _params(slave):
-    return tc.SensorParams(**{n: getattr(slave, n) for n in tc.SensorParams.__dataclass_fields__})
-
-
 class Thermocouple(Slave):
     """Temperature sensor with lag, bias, noise and quantisation, all off by default (SPEC 2.1)."""
 
@@ -23,8 +19,7 @@ class Thermocouple(Slave):
         self.output("T_meas", "K", "Measured temperature", depends=["T"])
 
     def setup(self):
-        self.p = _params(self)
-        self.p.check()
+        self.p = self.core_params(tc.SensorParams)
         self.rng = tc.make_rng(self.p)
         self.x = self.T
         self.noise = tc.noise_sample(self.p, self.rng)

@@ -169,58 +169,41 @@ class PreisachInverse(StressInput):
 
     def _heat(self, bp, target):
         """a-inverse basis: the peak a' >= bp whose FORC from bp has increment `target`."""
-        n, w = self._n, self._w
-        y = (bp - self._t_lo) * self._inv_h
-        j = int(y)
-        if j >= n - 1:
-            j = n - 2
-        v = y - j
-        fm, q = self.bases.a_fmax, self._k * n + j
-        f0 = fm[q] + v * (fm[q + 1] - fm[q])
-        f1 = fm[q + n] + v * (fm[q + n + 1] - fm[q + n])
-        fmax = f0 + w * (f1 - f0)
-        if target <= 0.0 or fmax <= 0.0:
-            return bp
-        if target >= fmax:
-            return self._t_hi
-        x = math.acos(1.0 - 2.0 * target / fmax) * self._x_scale
-        T = _bilinear(self.bases.a_table, self._k_base + j * n, n, x, v, w)
-        return T if T > bp else bp
+        return self._invert(self.bases.a_fmax, self.bases.a_table, bp, target, self._t_hi, True)
 
     def _cool(self, ap, target):
         """b-inverse basis: the end b' <= ap of the FORC from peak ap with increment `target`."""
+        return self._invert(self.bases.b_fmax, self.bases.b_table, ap, target, self._t_lo, False)
+
+    def _invert(self, fmax_table, table, x0, target, limit, above):
+        """Look up a basis: the temperature on the FORC through x0 with increment `target`,
+        above x0 (a-basis) or below it (b-basis); `limit` when the increment is out of reach."""
         n, w = self._n, self._w
-        y = (ap - self._t_lo) * self._inv_h
+        y = (x0 - self._t_lo) * self._inv_h
         j = int(y)
         if j >= n - 1:
             j = n - 2
         v = y - j
-        fm, q = self.bases.b_fmax, self._k * n + j
-        f0 = fm[q] + v * (fm[q + 1] - fm[q])
-        f1 = fm[q + n] + v * (fm[q + n + 1] - fm[q + n])
+        q = self._k * n + j
+        f0 = fmax_table[q] + v * (fmax_table[q + 1] - fmax_table[q])
+        f1 = fmax_table[q + n] + v * (fmax_table[q + n + 1] - fmax_table[q + n])
         fmax = f0 + w * (f1 - f0)
         if target <= 0.0 or fmax <= 0.0:
-            return ap
+            return x0
         if target >= fmax:
-            return self._t_lo
+            return limit
         x = math.acos(1.0 - 2.0 * target / fmax) * self._x_scale
-        T = _bilinear(self.bases.b_table, self._k_base + j * n, n, x, v, w)
-        return T if T < ap else ap
+        T = _bilinear(table, self._k_base + j * n, n, x, v, w)
+        return T if (T > x0) == above else x0
 
     def _record(self, term):
         """Push X with the term the forward model froze there, then turn round."""
         push_extremum(self, term)
 
-    def _wipe_pair(self):
-        del self.extrema[-2:]
-        del self.prefix[-2:]
-        del self.stresses[-2:]
-
     def _all_off(self):
-        b0 = self._t_lo
-        self.extrema, self.prefix, self.stresses = [b0], [0.0], [self._sig]
-        self.rising, self.X, self.X_sigma = True, b0, self._sig
-        return b0
+        """Cooling reached b0: every hysteron is off, the memory is empty; T_out = b0."""
+        self._clear_memory()
+        return self._t_lo
 
 
 def _bilinear(tab, row, n, x, v, w):

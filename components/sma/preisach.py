@@ -26,11 +26,26 @@ class MemoryParams:
 
 
 class StressInput:
-    """Stress handling shared by the forward and inverse models: clamp, warn once, interpolate.
+    """What the forward and inverse models share: stress handling (clamp, warn once, interpolate)
+    and the bookkeeping of the extrema stack.
 
     After `_set_stress`: ``_sig`` is the clamped stress, ``_k`` and ``_w`` its interval and
-    weight, ``_k_base = _k * stride`` the offset of the interval in the caller's tables.
+    weight, ``_k_base = _k * stride`` the offset of the interval in the caller's tables. The stack
+    lives in ``extrema`` (from b0), ``prefix`` (completed terms summed) and ``stresses`` (at which
+    each extremum was recorded); ``X`` is the running extremum, ``rising`` its direction.
     """
+
+    def _clear_memory(self):
+        """The all-off memory at b0 under the current stress."""
+        b0 = self._t_lo
+        self.extrema, self.prefix, self.stresses = [b0], [0.0], [self._sig]
+        self.rising, self.X, self.X_sigma = True, b0, self._sig
+
+    def _wipe_pair(self):
+        """Drop the innermost maximum-minimum pair (wiping-out)."""
+        del self.extrema[-2:]
+        del self.prefix[-2:]
+        del self.stresses[-2:]
 
     def _init_stress(self, surface, stride):
         self._s_lo, self._s_hi, self._levels, self._inv_ds, self._k_max = stress_grid(surface)
@@ -102,10 +117,8 @@ class PreisachModel(StressInput):
     def reset(self, T, sigma, t=None):
         """Start from the all-off state at b0 (fully martensitic), then take input T [C], sigma
         [Pa]; return the strain."""
-        b0 = self._t_lo
         self._set_stress(sigma, t)
-        self.extrema, self.prefix, self.stresses = [b0], [0.0], [self._sig]
-        self.rising, self.X, self.X_sigma, self.X_term = True, b0, self._sig, 0.0
+        self._all_off()
         return self.step(T, sigma, t)
 
     def step(self, T, sigma, t=None):
@@ -178,16 +191,10 @@ class PreisachModel(StressInput):
         """Push the running extremum X with its frozen term and turn round."""
         push_extremum(self, self.X_term)
 
-    def _wipe_pair(self):
-        del self.extrema[-2:]
-        del self.prefix[-2:]
-        del self.stresses[-2:]
-
     def _all_off(self):
-        """Cooling reached b0: every hysteron is off, the memory is empty."""
-        b0 = self._t_lo
-        self.extrema, self.prefix, self.stresses = [b0], [0.0], [self._sig]
-        self.rising, self.X, self.X_sigma, self.X_term = True, b0, self._sig, 0.0
+        """Cooling reached b0: every hysteron is off, the memory is empty; strain 0."""
+        self._clear_memory()
+        self.X_term = 0.0
         return 0.0
 
 

@@ -19,9 +19,7 @@ class SignalSource(Slave):
         self.output("y", "1", "Signal")
 
     def setup(self):
-        self.p = signals.SignalParams(**{n: getattr(self, n)
-                                         for n in signals.SignalParams.__dataclass_fields__})
-        self.p.check()
+        self.p = self.core_params(signals.SignalParams)
 
     def evaluate(self):
         self.y = signals.value(self.time, self.p)
@@ -48,9 +46,7 @@ class ForcReference(Slave):
         self.output("phase", "1", "+1 heating half, -1 cooling half, 0 outside the runs")
 
     def setup(self):
-        self.p = forc.ForcParams(**{n: getattr(self, n)
-                                    for n in forc.ForcParams.__dataclass_fields__})
-        self.p.check()
+        self.p = self.core_params(forc.ForcParams)
 
     def evaluate(self):
         self.T_ref, self.run, self.phase = forc.value(self.time, self.p)

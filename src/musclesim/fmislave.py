@@ -113,6 +113,15 @@ class Slave(Fmi2Slave):
         self._declare(name, 0.0, unit, description, Fmi2Causality.output,
                       Fmi2Variability.continuous, Fmi2Initial.calculated, tuple(depends))
 
+    def core_params(self, cls):
+        """The core's parameter dataclass `cls` from the parameters of the same names, checked.
+
+        ``cls.check()`` raises ValueError naming a bad parameter; the FMU reports it as the cause.
+        """
+        params = cls(**{name: getattr(self, name) for name in cls.__dataclass_fields__})
+        params.check()
+        return params
+
     # ---- hooks for subclasses ------------------------------------------------------------------
     def setup(self):
         """Check parameters and build the physics core; may run again while initializing."""
