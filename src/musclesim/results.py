@@ -83,6 +83,7 @@ def write_all(out_dir, scenario, results, units, with_plot=True):
         "units": {name: metric_unit(units.get(sig), op)
                   for name, (sig, op, _) in scenario.metrics.items()},
         "scenario": scenario.name,
+        "description": scenario.description,
         "scenario_file": str(scenario.path),
         "spec": scenario.spec,
         "algorithm": scenario.algorithm,
