@@ -14,6 +14,7 @@ _OPS = {
     "mean": (lambda t, y: float(np.mean(y)), "{}"),
     "min": (lambda t, y: float(np.min(y)), "{}"),
     "max": (lambda t, y: float(np.max(y)), "{}"),
+    "max_abs": (lambda t, y: float(np.max(np.abs(y))), "{}"),
     "rms": (lambda t, y: float(np.sqrt(np.mean(np.square(y)))), "{}"),
     "peak_to_peak": (lambda t, y: float(np.ptp(y)), "{}"),
     # mean rate of change over the run, e.g. mean speed from a position

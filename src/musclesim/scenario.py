@@ -14,7 +14,7 @@ from typing import NamedTuple
 from musclesim.errors import UserError
 
 ALGORITHMS = ("gauss-seidel", "jacobi")
-METRIC_OPS = ("final", "initial", "mean", "min", "max", "rms", "rate", "peak_to_peak")
+METRIC_OPS = ("final", "initial", "mean", "min", "max", "max_abs", "rms", "rate", "peak_to_peak")
 _TOP_KEYS = {"name", "description", "spec", "step", "start_time", "stop_time", "algorithm",
              "connections", "record", "instances", "metrics", "plots"}
 
