@@ -34,7 +34,8 @@ def wire_fmu(fmu_dir, tmp_path_factory):
 def simulate(fmu, u, params=None, T_amb=293.15, f=LOAD_150G, dt=DT, log=None):
     """Run the FMU through FMI with u[k] (and T_amb, f: scalars or per step) held over step k.
 
-    Returns {output: array at t_0 .. t_n}. With `log` (a list), the FMU's messages go there.
+    Returns {output: array at t_0 .. t_n}. With `log` (a list), the FMU's messages go there as
+    (status, message) pairs.
     """
     md, unzipped = fmu
     n = len(u)
@@ -234,7 +235,9 @@ def test_out_of_range_stress_is_clamped_with_one_logged_warning(wire_fmu):
     clamped = simulate(wire_fmu, pulse(2.0, 0.5, 1.0), f=60e6 * AREA)
     assert np.array_equal(r["strain"], clamped["strain"]) and r["stress"][0] == pytest.approx(40e6)
     assert len(log) == 1, log  # once; room temperature (below 30 C) is saturation, no warning
-    assert "stress 4e+07 Pa" in log[0] and "clamped to 6e+07 Pa" in log[0]
+    status, message = log[0]
+    assert status == 1  # fmi2Warning
+    assert "stress 4e+07 Pa" in message and "clamped to 6e+07 Pa" in message
 
 
 def _wire(**params):

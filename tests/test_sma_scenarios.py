@@ -34,3 +34,13 @@ def test_tracking_follows_the_sine_and_the_wire_contracts(fmu_dir):
     late = res.time >= 2.0
     assert np.sqrt(np.mean(res["pid.e"][late] ** 2)) < 0.3  # K
     assert res["wire.strain"].max() > 0.03  # heated through the transformation (to 102 C by 8 s)
+
+
+def test_stress_outside_the_data_set_is_clamped_with_one_warning(fmu_dir):
+    s = scenario.load(SCENARIOS / "sma-temperature-regulation.toml", ["load.offset=3.0"],
+                      stop_time=0.5)  # 3 N on 127 um: 237 MPa, above the wire's 60..200 MPa
+    res = master.Master(s, fmu_dir).run()
+    assert res.error is None
+    assert len(res.warnings) == 1
+    assert res.warnings[0].startswith("wire: stress 2.36823e+08 Pa at t = 0 s is outside")
+    assert "clamped to 2e+08 Pa" in res.warnings[0]

@@ -172,7 +172,7 @@ class SmaWire(Slave):
                 warnings.simplefilter("always")
                 sigma = clamp(self._warned, "stress", sigma, s.s_lo, s.s_hi, "Pa", t)
             for w in caught:
-                self.log(f"{self.instance_name}: {w.message}", Fmi2Status.warning)
+                self.log(str(w.message), Fmi2Status.warning)
         return sigma
 
     def _eps_max(self, sigma):

@@ -39,6 +39,8 @@ def _cmd_run(args):
     for name, unit in summary["units"].items():
         print(f"{name} = {summary[name]:.6g} {unit}")
     print(f"wrote {out / 'results.csv'}, {out / 'summary.json'} and {out / 'results.png'}")
+    for warning in res.warnings:
+        print(f"musclesim: warning from {warning}", file=sys.stderr)
     if res.error:
         print(f"musclesim: run stopped: {res.error} (results up to then are kept)", file=sys.stderr)
         return 1

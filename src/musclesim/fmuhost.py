@@ -28,7 +28,7 @@ def _route_log(env, instance_name, status, category, message):
     instances = LOG_SINKS.get(env)
     name = instance_name.decode("utf-8", "replace") if instance_name else ""
     if instances is not None and name in instances:
-        instances[name].log.append(message.decode("utf-8", "replace").strip())
+        instances[name].log.append((status, message.decode("utf-8", "replace").strip()))
 
 
 _ROUTE_LOG = fmi2CallbackLoggerTYPE(_route_log)

@@ -21,7 +21,7 @@ import math
 import re
 import shutil
 import tempfile
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -39,13 +39,15 @@ class Results:
     """Recorded signals: ``time[i]`` and ``data[i, j]`` for column ``names[j]``, rows 0..n-1.
 
     ``error`` is None for a complete run, else the sentence saying which instance failed, when
-    and why; the rows before the failure are kept.
+    and why; the rows before the failure are kept. ``warnings`` holds what the FMUs logged as
+    warnings (e.g. an input clamped to a model's valid range), each prefixed with its instance.
     """
 
     time: np.ndarray
     names: list
     data: np.ndarray
     error: str = None
+    warnings: list = field(default_factory=list)
 
     def __getitem__(self, name):
         return self.data[:, self.names.index(name)]
@@ -257,7 +259,7 @@ class Master:
             self._get(inst)
 
     def _failure(self, inst, t):
-        lines = [ln for msg in inst.log for ln in msg.splitlines() if ln.strip()]
+        lines = [ln for _, msg in inst.log for ln in msg.splitlines() if ln.strip()]
         cause = lines[-1] if lines else "the FMU reported an error"
         # pythonfmu reports an exception as its repr, e.g. ValueError('m1 must be positive')
         cause = re.sub(r"^\w+(?:Error|Exception)\((['\"])(.*)\1\)$", r"\2", cause)
@@ -293,7 +295,10 @@ class Master:
                 inst.slave = None
             shutil.rmtree(tmp, ignore_errors=True)
             del LOG_SINKS[id(self)]
-        return Results(time[:self.row].copy(), list(self.columns), data[:self.row].copy(), error)
+        warnings = [f"{i.name}: {msg}" for i in self.instances.values()
+                    for status, msg in i.log if status == 1]  # fmi2Warning
+        return Results(time[:self.row].copy(), list(self.columns), data[:self.row].copy(), error,
+                       warnings)
 
     def _instantiate(self, tmp):
         s = self.scenario

@@ -94,6 +94,7 @@ def write_all(out_dir, scenario, results, units, with_plot=True):
         "parameters": {n: i.parameters for n, i in scenario.instances.items()},
         "completed": results.error is None,
         "error": results.error,
+        "warnings": results.warnings,
         "end_time": float(results.time[-1]) if len(results.time) else None,
     }
     (out / "summary.json").write_text(json.dumps(summary, indent=2, allow_nan=True) + "\n")
