@@ -1,4 +1,5 @@
-"""The `musclesim` command line: build, run, export, sweep, loops, identify, bench, linear.
+"""The `musclesim` command line: build, run, export, sweep, loops, identify, dataset, bench,
+linear.
 
 Mistakes a user can fix end in one sentence on stderr and exit status 2; a failed simulation
 exits with status 1 after writing the results it reached.
@@ -106,6 +107,17 @@ def _cmd_identify(args):
     return 0
 
 
+def _cmd_dataset_check(args):
+    from musclesim import dataset
+
+    ds = dataset.load(args.dataset, check_model=args.model, fmu_dir=args.fmus)
+    train, held = ds.parts()
+    kind = "scalar-only" if ds.scalar_only else f"{len(ds.time)} samples, {len(ds.columns)} columns"
+    print(f"{ds.path}: OK ({kind}; experiments {', '.join(ds.experiments)}; "
+          f"train {', '.join(train)}; held out {', '.join(held)})")
+    return 0
+
+
 def _parser():
     p = argparse.ArgumentParser(prog="musclesim", description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="command", required=True)
@@ -161,6 +173,15 @@ def _parser():
                    help="also report errors against the virtual wire (SPEC 2.3)")
     q.add_argument("--json", action="store_true", help="print JSON instead of text")
     q.set_defaults(func=_cmd_identify)
+
+    q = sub.add_parser("dataset", help="measured data sets (sim-to-real diagnosis)")
+    actions = q.add_subparsers(dest="action", required=True)
+    c = actions.add_parser("check", help="validate a data set, reporting every problem at once")
+    c.add_argument("dataset", help="data set directory (manifest.toml [+ data.csv])")
+    c.add_argument("--model", action="store_true",
+                   help="also check it against its scenario and the FMUs")
+    common(c)
+    c.set_defaults(func=_cmd_dataset_check)
 
     q = sub.add_parser("bench", help="timing benchmarks of the pure cores (on demand)")
     q.add_argument("core", choices=["preisach"], help="the core to time")
