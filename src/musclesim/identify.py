@@ -32,6 +32,7 @@ import numpy as np
 
 from musclesim import forcvalidation
 from musclesim.errors import UserError
+from musclesim.timeseries import read_time_series
 
 ZERO_C = 273.15  # K
 # recorded signals the identification reads (scenario sma-forc-identification)
@@ -136,22 +137,20 @@ def read_record(csv_path, columns=COLUMNS):
     Raises
     ------
     UserError
-        For an unreadable file or a missing column, naming the file and the column.
+        For an unreadable or malformed file (every problem located) or a missing column.
     """
     csv_path = Path(csv_path)
-    try:
-        with csv_path.open() as fh:
-            header = fh.readline().strip().split(",")
-        data = np.loadtxt(csv_path, delimiter=",", skiprows=1, ndmin=2)
-    except (OSError, ValueError) as exc:
-        raise UserError(f"{csv_path}: cannot read the record ({exc})") from None
-    cols = {}
-    for key in ("time", *COLUMNS):
-        name = "time" if key == "time" else columns[key]
-        if name not in header:
-            raise UserError(f"{csv_path} has no column {name!r} (the {key} the identification "
-                            f"reads; record it in the scenario)")
-        cols[key] = data[:, header.index(name)]
+    problems = []
+    table = read_time_series(csv_path, problems, str(csv_path))
+    if problems:
+        raise UserError("; ".join(problems))
+    header, time, data = table
+    cols = {"time": time}
+    for key in COLUMNS:
+        if columns[key] not in header[1:]:
+            raise UserError(f"{csv_path} has no column {columns[key]!r} (the {key} the "
+                            "identification reads; record it in the scenario)")
+        cols[key] = data[:, header.index(columns[key]) - 1]
     summary = _summary(csv_path) or {}
     instance = columns["run"].partition(".")[0]
     params = summary.get("parameters", {}).get(instance, {})
