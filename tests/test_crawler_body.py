@@ -57,3 +57,31 @@ def test_nonfriction_forces_balance_without_gravity():
 def test_parameter_check_names_the_parameter(field, value):
     with pytest.raises(ValueError, match=field):
         body.BodyParams(**{field: value}).check()
+
+
+def test_ground_drag_decays_the_centre_of_mass_velocity_exponentially():
+    """Equal masses, no friction: v_cm(t) = v0 exp(-c_ground t / m) (hand solution)."""
+    p = body.BodyParams(c_ground=0.5)
+    Ad, Bd = body.discretise(p, 1e-3)
+    x = np.array([0.0, 0.1, 0.0, 0.1])
+    for _ in range(1000):
+        x = body.step_state(x, (0.0, 0.0, 0.0), Ad, Bd)
+    assert (x[1] + x[3]) / 2 == pytest.approx(0.1 * math.exp(-0.5 * 1.0 / 0.2), rel=1e-9)
+
+
+def test_force_dependent_stiffness_sets_the_static_stretch():
+    """Held f_a = F without friction or gravity: the blocks settle F / k(F) apart."""
+    p = body.BodyParams(k_slope=0.02, c=5.0)
+    F = 10.0
+    Ad, Bd = body.discretise(p, 1e-3, F)
+    x = np.zeros(4)
+    for _ in range(20000):
+        x = body.step_state(x, (F, 0.0, 0.0), Ad, Bd)
+    assert x[2] - x[0] == pytest.approx(F / (p.k * (1 + 0.02 * F)), rel=1e-9)
+    assert body.stiffness(body.BodyParams(k_slope=-1.0), 5.0) == 0.0  # never negative
+
+
+def test_effects_off_leave_the_nominal_plant():
+    A0, B0 = body.state_space(body.BodyParams())
+    A1, B1 = body.state_space(body.BodyParams(k_slope=0.0, c_ground=0.0), f_a=15.0)
+    assert np.array_equal(A0, A1) and np.array_equal(B0, B1)

@@ -52,12 +52,13 @@ def test_gauss_seidel_feeds_the_body_the_stepped_source(fmu_dir):
     assert not np.array_equal(res["body.flange1.s"], jacobi["body.flange1.s"])
 
 
-def test_incline_switching_time_and_parameters_reach_the_fmus(fmu_dir):
+def test_incline_effects_and_parameters_reach_the_fmus(fmu_dir):
     theta = math.radians(7.5)
     overrides = [f"body.theta={theta!r}", "friction1.t_switch=0.2", "friction2.t_switch=0.3",
-                 "friction2.mu_s_high=0.8", "inputs.phi=4.0", "body.m1=0.25"]
+                 "friction2.mu_s_high=0.8", "inputs.phi=4.0", "body.m1=0.25",
+                 "body.k_slope=0.01", "body.c_ground=0.4"]
     res = cosim(fmu_dir, overrides, stop_time=5.0)
-    ref = simulate_ideal(body_p=body.BodyParams(theta=theta, m1=0.25),
+    ref = simulate_ideal(body_p=body.BodyParams(theta=theta, m1=0.25, k_slope=0.01, c_ground=0.4),
                          friction_p=(friction.FrictionParams(t_switch=0.2),
                                      friction.FrictionParams(t_switch=0.3, mu_s_high=0.8)),
                          inputs_p=inputs.InputParams(phi=4.0), stop_time=5.0)

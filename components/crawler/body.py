@@ -22,26 +22,39 @@ class BodyParams:
     k: float = 200.0  # N/m, central actuator stiffness from its tensile test (SPEC 1.4)
     c: float = 1.3  # N s/m, central actuator damping (SPEC 1.4)
     theta: float = 0.0  # rad, incline of the ground, climbing positive (SPEC 1.2)
+    # effects, off by default (diagnosis candidates, SPEC 4):
+    k_slope: float = 0.0  # 1/N, k grows by this fraction per newton of f_a: the real stiffness is
+    #                       nonlinear and pressure dependent (SPEC 1.2, 4)
+    c_ground: float = 0.0  # N s/m, viscous drag of the ground on each block
 
     def check(self):
         """Raise ValueError naming the first parameter outside its physical range."""
         for name in ("m1", "m2"):
             if not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be positive (got {getattr(self, name)!r})")
-        for name in ("k", "c"):
+        for name in ("k", "c", "c_ground"):
             if not getattr(self, name) >= 0:
                 raise ValueError(f"{name} must be non-negative (got {getattr(self, name)!r})")
         if not abs(self.theta) < math.pi / 2:
             raise ValueError(f"theta must lie in (-pi/2, pi/2) rad (got {self.theta!r})")
 
 
-def state_space(p):
-    """Continuous plant of SPEC 1.2: return (A, B) with B's columns for f_a, f1, f2."""
-    m1, m2, k, c = p.m1, p.m2, p.k, p.c
+def stiffness(p, f_a=0.0):
+    """Actuator stiffness at actuator force f_a: k (1 + k_slope f_a), never below zero."""
+    return max(0.0, p.k * (1.0 + p.k_slope * f_a))
+
+
+def state_space(p, f_a=0.0):
+    """Continuous plant of SPEC 1.2: return (A, B) with B's columns for f_a, f1, f2.
+
+    With the effects on, k is the stiffness at actuator force `f_a` and each block also feels
+    the ground's viscous drag -c_ground v_i.
+    """
+    m1, m2, k, c, cg = p.m1, p.m2, stiffness(p, f_a), p.c, p.c_ground
     A = np.array([[0.0, 1.0, 0.0, 0.0],
-                  [-k / m1, -c / m1, k / m1, c / m1],
+                  [-k / m1, -(c + cg) / m1, k / m1, c / m1],
                   [0.0, 0.0, 0.0, 1.0],
-                  [k / m2, c / m2, -k / m2, -c / m2]])
+                  [k / m2, c / m2, -k / m2, -(c + cg) / m2]])
     B = np.array([[0.0, 0.0, 0.0],
                   [-1 / m1, 1 / m1, 0.0],
                   [0.0, 0.0, 0.0],
@@ -49,13 +62,14 @@ def state_space(p):
     return A, B
 
 
-def discretise(p, Ts):
+def discretise(p, Ts, f_a=0.0):
     """Zero-order-hold discretisation at step Ts, gravity included as a constant fourth input.
 
-    Returns (Ad, Bd) with x[k+1] = Ad x[k] + Bd [f_a, f1, f2, 1]. Uses scipy's cont2discrete, the
-    routine python-control's ``StateSpace.sample(Ts, 'zoh')`` calls.
+    Returns (Ad, Bd) with x[k+1] = Ad x[k] + Bd [f_a, f1, f2, 1]; `f_a` sets the stiffness when
+    k_slope is on. Uses scipy's cont2discrete, the routine python-control's
+    ``StateSpace.sample(Ts, 'zoh')`` calls.
     """
-    A, B = state_space(p)
+    A, B = state_space(p, f_a)
     gravity = np.array([0.0, -G * math.sin(p.theta), 0.0, -G * math.sin(p.theta)])
     Ad, Bd, *_ = cont2discrete((A, np.column_stack([B, gravity]), np.eye(4), np.zeros((4, 4))),
                                Ts, method="zoh")
@@ -63,10 +77,12 @@ def discretise(p, Ts):
 
 
 def nonfriction_forces(x, f_a, p):
-    """Net non-friction force along the surface on each block (spring, damper, actuator, gravity)."""
-    f_spring = p.k * (x[0] - x[2]) + p.c * (x[1] - x[3])
+    """Net non-friction force along the surface on each block (spring, damper, actuator, gravity,
+    and the ground's viscous drag when that effect is on)."""
+    f_spring = stiffness(p, f_a) * (x[0] - x[2]) + p.c * (x[1] - x[3])
     slope = G * math.sin(p.theta)
-    return -f_spring - f_a - p.m1 * slope, f_spring + f_a - p.m2 * slope
+    return (-f_spring - f_a - p.m1 * slope - p.c_ground * x[1],
+            f_spring + f_a - p.m2 * slope - p.c_ground * x[3])
 
 
 def normal_forces(p):

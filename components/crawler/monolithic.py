@@ -46,7 +46,10 @@ def simulate_ideal(body_p=body.BodyParams(), friction_p=(friction.FrictionParams
             contact[i] = friction.advance_contact(contact[i], u, step, p.t_switch)
         t_next = t + step
         f_next, u1, u2 = inputs.signals(t_next, inputs_p)
-        x = body.step_state(x, (f_next if actuator_lead else f_a, *forces), Ad, Bd)
+        f_held = f_next if actuator_lead else f_a
+        if body_p.k_slope:  # the stiffness follows the actuator force held over the step
+            Ad, Bd = body.discretise(body_p, step, f_held)
+        x = body.step_state(x, (f_held, *forces), Ad, Bd)
         t, f_a = t_next, f_next
     return times, states
 

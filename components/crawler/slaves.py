@@ -20,6 +20,10 @@ class CrawlerBody(Slave):
         self.parameter("k", d.k, "N/m", "Stiffness of the central actuator (SPEC 1.4)")
         self.parameter("c", d.c, "N.s/m", "Damping of the central actuator (SPEC 1.4)")
         self.parameter("theta", d.theta, "rad", "Incline of the ground, climbing positive (SPEC 1.2)")
+        self.parameter("k_slope", d.k_slope, "1", "Effect, 0 = off: relative stiffness change per "
+                       "newton of actuator force [1/N] (pressure-dependent stiffness, SPEC 1.2, 4)")
+        self.parameter("c_ground", d.c_ground, "N.s/m",
+                       "Effect, 0 = off: viscous drag of the ground on each block (SPEC 4)")
         self.input("f_a", 0.0, "N", "Actuator force pushing the blocks apart")
         self.input("flange1.f", 0.0, "N", "Friction force on block 1")
         self.input("flange2.f", 0.0, "N", "Friction force on block 2")
@@ -34,7 +38,7 @@ class CrawlerBody(Slave):
     def setup(self):
         self.p = self.core_params(body.BodyParams)
         self.x = np.zeros(4)  # zero initial state (SPEC 1.4)
-        self.dt = None
+        self.dt = self.f_held = None
         self.flange1_N, self.flange2_N = body.normal_forces(self.p)
 
     def evaluate(self):
@@ -45,10 +49,12 @@ class CrawlerBody(Slave):
 
     def advance(self, t, dt):
         # masters with an integer clock (libcosim counts nanoseconds) hand steps that differ in
-        # the last bits; the hold matrices of such steps agree to machine precision
-        if self.dt is None or not math.isclose(dt, self.dt, rel_tol=1e-9):
-            self.Ad, self.Bd = body.discretise(self.p, dt)
-            self.dt = dt
+        # the last bits; the hold matrices of such steps agree to machine precision. With a
+        # force-dependent stiffness they hold for the step's actuator force.
+        f_held = self.f_a if self.p.k_slope else 0.0
+        if self.dt is None or not math.isclose(dt, self.dt, rel_tol=1e-9) or f_held != self.f_held:
+            self.Ad, self.Bd = body.discretise(self.p, dt, f_held)
+            self.dt, self.f_held = dt, f_held
         self.x = body.step_state(self.x, (self.f_a, self.flange1_f, self.flange2_f), self.Ad, self.Bd)
 
 
