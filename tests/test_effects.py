@@ -1,0 +1,60 @@
+"""The effect library (issue 4): every effect is parameters of an existing component, off gives the
+nominal model exactly, and on it changes the simulation."""
+import numpy as np
+import pytest
+from fmpy import read_model_description
+
+from musclesim import effects, master, scenario
+from musclesim.components import CATALOGUE
+
+from conftest import SCENARIOS
+
+# a scenario and an instance per component to switch effects on in
+WHERE = {"CrawlerBody": ("crawler-ideal", "body"), "FrictionBlock": ("crawler-ideal", "friction1"),
+         "SmaWire": ("sma-temperature-tracking", "wire"),
+         "Thermocouple": ("sma-temperature-tracking", "thermocouple")}
+# context that lets a slow effect show within a short run (no effect by itself when it is off)
+CONTEXT = {"training drift": ["wire.drift_cycles_start=200"]}
+IDS = [e.name for e in effects.EFFECTS]
+
+
+def test_library_covers_the_issue_list():
+    assert {"stress dependence ignored", "thermocouple lag", "thermocouple bias", "latent heat",
+            "clamp heat loss", "convection change", "training drift", "anchoring slip",
+            "friction switching time", "pressure-dependent stiffness",
+            "viscous ground drag"} <= set(IDS)
+    assert effects.find("anchoring slip").per_instance
+    with pytest.raises(KeyError, match="known: stress dependence ignored"):
+        effects.find("gremlins")
+
+
+@pytest.mark.parametrize("effect", effects.EFFECTS, ids=IDS)
+def test_off_values_are_the_fmu_defaults(fmu_dir, effect):
+    assert effect.component in CATALOGUE and effect.spec.startswith("SPEC")
+    md = read_model_description(str(fmu_dir / f"{effect.component}.fmu"))
+    variables = {v.name: v for v in md.modelVariables}
+    for p in effect.parameters:
+        v = variables[p.name]
+        assert v.causality == "parameter" and float(v.start) == p.off
+        assert p.lower < p.upper
+
+
+def _run(fmu_dir, name, overrides):
+    s = scenario.load(SCENARIOS / f"{name}.toml", overrides, stop_time=2.0)
+    res = master.Master(s, fmu_dir).run()
+    assert res.error is None, res.error
+    return res.data
+
+
+@pytest.mark.parametrize("effect", effects.EFFECTS, ids=IDS)
+def test_off_is_nominal_exactly_and_on_changes_the_run(fmu_dir, effect):
+    name, instance = WHERE[effect.component]
+    context = CONTEXT.get(effect.name, [])
+    nominal = _run(fmu_dir, name, context)
+    off = _run(fmu_dir, name, context + effect.overrides(instance, [p.off for p in effect.parameters]))
+    assert np.array_equal(nominal, off)
+    # on: the bound farthest from off, for every parameter
+    far = [p.upper if abs(p.upper - p.off) >= abs(p.lower - p.off) else p.lower
+           for p in effect.parameters]
+    on = _run(fmu_dir, name, context + effect.overrides(instance, far))
+    assert not np.allclose(nominal, on, rtol=1e-6, atol=1e-9)
