@@ -17,8 +17,6 @@ import hashlib
 import tomllib
 from pathlib import Path
 
-import numpy as np
-
 from .surface import Hypersurface
 from .wire import DEFAULT_PARAMS, ReferenceWire, load_params
 
@@ -118,6 +116,4 @@ def _source(k, root):
 
 
 def _tabulate(wire):
-    p = wire.params
-    n = int(round((p.T_high - p.T_low) / REFERENCE_STEP))
-    return wire.hypersurface(np.linspace(p.T_low, p.T_high, n + 1), REFERENCE_STRESSES)
+    return wire.hypersurface(wire.grid(REFERENCE_STEP), REFERENCE_STRESSES)

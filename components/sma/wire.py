@@ -228,6 +228,11 @@ class ReferenceWire:
         """FORC increment F(a, b; sigma) [-] (see `forc_increment`)."""
         return forc_increment(a, b, sigma, self.params)
 
+    def grid(self, step):
+        """Temperatures [C] every `step` over the saturation range T_low..T_high."""
+        p = self.params
+        return np.linspace(p.T_low, p.T_high, int(round((p.T_high - p.T_low) / step)) + 1)
+
     def hypersurface(self, temps, stresses):
         """The wire tabulated as a `Hypersurface` on temps [C] x stresses [Pa]: what
         ``Hypersurface.from_function(self.F, temps, stresses)`` gives (up to round-off), vectorised

@@ -17,8 +17,8 @@ from musclesim.errors import UserError
 
 
 def tabulate(source, stress, step=1.0):
-    """Single-stress Hypersurface of a FORC source with a vectorised ``F(a, b, sigma)``
-    (e.g. `ReferenceWire`) on a `step` [C] grid over its saturation range.
+    """Single-stress Hypersurface of a `ReferenceWire` on a `step` [C] grid over its saturation
+    range.
 
     Examples
     --------
@@ -26,12 +26,7 @@ def tabulate(source, stress, step=1.0):
     >>> round(h.F(85.0, 60.0, 155e6), 4)
     0.0204
     """
-    p = source.params
-    n = int(round((p.T_high - p.T_low) / step))
-    temps = np.linspace(p.T_low, p.T_high, n + 1)
-    a, b = np.meshgrid(temps, temps, indexing="ij")
-    table = np.tril(np.asarray(source.F(a, b, stress), dtype=float))
-    return Hypersurface(temps, [stress], table[None])
+    return source.hypersurface(source.grid(step), [stress])
 
 
 def parse_band(text):
