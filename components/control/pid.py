@@ -11,6 +11,7 @@ The integral is stored already multiplied by Ki, so changing gains (scheduling) 
 import math
 from dataclasses import dataclass
 
+from musclesim.components.checks import require
 
 @dataclass(frozen=True)
 class PIDParams:
@@ -25,9 +26,7 @@ class PIDParams:
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
-        for name in ("Kd", "Tf"):
-            if not getattr(self, name) >= 0:
-                raise ValueError(f"{name} must be non-negative (got {getattr(self, name)!r})")
+        require(self, non_negative=("Kd", "Tf"))
         if not self.u_min < self.u_max:
             raise ValueError(f"u_min {self.u_min!r} must be below u_max {self.u_max!r}")
 

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.signal import cont2discrete
 
+from musclesim.components.checks import require
 G = 9.81  # m/s^2
 
 
@@ -29,12 +30,7 @@ class BodyParams:
 
     def check(self):
         """Raise ValueError naming the first parameter outside its physical range."""
-        for name in ("m1", "m2"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"{name} must be positive (got {getattr(self, name)!r})")
-        for name in ("k", "c", "c_ground"):
-            if not getattr(self, name) >= 0:
-                raise ValueError(f"{name} must be non-negative (got {getattr(self, name)!r})")
+        require(self, positive=("m1", "m2"), non_negative=("k", "c", "c_ground"))
         if not abs(self.theta) < math.pi / 2:
             raise ValueError(f"theta must lie in (-pi/2, pi/2) rad (got {self.theta!r})")
 

@@ -7,6 +7,7 @@ of jumping (a candidate unmodelled effect; SPEC 1.1 says switching takes up to 0
 import math
 from dataclasses import dataclass
 
+from musclesim.components.checks import require
 
 @dataclass(frozen=True)
 class FrictionParams:
@@ -21,11 +22,8 @@ class FrictionParams:
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
-        for name in ("mu_s_high", "mu_k_high", "mu_s_low", "mu_k_low", "t_switch"):
-            if not getattr(self, name) >= 0:
-                raise ValueError(f"{name} must be non-negative (got {getattr(self, name)!r})")
-        if not self.v_s > 0:
-            raise ValueError(f"v_s must be positive (got {self.v_s!r})")
+        require(self, positive=("v_s",),
+                non_negative=("mu_s_high", "mu_k_high", "mu_s_low", "mu_k_low", "t_switch"))
 
 
 def coefficients(s, p):

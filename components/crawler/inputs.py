@@ -2,6 +2,7 @@
 import math
 from dataclasses import dataclass
 
+from musclesim.components.checks import require
 
 @dataclass(frozen=True)
 class InputParams:
@@ -15,9 +16,7 @@ class InputParams:
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
-        for name in ("f_f", "f_u", "f_amp"):
-            if not getattr(self, name) >= 0:
-                raise ValueError(f"{name} must be non-negative (got {getattr(self, name)!r})")
+        require(self, non_negative=("f_f", "f_u", "f_amp"))
 
 
 def signals(t, p):

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from musclesim.components.checks import require
 
 @dataclass(frozen=True)
 class SensorParams:
@@ -22,9 +23,7 @@ class SensorParams:
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
-        for name in ("tau", "noise_std", "quantum"):
-            if not getattr(self, name) >= 0:
-                raise ValueError(f"{name} must be non-negative (got {getattr(self, name)!r})")
+        require(self, non_negative=("tau", "noise_std", "quantum"))
         if self.seed != int(self.seed) or self.seed < 0:
             raise ValueError(f"seed must be a non-negative whole number (got {self.seed!r})")
 

@@ -12,6 +12,8 @@ by default, which leaves the nominal strain untouched bit for bit.
 import math
 from dataclasses import dataclass
 
+from musclesim.components.checks import require
+
 
 @dataclass(frozen=True)
 class DriftParams:
@@ -23,8 +25,7 @@ class DriftParams:
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
-        if not self.cycles_to_settle > 0:
-            raise ValueError(f"cycles_to_settle must be positive (got {self.cycles_to_settle!r})")
+        require(self, positive=("cycles_to_settle",))
         if not self.amplitude_change > -1:
             raise ValueError(f"amplitude_change must exceed -1 (got {self.amplitude_change!r})")
 

@@ -4,6 +4,8 @@ import sys
 from bisect import bisect_right
 from dataclasses import dataclass
 
+from musclesim.components.checks import require
+
 from .surface import GRID_TEMPS, STRESSES, Hypersurface, RangeWarning, clamp
 
 __all__ = ["GRID_TEMPS", "STRESSES", "Hypersurface", "MemoryParams", "PreisachModel",
@@ -19,8 +21,7 @@ class MemoryParams:
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
-        if not self.tol >= 0:
-            raise ValueError(f"tol must be non-negative (got {self.tol!r})")
+        require(self, non_negative=("tol",))
         if not (isinstance(self.max_extrema, int) and self.max_extrema >= 4):
             raise ValueError(f"max_extrema must be an integer >= 4 (got {self.max_extrema!r})")
 

@@ -15,6 +15,7 @@ from typing import NamedTuple
 
 from scipy.optimize import brentq
 
+from musclesim.components.checks import require
 DRIVES = ("voltage", "current")
 
 
@@ -39,13 +40,9 @@ class ThermalParams:
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
-        for name in ("length", "diameter", "density", "specific_heat", "rho_martensite",
-                     "rho_austenite", "max_substep", "h_dT_ref"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"{name} must be positive (got {getattr(self, name)!r})")
-        for name in ("h", "latent_heat", "clamp_conductance", "h_exponent"):
-            if not getattr(self, name) >= 0:
-                raise ValueError(f"{name} must be non-negative (got {getattr(self, name)!r})")
+        require(self, positive=("length", "diameter", "density", "specific_heat",
+                                "rho_martensite", "rho_austenite", "max_substep", "h_dT_ref"),
+                non_negative=("h", "latent_heat", "clamp_conductance", "h_exponent"))
         if self.drive not in DRIVES:
             raise ValueError(f"drive must be one of {DRIVES} (got {self.drive!r})")
 

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 from scipy.special import expit, ndtr
 
+from musclesim.components.checks import require
 from .surface import Hypersurface
 
 DEFAULT_PARAMS = Path(__file__).parent / "params" / "flexinol-127um-90C.toml"
@@ -43,10 +44,8 @@ class WireParams:
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
-        for name in ("eps_sat", "sigma_det", "cc_slope", "width_mean", "width_sd",
-                     "sharp_scale", "diffuse_sd"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"{name} must be positive (got {getattr(self, name)!r})")
+        require(self, positive=("eps_sat", "sigma_det", "cc_slope", "width_mean", "width_sd",
+                                "sharp_scale", "diffuse_sd"))
         if not 0 <= self.diffuse_fraction <= 1:
             raise ValueError(f"diffuse_fraction must lie in [0, 1] (got {self.diffuse_fraction!r})")
         if not self.T_low < self.T_high:

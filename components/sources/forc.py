@@ -19,6 +19,8 @@ the ambient air.
 import math
 from dataclasses import dataclass
 
+from musclesim.components.checks import require
+
 IDLE, HEATING, COOLING = 0.0, 1.0, -1.0  # values of the phase flag
 
 
@@ -36,14 +38,12 @@ class ForcParams:
         """Raise ValueError naming the first parameter outside its valid range."""
         if not self.T_low < self.T_high:
             raise ValueError(f"T_low must be below T_high (got {self.T_low!r}, {self.T_high!r})")
-        if not self.T_step > 0:
-            raise ValueError(f"T_step must be positive (got {self.T_step!r})")
+        require(self, positive=("T_step",))
         n = (self.T_high - self.T_low) / self.T_step
         if abs(n - round(n)) > 1e-9 * max(1.0, n):
             raise ValueError(f"T_high - T_low = {self.T_high - self.T_low!r} K must be a whole "
                              f"number of T_step = {self.T_step!r} K")
-        if not self.period > 0:
-            raise ValueError(f"period must be positive (got {self.period!r})")
+        require(self, positive=("period",))
         if not math.isfinite(self.t_start):
             raise ValueError(f"t_start must be finite (got {self.t_start!r})")
 

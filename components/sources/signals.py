@@ -9,6 +9,8 @@ second; triangle: -1 -> +1 -> -1), so a square wave alternates between two set-p
 import math
 from dataclasses import dataclass
 
+from musclesim.components.checks import require
+
 KINDS = ("constant", "sine", "square", "triangle")
 
 
@@ -28,8 +30,7 @@ class SignalParams:
         if self.kind not in range(len(KINDS)):
             raise ValueError(f"kind must be one of 0..{len(KINDS) - 1} ({', '.join(KINDS)}), "
                              f"got {self.kind!r}")
-        if not self.frequency >= 0:
-            raise ValueError(f"frequency must be non-negative (got {self.frequency!r})")
+        require(self, non_negative=("frequency",))
 
 
 def unit_wave(kind, cycles):
