@@ -20,8 +20,7 @@ class _PIDBase(Slave):
         self.output("e", "1", "Control error r - y", depends=["r", "y"])
 
     def setup(self):
-        self.p = pid.PIDParams(self.gains()[0], self.gains()[1], self.gains()[2], self.Tf,
-                               self.u_min, self.u_max)
+        self.p = pid.PIDParams(*self.gains(), self.Tf, self.u_min, self.u_max)
         self.p.check()
         self.state = pid.PIDState()
         self.dt = 0.0
