@@ -14,7 +14,10 @@ WHERE = {"CrawlerBody": ("crawler-ideal", "body"), "FrictionBlock": ("crawler-id
          "SmaWire": ("sma-temperature-tracking", "wire"),
          "Thermocouple": ("sma-temperature-tracking", "thermocouple")}
 # context that lets a slow effect show within a short run (no effect by itself when it is off)
-CONTEXT = {"training drift": ["wire.drift_cycles_start=200"]}
+CONTEXT = {"training drift": ["wire.drift_cycles_start=200"],
+           # a model ignoring stress (one surface at 125 MPa) of a wire loaded with 145 MPa
+           "stress dependence ignored": ["wire.sigma_surface=125e6",
+                                         f"load.offset={145e6 * 1.26677e-8!r}"]}
 IDS = [e.name for e in effects.EFFECTS]
 
 

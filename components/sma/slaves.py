@@ -24,7 +24,7 @@ class SmaWire(Slave):
     power are those of the step just taken), so the wire closes loops with controllers and loads
     without an algebraic loop. Temperatures outside the data set's grid (30..130 C)
     saturate the hysteresis (SPEC 2.1); stresses outside its stresses are clamped with one warning
-    in the FMU log. Effects (latent heat, clamp loss, h(T), drift, stress ignored) are off by
+    in the FMU log. Effects (latent heat, clamp loss, h(T), drift, stress ignored and partly restored) are off by
     default. Equations: components/sma/README.md.
     """
 
@@ -53,6 +53,10 @@ class SmaWire(Slave):
         self.parameter("sigma_surface", 0.0, "Pa",
                        "Stress ignored (effect, 0 = off): > 0 uses the single surface at this "
                        "stress for every stress (SPEC 2.4)")
+        self.parameter("stress_blend", 0.0, "1",
+                       "With sigma_surface > 0, how much the hysteresis follows the stress "
+                       "(effect 'stress dependence ignored', 0 = off): it sees sigma_surface + "
+                       "stress_blend (stress - sigma_surface) on the stress-aware data set")
         self.parameter("latent_heat", t.latent_heat, "J/kg",
                        "Latent heat of transformation (effect, 0 = off; 12e3-24e3 on, SPEC 5)")
         self.parameter("clamp_conductance", t.clamp_conductance, "W/K",
@@ -89,6 +93,8 @@ class SmaWire(Slave):
                              f"got {self.drive_current!r}")
         if not self.T_init > 0:
             raise ValueError(f"T_init must be positive in K (got {self.T_init!r})")
+        if not 0 <= self.stress_blend <= 1:
+            raise ValueError(f"stress_blend must be within [0, 1] (got {self.stress_blend!r})")
         if not self.drift_cycles_start >= 0:
             raise ValueError(f"drift_cycles_start must be non-negative "
                              f"(got {self.drift_cycles_start!r})")
@@ -107,7 +113,11 @@ class SmaWire(Slave):
         # another instance's, already deleted
         root = datasets.PACKAGE_DIR if self.resources is None else \
             Path(self.resources) / "musclesim" / "components" / "sma"
+        # stress_blend > 0 puts back part of the stress dependence that sigma_surface removed
+        self.blend = self.sigma_surface > 0 and self.stress_blend > 0
         self.surface = datasets.surface(self.hysteresis, self.sigma_surface, root)
+        if self.blend:
+            self.surface = datasets.surface(self.hysteresis, 0.0, root)
         self.area = thermal.cross_section(self.p)
         self._warned = set()
         self._eps_max_at = (None, None)  # (stress, F(a0, b0; stress)): the last one computed
@@ -166,6 +176,8 @@ class SmaWire(Slave):
     def _stress(self, t):
         """Stress [Pa] for the hysteresis: clamped to the data set's stresses, warned once."""
         sigma = self.flange_f / self.area
+        if self.blend:
+            sigma = self.sigma_surface + self.stress_blend * (sigma - self.sigma_surface)
         s = self.surface
         if len(s.stresses) > 1 and not s.s_lo <= sigma <= s.s_hi:
             with warnings.catch_warnings(record=True) as caught:

@@ -2,8 +2,13 @@
 
 Every effect is a set of parameters of an existing component whose values at ``off`` give the
 nominal model exactly (they are the FMU's defaults), with bounds for fitting, the regime where it
-should show (its signature) and the SPEC section it comes from. Adding an effect to a scenario is
-therefore only a matter of parameter values on the instances of its component.
+should show (its signature, a key of `REGIMES`) and the SPEC section it comes from. Adding an
+effect to a scenario is therefore only a matter of parameter values on the instances of its
+component.
+
+`CALIBRATION` lists, per component, the nominal parameters a fair competitor may recalibrate:
+an effect with k parameters only counts if it beats the nominal model with k of these refitted
+(so that "raise h" cannot pose as "latent heat").
 """
 from dataclasses import dataclass
 
@@ -18,12 +23,30 @@ class Parameter:
     upper: float
 
 
+# Operating regimes an effect's gain should concentrate in; musclesim.diagnose computes them from
+# the measured signals (temperatures [K], strains, loads [N], positions [m], indicators).
+REGIMES = {
+    "all": "every sample",
+    "changing": "the temperature changes faster than its median rate",
+    "cooling": "the temperature falls",
+    "hot": "the top fifth of the measured temperatures",
+    "transformation": "the measured strain changes (the wire transforms)",
+    "late": "the second half of each experiment",
+    "stress_extremes": "the load is more than one standard deviation from its median",
+    "stick": "a block stands still",
+    "slip": "a block slides",
+    "switching": "within 0.5 s after a friction indicator switches",
+    "high_force": "the actuator force is above its median",
+}
+
+
 @dataclass(frozen=True)
 class Effect:
     """A candidate unmodelled effect.
 
-    ``per_instance``: the effect may differ between instances of the component (the front and the
-    back friction block slip differently, SPEC 1.5), so it is fitted per instance.
+    ``regime`` is a key of `REGIMES`. ``per_instance``: the effect may differ between instances
+    of the component (the front and the back friction block slip differently, SPEC 1.5), so it is
+    fitted per instance.
     """
 
     name: str
@@ -41,44 +64,54 @@ class Effect:
 
 EFFECTS = (
     # SMA wire and its bench (SPEC 2, 4, 5)
-    Effect("stress dependence ignored", "SmaWire",
-           (Parameter("sigma_surface", 0.0, 105e6, 145e6),),
-           "time-varying stress", "SPEC 2.4, 4",
-           "one constant-stress surface used for every stress"),
+    Effect("stress dependence ignored", "SmaWire", (Parameter("stress_blend", 0.0, 0.0, 1.0),),
+           "stress_extremes", "SPEC 2.4, 4",
+           "the model uses one constant-stress surface (sigma_surface) but the wire follows the "
+           "stress; applies where the scenario sets sigma_surface"),
     Effect("thermocouple lag", "Thermocouple", (Parameter("tau", 0.0, 0.0, 2.0),),
-           "fast temperature changes", "SPEC 2.1, 4",
+           "changing", "SPEC 2.1, 4",
            "the junction follows the wire with a first-order lag"),
     Effect("thermocouple bias", "Thermocouple", (Parameter("bias", 0.0, -10.0, 10.0),),
-           "every temperature, steady state included", "SPEC 4, 5",
+           "all", "SPEC 4, 5",
            "the reading is offset from the wire's core temperature"),
     Effect("latent heat", "SmaWire", (Parameter("latent_heat", 0.0, 0.0, 30e3),),
-           "inside the transformation band, heating and cooling", "SPEC 2.1, 5",
+           "transformation", "SPEC 2.1, 5",
            "heat absorbed while austenite forms, released while martensite forms"),
     Effect("clamp heat loss", "SmaWire", (Parameter("clamp_conductance", 0.0, 0.0, 1e-3),),
-           "high temperatures, steady state", "SPEC 4, 5",
+           "hot", "SPEC 4, 5",
            "conduction into the clamps at ambient temperature"),
     Effect("convection change", "SmaWire", (Parameter("h_exponent", 0.0, 0.0, 0.5),),
-           "cooling, large excess temperatures", "SPEC 4, 5",
+           "hot", "SPEC 4, 5",
            "the convection coefficient grows with the excess temperature"),
     Effect("training drift", "SmaWire",
            (Parameter("drift_amplitude", 0.0, -0.2, 0.2), Parameter("drift_shift", 0.0, -10.0, 10.0)),
-           "over many transformation cycles", "SPEC 2.6",
+           "late", "SPEC 2.6",
            "the major loop changes over the first cycles, then settles"),
     # crawler (SPEC 1, 4)
     Effect("anchoring slip", "FrictionBlock",
            (Parameter("mu_s_high", 1.0, 0.2, 1.0), Parameter("mu_k_high", 0.75, 0.15, 0.75)),
-           "stance phases of the anchored block (stick)", "SPEC 1.5, 4",
+           "stick", "SPEC 1.5, 4",
            "the inflated actuator grips less than the slip-angle estimate", per_instance=True),
     Effect("friction switching time", "FrictionBlock", (Parameter("t_switch", 0.0, 0.0, 0.4),),
-           "right after the friction indicator switches", "SPEC 1.1, 4",
+           "switching", "SPEC 1.1, 4",
            "contact builds over a transition time instead of at once"),
     Effect("pressure-dependent stiffness", "CrawlerBody", (Parameter("k_slope", 0.0, -0.04, 0.04),),
-           "high actuator force", "SPEC 1.2, 4",
+           "high_force", "SPEC 1.2, 4",
            "the central actuator's stiffness changes with its pressure"),
     Effect("viscous ground drag", "CrawlerBody", (Parameter("c_ground", 0.0, 0.0, 5.0),),
-           "sliding phases", "SPEC 4",
+           "slip", "SPEC 4",
            "the ground resists motion in proportion to the block's speed"),
 )
+
+
+# Nominal parameters that may be recalibrated, as factors on their scenario value (SPEC 5 gives
+# h, the specific heat and the resistivities within about +-30 %; SPEC 1.4 the crawler's k and c).
+CALIBRATION = {
+    "SmaWire": (Parameter("h", 1.0, 0.6, 1.6), Parameter("specific_heat", 1.0, 0.7, 1.3),
+                Parameter("rho_austenite", 1.0, 0.8, 1.2)),
+    "CrawlerBody": (Parameter("k", 1.0, 0.7, 1.3), Parameter("c", 1.0, 0.5, 2.0)),
+    "FrictionBlock": (Parameter("mu_k_low", 1.0, 0.7, 1.3),),
+}
 
 
 def by_component(component):

@@ -112,17 +112,24 @@ class Master:
     scenario : musclesim.scenario.Scenario
     fmu_dir : str or Path
         Folder with ``<component>.fmu`` files (output of ``musclesim build``).
+    inputs : dict, optional
+        Replayed inputs: ``{"instance.input": values}`` with one value per communication point
+        (``scenario.n_steps + 1``), set at every exchange in place of a connection, the way an
+        upstream FMU swapped for a measured signal would set them (sampled and held over the
+        step). The diagnosis re-simulates components alone this way.
 
     Raises
     ------
     UserError
         Listing every wiring problem (unknown instance or variable, wrong causality, unit
-        mismatch, input connected twice, algebraic loop).
+        mismatch, input connected twice, algebraic loop, replayed input not an unconnected input
+        or of the wrong length).
     """
 
-    def __init__(self, scenario, fmu_dir="fmus"):
+    def __init__(self, scenario, fmu_dir="fmus", inputs=None):
         self.scenario = scenario
         self.fmu_dir = Path(fmu_dir)
+        self.inputs = {k: np.asarray(v, dtype=float) for k, v in (inputs or {}).items()}
         problems = []
         mds = {}
         for comp in sorted({i.component for i in scenario.instances.values()}):
@@ -182,6 +189,15 @@ class Master:
             if dst in targets:
                 problems.append(f"input {dst} is connected twice (from {targets[dst]} and {src})")
             targets[dst] = src
+        for dst, values in self.inputs.items():
+            v = self._variable(dst, problems, "replayed input")
+            if v is not None and v.causality != "input":
+                problems.append(f"replayed input {dst} is a {v.causality}, not an input")
+            if dst in targets:
+                problems.append(f"replayed input {dst} is also connected (from {targets[dst]})")
+            if values.shape != (s.n_steps + 1,):
+                problems.append(f"replayed input {dst} has {values.size} values, not one per "
+                                f"communication point ({s.n_steps + 1})")
         for sig in _recorded(s):
             self._variable(sig, problems, "recorded signal")
 
@@ -210,6 +226,7 @@ class Master:
         # One buffer slot per signal read from an instance, each instance's slots contiguous so
         # that fmi2GetReal writes straight into the buffer.
         source_of = {dst: src for src, dst in s.connections}
+        replayed = {dst: f"{dst} (replayed)" for dst in self.inputs}
         self.columns = _recorded(s)
         reads = {n: [] for n in names}
         for sig in [src for src, _ in s.connections] + [c for c in self.columns if c not in source_of]:
@@ -220,6 +237,11 @@ class Master:
             inst.reads = list(dict.fromkeys(reads[name]))
             inst.first = len(slots)
             slots.update((sig, len(slots)) for sig in inst.reads)
+        self.replay_slots = np.arange(len(slots), len(slots) + len(replayed))
+        self.replay_table = np.column_stack([self.inputs[d] for d in replayed]) if replayed \
+            else None
+        slots.update((sig, len(slots)) for sig in replayed.values())
+        source_of.update(replayed)
         self.values = np.zeros(max(1, len(slots)))
         address = self.values.ctypes.data
         position = {n: i for i, n in enumerate(self.exchange_order)}
@@ -228,10 +250,11 @@ class Master:
             inst.get = (n, _vrs([inst.vars[split_signal(x)[1]] for x in inst.reads]),
                         ctypes.cast(address + 8 * inst.first, ctypes.POINTER(ctypes.c_double)))
             ins = [(dst, src) for dst, src in source_of.items() if split_signal(dst)[0] == name]
-            # inputs from instances exchanged earlier are set during the exchange if they feed
-            # through; all others are set just before the step
-            early = [(d, x) for d, x in ins if inst.feedthrough.get(split_signal(d)[1])
-                     and position[split_signal(x)[0]] < position[name]]
+            # replayed inputs, and inputs from instances exchanged earlier if they feed through,
+            # are set during the exchange; all others are set just before the step
+            early = [(d, x) for d, x in ins if d in replayed or (
+                inst.feedthrough.get(split_signal(d)[1])
+                and position[split_signal(x)[0]] < position[name])]
             late = [pair for pair in ins if pair not in early]
             inst.set_early, inst.set_late, inst.set_all = (
                 _transfer([inst.vars[split_signal(d)[1]] for d, _ in pairs], [slots[x] for _, x in pairs])
@@ -252,7 +275,10 @@ class Master:
             self.values.take(slots, out=view)
             _check(inst.set_real(inst.c, vrs, n, vals), "fmi2SetReal")
 
-    def _exchange(self):
+    def _exchange(self, row):
+        """Values at communication point `row`: replayed inputs, then every instance's."""
+        if self.replay_table is not None:
+            self.values[self.replay_slots] = self.replay_table[row]
         for name in self.exchange_order:
             inst = self.current = self.instances[name]
             self._set(inst, inst.set_early)
@@ -328,12 +354,12 @@ class Master:
         for inst in self.instances.values():
             self.current = inst
             inst.slave.enterInitializationMode()
-        self._exchange()
+        self._exchange(0)
         for inst in self.instances.values():
             self.current = inst
             self._set(inst, inst.set_late)
             inst.slave.exitInitializationMode()
-        self._exchange()
+        self._exchange(0)
 
     def _loop(self, time, data):
         """Record, step, exchange until the stop time; return an error sentence or None."""
@@ -359,6 +385,6 @@ class Master:
                     if gauss_seidel:
                         self._get(inst)
                 t += h  # accumulated like the FMUs' own time, so both agree to the bit
-                self._exchange()
+                self._exchange(row)
         finally:
             self.row, self.t = row, t

@@ -1,0 +1,231 @@
+"""`musclesim benchmark-diagnosis`: the diagnosis checked blind on virtual hardware.
+
+Each case is a measured data set made by running one of the SMA benches with hidden changes:
+
+- ``effect``: one library effect at a random magnitude (SPEC ranges, `MAGNITUDES`);
+- ``decoy``: one effect of a pair with similar signatures (`DECOYS`: both act at high
+  temperatures, or both delay the reading);
+- ``none``: no change at all;
+- ``outside``: a change the library does not hold (`OUTSIDE`: another wire's hysteresis, a strain
+  gauge with a gain error);
+
+all with nuisances: thermocouple noise and quantisation inside the loop, strain-gauge noise and
+quantisation, and an acquisition latency of the strain gauge of 0 or 1 sample behind the
+controller's log. Cases are written without labels
+(data.csv + manifest.toml); the key is hashed into key.sha256 before any diagnosis runs and
+written to key.json after. Scores (scores.json): top-1 accuracy over effect and decoy cases,
+the median ratio of our held-out shrinkage of the whole model to the oracle's (the true effect at
+its true values), the false-alarm rate over ``none`` cases (a verdict naming an effect) and the
+``unexplained`` rate over ``outside`` cases.
+"""
+import hashlib
+import json
+import math
+import statistics
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from musclesim import dataset, diagnose, master, scenario as scenario_mod
+from musclesim.errors import UserError
+
+# the benches: scenario, replayed inputs, observed outputs, the effects that can hide in them
+BENCHES = {
+    "tracking": ("sma-bench-tracking", ["reference.y"],
+                 ["pid.u", "thermocouple.T_meas", "wire.strain"],
+                 ["thermocouple lag", "thermocouple bias", "latent heat", "clamp heat loss",
+                  "convection change", "training drift"]),
+    "stress": ("sma-bench-stress", ["wire.u", "wire.flange.f"],
+               ["thermocouple.T_meas", "wire.strain"],
+               ["stress dependence ignored", "thermocouple lag", "latent heat"]),
+}
+# hidden magnitudes: (instance, parameter, low, high), drawn uniformly (SPEC 2.1, 2.6, 5)
+MAGNITUDES = {
+    "thermocouple lag": [("thermocouple", "tau", 0.1, 0.6)],
+    "thermocouple bias": [("thermocouple", "bias", 1.5, 5.0)],  # sign drawn too
+    "latent heat": [("wire", "latent_heat", 12e3, 24e3)],
+    "clamp heat loss": [("wire", "clamp_conductance", 1e-4, 3e-4)],
+    "convection change": [("wire", "h_exponent", 0.06, 0.15)],
+    "training drift": [("wire", "drift_amplitude", 0.1, 0.2), ("wire", "drift_shift", 5.0, 10.0)],
+    "stress dependence ignored": [("wire", "stress_blend", 0.5, 1.0)],
+}
+SIGNED = {"thermocouple bias", "training drift"}
+DECOYS = [("clamp heat loss", "convection change"), ("thermocouple lag", "latent heat")]
+OUTSIDE = {
+    "another wire": [("wire", "hysteresis", 1.0, 1.0)],  # the FORC-identified virtual wire
+    "strain gauge gain": [],  # applied to the recorded strain: gain 0.9..0.95 or 1.05..1.1
+}
+# nuisances (the same for every case; magnitudes of a bench like SPEC 2.1's)
+TC_NOISE, TC_QUANTUM = 0.08, 0.05  # K
+STRAIN_NOISE, STRAIN_QUANTUM = 2e-5, 1e-5
+HELD_OUT_FRACTION = 0.35
+
+
+def plan(count, seed):
+    """The cases' hidden truths: a list of dicts (kind, bench, effect, values, latency, ...)."""
+    rng = np.random.default_rng(seed)
+    n_none = max(1, round(0.15 * count))
+    n_out = max(1, round(0.15 * count))
+    n_decoy = max(1, round(0.15 * count))
+    kinds = (["none"] * n_none + ["outside"] * n_out + ["decoy"] * n_decoy
+             + ["effect"] * (count - n_none - n_out - n_decoy))[:count]
+    rng.shuffle(kinds)
+    cases = []
+    for i, kind in enumerate(kinds):
+        bench = "stress" if kind == "effect" and rng.random() < 0.25 else "tracking"
+        case = {"case": f"case-{i:03d}", "kind": kind, "bench": bench, "effect": None,
+                "values": {}, "latency_samples": int(rng.integers(0, 2)), "seed": int(
+                    rng.integers(0, 2**31)), "strain_gain": 1.0}
+        if kind in ("effect", "decoy"):
+            pool = BENCHES[bench][3] if kind == "effect" else list(DECOYS[rng.integers(len(DECOYS))])
+            effect = pool[rng.integers(len(pool))]
+            case["effect"] = effect
+            sign = -1.0 if effect in SIGNED and rng.random() < 0.5 else 1.0
+            for inst, par, lo, hi in MAGNITUDES[effect]:
+                case["values"][f"{inst}.{par}"] = float(sign * rng.uniform(lo, hi))
+        elif kind == "outside":
+            name = list(OUTSIDE)[rng.integers(len(OUTSIDE))]
+            case["effect"] = name
+            for inst, par, lo, hi in OUTSIDE[name]:
+                case["values"][f"{inst}.{par}"] = float(rng.uniform(lo, hi))
+            if name == "strain gauge gain":
+                case["strain_gain"] = float(rng.choice([-1, 1]) * rng.uniform(0.05, 0.1) + 1)
+        cases.append(case)
+    return cases
+
+
+def _scenario_path(bench, scenarios_dir):
+    return Path(scenarios_dir) / f"{BENCHES[bench][0]}.toml"
+
+
+def record(case, scenarios_dir, fmu_dir):
+    """Run the virtual hardware of `case`: (time, {column: values}) as the bench records them."""
+    name, inputs, outputs, _ = BENCHES[case["bench"]]
+    sets = [f"{k}={v!r}" for k, v in case["values"].items()]
+    sets += [f"thermocouple.noise_std={TC_NOISE!r}", f"thermocouple.quantum={TC_QUANTUM!r}",
+             f"thermocouple.seed={case['seed'] % 100000}"]
+    s = scenario_mod.load(_scenario_path(case["bench"], scenarios_dir), sets)
+    s = replace(s, record=tuple(inputs + outputs), metrics={}, plots=())
+    res = master.Master(s, fmu_dir).run()
+    if res.error:
+        raise UserError(f"{case['case']}: the virtual hardware failed: {res.error}")
+    rng = np.random.default_rng(case["seed"])
+    cols = {c: res[c].copy() for c in inputs + outputs}
+    strain = cols["wire.strain"] * case["strain_gain"] + STRAIN_NOISE * rng.standard_normal(
+        len(res.time))
+    cols["wire.strain"] = STRAIN_QUANTUM * np.round(strain / STRAIN_QUANTUM)
+    lag = case["latency_samples"]
+    if lag:  # the strain gauge's own acquisition lags the controller's log
+        cols["wire.strain"] = np.concatenate([np.full(lag, cols["wire.strain"][0]),
+                                              cols["wire.strain"][:-lag]])
+    return res.time, cols
+
+
+def write_data_set(path, time, cols, inputs, outputs, scenario_ref, description=""):
+    """Write a measured data set (data.csv + manifest.toml) blocked in time for held-out."""
+    path = Path(path)
+    path.mkdir(parents=True, exist_ok=True)
+    names = inputs + outputs
+    np.savetxt(path / dataset.DATA, np.column_stack([time] + [cols[c] for c in names]),
+               delimiter=",", header=",".join(["time", *names]), comments="", fmt="%.9g")
+    lines = [f"description = {json.dumps(description)}", f"scenario = {json.dumps(scenario_ref)}",
+             f"inputs = {json.dumps(inputs)}", f"outputs = {json.dumps(outputs)}", "",
+             "[split]", f"held_out_fraction = {HELD_OUT_FRACTION}", ""]
+    (path / dataset.MANIFEST).write_text("\n".join(lines))
+
+
+def _make(args):
+    case, out, scenarios_dir, fmu_dir = args
+    time, cols = record(case, scenarios_dir, fmu_dir)
+    name, inputs, outputs, _ = BENCHES[case["bench"]]
+    ref = str(_scenario_path(case["bench"], scenarios_dir).resolve())
+    write_data_set(Path(out) / "cases" / case["case"], time, cols, inputs, outputs, ref,
+                   f"blind case {case['case']} on bench {name}")
+    return case["case"]
+
+
+def _diagnose(args):
+    case_dir, fmu_dir = args
+    try:
+        report = diagnose.diagnose(dataset.load(case_dir), fmu_dir)
+    except UserError as exc:
+        report = {"verdict": "error", "error": str(exc)}
+    (Path(case_dir) / "report.json").write_text(json.dumps(report, indent=1, default=float) + "\n")
+    return report
+
+
+def _oracle(args):
+    """Held-out gap of the whole model: nominal, with the true values, with our fitted values."""
+    case, case_dir, report, fmu_dir = args
+    problem = diagnose.Problem(dataset.load(case_dir), fmu_dir)
+    whole = problem.unit("model")
+
+    def heldout(values):
+        try:
+            sims = diagnose.simulate(whole, values, fmu_dir)
+        except diagnose.Failed:
+            return math.inf
+        return diagnose.gap(whole, diagnose.residuals(whole, sims), 1)
+
+    truth = {tuple(k.split(".", 1)): v for k, v in case["values"].items()}
+    ours = {}
+    for e in report.get("effects", []):
+        if e["name"] in report.get("selected", []):
+            for p, spec in e["parameters"].items():
+                ours.update({(inst, p): spec["value"] for inst in e["instances"]})
+    before = heldout({})
+    return {"before": before, "oracle": heldout(truth), "ours": heldout(ours) if ours else before}
+
+
+def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, progress=None):
+    """Make `count` cases from `seed` into `out`, diagnose them blind, score; return the scores."""
+    pmap = pmap or diagnose._serial
+    say = progress or (lambda text: None)
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    cases = plan(count, seed)
+    say(f"recording {count} cases on the virtual hardware")
+    pmap(_make, [(c, out, scenarios_dir, fmu_dir) for c in cases])
+    key = json.dumps({"seed": seed, "cases": cases}, indent=1, sort_keys=True)
+    (out / "key.sha256").write_text(hashlib.sha256(key.encode()).hexdigest() + "  key.json\n")
+    say("diagnosing blind")
+    dirs = [out / "cases" / c["case"] for c in cases]
+    reports = pmap(_diagnose, [(d, fmu_dir) for d in dirs])
+    (out / "key.json").write_text(key + "\n")
+    say("scoring against the key and the oracle")
+    gaps = pmap(_oracle, [(c, d, r, fmu_dir) for c, d, r in zip(cases, dirs, reports)])
+    scores = score(cases, reports, gaps)
+    (out / "scores.json").write_text(json.dumps(scores, indent=1) + "\n")
+    return scores
+
+
+def score(cases, reports, gaps):
+    """The benchmark's scores and per-case table from the key, the reports and the gaps."""
+    table = []
+    for c, r, g in zip(cases, reports, gaps):
+        row = {"case": c["case"], "kind": c["kind"], "bench": c["bench"], "truth": c["effect"],
+               "values": c["values"], "verdict": r.get("verdict"), "selected": r.get("selected"),
+               "gap_before": g["before"], "gap_oracle": g["oracle"], "gap_ours": g["ours"]}
+        if c["kind"] in ("effect", "decoy"):
+            row["correct"] = r.get("verdict") == c["effect"]
+            oracle = 1 - g["oracle"] / g["before"]
+            ours = 1 - g["ours"] / g["before"]
+            row["shrinkage_oracle"], row["shrinkage_ours"] = oracle, ours
+            row["shrinkage_vs_oracle"] = ours / oracle if oracle > 0 else None
+        elif c["kind"] == "none":
+            row["false_alarm"] = r.get("verdict") not in ("none", "unexplained")
+        else:
+            row["unexplained"] = r.get("verdict") == "unexplained"
+        table.append(row)
+
+    def rate(kinds, key):
+        rows = [t for t in table if t["kind"] in kinds]
+        return sum(bool(t[key]) for t in rows) / len(rows) if rows else None
+
+    ratios = [t["shrinkage_vs_oracle"] for t in table if t.get("shrinkage_vs_oracle") is not None]
+    return {"top1_accuracy": rate(("effect", "decoy"), "correct"),
+            "shrinkage_vs_oracle": statistics.median(ratios) if ratios else None,
+            "false_alarm_rate": rate(("none",), "false_alarm"),
+            "unexplained_rate": rate(("outside",), "unexplained"),
+            "cases": len(table), "per_case": table}
