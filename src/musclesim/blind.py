@@ -3,11 +3,11 @@
 Each case is a measured data set made by running one of the SMA benches with hidden changes:
 
 - ``effect``: one library effect at a random magnitude (SPEC ranges, `MAGNITUDES`);
-- ``decoy``: one effect of a pair with similar signatures (`DECOYS`: both act at high
-  temperatures, or both delay the reading);
+- ``decoy``: an effect with a look-alike in the library (`DECOYS`: both act at high
+  temperatures, or both make the reading trail the model);
 - ``none``: no change at all;
-- ``outside``: a change the library does not hold (`OUTSIDE`: another wire's hysteresis, a strain
-  gauge with a gain error);
+- ``outside``: a change the library does not hold (`OUTSIDE`: warmer ambient air, a strain gauge
+  with a gain error);
 
 all with nuisances: thermocouple noise and quantisation inside the loop, strain-gauge noise and
 quantisation, and an acquisition latency of the strain gauge of 0 or 1 sample behind the
@@ -34,12 +34,14 @@ from musclesim.errors import UserError
 BENCHES = {
     "tracking": ("sma-bench-tracking", ["reference.y"],
                  ["pid.u", "thermocouple.T_meas", "wire.strain"],
-                 ["thermocouple lag", "thermocouple bias", "latent heat", "clamp heat loss",
-                  "convection change", "training drift"]),
+                 ["thermocouple lag", "thermocouple bias", "latent heat", "convection change",
+                  "training drift"]),
     "stress": ("sma-bench-stress", ["wire.u", "wire.flange.f"],
                ["thermocouple.T_meas", "wire.strain"],
                ["stress dependence ignored", "thermocouple lag", "latent heat"]),
 }
+# Not hidden: clamp heat loss. With the clamps at ambient it is a loss linear in T - T_amb, exactly
+# a larger h; the diagnosis rightly calls such data a recalibration of h, not an effect.
 # hidden magnitudes: (instance, parameter, low, high), drawn uniformly (SPEC 2.1, 2.6, 5)
 MAGNITUDES = {
     "thermocouple lag": [("thermocouple", "tau", 0.1, 0.6)],
@@ -51,10 +53,13 @@ MAGNITUDES = {
     "stress dependence ignored": [("wire", "stress_blend", 0.5, 1.0)],
 }
 SIGNED = {"thermocouple bias", "training drift"}
-DECOYS = [("clamp heat loss", "convection change"), ("thermocouple lag", "latent heat")]
-OUTSIDE = {
-    "another wire": [("wire", "hysteresis", 1.0, 1.0)],  # the FORC-identified virtual wire
-    "strain gauge gain": [],  # applied to the recorded strain: gain 0.9..0.95 or 1.05..1.1
+# (hidden effect, its decoy in the library): both act at high temperatures, or both make the
+# measured temperature trail the wire's model
+DECOYS = [("convection change", "clamp heat loss"), ("thermocouple lag", "latent heat"),
+          ("latent heat", "thermocouple lag")]
+OUTSIDE = {  # K warmer ambient air (the bench's scenario gets an ambient source); strain gain
+    "warmer ambient": (6.0, 12.0),
+    "strain gauge gain": (0.05, 0.1),  # applied to the recorded strain: gain 1 -+ this
 }
 # nuisances (the same for every case; magnitudes of a bench like SPEC 2.1's)
 TC_NOISE, TC_QUANTUM = 0.08, 0.05  # K
@@ -78,7 +83,7 @@ def plan(count, seed):
                 "values": {}, "latency_samples": int(rng.integers(0, 2)), "seed": int(
                     rng.integers(0, 2**31)), "strain_gain": 1.0}
         if kind in ("effect", "decoy"):
-            pool = BENCHES[bench][3] if kind == "effect" else list(DECOYS[rng.integers(len(DECOYS))])
+            pool = BENCHES[bench][3] if kind == "effect" else [d[0] for d in DECOYS]
             effect = pool[rng.integers(len(pool))]
             case["effect"] = effect
             sign = -1.0 if effect in SIGNED and rng.random() < 0.5 else 1.0
@@ -87,10 +92,11 @@ def plan(count, seed):
         elif kind == "outside":
             name = list(OUTSIDE)[rng.integers(len(OUTSIDE))]
             case["effect"] = name
-            for inst, par, lo, hi in OUTSIDE[name]:
-                case["values"][f"{inst}.{par}"] = float(rng.uniform(lo, hi))
-            if name == "strain gauge gain":
-                case["strain_gain"] = float(rng.choice([-1, 1]) * rng.uniform(0.05, 0.1) + 1)
+            size = float(rng.uniform(*OUTSIDE[name]))
+            if name == "warmer ambient":
+                case["ambient_K"] = size
+            else:
+                case["strain_gain"] = float(1 + rng.choice([-1, 1]) * size)
         cases.append(case)
     return cases
 
@@ -107,6 +113,11 @@ def record(case, scenarios_dir, fmu_dir):
              f"thermocouple.seed={case['seed'] % 100000}"]
     s = scenario_mod.load(_scenario_path(case["bench"], scenarios_dir), sets)
     s = replace(s, record=tuple(inputs + outputs), metrics={}, plots=())
+    if case.get("ambient_K"):  # the air around the wire is warmer than the model's 20 C
+        ambient = scenario_mod.Instance("ambient", "SignalSource",
+                                        {"offset": 293.15 + case["ambient_K"]})
+        s = replace(s, instances={**s.instances, "ambient": ambient},
+                    connections=s.connections + (("ambient.y", "wire.T_amb"),))
     res = master.Master(s, fmu_dir).run()
     if res.error:
         raise UserError(f"{case['case']}: the virtual hardware failed: {res.error}")

@@ -1,5 +1,5 @@
-"""The `musclesim` command line: build, run, export, sweep, loops, identify, dataset, bench,
-linear.
+"""The `musclesim` command line: build, run, export, sweep, loops, identify, dataset, diagnose,
+benchmark-diagnosis, bench, linear.
 
 Mistakes a user can fix end in one sentence on stderr and exit status 2; a failed simulation
 exits with status 1 after writing the results it reached.
@@ -118,6 +118,47 @@ def _cmd_dataset_check(args):
     return 0
 
 
+def _dask_map(client):
+    """`pmap` over a Dask client: the tasks' results in order."""
+    def pmap(fn, items):
+        items = list(items)
+        if len(items) < 2:
+            return [fn(x) for x in items]
+        return client.gather(client.map(fn, items, pure=False))
+    return pmap
+
+
+def _cmd_diagnose(args):
+    from musclesim import build, dataset, diagnose, diagreport
+    from musclesim.sweep import dask_client
+
+    ds = dataset.load(args.dataset, check_model=True, fmu_dir=args.fmus)
+    build.check_fresh(args.fmus)
+    traces = {}
+    with dask_client(args.scheduler, args.workers) as client:
+        report = diagnose.diagnose(ds, args.fmus, _dask_map(client),
+                                   lambda text: print(f"musclesim: {text}", file=sys.stderr),
+                                   traces)
+    paths = diagreport.write(args.out, report, traces)
+    print(f"verdict: {report['verdict']} ({report['explanation']})")
+    print("wrote " + ", ".join(str(p) for p in paths))
+    return 0
+
+
+def _cmd_benchmark_diagnosis(args):
+    from musclesim import blind, build
+    from musclesim.sweep import dask_client
+
+    build.check_fresh(args.fmus)
+    with dask_client(args.scheduler, args.workers) as client:
+        scores = blind.run(args.cases, args.seed, args.out, args.fmus, args.scenarios,
+                           _dask_map(client),
+                           lambda text: print(f"musclesim: {text}", file=sys.stderr))
+    print(json.dumps({k: v for k, v in scores.items() if k != "per_case"}, indent=2))
+    print(f"wrote {Path(args.out) / 'scores.json'} (per-case table inside)")
+    return 0
+
+
 def _parser():
     p = argparse.ArgumentParser(prog="musclesim", description=__doc__.splitlines()[0])
     sub = p.add_subparsers(dest="command", required=True)
@@ -182,6 +223,28 @@ def _parser():
                    help="also check it against its scenario and the FMUs")
     common(c)
     c.set_defaults(func=_cmd_dataset_check)
+
+    def dask_args(q):
+        q.add_argument("--scheduler", help="address of a running Dask scheduler (default: a "
+                       "local cluster)")
+        q.add_argument("--workers", type=int, help="local worker processes (default: cores)")
+
+    q = sub.add_parser("diagnose", help="sim-to-real gap diagnosis of a measured data set")
+    q.add_argument("dataset", help="data set folder (manifest.toml + data.csv)")
+    q.add_argument("--out", required=True, help="folder for report.json, report.md and plots")
+    dask_args(q)
+    common(q)
+    q.set_defaults(func=_cmd_diagnose)
+
+    q = sub.add_parser("benchmark-diagnosis",
+                       help="blind check of the diagnosis on virtual hardware with hidden effects")
+    q.add_argument("--cases", type=int, default=40, help="number of cases (default 40)")
+    q.add_argument("--seed", type=int, default=1, help="seed of the hidden truths (default 1)")
+    q.add_argument("--out", required=True, help="folder for the cases, key and scores.json")
+    q.add_argument("--scenarios", default="scenarios", help="folder of the bench scenarios")
+    dask_args(q)
+    common(q)
+    q.set_defaults(func=_cmd_benchmark_diagnosis)
 
     q = sub.add_parser("bench", help="timing benchmarks of the pure cores (on demand)")
     q.add_argument("core", choices=["preisach"], help="the core to time")

@@ -18,13 +18,15 @@ The steps, on a measured data set (`musclesim.dataset`):
    training part (bounded least squares after a coarse scan) and scored on the held-out part. It
    counts only if it shrinks the held-out gap by at least `MIN_SHRINKAGE`, leaves at most
    `BEAT_RECALIBRATED` of the gap of the nominal model with as many nominal parameters
-   recalibrated (`effects.CALIBRATION`), and its gain per sample is at least average in the regime
-   the effect predicts (signature). Greedy forward selection adds a second effect when it shrinks
-   the remaining gap by `MIN_SHRINKAGE` again.
+   recalibrated (`effects.CALIBRATION`), and its gain per sample in the regime the effect
+   predicts is at least `SIGNATURE_MIN` of its average (signature). Greedy forward selection
+   adds a second effect when it shrinks the remaining gap by `MIN_SHRINKAGE` again.
 4. How far it shrinks: held-out gap per signal before and after, with block-bootstrap intervals.
 
-Verdict: ``none`` when no signal deviates beyond the noise, the best effect's name when the gap
-left after it is unstructured (within `STRUCTURED` noise floors), ``unexplained`` otherwise.
+Verdict: ``none`` when no signal deviates beyond the noise; the best effect's name when the gap
+left after it is unstructured (within `STRUCTURED` noise floors); ``recalibration`` when no effect
+counts but a recalibrated nominal parameter leaves an unstructured gap (a parameter is off, no
+effect is missing); ``unexplained`` otherwise.
 
 The fits are independent tasks: `diagnose` maps them with the ``pmap`` it is given (the CLI passes
 Dask's, the same local cluster or scheduler as sweeps).
@@ -49,6 +51,9 @@ BOOTSTRAP = 400  # block-bootstrap resamples
 BLOCKS = 20  # blocks per held-out part for the bootstrap
 WINDOWS = 3  # worst time windows listed
 METRIC_FLOOR = 0.02  # relative noise floor of a scalar metric without uncertainty
+# an effect's regime must hold at least this share of its fair (per-sample) part of the gain:
+# effects through the hysteresis's memory spread their gain beyond the regime that triggers them
+SIGNATURE_MIN = 0.75
 MAX_ALIGN = 2  # samples of acquisition latency a sensor channel is aligned by
 
 
@@ -520,7 +525,7 @@ def signature(unit, res_nominal, res_effect, regime_masks):
     if not mask.any() or gain.sum() <= 0:
         return None, False
     ratio = float(gain[mask].mean() / gain.mean())
-    return ratio, ratio >= 1.0
+    return ratio, ratio >= SIGNATURE_MIN
 
 
 def _blocks(unit, part=1):
@@ -672,11 +677,12 @@ def _locate(problem, whole_deviates, isolated):
     return suspects, table
 
 
-def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None):
+def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
     """Diagnose measured data set `ds` (a `musclesim.dataset.DataSet`); return the report dict.
 
     `pmap(fn, items)` maps the fits (default: one after the other); `progress(text)` is told
-    what runs.
+    what runs; a dict given as `traces` receives the whole model's runs, nominal and with the
+    selected effects, for plots.
     """
     pmap = pmap or _serial
     say = progress or (lambda text: None)
@@ -721,7 +727,10 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None):
     if not whole_deviates and not any(u["deviates"] for u in isolated):
         report.update(effects=[], recalibrated=[], selected=[], verdict="none",
                       explanation="the model matches the data within the noise on the held-out "
-                                  "part: there is no gap to explain")
+                                  "part: there is no gap to explain", noise_floor=floor_whole,
+                      shrinkage=_whole_shrinkage(whole, res_whole, res_whole))
+        if traces is not None:
+            traces.update(unit=whole, nominal=sims, selected=sims)
         return report
 
     # the unit the candidates are fitted in: the smallest deviating one holding every suspect
@@ -785,7 +794,15 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None):
                 final = f12
     report["effects"] = entries
     report["selected"] = [e["name"] for e in selected]
-    if not selected:
+    best_recal = min(recal_table, key=lambda r: r["heldout_gap"], default=None)
+    if not selected and best_recal and best_recal["heldout_gap"] <= STRUCTURED * floor:
+        report["verdict"] = "recalibration"
+        report["explanation"] = ("no unmodelled effect is needed: the nominal model with " +
+                                 ", ".join(f"{k} = {v:.4g}" for k, v in
+                                           best_recal["parameters"].items()) +
+                                 f" recalibrated leaves a held-out gap of "
+                                 f"{best_recal['heldout_gap']:.3g} (noise floor {floor:.3g})")
+    elif not selected:
         report["verdict"] = "unexplained"
         report["explanation"] = ("no candidate effect of the located component(s) shrinks the "
                                  "held-out gap enough, beats the recalibrated nominal model and "
@@ -801,7 +818,46 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None):
                                  f"{selected[0]['heldout_gap_before']:.3g} to "
                                  f"{final['heldout_gap']:.3g} (noise floor {floor:.3g})")
     report["noise_floor"] = floor
+    values = _selected_values(report["effects"], report["selected"])
+    after = sims
+    if values:
+        try:
+            after = simulate(whole, values, fmu_dir)
+        except Failed:
+            pass
+    report["shrinkage"] = _whole_shrinkage(whole, res_whole, residuals(whole, after))
+    if traces is not None:
+        traces.update(unit=whole, nominal=sims, selected=after)
     return report
+
+
+def _selected_values(entries, selected):
+    """``{(instance, parameter): value}`` of the selected effects (joint values when refitted)."""
+    out = {}
+    for e in entries:
+        if e["name"] in selected:
+            for name, spec in e["parameters"].items():
+                out.update({(inst, name): spec["value"] for inst in e["instances"]})
+    joint = next((e.get("joint_values") for e in entries if e.get("joint_values")), None)
+    if joint:
+        for e in entries:
+            if e["name"] in selected:
+                out.update({(inst, name): joint[name] for name in e["parameters"] if name in joint
+                            for inst in e["instances"]})
+    return out
+
+
+def _whole_shrinkage(unit, before, after):
+    """Held-out gap of the whole model per signal, before and after, with bootstrap intervals."""
+    out = {}
+    for c in unit.observed:
+        b = bootstrap(unit, [before, after], [c])
+        out[c] = {"before": gap(unit, before, 1, [c]), "after": gap(unit, after, 1, [c]),
+                  "interval_before": _interval95(b[:, 0]), "interval_after": _interval95(b[:, 1])}
+    b = bootstrap(unit, [before, after])
+    out["all"] = {"before": gap(unit, before, 1), "after": gap(unit, after, 1),
+                  "interval_before": _interval95(b[:, 0]), "interval_after": _interval95(b[:, 1])}
+    return out
 
 
 def _score(unit, res_nom, cand, f, recal, masks):

@@ -1,4 +1,5 @@
 """`musclesim sweep`: run a scenario over a parameter grid on Dask, resumable, with a plot."""
+import contextlib
 import csv
 import hashlib
 import itertools
@@ -211,10 +212,11 @@ def _claim(out, config):
     path.write_text(json.dumps(config, indent=2) + "\n")
 
 
-def _compute(todo, submit, scheduler, workers, record):
-    """Submit `todo` on Dask (a LocalCluster unless `scheduler` is given), record as they finish."""
-    from distributed import Client, LocalCluster, as_completed
-    from tqdm import tqdm
+@contextlib.contextmanager
+def dask_client(scheduler=None, workers=None, tasks=None):
+    """A Dask client on `scheduler`, else on a LocalCluster of `workers` processes (default: the
+    cores, at most `tasks`), closed on exit. Sweeps and the diagnosis's fits run on it."""
+    from distributed import Client, LocalCluster
 
     from musclesim.fmuhost import forget_fmu_resource_paths
 
@@ -223,9 +225,10 @@ def _compute(todo, submit, scheduler, workers, record):
     try:
         if scheduler is None:
             # one thread per worker process, since the Python FMUs hold the GIL; the cluster's
-            # log noise (heartbeats cut at shutdown) stays quiet, as case errors are recorded
-            cluster = LocalCluster(n_workers=min(workers or os.cpu_count() or 1, len(todo)),
-                                   threads_per_worker=1, processes=True, dashboard_address=None,
+            # log noise (heartbeats cut at shutdown) stays quiet, as task errors are recorded
+            n = workers or os.cpu_count() or 1
+            cluster = LocalCluster(n_workers=max(1, min(n, tasks or n)), threads_per_worker=1,
+                                   processes=True, dashboard_address=None,
                                    silence_logs=logging.CRITICAL)
         client = Client(scheduler or cluster)
     except (OSError, TimeoutError) as exc:
@@ -234,6 +237,19 @@ def _compute(todo, submit, scheduler, workers, record):
         raise UserError(f"cannot start or reach the Dask scheduler {scheduler or ''}: "
                         f"{exc}") from None
     try:
+        yield client
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def _compute(todo, submit, scheduler, workers, record):
+    """Submit `todo` on Dask (a LocalCluster unless `scheduler` is given), record as they finish."""
+    from distributed import as_completed
+    from tqdm import tqdm
+
+    with dask_client(scheduler, workers, len(todo)) as client:
         futures = {client.submit(run_case, *submit(cid, point), pure=False): (cid, point)
                    for cid, point in todo}
         for fut in tqdm(as_completed(futures), total=len(futures), desc="sweep", unit="case"):
@@ -243,10 +259,6 @@ def _compute(todo, submit, scheduler, workers, record):
             except Exception as exc:  # the worker itself died (e.g. KilledWorker)
                 summary = _write_failure(submit(cid, point)[1], f"{type(exc).__name__}: {exc}")
             record(cid, point, summary)
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
 
 
 def _check(sweep, path, fmu_dir, overrides, stop_time):

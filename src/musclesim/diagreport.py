@@ -1,0 +1,175 @@
+"""The diagnosis's files: report.json (the stable shape documented in README.md, "Diagnosis"),
+report.md (the same, readable) and its plots signals.png and effects.png."""
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+
+def _num(x, fmt=".3g"):
+    if x is None or (isinstance(x, float) and not math.isfinite(x)):
+        return "-"
+    return format(x, fmt)
+
+
+def _iv(pair, fmt=".3g"):
+    return f"[{_num(pair[0], fmt)}, {_num(pair[1], fmt)}]" if pair else "-"
+
+
+def write(out, report, traces=None):
+    """Write report.json, report.md and (with `traces`) the plots into `out`; return the paths."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    paths = [out / "report.json", out / "report.md"]
+    paths[0].write_text(json.dumps(report, indent=1, default=float) + "\n")
+    plots = []
+    if traces and traces.get("unit") is not None and not report.get("scalar_only"):
+        plots.append(_plot_signals(out / "signals.png", report, traces))
+    if report.get("effects"):
+        plots.append(_plot_effects(out / "effects.png", report))
+    paths[1].write_text(markdown(report, [p.name for p in plots]))
+    return paths + plots
+
+
+def markdown(report, plots=()):
+    """The report as Markdown."""
+    L = [f"# Diagnosis of {report['data_set']}", "",
+         f"Scenario: {report['scenario']}. Training part: {', '.join(report['parts']['train'])}; "
+         f"held out: {', '.join(report['parts']['held_out'])}.", "",
+         f"## Verdict: **{report['verdict']}**", "", report.get("explanation", "") + ".", ""]
+    g = report["gap"]
+    L += ["## 1. The gap (whole model, inputs replayed)", "",
+          f"Pooled held-out gap {_num(g['heldout_gap'])} (normalised by each signal's range); "
+          f"noise floor {_num(g['noise_floor'])}; "
+          f"{'deviates' if g['deviates'] else 'within the noise'}.", ""]
+    if report.get("scalar_only"):
+        L += ["| metric | relative error per experiment |", "|---|---|"]
+        L += [f"| {c} | {', '.join(_num(x) for x in e['relative_error'])} |"
+              for c, e in g["signals"].items()]
+    else:
+        L += ["| signal | NRMSE | held-out NRMSE | bias (data - model) | lag [s] | noise |",
+              "|---|---|---|---|---|---|"]
+        L += [f"| {c} | {_num(e['nrmse'])} | {_num(e['nrmse_heldout'])} | {_num(e['bias'])} "
+              f"{e['unit']} | {_num(e.get('lag'))} | {_num(e['noise'])} |"
+              for c, e in g["signals"].items()]
+        shifted = {c: n for c, n in g.get("aligned_samples", {}).items() if n}
+        if shifted:
+            L += ["", "Sensor channels aligned for acquisition latency: " + ", ".join(
+                f"{c} by {n} sample(s)" for c, n in shifted.items()) + "."]
+    L += ["", "## 2. Where", ""]
+    if report.get("units"):
+        L += ["Isolation units (each re-simulated with the measured signals feeding it replayed):",
+              "", "| unit | observed | held-out gap | noise floor | deviates |", "|---|---|---|---|---|"]
+        L += [f"| {' + '.join(u['instances'])} | {', '.join(u['observed'])} | "
+              f"{_num(u['heldout_gap'])} | {_num(u['noise_floor'])} | {u['deviates']} |"
+              for u in report["units"]]
+        L += ["", "| instance | component | isolated gap | located | exonerated |",
+              "|---|---|---|---|---|"]
+        L += [f"| {r['instance']} | {r['component']} | {_num(r['isolated_gap'])} | {r['located']} "
+              f"| {r['exonerated']} |" for r in report["located"]]
+    else:
+        L += ["No component can be isolated (scalar-only data or no measured internal signal)."]
+    reg = report.get("regimes", {})
+    if reg.get("by_regime"):
+        L += ["", "Nominal gap by regime:", "", "| regime | share of samples | gap |", "|---|---|---|"]
+        L += [f"| {k} ({v['description']}) | {_num(v['fraction'], '.2f')} | {_num(v['gap'])} |"
+              for k, v in reg["by_regime"].items()]
+    if reg.get("worst_windows"):
+        L += ["", "Worst windows: " + "; ".join(
+            f"{w['experiment']} {w['t0']:.2f}-{w['t1']:.2f} s (gap {_num(w['gap'])})"
+            for w in reg["worst_windows"]) + "."]
+    L += ["", "## 3. Which effect", ""]
+    if report.get("effects"):
+        fu = report.get("fit_unit", {})
+        L += [f"Fitted in {' + '.join(fu.get('instances', []))} on the training part, scored on "
+              "the held-out part. An effect counts if it shrinks the held-out gap enough, beats "
+              "the nominal model recalibrated with as many parameters and gains most in its "
+              "regime.", "",
+              "| rank | effect | instances | fitted values [95 % interval] | held-out gap before -> "
+              "after | shrinkage [95 %] | recalibrated gap | regime gain ratio | counts | margin |",
+              "|---|---|---|---|---|---|---|---|---|---|"]
+        for i, e in enumerate(report["effects"], 1):
+            vals = "; ".join(f"{n} = {_num(p['value'], '.4g')} {_iv(p['interval'], '.3g')}"
+                             for n, p in e["parameters"].items())
+            sig = e["signature"]
+            L.append(f"| {i} | {e['name']} | {', '.join(e['instances'])} | {vals} | "
+                     f"{_num(e['heldout_gap_before'])} -> {_num(e['heldout_gap_after'])} | "
+                     f"{_num(e['shrinkage'], '.2f')} {_iv(e['interval'], '.2f')} | "
+                     f"{_num(e['recalibrated_gap'])} | {sig['regime']}: "
+                     f"{_num(sig['gain_ratio'], '.2f')} | {e['counts']} | "
+                     f"{_num(e.get('margin'), '.2f')} |")
+        if report.get("recalibrated"):
+            L += ["", "Nominal model recalibrated: " + "; ".join(
+                ", ".join(f"{k} = {_num(v, '.4g')}" for k, v in r["parameters"].items())
+                + f" (held-out gap {_num(r['heldout_gap'])})" for r in report["recalibrated"]) + "."]
+    else:
+        L += ["No candidate was fitted."]
+    L += ["", "## 4. How far it shrinks (whole model, held-out part)", "",
+          f"Selected: {', '.join(report.get('selected') or ['nothing'])}.", "",
+          "| signal | before [95 %] | after [95 %] |", "|---|---|---|"]
+    L += [f"| {c} | {_num(s['before'])} {_iv(s['interval_before'])} | {_num(s['after'])} "
+          f"{_iv(s['interval_after'])} |" for c, s in report.get("shrinkage", {}).items()]
+    L += [""] + [f"![{p}]({p})" for p in plots]
+    return "\n".join(L) + "\n"
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _plot_signals(path, report, traces):
+    plt = _plt()
+    unit = traces["unit"]
+    cols = list(unit.observed)
+    fig, axes = plt.subplots(len(cols), 1, sharex=True, squeeze=False,
+                             figsize=(9, 2.3 * len(cols) + 0.8))
+    for ax, c in zip(axes[:, 0], cols):
+        for i, run in enumerate(unit.runs):
+            t = run.t0 + run.time
+            first = i == 0
+            ax.plot(t, run.measured[c], color="0.3", lw=0.8, label="measured" if first else None)
+            ax.plot(t, traces["nominal"][i][c], color="tab:red", lw=0.8,
+                    label="nominal model" if first else None)
+            if report.get("selected"):
+                ax.plot(t, traces["selected"][i][c], color="tab:green", lw=0.8, ls="--",
+                        label=" + ".join(report["selected"]) if first else None)
+            held = run.part == 1
+            if held.any():
+                ax.axvspan(t[held][0], t[held][-1], color="tab:blue", alpha=0.07,
+                           label="held out" if first else None)
+        unit_name = report["gap"]["signals"].get(c, {}).get("unit", "")
+        ax.set_ylabel(f"{c} [{unit_name}]", fontsize=8)
+        ax.grid(alpha=0.3)
+    axes[0, 0].legend(fontsize=7, loc="best")
+    axes[-1, 0].set_xlabel("time [s]")
+    fig.suptitle(f"verdict: {report['verdict']}", fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path
+
+
+def _plot_effects(path, report):
+    plt = _plt()
+    es = report["effects"]
+    fig, ax = plt.subplots(figsize=(8, 0.45 * len(es) + 1.5))
+    y = np.arange(len(es))[::-1]
+    ax.barh(y, [e["heldout_gap_after"] for e in es],
+            color=["tab:green" if e["counts"] else "0.6" for e in es])
+    ax.axvline(es[0]["heldout_gap_before"], color="tab:red", lw=1, label="nominal")
+    recal = min(e["recalibrated_gap"] for e in es)
+    ax.axvline(recal, color="tab:orange", lw=1, ls="--", label="recalibrated nominal")
+    ax.axvline(report.get("noise_floor", 0), color="0.3", lw=1, ls=":", label="noise floor")
+    ax.set_yticks(y, [e["label"] for e in es], fontsize=8)
+    ax.set_xlabel("held-out gap with the fitted effect (green: counts)")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+    plt.close(fig)
+    return path

@@ -1,0 +1,125 @@
+"""The sim-to-real gap diagnosis (issue 4): located, fitted, scored on held-out data; its report;
+data it did not generate; the blind benchmark on a few cases."""
+import hashlib
+import json
+
+import numpy as np
+import pytest
+from scipy import signal
+
+from musclesim import blind, dataset, diagnose, diagreport
+from musclesim.cli import main
+
+from conftest import SCENARIOS
+
+
+@pytest.fixture(scope="module")
+def lag_case(fmu_dir, tmp_path_factory):
+    """The tracking bench with a hidden 0.3 s thermocouple lag, diagnosed once."""
+    out = tmp_path_factory.mktemp("lag")
+    case = {"case": "lag", "kind": "effect", "bench": "tracking", "effect": "thermocouple lag",
+            "values": {"thermocouple.tau": 0.3}, "latency_samples": 1, "seed": 7,
+            "strain_gain": 1.0}
+    blind._make((case, out, SCENARIOS, fmu_dir))
+    traces = {}
+    report = diagnose.diagnose(dataset.load(out / "cases" / "lag"), fmu_dir, traces=traces)
+    return report, traces, out
+
+
+def test_the_lag_is_located_named_fitted_and_shrinks_the_held_out_gap(lag_case):
+    report, _, _ = lag_case
+    assert report["verdict"] == "thermocouple lag"
+    located = {r["instance"]: r for r in report["located"]}
+    assert located["thermocouple"]["located"]
+    assert located["wire"]["exonerated"] and located["pid"]["exonerated"]
+    assert report["gap"]["aligned_samples"] == {"wire.strain": 1}  # the gauge's latency
+    best = report["effects"][0]
+    assert best["name"] == "thermocouple lag" and best["counts"]
+    tau = best["parameters"]["tau"]
+    assert tau["interval"][0] <= 0.3 <= tau["interval"][1] and abs(tau["value"] - 0.3) < 0.03
+    assert best["shrinkage"] > 0.8 and best["interval"][0] > 0.8
+    assert best["heldout_gap_after"] < best["recalibrated_gap"]
+    assert best["margin"] > 0.5  # the runner-up is far behind
+    assert not any(e["counts"] for e in report["effects"][1:])
+    whole = report["shrinkage"]["thermocouple.T_meas"]
+    assert whole["after"] < 0.2 * whole["before"]
+    assert whole["interval_after"][0] <= whole["after"] <= whole["interval_after"][1]
+
+
+def test_report_json_keeps_its_documented_shape(lag_case, tmp_path):
+    report, traces, _ = lag_case
+    paths = diagreport.write(tmp_path, report, traces)
+    assert {p.name for p in paths} == {"report.json", "report.md", "signals.png", "effects.png"}
+    saved = json.loads((tmp_path / "report.json").read_text())
+    assert {"gap", "located", "regimes", "effects", "verdict", "shrinkage"} <= set(saved)
+    for key in ("name", "component", "parameters", "heldout_gap_before", "heldout_gap_after",
+                "shrinkage", "interval"):
+        assert key in saved["effects"][0], key
+    assert {"nrmse", "bias", "lag"} <= set(saved["gap"]["signals"]["thermocouple.T_meas"])
+    assert {"changing", "cooling", "hot", "transformation"} <= set(saved["regimes"]["by_regime"])
+    assert len(saved["regimes"]["worst_windows"]) == diagnose.WINDOWS
+    md = (tmp_path / "report.md").read_text()
+    assert "## Verdict: **thermocouple lag**" in md and "![signals.png](signals.png)" in md
+
+
+def test_the_model_matching_its_data_has_no_gap(fmu_dir, tmp_path):
+    case = {"case": "null", "kind": "none", "bench": "tracking", "effect": None, "values": {},
+            "latency_samples": 0, "seed": 3, "strain_gain": 1.0}
+    blind._make((case, tmp_path, SCENARIOS, fmu_dir))
+    report = diagnose.diagnose(dataset.load(tmp_path / "cases" / "null"), fmu_dir)
+    assert report["verdict"] == "none" and report["effects"] == []
+    assert not report["gap"]["deviates"]
+
+
+def test_foreign_data_an_independent_script_wrote(fmu_dir, tmp_path):
+    """A data set written with scipy, not through our FMUs: a thermocouple with a 0.4 s lag read
+    at an irregular ~40 Hz, starting at t = 100 s, two experiments, one held out."""
+    rng = np.random.default_rng(11)
+    t = 100 + np.cumsum(rng.uniform(0.02, 0.03, 2400))
+    wire_T = 330 + 40 * np.sin(2 * np.pi * 0.15 * (t - 100)) + 10 * np.sin(2 * np.pi * 0.41 * t)
+    lagged = signal.lsim(([1.0], [0.4, 1.0]), wire_T - wire_T[0], t - t[0])[1] + wire_T[0]
+    reading = lagged + 0.05 * rng.standard_normal(t.size)
+    d = tmp_path / "bench"
+    d.mkdir()
+    np.savetxt(d / "data.csv", np.column_stack([t, wire_T, reading]), delimiter=",",
+               header="time,wire.T,thermocouple.T_meas", comments="", fmt="%.6f")
+    mid = float(t[t.size // 2])
+    (d / "manifest.toml").write_text(f"""
+scenario = "{SCENARIOS / 'sma-bench-stress.toml'}"
+inputs = ["wire.T"]
+outputs = ["thermocouple.T_meas"]
+[units]
+"thermocouple.T_meas" = "K"
+[experiments.first]
+span = [{t[0]!r}, {mid!r}]
+[experiments.second]
+span = [{float(t[t.size // 2 + 1])!r}, {t[-1]!r}]
+[split]
+held_out = ["second"]
+""")
+    out = tmp_path / "report"
+    assert main(["diagnose", str(d), "--out", str(out), "--fmus", str(fmu_dir),
+                 "--workers", "1"]) == 0
+    report = json.loads((out / "report.json").read_text())
+    assert report["verdict"] == "thermocouple lag"
+    assert [u["instances"] for u in report["units"]] == [["thermocouple"]]
+    assert report["effects"][0]["parameters"]["tau"]["value"] == pytest.approx(0.4, abs=0.03)
+    assert report["parts"] == {"train": ["first"], "held_out": ["second"]}
+
+
+def test_blind_benchmark_on_three_cases(fmu_dir, tmp_path):
+    """A null, an out-of-library and a decoy case, diagnosed blind; the key is sealed first."""
+    scores = blind.run(3, seed=4, out=tmp_path, fmu_dir=fmu_dir, scenarios_dir=SCENARIOS)
+    key = (tmp_path / "key.json").read_text()
+    assert (tmp_path / "key.sha256").read_text().split()[0] == \
+        hashlib.sha256(key.rstrip("\n").encode()).hexdigest()
+    kinds = sorted(row["kind"] for row in scores["per_case"])
+    assert kinds == ["decoy", "none", "outside"]
+    for case in json.loads(key)["cases"]:  # the data a case holds say nothing of its truth
+        manifest = (tmp_path / "cases" / case["case"] / "manifest.toml").read_text()
+        assert case["kind"] not in manifest and (case["effect"] or "none") not in manifest
+    saved = json.loads((tmp_path / "scores.json").read_text())
+    assert saved["top1_accuracy"] == 1.0
+    assert saved["false_alarm_rate"] == 0.0
+    assert saved["unexplained_rate"] == 1.0
+    assert saved["shrinkage_vs_oracle"] > 0.8
