@@ -34,6 +34,7 @@ def test_library_covers_the_issue_list():
 @pytest.mark.parametrize("effect", effects.EFFECTS, ids=IDS)
 def test_off_values_are_the_fmu_defaults(fmu_dir, effect):
     assert effect.component in CATALOGUE and effect.spec.startswith("SPEC")
+    assert effect.regime in effects.REGIMES
     md = read_model_description(str(fmu_dir / f"{effect.component}.fmu"))
     variables = {v.name: v for v in md.modelVariables}
     for p in effect.parameters:
@@ -61,3 +62,13 @@ def test_off_is_nominal_exactly_and_on_changes_the_run(fmu_dir, effect):
            for p in effect.parameters]
     on = _run(fmu_dir, name, context + effect.overrides(instance, far))
     assert not np.allclose(nominal, on, rtol=1e-6, atol=1e-9)
+
+
+def test_calibration_parameters_are_nominal_parameters_of_their_component(fmu_dir):
+    for component, params in effects.CALIBRATION.items():
+        md = read_model_description(str(fmu_dir / f"{component}.fmu"))
+        variables = {v.name: v for v in md.modelVariables}
+        effect_params = {p.name for e in effects.by_component(component) for p in e.parameters}
+        for p in params:
+            assert variables[p.name].causality == "parameter" and p.name not in effect_params
+            assert p.lower < 1.0 < p.upper  # factors around the scenario's value

@@ -206,6 +206,23 @@ def test_stress_ignored_uses_one_surface_for_every_stress(wire_fmu):
     assert other["stress"][0] == pytest.approx(145e6)
 
 
+def test_stress_blend_puts_the_ignored_stress_back(wire_fmu):
+    ignored = {"sigma_surface": 125e6}
+    f = 145e6 * AREA
+    flat = simulate(wire_fmu, HEAT_COOL, ignored, f=f)
+    assert np.array_equal(flat["strain"],
+                          simulate(wire_fmu, HEAT_COOL, {**ignored, "stress_blend": 0.0}, f=f)["strain"])
+    full = simulate(wire_fmu, HEAT_COOL, {**ignored, "stress_blend": 1.0}, f=f)
+    nominal = simulate(wire_fmu, HEAT_COOL, f=f)  # the stress-aware wire
+    assert np.max(np.abs(full["strain"] - nominal["strain"])) < 1e-9
+    half = simulate(wire_fmu, HEAT_COOL, {**ignored, "stress_blend": 0.5}, f=f)
+    between = np.abs(half["strain"] - flat["strain"]) <= np.abs(nominal["strain"] - flat["strain"]) + 1e-12
+    assert between.all() and np.max(np.abs(half["strain"] - flat["strain"])) > 1e-4
+    # without sigma_surface the wire follows the stress anyway: stress_blend changes nothing
+    assert np.array_equal(simulate(wire_fmu, HEAT_COOL, {"stress_blend": 0.5}, f=f)["strain"],
+                          nominal["strain"])
+
+
 def test_drift_changes_the_loop_over_cycles(wire_fmu):
     dt, period, count = 0.01, 7.0, 5
     u = cycles(2.0, 0.8, period, count, dt)  # heats past 130 C + shift, cools below 30 C
@@ -256,7 +273,9 @@ def _wire(**params):
     ({"diameter": 0.0}, "diameter must be positive"),
     ({"drift_settle_cycles": 0.0}, "cycles_to_settle must be positive"),
     ({"T_init": -1.0}, "T_init must be positive"),
-], ids=["unknown-set", "fractional-set", "sigma-surface", "drive", "diameter", "drift", "T_init"])
+    ({"stress_blend": 1.5}, r"stress_blend must be within \[0, 1\] \(got 1.5\)"),
+], ids=["unknown-set", "fractional-set", "sigma-surface", "drive", "diameter", "drift", "T_init",
+        "stress-blend"])
 def test_bad_parameters_name_themselves(params, match):
     with pytest.raises(ValueError, match=match):
         _wire(**params).exit_initialization_mode()

@@ -6,7 +6,9 @@ The steps, on a measured data set (`musclesim.dataset`):
 
 1. Gap. The scenario runs with the data set's inputs replayed (`Master` ``inputs``) and every
    observed signal is compared: NRMSE by the measured range, bias (measured - model), lag (the
-   shift of the model that best matches the data); scalar metrics by relative error.
+   shift of the model that best matches the data); scalar metrics by relative error. A sensor
+   channel nothing in the model reads is compared allowing an acquisition latency of up to
+   `MAX_ALIGN` samples, chosen on the training part in every comparison (`residuals`).
 2. Where. Each component is re-simulated in its *isolation unit*: the component plus the upstream
    instances whose outputs were not measured, with every measured signal feeding the unit
    replayed. A unit deviates when its held-out gap exceeds `DEVIATES` times the noise floor (the
@@ -21,10 +23,12 @@ The steps, on a measured data set (`musclesim.dataset`):
    recalibrated (`effects.CALIBRATION`), and its gain per sample in the regime the effect
    predicts is at least `SIGNATURE_MIN` of its average (signature). Greedy forward selection
    adds a second effect when it shrinks the remaining gap by `MIN_SHRINKAGE` again.
-4. How far it shrinks: held-out gap per signal before and after, with block-bootstrap intervals.
+4. How far it shrinks: held-out gap per signal before and after, with block-bootstrap intervals,
+   in the model with every measured signal replayed (`Problem.replayed`).
 
 Verdict: ``none`` when no signal deviates beyond the noise; the best effect's name when the gap
-left after it is unstructured (within `STRUCTURED` noise floors); ``recalibration`` when no effect
+left after it is unstructured (within `STRUCTURED` noise floors or `RESIDUAL_SHARE` of the gap
+before); ``recalibration`` when no effect
 counts but a recalibrated nominal parameter leaves an unstructured gap (a parameter is off, no
 effect is missing); ``unexplained`` otherwise.
 
@@ -43,7 +47,8 @@ from musclesim.errors import UserError
 from musclesim.scenario import split_signal
 
 DEVIATES = 3.0  # a unit deviates above this many noise floors of held-out gap
-STRUCTURED = 3.0  # a residual above this many noise floors is structured: not explained
+STRUCTURED = 3.0  # a residual above this many noise floors is structured: not explained ...
+RESIDUAL_SHARE = 0.1  # ... unless it is at most this share of the gap before
 MIN_SHRINKAGE = 0.3  # an effect must shrink the held-out gap by this fraction
 BEAT_RECALIBRATED = 0.85  # ... and leave at most this fraction of the recalibrated model's gap
 NOISE_FLOOR = 2e-3  # the smallest noise floor, as a fraction of a signal's range
@@ -83,6 +88,7 @@ class Unit:
     scale: dict  # observed column -> normalising range
     noise: dict  # observed column -> noise std, normalised
     components: dict  # instance -> component
+    alignable: tuple = ()  # columns compared allowing up to MAX_ALIGN samples of latency
 
 
 def _span_scenario(s, duration):
@@ -121,19 +127,21 @@ def _reduce(s, keep, replay_from, record):
                    connections=conns, record=tuple(record), metrics={}, plots=())
 
 
-def _replays(s, keep, columns):
-    """{input of a kept instance: measured column feeding it} for connections from outside."""
+def _replays(s, keep, columns, input_columns, cut_all=False):
+    """{input of a kept instance: the measured column replayed into it}.
+
+    Measured inputs are replayed as such; a connection carrying a measured output is cut and
+    replayed when its source is not kept (or always, with `cut_all`).
+    """
     out = {}
     for src, dst in s.connections:
         if split_signal(dst)[0] not in keep:
             continue
         if dst in columns:
             out[dst] = dst
-        elif split_signal(src)[0] not in keep and src in columns:
+        elif src in columns and (cut_all or split_signal(src)[0] not in keep):
             out[dst] = src
-    for col in columns:
-        if split_signal(col)[0] in keep and col not in out and col in _inputs_of(s, keep):
-            out[col] = col
+    out.update({c: c for c in input_columns if split_signal(c)[0] in keep})
     return out
 
 
@@ -179,39 +187,19 @@ class Problem:
                 raise UserError(f"data set {ds.path}: column {col!r} is not a variable of scenario "
                                 f"{first.name!r} (instances: {', '.join(self.vars)})")
             self.units_of[col] = v.unit or "1"
+        self.input_columns = {c for c in ds.columns
+                              if self.vars[split_signal(c)[0]][split_signal(c)[1]].causality == "input"}
         self.scalar_only = ds.scalar_only
         self.part_names = ds.parts()
-        self.shift = {}  # observed column -> samples it lags the model by (see `align`)
-
-    def align(self, fmu_dir):
-        """Find each sensor channel's acquisition latency, up to `MAX_ALIGN` samples.
-
-        A channel that no unit replays (a sensor read by nothing but the logger) is compared
-        shifted back by the whole number of samples, 0..MAX_ALIGN, that best matches the nominal
-        model of the smallest unit observing it. Channels a controller reads are its own log and
-        are never shifted. Returns ``{column: samples}``.
-        """
-        if self.scalar_only:
-            return {}
         s = next(iter(self.scenarios.values()))
         fed = {src for src, _ in s.connections} | {dst for _, dst in s.connections}
-        for u in self.isolation_units():
-            todo = [c for c in u.observed if c not in fed and c not in self.shift]
-            if not todo:
-                continue
-            try:
-                sims = simulate(u, {}, fmu_dir)
-            except Failed:
-                continue
-            for c in todo:
-                err = [sum(float(np.nanmean(np.square(sim[c] - _advance(run.measured[c], d))))
-                           for run, sim in zip(u.runs, sims)) for d in range(MAX_ALIGN + 1)]
-                self.shift[c] = int(np.argmin(err))
-        return dict(self.shift)
+        # sensor channels no instance reads: compared allowing an acquisition latency
+        self.alignable = {c for c in ds.outputs if c not in fed}
 
     # -- units --------------------------------------------------------------------------------
-    def unit(self, name, instances=None):
-        """The `Unit` of `instances` (None: the whole model with the data set's inputs replayed)."""
+    def unit(self, name, instances=None, cut_all=False):
+        """The `Unit` of `instances` (None: the whole model with the data set's inputs replayed);
+        `cut_all` replays every measured signal, even between two of `instances`."""
         ds = self.ds
         if self.scalar_only:
             return self._metric_unit()
@@ -224,7 +212,8 @@ class Problem:
                 keep = _closure(s, {split_signal(c)[0] for c in ds.outputs}, replayed_cols)
             else:
                 keep = set(instances)
-            replay = _replays(s, keep, replayed_cols)
+            replay = _replays(s, keep, replayed_cols, self.input_columns & replayed_cols,
+                              cut_all=cut_all)
             obs = tuple(c for c in ds.outputs if split_signal(c)[0] in keep and c not in replay)
             observed = obs if observed is None else observed
             t, cols = ds.experiment(ename)
@@ -233,8 +222,7 @@ class Problem:
             grid = t0 + np.arange(red.n_steps + 1) * red.step
             inputs = {dst: np.interp(grid, t, cols[col]) for dst, col in replay.items()}
             part = self._parts(ename, t)
-            measured = {c: _advance(cols[c], self.shift.get(c, 0)) for c in obs}
-            runs.append(Run(ename, red, inputs, t - t0, measured, part, t0))
+            runs.append(Run(ename, red, inputs, t - t0, {c: cols[c] for c in obs}, part, t0))
         scale, noise = {}, {}
         for c in observed:
             y = np.concatenate([r.measured[c] for r in runs])
@@ -243,7 +231,8 @@ class Problem:
                            NOISE_FLOOR)
         keep_all = tuple(sorted(set().union(*(r.scenario.instances for r in runs))))
         return Unit(name, keep_all, observed, runs, scale, noise,
-                    {n: self.components[n] for n in keep_all})
+                    {n: self.components[n] for n in keep_all},
+                    tuple(c for c in observed if c in self.alignable))
 
     def _parts(self, ename, t):
         train, held = self.part_names
@@ -272,6 +261,14 @@ class Problem:
         first = next(iter(self.scenarios.values()))
         return Unit("model", tuple(first.instances), names, runs, scale, noise,
                     dict(self.components))
+
+    def replayed(self):
+        """Every instance, every measured signal replayed where it feeds one (loops cut open at
+        the measurements): the model in which section 4 compares before and after, so that a
+        closed loop's oscillation phase does not hide what an effect explains."""
+        if self.scalar_only:
+            return self._metric_unit()
+        return self.unit("all measured signals replayed", sorted(self.components), cut_all=True)
 
     def isolation_units(self):
         """One unit per distinct isolation closure that observes something, smallest first."""
@@ -329,10 +326,27 @@ class Failed(Exception):
     """A simulation of candidate values failed (reported, not raised to the user)."""
 
 
-def residuals(unit, sims):
-    """Normalised residuals (model - measured) / range: ``{column: [array per run]}``."""
-    return {c: [(sim[c] - run.measured[c]) / unit.scale[c] for run, sim in zip(unit.runs, sims)]
-            for c in unit.observed}
+def residuals(unit, sims, shifts=None):
+    """Normalised residuals (model - measured) / range: ``{column: [array per run]}``.
+
+    An alignable column (a sensor channel nothing in the model reads) is compared shifted back
+    by the whole number of samples, 0..MAX_ALIGN, that fits the training part best: its
+    acquisition latency, a nuisance. `shifts`, a dict, receives the samples chosen.
+    """
+    out = {}
+    for c in unit.observed:
+        best = None
+        for d in range(MAX_ALIGN + 1 if c in unit.alignable else 1):
+            res = [(sim[c] - _advance(run.measured[c], d)) / unit.scale[c]
+                   for run, sim in zip(unit.runs, sims)]
+            cost = sum(float(np.nansum(np.square(r[run.part == 0])))
+                       for r, run in zip(res, unit.runs))
+            if best is None or cost < best[0]:
+                best = (cost, d, res)
+        out[c] = best[2]
+        if shifts is not None and c in unit.alignable:
+            shifts[c] = best[1]
+    return out
 
 
 def _part_rows(unit, part):
@@ -681,14 +695,12 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
     """Diagnose measured data set `ds` (a `musclesim.dataset.DataSet`); return the report dict.
 
     `pmap(fn, items)` maps the fits (default: one after the other); `progress(text)` is told
-    what runs; a dict given as `traces` receives the whole model's runs, nominal and with the
-    selected effects, for plots.
+    what runs; a dict given as `traces` receives the runs of `Problem.replayed`, nominal and with
+    the selected effects, for plots.
     """
     pmap = pmap or _serial
     say = progress or (lambda text: None)
     problem = Problem(ds, fmu_dir)
-    say("aligning sensor channels")
-    shifts = problem.align(fmu_dir)
     whole = problem.unit("model")
     say("nominal model")
     try:
@@ -704,8 +716,7 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
             {e.scenario for e in ds.experiments.values()}), "scalar_only": problem.scalar_only,
         "parts": {"train": list(problem.part_names[0]), "held_out": list(problem.part_names[1])},
         "gap": {"signals": signal_gap(problem, whole, sims), "heldout_gap": gap_whole,
-                "noise_floor": floor_whole, "deviates": bool(whole_deviates),
-                "aligned_samples": shifts},
+                "noise_floor": floor_whole, "deviates": bool(whole_deviates)},
     }
     say("isolating components")
     isolated = []
@@ -727,10 +738,8 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
     if not whole_deviates and not any(u["deviates"] for u in isolated):
         report.update(effects=[], recalibrated=[], selected=[], verdict="none",
                       explanation="the model matches the data within the noise on the held-out "
-                                  "part: there is no gap to explain", noise_floor=floor_whole,
-                      shrinkage=_whole_shrinkage(whole, res_whole, res_whole))
-        if traces is not None:
-            traces.update(unit=whole, nominal=sims, selected=sims)
+                                  "part: there is no gap to explain", noise_floor=floor_whole)
+        _shrinkage(problem, report, {}, traces)
         return report
 
     # the unit the candidates are fitted in: the smallest deviating one holding every suspect
@@ -777,7 +786,8 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
     if counting:
         e1, c1, f1 = counting[0]
         selected, final = [e1], f1
-        if f1["heldout_gap"] > STRUCTURED * floor and len(counting) > 1:
+        if not _explained(f1["heldout_gap"], e1["heldout_gap_before"], floor) \
+                and len(counting) > 1:
             say("greedy: a second effect")
             pairs = counting[1:4]
             pair_fits = pmap(_fit_task, [(fit_unit, c1.free + c.free, fmu_dir, None,
@@ -795,7 +805,8 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
     report["effects"] = entries
     report["selected"] = [e["name"] for e in selected]
     best_recal = min(recal_table, key=lambda r: r["heldout_gap"], default=None)
-    if not selected and best_recal and best_recal["heldout_gap"] <= STRUCTURED * floor:
+    if not selected and best_recal and _explained(best_recal["heldout_gap"],
+                                                   recal[0], floor):
         report["verdict"] = "recalibration"
         report["explanation"] = ("no unmodelled effect is needed: the nominal model with " +
                                  ", ".join(f"{k} = {v:.4g}" for k, v in
@@ -807,7 +818,7 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
         report["explanation"] = ("no candidate effect of the located component(s) shrinks the "
                                  "held-out gap enough, beats the recalibrated nominal model and "
                                  "shows in its regime")
-    elif final["heldout_gap"] > STRUCTURED * floor:
+    elif not _explained(final["heldout_gap"], selected[0]["heldout_gap_before"], floor):
         report["verdict"] = "unexplained"
         report["explanation"] = (f"the best candidate ({selected[0]['name']}) leaves a structured "
                                  f"held-out gap of {final['heldout_gap']:.3g}, "
@@ -818,17 +829,34 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
                                  f"{selected[0]['heldout_gap_before']:.3g} to "
                                  f"{final['heldout_gap']:.3g} (noise floor {floor:.3g})")
     report["noise_floor"] = floor
-    values = _selected_values(report["effects"], report["selected"])
-    after = sims
+    _shrinkage(problem, report, _selected_values(report["effects"], report["selected"]),
+               traces)
+    return report
+
+
+def _shrinkage(problem, report, values, traces):
+    """report["shrinkage"]: the held-out gap per signal of the model with every measured signal
+    replayed (`Problem.replayed`), nominal and with `values`; the traces for the plots."""
+    unit = problem.replayed()
+    nominal = simulate(unit, {}, problem.fmu_dir)
+    after = nominal
     if values:
         try:
-            after = simulate(whole, values, fmu_dir)
+            after = simulate(unit, values, problem.fmu_dir)
         except Failed:
             pass
-    report["shrinkage"] = _whole_shrinkage(whole, res_whole, residuals(whole, after))
+    shifts = {}
+    report["shrinkage"] = _whole_shrinkage(unit, residuals(unit, nominal),
+                                           residuals(unit, after, shifts))
+    report["aligned_samples"] = shifts
     if traces is not None:
-        traces.update(unit=whole, nominal=sims, selected=after)
-    return report
+        traces.update(unit=unit, nominal=nominal, selected=after)
+
+
+def _explained(after, before, floor):
+    """Whether a held-out gap left `after` is unstructured: within STRUCTURED noise floors, or
+    at most RESIDUAL_SHARE of the gap `before`."""
+    return after <= STRUCTURED * floor or after <= RESIDUAL_SHARE * before
 
 
 def _selected_values(entries, selected):
@@ -848,7 +876,7 @@ def _selected_values(entries, selected):
 
 
 def _whole_shrinkage(unit, before, after):
-    """Held-out gap of the whole model per signal, before and after, with bootstrap intervals."""
+    """Held-out gap per signal and pooled, before and after, with bootstrap intervals."""
     out = {}
     for c in unit.observed:
         b = bootstrap(unit, [before, after], [c])

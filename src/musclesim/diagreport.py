@@ -50,13 +50,10 @@ def markdown(report, plots=()):
     else:
         L += ["| signal | NRMSE | held-out NRMSE | bias (data - model) | lag [s] | noise |",
               "|---|---|---|---|---|---|"]
-        L += [f"| {c} | {_num(e['nrmse'])} | {_num(e['nrmse_heldout'])} | {_num(e['bias'])} "
-              f"{e['unit']} | {_num(e.get('lag'))} | {_num(e['noise'])} |"
+        L += [f"| {c} | {_num(e['nrmse'])} | {_num(e['nrmse_heldout'])} | {_num(e['bias'])}"
+              f"{'' if e['unit'] == '1' else ' ' + e['unit']} | {_num(e.get('lag'))} | "
+              f"{_num(e['noise'])} |"
               for c, e in g["signals"].items()]
-        shifted = {c: n for c, n in g.get("aligned_samples", {}).items() if n}
-        if shifted:
-            L += ["", "Sensor channels aligned for acquisition latency: " + ", ".join(
-                f"{c} by {n} sample(s)" for c, n in shifted.items()) + "."]
     L += ["", "## 2. Where", ""]
     if report.get("units"):
         L += ["Isolation units (each re-simulated with the measured signals feeding it replayed):",
@@ -105,11 +102,15 @@ def markdown(report, plots=()):
                 + f" (held-out gap {_num(r['heldout_gap'])})" for r in report["recalibrated"]) + "."]
     else:
         L += ["No candidate was fitted."]
-    L += ["", "## 4. How far it shrinks (whole model, held-out part)", "",
+    L += ["", "## 4. How far it shrinks (held-out part, every measured signal replayed)", "",
           f"Selected: {', '.join(report.get('selected') or ['nothing'])}.", "",
           "| signal | before [95 %] | after [95 %] |", "|---|---|---|"]
     L += [f"| {c} | {_num(s['before'])} {_iv(s['interval_before'])} | {_num(s['after'])} "
           f"{_iv(s['interval_after'])} |" for c, s in report.get("shrinkage", {}).items()]
+    shifted = {c: n for c, n in report.get("aligned_samples", {}).items() if n}
+    if shifted:
+        L += ["", "Sensor channels compared allowing for acquisition latency: " + ", ".join(
+            f"{c} {n} sample(s) behind" for c, n in shifted.items()) + "."]
     L += [""] + [f"![{p}]({p})" for p in plots]
     return "\n".join(L) + "\n"
 
