@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from musclesim import blind, dataset, diagnose, diagreport
+from musclesim import blind, dataset, diagnose, diagreport, master, results, scenario
 from musclesim.cli import main
 
 from conftest import SCENARIOS
@@ -117,8 +117,8 @@ def test_blind_benchmark_on_three_cases(fmu_dir, tmp_path):
     """A null, an out-of-library and a decoy case, diagnosed blind; the key is sealed first."""
     scores = blind.run(3, seed=4, out=tmp_path, fmu_dir=fmu_dir, scenarios_dir=SCENARIOS)
     key = (tmp_path / "key.json").read_text()
-    assert (tmp_path / "key.sha256").read_text().split()[0] == \
-        hashlib.sha256(key.rstrip("\n").encode()).hexdigest()
+    assert (tmp_path / "key.sha256").read_text() == \
+        hashlib.sha256(key.encode()).hexdigest() + "  key.json\n"
     kinds = sorted(row["kind"] for row in scores["per_case"])
     assert kinds == ["decoy", "none", "outside"]
     for case in json.loads(key)["cases"]:  # the data a case holds say nothing of its truth
@@ -129,3 +129,33 @@ def test_blind_benchmark_on_three_cases(fmu_dir, tmp_path):
     assert saved["false_alarm_rate"] == 0.0
     assert saved["unexplained_rate"] == 1.0
     assert saved["shrinkage_vs_oracle"] > 0.8
+
+
+def test_scalar_only_data_are_diagnosed_from_metrics(fmu_dir, tmp_path):
+    """Metrics only (like the real crawler's speeds): two short experiments of the stress bench
+    at two drive levels, the thermocouple reading 3 K high; one experiment trains, one is held
+    out."""
+    text = (SCENARIOS / "sma-bench-stress.toml").read_text().replace(
+        "stop_time = 60.0", "stop_time = 6.0")
+    text = text.replace("[metrics]\n", '[metrics]\nT_max = { signal = "thermocouple.T_meas", '
+                        'op = "max" }\n')
+    measured = {}
+    for name, amplitude in (("low", 0.4), ("high", 0.5)):
+        path = tmp_path / f"bench-{name}.toml"
+        path.write_text(text.replace("amplitude = 0.5,", f"amplitude = {amplitude},"))
+        s = scenario.load(path, ["thermocouple.bias=3.0"])
+        res = master.Master(s, fmu_dir).run()
+        measured[name] = results.compute_metrics(res, s.metrics)
+    d = tmp_path / "metrics"
+    d.mkdir()
+    (d / "manifest.toml").write_text("".join(
+        f'[experiments.{n}]\nscenario = "../bench-{n}.toml"\n'
+        f'metrics.T_max = {{ value = {m["T_max"]!r}, unit = "K", uncertainty = 0.2 }}\n'
+        f'metrics.strain_peak_to_peak = {{ value = {m["strain_peak_to_peak"]!r}, '
+        f'uncertainty = 2e-4 }}\n' for n, m in measured.items()) + '[split]\nheld_out = ["high"]\n')
+    report = diagnose.diagnose(dataset.load(d), fmu_dir)
+    assert report["scalar_only"] and report["units"] == []
+    assert report["gap"]["signals"]["T_max"]["relative_error"][0] == pytest.approx(
+        -3.0 / measured["low"]["T_max"], rel=0.05)
+    assert report["verdict"] == "thermocouple bias"
+    assert report["effects"][0]["parameters"]["bias"]["value"] == pytest.approx(3.0, abs=0.1)

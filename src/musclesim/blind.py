@@ -200,12 +200,13 @@ def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, 
     cases = plan(count, seed)
     say(f"recording {count} cases on the virtual hardware")
     pmap(_make, [(c, out, scenarios_dir, fmu_dir) for c in cases])
-    key = json.dumps({"seed": seed, "cases": cases}, indent=1, sort_keys=True)
+    key = json.dumps({"seed": seed, "cases": cases}, indent=1, sort_keys=True) + "\n"
+    # sealed: `sha256sum -c key.sha256` checks key.json once it is written, after the diagnosis
     (out / "key.sha256").write_text(hashlib.sha256(key.encode()).hexdigest() + "  key.json\n")
     say("diagnosing blind")
     dirs = [out / "cases" / c["case"] for c in cases]
     reports = pmap(_diagnose, [(d, fmu_dir) for d in dirs])
-    (out / "key.json").write_text(key + "\n")
+    (out / "key.json").write_text(key)
     say("scoring against the key and the oracle")
     gaps = pmap(_oracle, [(c, d, r, fmu_dir) for c, d, r in zip(cases, dirs, reports)])
     scores = score(cases, reports, gaps)

@@ -59,7 +59,7 @@ METRIC_FLOOR = 0.02  # relative noise floor of a scalar metric without uncertain
 # an effect's regime must hold at least this share of its fair (per-sample) part of the gain:
 # effects through the hysteresis's memory spread their gain beyond the regime that triggers them
 SIGNATURE_MIN = 0.75
-MAX_ALIGN = 2  # samples of acquisition latency a sensor channel is aligned by
+MAX_ALIGN = 2  # samples of acquisition latency allowed for a sensor channel nothing reads
 
 
 # ---- the problem: runs of the scenario against the measured data ------------------------------
@@ -191,8 +191,7 @@ class Problem:
                               if self.vars[split_signal(c)[0]][split_signal(c)[1]].causality == "input"}
         self.scalar_only = ds.scalar_only
         self.part_names = ds.parts()
-        s = next(iter(self.scenarios.values()))
-        fed = {src for src, _ in s.connections} | {dst for _, dst in s.connections}
+        fed = {src for src, _ in first.connections} | {dst for _, dst in first.connections}
         # sensor channels no instance reads: compared allowing an acquisition latency
         self.alignable = {c for c in ds.outputs if c not in fed}
 
@@ -498,6 +497,7 @@ def regimes(problem, unit):
         if temp:
             rate = _smooth_rate(t, cols[temp])
             out["changing"].append(np.abs(rate) > np.median(np.abs(rate)))
+            out["heating"].append(rate > 0)
             out["cooling"].append(rate < 0)
             out["hot"].append(cols[temp] >= np.percentile(cols[temp], 80))
         if strain:

@@ -28,6 +28,7 @@ class Parameter:
 REGIMES = {
     "all": "every sample",
     "changing": "the temperature changes faster than its median rate",
+    "heating": "the temperature rises",
     "cooling": "the temperature falls",
     "hot": "the top fifth of the measured temperatures",
     "transformation": "the measured strain changes (the wire transforms)",
