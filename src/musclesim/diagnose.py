@@ -11,9 +11,9 @@ The steps, on a measured data set (`musclesim.dataset`):
    `MAX_ALIGN` samples, chosen on the training part in every comparison (`residuals`).
 2. Where. Each component is re-simulated in its *isolation unit*: the component plus the upstream
    instances whose outputs were not measured, with every measured signal feeding the unit
-   replayed. A unit deviates when its held-out gap exceeds `DEVIATES` times the noise floor (the
-   measurement noise estimated from the data's second differences, at least `NOISE_FLOOR` of the
-   range). Components of deviating units are located unless a unit that did not deviate observed
+   replayed. A unit deviates when the held-out gap of one of its signals exceeds `DEVIATES` times
+   that signal's noise (estimated from the data's second differences, at least `NOISE_FLOOR` of
+   the range; for a metric its uncertainty, else `METRIC_FLOOR`). Components of deviating units are located unless a unit that did not deviate observed
    them (they are exonerated). The nominal residual is also split by regime and the worst windows
    are listed.
 3. Which effect. Every effect of a located component (`musclesim.effects`) is fitted on the
@@ -189,6 +189,8 @@ class Problem:
             self.units_of[col] = v.unit or "1"
         self.input_columns = {c for c in ds.columns
                               if self.vars[split_signal(c)[0]][split_signal(c)[1]].causality == "input"}
+        for e in ds.experiments.values():
+            self.units_of.update({m: mm.unit for m, mm in e.metrics.items()})
         self.scalar_only = ds.scalar_only
         self.part_names = ds.parts()
         fed = {src for src, _ in first.connections} | {dst for _, dst in first.connections}
@@ -256,7 +258,7 @@ class Problem:
                  for m in names}
         unc = {m: max((mm.uncertainty or 0.0) for e in ds.experiments.values()
                       for k, mm in e.metrics.items() if k == m) for m in names}
-        noise = {m: max(unc[m] / scale[m], METRIC_FLOOR) for m in names}
+        noise = {m: unc[m] / scale[m] if unc[m] > 0 else METRIC_FLOOR for m in names}
         first = next(iter(self.scenarios.values()))
         return Unit("model", tuple(first.instances), names, runs, scale, noise,
                     dict(self.components))
@@ -365,6 +367,11 @@ def gap(unit, res, part, columns=None):
     return float(np.sqrt(np.mean(np.square(v)))) if v.size else math.nan
 
 
+def deviates(unit, res):
+    """Whether some observed signal's held-out gap exceeds DEVIATES times its own noise."""
+    return any(gap(unit, res, 1, [c]) > DEVIATES * unit.noise[c] for c in unit.observed)
+
+
 def noise_floor(unit):
     """Pooled noise floor of the unit's observed columns (normalised)."""
     return math.sqrt(np.mean([unit.noise[c] ** 2 for c in unit.observed]))
@@ -424,10 +431,9 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None):
     z0 = starts[int(np.argmin(costs))]
     opt = optimize.least_squares(train_vector, z0, bounds=(0, 1), x_scale=1.0,
                                  diff_step=1e-3, max_nfev=12 * len(free) + 8, method="trf")
-    z = opt.x if opt.cost * 2 <= min(costs) else z0
+    z = opt.x  # trust-region steps never end above their start's cost
     x = lo + span * z
-    interval = _interval(opt, lo, span) if opt.cost * 2 <= min(costs) else \
-        [(float(a), float(b)) for a, b in zip(lo, lo + span)]
+    interval = _interval(opt, lo, span)
     res = run(z)
     applicable = len({round(c, 12) for c in costs}) > 1
     return {"x": [float(v) for v in x], "interval": interval, "residuals": res,
@@ -710,7 +716,7 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
     res_whole = residuals(whole, sims)
     floor_whole = noise_floor(whole)
     gap_whole = gap(whole, res_whole, 1)
-    whole_deviates = gap_whole > DEVIATES * floor_whole
+    whole_deviates = deviates(whole, res_whole)
     report = {
         "data_set": str(ds.path), "scenario": ds.scenario or sorted(
             {e.scenario for e in ds.experiments.values()}), "scalar_only": problem.scalar_only,
@@ -725,9 +731,8 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
             r = residuals(u, simulate(u, {}, fmu_dir))
         except Failed:
             continue
-        g, fl = gap(u, r, 1), noise_floor(u)
-        isolated.append({"unit": u, "gap": g, "floor": fl, "deviates": bool(g > DEVIATES * fl),
-                         "res": r})
+        isolated.append({"unit": u, "gap": gap(u, r, 1), "floor": noise_floor(u),
+                         "deviates": deviates(u, r), "res": r})
     suspects, located = _locate(problem, whole_deviates, isolated)
     report["located"] = located
     report["units"] = [{"instances": list(u["unit"].instances), "observed": list(u["unit"].observed),
@@ -825,7 +830,8 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
                                  f"{final['heldout_gap'] / floor:.1f} noise floors")
     else:
         report["verdict"] = selected[0]["name"]
-        report["explanation"] = (f"{' + '.join(report['selected'])} shrinks the held-out gap from "
+        report["explanation"] = (f"{' + '.join(e['label'] for e in selected)} shrinks the held-out "
+                                 f"gap from "
                                  f"{selected[0]['heldout_gap_before']:.3g} to "
                                  f"{final['heldout_gap']:.3g} (noise floor {floor:.3g})")
     report["noise_floor"] = floor
