@@ -136,7 +136,7 @@ def test_scalar_only_data_are_diagnosed_from_metrics(fmu_dir, tmp_path):
     at two drive levels, the thermocouple reading 3 K high; one experiment trains, one is held
     out."""
     text = (SCENARIOS / "sma-bench-stress.toml").read_text().replace(
-        "stop_time = 60.0", "stop_time = 6.0").replace("from = 10.0", "from = 1.0")
+        "stop_time = 60.0", "stop_time = 3.0").replace("from = 10.0", "from = 0.5")
     text = text.replace("[metrics]\n", '[metrics]\nT_max = { signal = "thermocouple.T_meas", '
                         'op = "max" }\n')
     measured = {}

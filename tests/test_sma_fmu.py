@@ -216,8 +216,13 @@ def test_stress_blend_puts_the_ignored_stress_back(wire_fmu):
     nominal = simulate(wire_fmu, HEAT_COOL, f=f)  # the stress-aware wire
     assert np.max(np.abs(full["strain"] - nominal["strain"])) < 1e-9
     half = simulate(wire_fmu, HEAT_COOL, {**ignored, "stress_blend": 0.5}, f=f)
-    between = np.abs(half["strain"] - flat["strain"]) <= np.abs(nominal["strain"] - flat["strain"]) + 1e-12
-    assert between.all() and np.max(np.abs(half["strain"] - flat["strain"])) > 1e-4
+
+    def rms(a, b):
+        return np.sqrt(np.mean(np.square(a["strain"] - b["strain"])))
+
+    # half the stress change moves the loop part of the way (not pointwise: the hysteresis
+    # remembers where it turned)
+    assert 1e-4 < rms(half, flat) < rms(full, flat) and rms(half, full) < rms(flat, full)
     # without sigma_surface the wire follows the stress anyway: stress_blend changes nothing
     assert np.array_equal(simulate(wire_fmu, HEAT_COOL, {"stress_blend": 0.5}, f=f)["strain"],
                           nominal["strain"])

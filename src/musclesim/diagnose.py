@@ -676,7 +676,7 @@ def _candidates(problem, unit, suspects):
     return out, calib
 
 
-def _locate(problem, whole_deviates, isolated):
+def _locate(problem, isolated):
     """Suspect instances and the ranked `located` table from the isolation results."""
     deviating = [u for u in isolated if u["deviates"]]
     cleared = set().union(*[set(u["unit"].instances) for u in isolated if not u["deviates"]])
@@ -733,7 +733,7 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
             continue
         isolated.append({"unit": u, "gap": gap(u, r, 1), "floor": noise_floor(u),
                          "deviates": deviates(u, r), "res": r})
-    suspects, located = _locate(problem, whole_deviates, isolated)
+    suspects, located = _locate(problem, isolated)
     report["located"] = located
     report["units"] = [{"instances": list(u["unit"].instances), "observed": list(u["unit"].observed),
                         "heldout_gap": u["gap"], "noise_floor": u["floor"],
@@ -761,22 +761,9 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
     say(f"fitting {len(candidates)} candidate effect(s) and {len(calib)} recalibration(s)")
     fits = pmap(_fit_task, [(fit_unit, c.free, fmu_dir, None, None) for c in candidates]
                 + [(fit_unit, [f], fmu_dir, None, None) for f in calib])
-    cand_fits, calib_fits = fits[:len(candidates)], fits[len(candidates):]
-    recal = {0: gap(fit_unit, res_nom, 1)}
-    recal_table = []
-    if calib_fits:
-        best = int(np.argmin([f["heldout_gap"] for f in calib_fits]))
-        recal[1] = calib_fits[best]["heldout_gap"]
-        recal_table = [{"parameters": {f"{','.join(c.instances)}.{c.name}": f["x"][0]},
-                        "heldout_gap": f["heldout_gap"]} for c, f in zip(calib, calib_fits)]
-        if len(calib) > 1 and any(len(c.free) > 1 for c in candidates):
-            order = np.argsort([f["train_gap"] for f in calib_fits])[:2]
-            pair = [calib[i] for i in order]
-            f2 = fit(fit_unit, pair, fmu_dir)
-            recal[2] = f2["heldout_gap"]
-            recal_table.append({"parameters": {f"{','.join(c.instances)}.{c.name}": x
-                                               for c, x in zip(pair, f2["x"])},
-                                "heldout_gap": f2["heldout_gap"]})
+    cand_fits = fits[:len(candidates)]
+    recal, recal_table = _recalibrated(fit_unit, res_nom, calib, fits[len(candidates):],
+                                       max((len(c.free) for c in candidates), default=1), fmu_dir)
     report["recalibrated"] = recal_table
     floor = noise_floor(fit_unit)
     scored = sorted(((_score(fit_unit, res_nom, c, f, recal, masks), c, f)
@@ -809,35 +796,32 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
                 final = f12
     report["effects"] = entries
     report["selected"] = [e["name"] for e in selected]
-    best_recal = min(recal_table, key=lambda r: r["heldout_gap"], default=None)
-    if not selected and best_recal and _explained(best_recal["heldout_gap"],
-                                                   recal[0], floor):
-        report["verdict"] = "recalibration"
-        report["explanation"] = ("no unmodelled effect is needed: the nominal model with " +
-                                 ", ".join(f"{k} = {v:.4g}" for k, v in
-                                           best_recal["parameters"].items()) +
-                                 f" recalibrated leaves a held-out gap of "
-                                 f"{best_recal['heldout_gap']:.3g} (noise floor {floor:.3g})")
-    elif not selected:
-        report["verdict"] = "unexplained"
-        report["explanation"] = ("no candidate effect of the located component(s) shrinks the "
-                                 "held-out gap enough, beats the recalibrated nominal model and "
-                                 "shows in its regime")
-    elif not _explained(final["heldout_gap"], selected[0]["heldout_gap_before"], floor):
-        report["verdict"] = "unexplained"
-        report["explanation"] = (f"the best candidate ({selected[0]['name']}) leaves a structured "
-                                 f"held-out gap of {final['heldout_gap']:.3g}, "
-                                 f"{final['heldout_gap'] / floor:.1f} noise floors")
-    else:
-        report["verdict"] = selected[0]["name"]
-        report["explanation"] = (f"{' + '.join(e['label'] for e in selected)} shrinks the held-out "
-                                 f"gap from "
-                                 f"{selected[0]['heldout_gap_before']:.3g} to "
-                                 f"{final['heldout_gap']:.3g} (noise floor {floor:.3g})")
+    report["verdict"], report["explanation"] = _verdict(selected, final, recal, recal_table,
+                                                        floor)
     report["noise_floor"] = floor
     _shrinkage(problem, report, _selected_values(report["effects"], report["selected"]),
                traces)
     return report
+
+
+def _recalibrated(unit, res_nom, calib, calib_fits, k_max, fmu_dir):
+    """The nominal model's competitors: {k: held-out gap with k nominal parameters refitted} and
+    their table. k = 1 is the best single parameter on held-out data (the strictest rival);
+    k = 2 refits the two best on training data together."""
+    recal, table = {0: gap(unit, res_nom, 1)}, []
+    if not calib_fits:
+        return recal, table
+    recal[1] = min(f["heldout_gap"] for f in calib_fits)
+    table = [{"parameters": {f"{','.join(c.instances)}.{c.name}": f["x"][0]},
+              "heldout_gap": f["heldout_gap"]} for c, f in zip(calib, calib_fits)]
+    if len(calib) > 1 and k_max > 1:
+        pair = [calib[i] for i in np.argsort([f["train_gap"] for f in calib_fits])[:2]]
+        f2 = fit(unit, pair, fmu_dir)
+        recal[2] = f2["heldout_gap"]
+        table.append({"parameters": {f"{','.join(c.instances)}.{c.name}": x
+                                     for c, x in zip(pair, f2["x"])},
+                      "heldout_gap": f2["heldout_gap"]})
+    return recal, table
 
 
 def _shrinkage(problem, report, values, traces):
@@ -857,6 +841,28 @@ def _shrinkage(problem, report, values, traces):
     report["aligned_samples"] = shifts
     if traces is not None:
         traces.update(unit=unit, nominal=nominal, selected=after)
+
+
+def _verdict(selected, final, recal, recal_table, floor):
+    """(verdict, explanation) from the selected effects and the recalibrated rivals."""
+    best_recal = min(recal_table, key=lambda r: r["heldout_gap"], default=None)
+    if not selected and best_recal and _explained(best_recal["heldout_gap"], recal[0], floor):
+        values = ", ".join(f"{k} = {v:.4g}" for k, v in best_recal["parameters"].items())
+        return "recalibration", (f"no unmodelled effect is needed: the nominal model with {values} "
+                                 f"recalibrated leaves a held-out gap of "
+                                 f"{best_recal['heldout_gap']:.3g} (noise floor {floor:.3g})")
+    if not selected:
+        return "unexplained", ("no candidate effect of the located component(s) shrinks the "
+                               "held-out gap enough, beats the recalibrated nominal model and "
+                               "shows in its regime")
+    first = selected[0]
+    if not _explained(final["heldout_gap"], first["heldout_gap_before"], floor):
+        return "unexplained", (f"the best candidate ({first['label']}) leaves a structured "
+                               f"held-out gap of {final['heldout_gap']:.3g}, "
+                               f"{final['heldout_gap'] / floor:.1f} noise floors")
+    return first["name"], (f"{' + '.join(e['label'] for e in selected)} shrinks the held-out "
+                           f"gap from {first['heldout_gap_before']:.3g} to "
+                           f"{final['heldout_gap']:.3g} (noise floor {floor:.3g})")
 
 
 def _explained(after, before, floor):
