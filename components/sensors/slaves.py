@@ -1,35 +1,69 @@
-"""FMU slaves of the sensors: thin adapters over musclesim.components.sensors.thermocouple."""
-from musclesim.components.sensors import thermocouple as tc
+"""FMU slaves of the sensors: thin adapters over musclesim.components.sensors.sensor."""
+from musclesim.components.sensors import sensor
 from musclesim.fmislave import Slave
 
 
-class Thermocouple(Slave):
-    """Temperature sensor with lag, bias, noise and quantisation, all off by default (SPEC 2.1)."""
+class _ScalarSensor(Slave):
+    """A sensor reading one signal with lag, bias, noise and quantisation, all off by default.
 
-    description = "Thermocouple: first-order lag, bias, seeded noise, quantisation (SPEC 2.1, 4)"
+    Subclasses name the measured input and the reading (`signal`, `measured`, `unit`), the input's
+    start value and what lags (`element`).
+    """
+
+    signal = measured = unit = element = signal_description = ""
+    start = 0.0
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.parameter("tau", 0.0, "s", "Lag time constant of the junction (effect off: 0)")
-        self.parameter("bias", 0.0, "K", "Reading bias (effect off: 0)")
-        self.parameter("noise_std", 0.0, "K", "Standard deviation of the reading noise (off: 0)")
-        self.parameter("quantum", 0.0, "K", "Quantisation step of the reading (off: 0)")
+        u = self.unit
+        self.parameter("tau", 0.0, "s", f"Lag time constant of the {self.element} (effect off: 0)")
+        self.parameter("bias", 0.0, u, "Reading bias (effect off: 0)")
+        self.parameter("noise_std", 0.0, u, "Standard deviation of the reading noise (off: 0)")
+        self.parameter("quantum", 0.0, u, "Quantisation step of the reading (off: 0)")
         self.parameter("seed", 0.0, "1", "Seed of the noise generator")
-        self.input("T", 293.15, "K", "Temperature of the wire")
-        self.output("T_meas", "K", "Measured temperature", depends=["T"])
+        self.input(self.signal, self.start, u, self.signal_description)
+        self.output(self.measured, u, f"Measured {self.signal_description[0].lower()}"
+                    f"{self.signal_description[1:]}", depends=[self.signal])
 
     def setup(self):
-        self.p = self.core_params(tc.SensorParams)
-        self.rng = tc.make_rng(self.p)
-        self.x = self.T
-        self.noise = tc.noise_sample(self.p, self.rng)
+        self.p = self.core_params(sensor.SensorParams)
+        self.rng = sensor.make_rng(self.p)
+        self.x = getattr(self, self.signal)
+        self.noise = sensor.noise_sample(self.p, self.rng)
 
     def initialize(self):
-        self.x = self.T  # the junction starts at the wire's temperature
+        self.x = getattr(self, self.signal)  # the sensing element starts settled on the signal
 
     def evaluate(self):
-        self.T_meas = tc.reading(self.T if self.p.tau <= 0 else self.x, self.p, self.noise)
+        x = getattr(self, self.signal) if self.p.tau <= 0 else self.x
+        setattr(self, self.measured, sensor.reading(x, self.p, self.noise))
 
     def advance(self, t, dt):
-        self.x = tc.lag(self.x, self.T, dt, self.p.tau)
-        self.noise = tc.noise_sample(self.p, self.rng)  # one sample per communication step
+        self.x = sensor.lag(self.x, getattr(self, self.signal), dt, self.p.tau)
+        self.noise = sensor.noise_sample(self.p, self.rng)  # one sample per communication step
+
+
+class Thermocouple(_ScalarSensor):
+    """Temperature sensor with lag, bias, noise and quantisation, all off by default (SPEC 2.1)."""
+
+    description = "Thermocouple: first-order lag, bias, seeded noise, quantisation (SPEC 2.1, 4)"
+    signal, measured, unit, start = "T", "T_meas", "K", 293.15
+    element, signal_description = "junction", "Temperature of the wire"
+
+
+class LoadCell(_ScalarSensor):
+    """Load cell on the wire's load with lag, bias, noise and quantisation, all off (SPEC 2.1)."""
+
+    description = ("Load cell: tension on the wire with first-order lag, bias, seeded noise, "
+                   "quantisation (SPEC 2.1, 4)")
+    signal, measured, unit = "f", "f_meas", "N"
+    element, signal_description = "load cell and its amplifier", "Tension on the wire"
+
+
+class LaserSensor(_ScalarSensor):
+    """Laser displacement sensor on the wire's contraction, imperfections off (SPEC 2.1)."""
+
+    description = ("Laser displacement sensor: wire contraction with first-order lag, bias, "
+                   "seeded noise, quantisation (SPEC 2.1, 4)")
+    signal, measured, unit = "s", "s_meas", "m"
+    element, signal_description = "sensor's filter", "Contraction of the wire (SmaWire flange.s)"

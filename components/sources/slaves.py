@@ -1,4 +1,8 @@
-"""FMU slaves of the sources: thin adapters over musclesim.components.sources.signals and .forc."""
+"""FMU slaves of the sources: thin adapters over musclesim.components.sources.signals and .forc,
+and the reference profiles of SPEC 2.4 (musclesim.components.sma.profiles)."""
+import math
+
+from musclesim.components.sma import profiles
 from musclesim.components.sources import forc, signals
 from musclesim.fmislave import Slave
 
@@ -50,3 +54,69 @@ class ForcReference(Slave):
 
     def evaluate(self):
         self.T_ref, self.run, self.phase = forc.value(self.time, self.p)
+
+
+AREA_127UM = math.pi * 63.5e-6 ** 2  # m2, the 127 um wire's cross-section (SPEC 2.1)
+
+
+class _ProfileSlave(Slave):
+    """A reference profile of SPEC 2.4 (components/sma/profiles.py) as an output signal."""
+
+    names = ()  # profile names, indexed from 1 by the `profile` parameter
+    make = None  # profiles.strain_profile or profiles.loading_profile
+
+    def __init__(self, lo, hi, unit, **kwargs):
+        super().__init__(**kwargs)
+        self.parameter("profile", 1.0, "1", "Profile number: " + ", ".join(
+            f"{i} = {n}" for i, n in enumerate(self.names, 1)))
+        self.parameter("lo", lo, unit, "Bottom of the profile's range (SPEC 2.4)")
+        self.parameter("hi", hi, unit, "Top of the profile's range (SPEC 2.4; = lo: constant)")
+        self.parameter("duration", profiles.DURATION, "s",
+                       "Length of the run the profile is laid out over (SPEC 2.4: 550 s)")
+        self.parameter("seed", 0.0, "1", "Seed of the random peaks and troughs")
+
+    def setup(self):
+        k = self.profile
+        if k != int(k) or not 1 <= k <= len(self.names):
+            raise ValueError(f"profile must be one of 1..{len(self.names)} "
+                             f"({', '.join(self.names)}), got {k!r}")
+        if not (self.lo <= self.hi and self.duration > 0 and self.seed >= 0):
+            raise ValueError(f"lo <= hi, duration > 0 and seed >= 0 are needed (got lo = "
+                             f"{self.lo!r}, hi = {self.hi!r}, duration = {self.duration!r}, "
+                             f"seed = {self.seed!r})")
+        self.fn = type(self).make(self.names[int(k) - 1], self.lo, self.hi, self.duration,
+                                  int(self.seed))
+
+
+class StrainProfile(_ProfileSlave):
+    """Reference strain SP I-IV of SPEC 2.4."""
+
+    description = "Reference strain profile SP I-IV of SPEC 2.4 (contraction, within [lo, hi])"
+    names = profiles.STRAIN_PROFILES
+    make = staticmethod(profiles.strain_profile)
+
+    def __init__(self, **kwargs):
+        super().__init__(0.0, profiles.EPS_MAX, "1", **kwargs)
+        self.output("eps_ref", "1", "Reference strain (contraction / length)")
+
+    def evaluate(self):
+        self.eps_ref = self.fn(self.time)
+
+
+class LoadingProfile(_ProfileSlave):
+    """Reference stress LP I-VI of SPEC 2.4."""
+
+    description = "Loading (stress) profile LP I-VI of SPEC 2.4, within [lo, hi] Pa"
+    names = profiles.LOADING_PROFILES
+    make = staticmethod(profiles.loading_profile)
+
+    def __init__(self, **kwargs):
+        super().__init__(profiles.SIGMA_LO, profiles.SIGMA_HI, "Pa", **kwargs)
+        self.parameter("area", AREA_127UM, "m2", "Wire cross-section the force reference is for "
+                       "(SPEC 2.1: 127 um diameter)")
+        self.output("sigma_ref", "Pa", "Reference stress")
+        self.output("f_ref", "N", "Reference tension sigma_ref x area")
+
+    def evaluate(self):
+        self.sigma_ref = self.fn(self.time)
+        self.f_ref = self.sigma_ref * self.area

@@ -1,0 +1,121 @@
+"""FMU slaves of the loads: thin adapters over musclesim.components.loads.loads.
+
+Every load reads the wire's contraction `flange.s` [m] and gives the tension `flange.f` [N] it
+puts on the wire (the SmaWire FMU's convention); equations in components/loads/README.md.
+"""
+import math
+
+from pythonfmu.enums import Fmi2Status
+
+from musclesim.components.loads import loads
+from musclesim.fmislave import Slave
+
+S_DESCRIPTION = "Contraction of the wire (SmaWire flange.s); positive = the wire shortens"
+
+
+class BiasSpring(Slave):
+    """Preloaded bias spring stretched by the wire's contraction (SPEC 3.1)."""
+
+    description = "Bias spring: tension preload + k s on the wire (SPEC 3.1: 490 N/m, ~125 MPa)"
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        d = loads.SpringParams()
+        self.parameter("k", d.k, "N/m", "Spring stiffness (SPEC 3.1: 490 N/m)")
+        self.parameter("preload", d.preload, "N", "Tension at zero contraction: 125 MPa on the "
+                       "127 um wire (SPEC 3.1 baseline stress)")
+        self.input("flange.s", 0.0, "m", S_DESCRIPTION)
+        self.output("flange.f", "N", "Tension of the spring on the wire", depends=["flange.s"])
+
+    def setup(self):
+        self.p = self.core_params(loads.SpringParams)
+
+    def evaluate(self):
+        self.flange_f = loads.spring_tension(self.flange_s, self.p)
+
+
+class DeadWeight(Slave):
+    """Weight hanging from the wire, quasi-static by default; inertia is an effect (SPEC 2.4, 4)."""
+
+    description = ("Dead weight on the wire: tension m g, or m (g + a) with its inertia "
+                   "(effect; a from the positions at the communication points, one step old)")
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        d = loads.WeightParams()
+        self.parameter("mass", d.mass, "kg", "Mass of the weight: 125 MPa on the 127 um wire "
+                       "(SPEC 2.4, 3.1)")
+        self.parameter("g", d.g, "m/s2", "Gravitational acceleration (standard gravity)")
+        self.parameter("inertia", d.inertia, "1", "Inertia of the weight (effect): 0 = off, "
+                       "tension m g; 1 = on, tension m (g + a)")
+        self.input("flange.s", 0.0, "m", S_DESCRIPTION + ", lifting the weight")
+        self.output("flange.f", "N", "Tension of the weight on the wire", depends=["flange.s"])
+
+    def setup(self):
+        self.p = self.core_params(loads.WeightParams)
+        self.points = ()  # (t, s) at the last two communication points
+
+    def initialize(self):
+        self.points = ()
+
+    def evaluate(self):
+        a = loads.acceleration(self.points + ((self.time, self.flange_s),)) if self.p.inertia else 0.0
+        self.flange_f = loads.weight_tension(a, self.p)
+
+    def advance(self, t, dt):
+        self.points = (self.points + ((t, self.flange_s),))[-2:]
+
+
+class Electromagnet(Slave):
+    """Calibration weight plus a PWM-driven coil pulling a rare-earth magnet (SPEC 2.1, 2.4)."""
+
+    description = ("Electromagnet load: 100 g calibration weight plus a coil (L di/dt = V duty - "
+                   "R i) pulling a magnet with k_f i (1 + nonlinearity i) (SPEC 2.1)")
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        d = loads.MagnetParams()
+        self.parameter("m_cal", d.m_cal, "kg", "Calibration weight (SPEC 2.1: 100 g)")
+        self.parameter("g", d.g, "m/s2", "Gravitational acceleration (standard gravity)")
+        self.parameter("V_supply", d.V_supply, "V", "Supply voltage switched by the PWM "
+                       "(assumption: 12 V)")
+        self.parameter("R", d.R, "Ohm", "Coil resistance (assumption: 24 Ohm, 0.5 A at full duty)")
+        self.parameter("L", d.L, "H", "Coil inductance (assumption: 0.05 H, L/R = 2.1 ms)")
+        self.parameter("k_f", d.k_f, "N/A", "Force per coil current (assumption: 2 N/A, so the "
+                       "duty range spans 77..156 MPa, covering SPEC 2.4's 105..145 MPa)")
+        self.parameter("nonlinearity", d.nonlinearity, "1/A", "Force nonlinearity (effect, "
+                       "0 = off = linear): force k_f i (1 + nonlinearity i)")
+        self.input("duty", 0.0, "1", "PWM duty of the coil voltage, 0..1 (clamped, with one "
+                   "warning)")
+        self.input("flange.s", 0.0, "m", S_DESCRIPTION + " (the force does not depend on it)")
+        self.output("flange.f", "N", "Tension on the wire: calibration weight plus the coil's pull")
+        self.output("i", "A", "Coil current")
+
+    def setup(self):
+        self.p = self.core_params(loads.MagnetParams)
+        self.warned = False
+        self.current = 0.0
+
+    def initialize(self):
+        self.current = loads.coil_steady(self._duty(self.time), self.p)  # settled at the start
+
+    def evaluate(self):
+        self.i = self.current
+        self.flange_f = loads.magnet_tension(self.current, self.p)
+
+    def advance(self, t, dt):
+        self.current = loads.coil_step(self.current, self._duty(t), dt, self.p)
+
+    def _duty(self, t):
+        """The duty input clamped to [0, 1]; the first clamp is logged as a warning."""
+        duty = self.duty
+        if math.isnan(duty):
+            raise ValueError(f"input duty is NaN at t = {t:g} s")
+        if 0.0 <= duty <= 1.0:
+            return duty
+        clamped = min(max(duty, 0.0), 1.0)
+        if not self.warned:
+            self.warned = True
+            self.log(f"duty {duty:g} at t = {t:g} s is outside [0, 1]; clamped to {clamped:g} "
+                     "(warned once)", Fmi2Status.warning)
+        return clamped

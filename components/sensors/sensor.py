@@ -1,0 +1,60 @@
+"""A scalar sensor: first-order lag, bias, seeded noise and quantisation, all off by default.
+
+The core of every sensor FMU (thermocouple, load cell, laser displacement sensor; SPEC 2.1, 4): the
+sensing element follows the measured signal with time constant tau; the reading adds a bias and
+Gaussian noise and is rounded to the quantisation step.
+"""
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from musclesim.components.checks import require
+
+
+@dataclass(frozen=True)
+class SensorParams:
+    """Lag, bias, noise and quantisation of a scalar sensor; zeros = a perfect sensor."""
+
+    tau: float = 0.0  # s, first-order lag (0: none)
+    bias: float = 0.0  # same unit as the signal
+    noise_std: float = 0.0  # same unit as the signal
+    quantum: float = 0.0  # resolution (0: none)
+    seed: float = 0.0  # noise seed (a Real so that it is an FMU parameter like the others)
+
+    def check(self):
+        """Raise ValueError naming the first parameter outside its valid range."""
+        require(self, non_negative=("tau", "noise_std", "quantum"))
+        if self.seed != int(self.seed) or self.seed < 0:
+            raise ValueError(f"seed must be a non-negative whole number (got {self.seed!r})")
+
+
+def lag(x, u, dt, tau):
+    """Exact first-order lag update over dt for input u held constant."""
+    if tau <= 0:
+        return u
+    return u + (x - u) * math.exp(-dt / tau)
+
+
+def noise_sample(p, rng):
+    """One noise sample of the reading (0 when the noise is off; the generator is not used then)."""
+    return p.noise_std * rng.standard_normal() if p.noise_std > 0 else 0.0
+
+
+def reading(x, p, noise=0.0):
+    """Sensor reading of the (lagged) signal x: bias, a noise sample, quantisation.
+
+    Examples
+    --------
+    >>> reading(300.26, SensorParams(bias=-1.0, quantum=0.25))
+    299.25
+    """
+    y = x + p.bias + noise
+    if p.quantum > 0:
+        y = p.quantum * round(y / p.quantum)
+    return y
+
+
+def make_rng(p):
+    """The sensor's random generator (its state is part of the FMU state)."""
+    return np.random.default_rng(int(p.seed))
