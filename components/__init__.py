@@ -15,6 +15,7 @@ CATALOGUE = {
     "LoadCell": "musclesim.components.sensors.slaves:LoadCell",
     "LaserSensor": "musclesim.components.sensors.slaves:LaserSensor",
     "SmaWire": "musclesim.components.sma.slaves:SmaWire",
+    "PreisachInverse": "musclesim.components.sma.slaves:PreisachInverse",
     "BiasSpring": "musclesim.components.loads.slaves:BiasSpring",
     "DeadWeight": "musclesim.components.loads.slaves:DeadWeight",
     "Electromagnet": "musclesim.components.loads.slaves:Electromagnet",

@@ -31,10 +31,12 @@ STATEFUL = {
     # hot in the transformation, so the hysteresis memory moves; latent heat and drift state too
     "SmaWire": {"T_init": 350.0, "latent_heat": 20e3, "drift_shift": 3.0, "drift_amplitude": -0.1},
 }
-# outputs that may repeat over five steps with one input: square waves, a memoryless spring
-MEMORYLESS = {"FrictionSwitchingInputs", "BiasSpring"}
-# added to the random inputs in [-1, 1] so that they stay physical: K, N (~116 MPa on the wire)
-INPUT_OFFSETS = {"SmaWire": {"T_amb": 293.15, "flange.f": 1.47}}
+# outputs that may repeat over five steps with one input: square waves, a memoryless spring, an
+# inverse whose random strain references are clamped to the data set's range
+MEMORYLESS = {"FrictionSwitchingInputs", "BiasSpring", "PreisachInverse"}
+# added to the random inputs in [-1, 1] so that they stay physical: K, N (~116 MPa on the wire), Pa
+INPUT_OFFSETS = {"SmaWire": {"T_amb": 293.15, "flange.f": 1.47},
+                 "PreisachInverse": {"sigma_ref": 125e6}}
 
 
 @pytest.mark.parametrize("name", CATALOGUE)

@@ -95,6 +95,23 @@ def test_deepcopy_saves_and_restores_the_state():
     assert [saved.step(e, 130e6) for e in (0.015, 0.025)] == ahead
 
 
+def test_peek_returns_step_without_committing():
+    """peek(e, s) is step(e, s) on the present memory, bit for bit, and leaves the memory as it was;
+    clear then step is reset."""
+    eps_r, sigma = strain_profile("SP IV")(TIMES[:2000]), loading_profile("LP V")(TIMES[:2000])
+    stepped, peeked = PreisachInverse(SMA, bases=BASES), PreisachInverse(SMA, bases=BASES)
+    peeked.clear(sigma[0])
+    assert stepped.reset(eps_r[0], sigma[0]) == peeked.peek(eps_r[0], sigma[0])
+    peeked.step(eps_r[0], sigma[0])
+    for e, s in zip(eps_r[1:].tolist(), sigma[1:].tolist()):
+        memory = copy.deepcopy(peeked.__dict__)
+        for trial in (e, 0.0, 0.0376, e):  # trials that turn, wipe out and saturate
+            T = peeked.peek(trial, s)
+        assert peeked.__dict__ == memory
+        assert T == stepped.step(e, s) == peeked.step(e, s)
+    assert peeked.extrema == stepped.extrema and len(stepped.extrema) > 3
+
+
 def test_out_of_range_reference_is_clamped_with_one_warning():
     inverse = PreisachInverse(SMA, bases=BASES)
     with pytest.warns(RangeWarning, match=r"reference strain 0\.05 at t = 7 s .*\[0, 0\.0"):

@@ -1,4 +1,5 @@
 """Inverse of the modified Preisach model (SPEC 2.4): strain and stress in, temperature out."""
+import copy
 import math
 
 import numpy as np
@@ -103,9 +104,31 @@ class PreisachInverse(StressInput):
 
     def reset(self, eps_r, sigma, t=None):
         """Start from the all-off state at b0, then take eps_r [-], sigma [Pa]; return T_out [C]."""
+        self.clear(sigma, t)
+        return self.step(eps_r, sigma, t)
+
+    def clear(self, sigma, t=None):
+        """The all-off memory at b0 under stress sigma [Pa], before any reference: `reset`
+        without its first step (clear, then step the first sample, is reset bit for bit)."""
         self._set_stress(sigma, t)
         self._all_off()
-        return self.step(eps_r, sigma, t)
+
+    def peek(self, eps_r, sigma, t=None):
+        """The T_out [C] `step` would return for eps_r [-], sigma [Pa], leaving the memory
+        unchanged: what an output at a communication point needs before the sample is committed
+        (the FMU's direct feedthrough). Out-of-range warnings count as given.
+
+        Examples
+        --------
+        >>> from musclesim.components.sma.analytic import sma_like_surface
+        >>> inv = PreisachInverse(sma_like_surface())
+        >>> T = inv.step(0.02, 125e6)
+        >>> inv.peek(0.01, 125e6) < T, inv.extrema
+        (True, [30.0])
+        """
+        trial = copy.copy(self)  # floats and flags are rebound by step, the lists change in place
+        trial.extrema, trial.prefix, trial.stresses = self.extrema[:], self.prefix[:], self.stresses[:]
+        return trial.step(eps_r, sigma, t)
 
     def step(self, eps_r, sigma, t=None):
         """Take the reference strain eps_r [-] and stress sigma [Pa] (at time t [s], used only in

@@ -1,4 +1,5 @@
-"""FMU slave of the SMA wire: a thin adapter over the thermal, Preisach and drift cores."""
+"""FMU slaves of the SMA wire and of its inverse: thin adapters over the thermal, Preisach, drift
+and inverse cores."""
 import math
 import warnings
 from pathlib import Path
@@ -6,12 +7,16 @@ from pathlib import Path
 from pythonfmu.enums import Fmi2Status
 
 from musclesim.components.sma import datasets, drift, thermal
+from musclesim.components.sma.inverse import InverseBases
+from musclesim.components.sma.inverse import PreisachInverse as InverseCore
 from musclesim.components.sma.preisach import PreisachModel
 from musclesim.components.sma.surface import clamp
 from musclesim.fmislave import Slave
 
 ZERO_C = 273.15  # K; the FMU speaks K, the cores C
 LOAD_150G = 0.150 * 9.80665  # N, the 150 g weight of the multiplier tests (SPEC 3.1): 116 MPa
+
+_BASES = {}  # id(surface) -> (surface, its InverseBases); the surface is held, so ids stay unique
 
 
 class SmaWire(Slave):
@@ -109,10 +114,7 @@ class SmaWire(Slave):
         self.dp = drift.DriftParams(amplitude_change=self.drift_amplitude, shift=self.drift_shift,
                                     cycles_to_settle=self.drift_settle_cycles)
         self.dp.check()
-        # the data files this FMU ships: the folder the modules were first imported from may be
-        # another instance's, already deleted
-        root = datasets.PACKAGE_DIR if self.resources is None else \
-            Path(self.resources) / "musclesim" / "components" / "sma"
+        root = _data_root(self)
         # stress_blend > 0 puts back part of the stress dependence that sigma_surface removed
         self.blend = self.sigma_surface > 0 and self.stress_blend > 0
         self.surface = datasets.surface(self.hysteresis, self.sigma_surface, root)
@@ -193,3 +195,82 @@ class SmaWire(Slave):
             s = self.surface
             self._eps_max_at = (sigma, s.F(s.t_hi, s.t_lo, sigma))
         return self._eps_max_at[1]
+
+
+class PreisachInverse(Slave):
+    """Inverse of the modified Preisach model (SPEC 2.4): reference strain and stress in, the
+    temperature reference that makes the wire produce that strain out (feed-forward).
+
+    A thin adapter over `inverse.PreisachInverse`. T_ref is direct feedthrough: at every
+    communication point it is the core's `peek` at the present inputs (memory untouched); each
+    step commits that sample with the core's `step`, so the memory sees every sample once, exactly
+    as the core stepped by hand (clear at initialization, then one step per communication step =
+    reset, step, step, ...). ``sigma_surface`` = 0: stress-aware inverse over the hypersurface;
+    > 0: the single constant-stress surface at that stress for every stress ("stress ignored").
+    Equations: components/sma/README.md.
+    """
+
+    description = ("Feed-forward inverse of the modified Preisach model: reference strain and "
+                   "stress in, temperature reference out (SPEC 2.4)")
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self.parameter("hysteresis", 0.0, "1",
+                       "Hysteresis data set: 0 = reference wire (1 C grid, 60-200 MPa); k >= 1 = "
+                       "FORC data set k of sma/data/forc-sets.toml shipped in the FMU")
+        self.parameter("sigma_surface", 0.0, "Pa",
+                       "0 = stress-aware inverse over the hypersurface; > 0 = the single surface "
+                       "at this stress for every stress, stress ignored (SPEC 2.4)")
+        self.input("eps_ref", 0.0, "1", "Reference strain: contraction / length, positive = "
+                   "contraction, within [0, maximum strain of the data set]")
+        self.input("sigma_ref", LOAD_150G / thermal.cross_section(thermal.ThermalParams()), "Pa",
+                   "Reference stress (start: the 150 g weight on the 127 um wire, 116 MPa)")
+        self.output("T_ref", "K", "Temperature reference for the wire's temperature controller",
+                    depends=["eps_ref", "sigma_ref"])
+
+    def setup(self):
+        self.surface = datasets.surface(self.hysteresis, self.sigma_surface, _data_root(self))
+        key = id(self.surface)
+        if key not in _BASES:  # ~0.1-0.3 s per data set: once per process
+            _BASES[key] = (self.surface, InverseBases(self.surface))
+        self.bases = _BASES[key][1]
+        self._start()
+
+    def initialize(self):
+        self._start()  # the inputs are known now
+
+    def _start(self):
+        self.core = InverseCore(self.surface, bases=self.bases)
+        self._checked(self.time)
+        self._logged(self.core.clear, self.sigma_ref, self.time)
+
+    def evaluate(self):
+        t = self.time
+        self._checked(t)
+        self.T_ref = self._logged(self.core.peek, self.eps_ref, self.sigma_ref, t) + ZERO_C
+
+    def advance(self, t, dt):
+        self._checked(t)
+        self._logged(self.core.step, self.eps_ref, self.sigma_ref, t)
+
+    def _checked(self, t):
+        for name, value in (("eps_ref", self.eps_ref), ("sigma_ref", self.sigma_ref)):
+            if not math.isfinite(value):
+                raise ValueError(f"input {name} is {value!r} at t = {t:g} s")
+
+    def _logged(self, call, *args):
+        """call(*args) with the core's one-time range warnings sent to the FMU log."""
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            result = call(*args)
+        for w in caught:
+            self.log(str(w.message), Fmi2Status.warning)
+        return result
+
+
+def _data_root(slave):
+    """The data files the FMU ships: the folder the modules were first imported from may be
+    another instance's, already deleted."""
+    if slave.resources is None:
+        return datasets.PACKAGE_DIR
+    return Path(slave.resources) / "musclesim" / "components" / "sma"
