@@ -68,17 +68,23 @@ def _cmd_sweep(args):
 
 
 def _cmd_linear(args):
-    from musclesim import linear
+    from musclesim import build, linear
 
     if args.system == "crawler":
-        report, text = linear.crawler(), linear.format_crawler
+        report, text, toml = linear.crawler(), linear.format_crawler, None
+    elif args.system == "sma-thermal":
+        report, text, toml = linear.sma_thermal(), linear.format_sma_thermal, linear.gain_table_toml
     else:
-        report, text = linear.sma_thermal(), linear.format_sma_thermal
-        if args.write:
-            Path(args.write).write_text(linear.gain_table_toml(report))
+        build.check_fresh(args.fmus)
+        report, text, toml = linear.sma_load(args.fmus), linear.format_sma_load, \
+            linear.load_gains_toml
+    if args.write and toml is None:
+        raise UserError(f"--write is for sma-thermal and sma-load, not {args.system}")
+    if args.write:
+        Path(args.write).write_text(toml(report))
     print(json.dumps(report, indent=2) if args.json else text(report))
     if args.write:
-        print(f"wrote the gain table to {args.write}", file=sys.stderr)
+        print(f"wrote the gains to {args.write}", file=sys.stderr)
     return 0
 
 
@@ -156,6 +162,18 @@ def _cmd_benchmark_diagnosis(args):
                            lambda text: print(f"musclesim: {text}", file=sys.stderr))
     print(json.dumps({k: v for k, v in scores.items() if k != "per_case"}, indent=2))
     print(f"wrote {Path(args.out) / 'scores.json'} (per-case table inside)")
+    return 0
+
+
+def _cmd_table(args):
+    from musclesim import table
+
+    report = table.sma_position(args.out, args.scenario, args.fmus, args.stop_time,
+                                args.scheduler, args.workers, args.only)
+    for name, stats in report.items():
+        print(f"{name}: mean strain RMSE {stats['rmse'][0]:.4g} (std {stats['rmse'][1]:.3g}), "
+              f"{stats['percent'][0]:.3g} % of the maximum reference strain")
+    print(f"wrote the tables (CSV, Markdown) and the per-case figures into {args.out}")
     return 0
 
 
@@ -246,16 +264,31 @@ def _parser():
     common(q)
     q.set_defaults(func=_cmd_benchmark_diagnosis)
 
+    q = sub.add_parser("table", help="the study's tables: sma-position (SPEC 2.4 matrix on Dask)")
+    q.add_argument("table", choices=["sma-position"], help="which tables")
+    q.add_argument("--out", required=True, help="folder for the cases, tables and figures")
+    q.add_argument("--scenario", default="scenarios/sma-position-control.toml",
+                   help="the position-control scenario the cases override")
+    q.add_argument("--stop-time", type=float, help="shorter runs than the scenario's 550 s")
+    q.add_argument("--only", action="append", choices=["constant-stress", "stress-aware",
+                                                       "stress-ignored"],
+                   help="run only these tables (repeatable)")
+    dask_args(q)
+    common(q)
+    q.set_defaults(func=_cmd_table)
+
     q = sub.add_parser("bench", help="timing benchmarks of the pure cores (on demand)")
     q.add_argument("core", choices=["preisach"], help="the core to time")
     q.add_argument("--json", action="store_true", help="print JSON instead of text")
     q.set_defaults(func=_cmd_bench)
 
     q = sub.add_parser("linear", help="linear analysis with python-control")
-    q.add_argument("system", choices=["crawler", "sma-thermal"], help="the system to analyse")
+    q.add_argument("system", choices=["crawler", "sma-thermal", "sma-load"],
+                   help="the system to analyse")
     q.add_argument("--json", action="store_true", help="print JSON instead of text")
-    q.add_argument("--write", metavar="FILE", help="sma-thermal: write the GainScheduledPID "
+    q.add_argument("--write", metavar="FILE", help="sma-thermal, sma-load: write the controller "
                                                    "parameters (TOML) a scenario can read")
+    common(q)
     q.set_defaults(func=_cmd_linear)
     return p
 

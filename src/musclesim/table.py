@@ -1,0 +1,160 @@
+"""`musclesim table sma-position`: the study's position-control matrix (SPEC 2.4) as tables.
+
+Three tables, each cell one run of scenarios/sma-position-control.toml with ``--set`` overrides:
+
+- ``constant-stress``: SP I-IV (rows) at each constant stress 105..145 MPa (columns);
+- ``stress-aware``: SP I-IV (rows) under LP I-VI (columns), the stress-aware inverse;
+- ``stress-ignored``: SP IV under LP I-VI (rows) with each single-surface inverse base
+  105..145 MPa (columns).
+
+A cell is the strain RMSE between the reference and the laser's strain (contraction / wire
+length) and that RMSE as a percentage of the maximum reference strain. Runs go to Dask (the
+sweep machinery: a local cluster or ``--scheduler``), one folder per case, resumable; each table
+is written as CSV and Markdown with the mean and standard deviation of its cells, and every case
+gets a figure (reference vs measured strain, stress, temperature).
+"""
+import csv
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from musclesim.components.sma import profiles
+from musclesim.errors import UserError
+
+STRESSES = (105e6, 115e6, 125e6, 135e6, 145e6)  # Pa (SPEC 2.4)
+SP = profiles.STRAIN_PROFILES
+LP = profiles.LOADING_PROFILES
+
+
+def cases():
+    """{table: [(row, column, case id, overrides)]} of the study's matrix."""
+    def mpa(s):
+        return f"{s / 1e6:g} MPa"
+
+    out = {"constant-stress": [], "stress-aware": [], "stress-ignored": []}
+    for i, sp in enumerate(SP, 1):
+        for s in STRESSES:
+            out["constant-stress"].append((sp, mpa(s), f"const-{i}-{s / 1e6:g}", [
+                f"strain.profile={i}.0", f"loading.lo={s!r}", f"loading.hi={s!r}"]))
+        for j, lp in enumerate(LP, 1):
+            out["stress-aware"].append((sp, lp, f"aware-{i}-{j}", [
+                f"strain.profile={i}.0", f"loading.profile={j}.0"]))
+    for j, lp in enumerate(LP, 1):
+        for s in STRESSES:
+            out["stress-ignored"].append((lp, mpa(s), f"ignored-{j}-{s / 1e6:g}", [
+                "strain.profile=4.0", f"loading.profile={j}.0", f"inverse.sigma_surface={s!r}"]))
+    return out
+
+
+def strain_error(results_csv, length):
+    """(RMSE, % of the maximum reference strain) of a run's results.csv; laser strain = s / L."""
+    from musclesim.timeseries import read_time_series
+
+    problems = []
+    header, time, data = read_time_series(results_csv, problems)
+    if problems:
+        raise UserError(f"{results_csv}: " + "; ".join(problems))
+    col = {name: data[:, j] for j, name in enumerate(header[1:])}
+    ref = col["strain.eps_ref"]
+    err = ref - col["laser.s_meas"] / length
+    rmse = float(np.sqrt(np.mean(err ** 2)))
+    return rmse, 100.0 * rmse / float(np.max(ref)) if np.max(ref) > 0 else math.nan
+
+
+def write_table(out, name, rows, columns, cells):
+    """Write DIR/<name>.csv and DIR/<name>.md; `cells[(row, column)]` = (RMSE, %) or None."""
+    values = [v for v in cells.values() if v is not None]
+    stats = {}
+    for k, label in ((0, "rmse"), (1, "percent")):
+        xs = [v[k] for v in values]
+        stats[label] = (float(np.mean(xs)), float(np.std(xs))) if xs else (math.nan, math.nan)
+    with open(out / f"{name}.csv", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["row", "column", "strain_rmse", "percent_of_max_reference"])
+        for r in rows:
+            for c in columns:
+                v = cells.get((r, c))
+                w.writerow([r, c, *(("", "") if v is None else (repr(v[0]), repr(v[1])))])
+        for label, (m, s) in stats.items():
+            w.writerow([f"mean {label}", "", repr(m), ""] if label == "rmse" else
+                       [f"mean {label}", "", "", repr(m)])
+            w.writerow([f"std {label}", "", repr(s), ""] if label == "rmse" else
+                       [f"std {label}", "", "", repr(s)])
+    lines = [f"### {name}: strain RMSE [1e-3] (% of the maximum reference strain)", "",
+             "| | " + " | ".join(columns) + " |", "|---" * (len(columns) + 1) + "|"]
+    for r in rows:
+        cell = [("-" if cells.get((r, c)) is None else
+                 f"{cells[(r, c)][0] * 1e3:.3f} ({cells[(r, c)][1]:.2f} %)") for c in columns]
+        lines.append(f"| {r} | " + " | ".join(cell) + " |")
+    lines += ["", f"Mean {stats['rmse'][0] * 1e3:.3f}e-3 (std {stats['rmse'][1] * 1e3:.3f}e-3); "
+              f"{stats['percent'][0]:.2f} % (std {stats['percent'][1]:.2f} %) over "
+              f"{len(values)} of {len(rows) * len(columns)} cells.", ""]
+    (out / f"{name}.md").write_text("\n".join(lines))
+    return stats
+
+
+def figure(case_dir, length, title):
+    """case_dir/figure.png: reference vs measured strain, stress, temperature."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from musclesim.timeseries import read_time_series
+
+    header, t, data = read_time_series(case_dir / "results.csv", [])
+    col = {name: data[:, j] for j, name in enumerate(header[1:])}
+    fig, axes = plt.subplots(3, 1, sharex=True, figsize=(9, 7))
+    panels = [(("strain.eps_ref", 1, "reference"), ("laser.s_meas", 1 / length, "laser")),
+              (("loading.sigma_ref", 1e-6, "reference"), ("wire.stress", 1e-6, "wire")),
+              (("inverse.T_ref", 1, "inverse T_ref"), ("thermocouple.T_meas", 1, "thermocouple"))]
+    for ax, panel, label in zip(axes, panels, ("strain [1]", "stress [MPa]", "temperature [K]")):
+        for name, scale, legend in panel:
+            ax.plot(t, col[name] * scale, lw=0.8, label=legend)
+        ax.set_ylabel(label, fontsize=8)
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+    axes[-1].set_xlabel("time [s]")
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(case_dir / "figure.png", dpi=90)
+    plt.close(fig)
+
+
+def sma_position(out, scenario_path, fmu_dir="fmus", stop_time=None, scheduler=None,
+                 workers=None, only=None):
+    """Run the matrix (or the tables named in `only`) and write the tables; return their stats."""
+    from musclesim import build, scenario, sweep
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    s = scenario.load(scenario_path, (), stop_time)  # checked once, not in every case
+    build.check_fresh(fmu_dir)
+    length = float(s.instances["wire"].parameters.get("length", 0.1))
+    matrix = {k: v for k, v in cases().items() if not only or k in only}
+    todo = [(cid, sets) for rows in matrix.values() for _, _, cid, sets in rows
+            if sweep._finished(out / "cases" / cid) is None]
+    if todo:
+        with sweep.dask_client(scheduler, workers, len(todo)) as client:
+            futures = [client.submit(sweep.run_case, str(scenario_path), str(out / "cases" / cid),
+                                     str(fmu_dir), sets, stop_time, pure=False)
+                       for cid, sets in todo]
+            client.gather(futures)
+    report = {}
+    for name, rows in matrix.items():
+        cells = {}
+        for r, c, cid, _ in rows:
+            case_dir = out / "cases" / cid
+            if sweep._finished(case_dir) is None:
+                cells[(r, c)] = None
+                continue
+            cells[(r, c)] = strain_error(case_dir / "results.csv", length)
+            if not (case_dir / "figure.png").is_file():
+                figure(case_dir, length, f"{name}: {r}, {c}")
+        row_names = list(dict.fromkeys(r for r, _, _, _ in rows))
+        col_names = list(dict.fromkeys(c for _, c, _, _ in rows))
+        report[name] = write_table(out, name, row_names, col_names, cells)
+    (out / "tables.json").write_text(json.dumps(report, indent=2) + "\n")
+    return report

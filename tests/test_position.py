@@ -1,0 +1,75 @@
+"""SMA position control (issue 5, SPEC 2.4): short runs of each kind of the study's matrix, the
+stress loop's design on the identified load path, the tables' computation."""
+import math
+
+import numpy as np
+import pytest
+
+from musclesim import linear, master, scenario, table
+
+from conftest import SCENARIOS
+
+POSITION = SCENARIOS / "sma-position-control.toml"
+
+
+def run(fmu_dir, sets, stop_time=3.0):
+    s = scenario.load(POSITION, sets, stop_time)
+    res = master.Master(s, fmu_dir).run()
+    assert res.error is None, res.error
+    return res
+
+
+@pytest.mark.parametrize("kind", ["constant-stress", "stress-aware", "stress-ignored"])
+def test_each_kind_of_the_matrix_runs_and_tracks(fmu_dir, kind):
+    res = run(fmu_dir, table.cases()[kind][0][3])  # the first cell of its table
+    settled = res.time >= 0.5  # after the stress loop's start from the weight alone
+    stress_error = res["wire.stress"][settled] - res["loading.sigma_ref"][settled]
+    assert np.max(np.abs(stress_error)) < 1e6  # Pa: the stress loop holds within 1 MPa
+    temperature_error = res["thermocouple.T_meas"] - res["inverse.T_ref"]
+    assert np.sqrt(np.mean(temperature_error[settled] ** 2)) < 2.0  # K
+    assert np.max(res["wire.strain"]) > 0.5 * np.max(res["strain.eps_ref"])  # the wire moves
+
+
+def test_stress_ignored_inverse_does_not_follow_the_stress(fmu_dir):
+    sets = ["strain.profile=1.0", "loading.profile=1.0"]
+    aware = run(fmu_dir, sets, 2.0)
+    ignored = run(fmu_dir, sets + ["inverse.sigma_surface=125e6"], 2.0)
+    assert not np.array_equal(aware["inverse.T_ref"], ignored["inverse.T_ref"])
+
+
+def test_stress_loop_is_designed_on_the_identified_load_path(fmu_dir):
+    report = linear.sma_load(fmu_dir)
+    K, tau = report["identified"]["K"], report["identified"]["tau"]
+    assert K == pytest.approx(2.0 * 12.0 / 24.0, rel=1e-6)  # k_f V / R of the Electromagnet
+    assert tau == pytest.approx(0.05 / 24.0, rel=1e-6)  # L / R
+    assert report["Kp"] > 0 and report["Ki"] > 0
+    assert report["sampled_pole_radius"] < 1 and report["phase_margin_deg"] > 45
+    gains = (SCENARIOS / "params" / "sma-load-gains.toml").read_text()
+    assert linear.load_gains_toml(report) == gains  # the scenario uses this design
+
+
+def test_table_of_a_fixed_small_run(tmp_path):
+    t = np.linspace(0.0, 1.0, 5)
+    ref = np.array([0.0, 0.01, 0.02, 0.03, 0.04])
+    laser = (ref + np.array([0.0, 0.001, -0.001, 0.002, 0.0])) * 0.1  # s = strain x 0.1 m
+    csv = tmp_path / "results.csv"
+    np.savetxt(csv, np.column_stack([t, ref, laser]), delimiter=",",
+               header="time,strain.eps_ref,laser.s_meas", comments="")
+    rmse, percent = table.strain_error(csv, 0.1)
+    assert rmse == pytest.approx(math.sqrt((1 + 1 + 4) / 5) * 1e-3)
+    assert percent == pytest.approx(100 * rmse / 0.04)
+    cells = {("SP I", "105 MPa"): (1e-3, 2.0), ("SP I", "115 MPa"): (3e-3, 4.0),
+             ("SP II", "105 MPa"): None, ("SP II", "115 MPa"): (2e-3, 6.0)}
+    stats = table.write_table(tmp_path, "t", ["SP I", "SP II"], ["105 MPa", "115 MPa"], cells)
+    assert stats["rmse"][0] == pytest.approx(2e-3) and stats["percent"] == pytest.approx(
+        (4.0, math.sqrt(8 / 3)))
+    md = (tmp_path / "t.md").read_text()
+    assert "| SP II | - | 2.000 (6.00 %) |" in md and "over 3 of 4 cells" in md
+    assert (tmp_path / "t.csv").read_text().count("\n") == 4 + 1 + 4
+
+
+def test_the_matrix_is_the_studys():
+    c = table.cases()
+    assert [len(c[k]) for k in ("constant-stress", "stress-aware", "stress-ignored")] == \
+        [20, 24, 30]
+    assert all("strain.profile=4.0" in sets for *_, sets in c["stress-ignored"])
