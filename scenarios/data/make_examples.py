@@ -5,11 +5,18 @@ and quantisation, strain-gauge noise, quantisation and a one-sample latency).
     .venv/bin/python scenarios/data/make_examples.py      (from the repository's root)
 
 - sma-tracking-thermocouple-lag: the tracking bench, thermocouple with a 0.25 s lag;
-- sma-stress-ignored: the stress bench, whose model ignores stress, on a wire that follows it.
+- sma-stress-ignored: the stress bench, whose model ignores stress, on a wire that follows it;
+- sma-position-stress-ignored: the position-control bench (SPEC 2.4) run with the stress-ignored
+  inverse, SP IV under LP I, LP II and LP V, 60 s each, logged at 50 Hz (RMS voltage and mean
+  tension of each 20 ms, the thermocouple and the laser sampled, both with noise); LP I trains,
+  the other loading profiles are held out. Its model is scenarios/sma-position-wire.toml.
 """
 from pathlib import Path
 
-from musclesim import blind
+import numpy as np
+
+from musclesim import blind, master, scenario
+from musclesim.components.sma import profiles
 
 HERE = Path(__file__).parent
 EXAMPLES = {
@@ -23,10 +30,55 @@ EXAMPLES = {
         "surface"),
 }
 
+POSITION_RUNS = ("LP I", "LP II", "LP V")
+LOG_EVERY = 50  # 2.5 kHz samples per 50 Hz log row
+GAP = 10.0  # s between the experiments in data.csv
+
+
+def position_stress_ignored(path, duration=60.0, seed=7):
+    """Record the position-control runs and write them as one data set with three experiments."""
+    rng = np.random.default_rng(seed)
+    rows, spans = [], []
+    for j, lp in enumerate(POSITION_RUNS):
+        k = 1 + profiles.LOADING_PROFILES.index(lp)
+        s = scenario.load(HERE.parent / "sma-position-control.toml",
+                          ["strain.profile=4.0", f"loading.profile={k}.0",
+                           "inverse.sigma_surface=125e6"], duration)
+        res = master.Master(s, HERE.parent.parent / "fmus").run()
+        assert res.error is None, res.error
+        n = (len(res.time) - 1) // LOG_EVERY
+        block = slice(1, n * LOG_EVERY + 1)  # each log row closes a 20 ms block
+
+        def blocks(x):
+            return x[block].reshape(n, LOG_EVERY)
+        t0 = j * (duration + GAP)
+        t = np.round(t0 + res.time[LOG_EVERY:n * LOG_EVERY + 1:LOG_EVERY], 6)
+        u = np.sqrt(np.mean(blocks(res["tpid.u"]) ** 2, axis=1))
+        f = np.mean(blocks(res["loadcell.f_meas"]), axis=1)
+        T = res["thermocouple.T_meas"][LOG_EVERY::LOG_EVERY][:n] + 0.08 * rng.standard_normal(n)
+        x = res["laser.s_meas"][LOG_EVERY::LOG_EVERY][:n] + 2e-6 * rng.standard_normal(n)
+        rows.append(np.column_stack([t, u, f, T, x]))
+        spans.append((lp, float(t[0]), float(t[-1])))
+    path.mkdir(parents=True, exist_ok=True)
+    names = ["wire.u", "wire.flange.f", "thermocouple.T_meas", "laser.s_meas"]
+    np.savetxt(path / "data.csv", np.vstack(rows), delimiter=",",
+               header=",".join(["time", *names]), comments="", fmt="%.9g")
+    lines = ['description = "Position control (SPEC 2.4) with the stress-ignored inverse: SP IV '
+             'under LP I, LP II, LP V; the model ignores stress"',
+             'scenario = "sma-position-wire"', 'inputs = ["wire.u", "wire.flange.f"]',
+             'outputs = ["thermocouple.T_meas", "laser.s_meas"]', ""]
+    for lp, a, b in spans:
+        lines += [f'[experiments."{lp}"]', f"span = [{a!r}, {b!r}]", ""]
+    lines += ["[split]", 'held_out = ["LP II", "LP V"]', ""]
+    (path / "manifest.toml").write_text("\n".join(lines))
+
+
 if __name__ == "__main__":
     for i, (name, (truth, description)) in enumerate(EXAMPLES.items()):
         case = {"case": name, "latency_samples": 1, "seed": 100 + i, "strain_gain": 1.0, **truth}
         time, cols = blind.record(case, HERE.parent, HERE.parent.parent / "fmus")
-        scenario, inputs, outputs, _ = blind.BENCHES[case["bench"]]
-        blind.write_data_set(HERE / name, time, cols, inputs, outputs, scenario, description)
+        bench, inputs, outputs, _ = blind.BENCHES[case["bench"]]
+        blind.write_data_set(HERE / name, time, cols, inputs, outputs, bench, description)
         print(f"wrote {HERE / name}")
+    position_stress_ignored(HERE / "sma-position-stress-ignored")
+    print(f"wrote {HERE / 'sma-position-stress-ignored'}")
