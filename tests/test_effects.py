@@ -12,7 +12,10 @@ from conftest import SCENARIOS
 # a scenario and an instance per component to switch effects on in
 WHERE = {"CrawlerBody": ("crawler-ideal", "body"), "FrictionBlock": ("crawler-ideal", "friction1"),
          "SmaWire": ("sma-temperature-tracking", "wire"),
-         "Thermocouple": ("sma-temperature-tracking", "thermocouple")}
+         "Thermocouple": ("sma-temperature-tracking", "thermocouple"),
+         "DeadWeight": ("sma-dead-weight", "weight"), "LaserSensor": ("sma-dead-weight", "laser"),
+         "Electromagnet": ("sma-position-control", "magnet"),
+         "LoadCell": ("sma-position-control", "loadcell")}
 # context that lets a slow effect show within a short run (no effect by itself when it is off)
 CONTEXT = {"training drift": ["wire.drift_cycles_start=200"],
            # a model ignoring stress (one surface at 125 MPa) of a wire loaded with 145 MPa
@@ -25,7 +28,8 @@ def test_library_covers_the_issue_list():
     assert {"stress dependence ignored", "thermocouple lag", "thermocouple bias", "latent heat",
             "clamp heat loss", "convection change", "training drift", "anchoring slip",
             "friction switching time", "pressure-dependent stiffness",
-            "viscous ground drag"} <= set(IDS)
+            "viscous ground drag", "load inertia", "electromagnet force nonlinearity",
+            "load-cell lag", "laser noise"} <= set(IDS)
     assert effects.find("anchoring slip").per_instance
     with pytest.raises(KeyError, match="known: stress dependence ignored"):
         effects.find("gremlins")

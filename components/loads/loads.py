@@ -50,14 +50,16 @@ class WeightParams:
 
     mass: float = PRELOAD_125MPA / G  # kg
     g: float = G  # m/s^2
-    inertia: float = 0.0  # effect: 0 = off (tension m g), 1 = on (tension m (g + a))
+    inertia: float = 0.0  # effect: share of the weight's inertia the wire feels, 0 = off (m g)
+                          # .. 1 = the whole weight (m (g + a))
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("mass",), non_negative=("g",))
         _require_finite(self, ("mass", "g"))
-        if self.inertia not in (0.0, 1.0):
-            raise ValueError(f"inertia must be 0 (off) or 1 (on) (got {self.inertia!r})")
+        if not 0.0 <= self.inertia <= 1.0:
+            raise ValueError(f"inertia must be within [0, 1] (0 = off, 1 = the whole weight; "
+                             f"got {self.inertia!r})")
 
 
 def acceleration(points):
@@ -78,7 +80,7 @@ def acceleration(points):
 def weight_tension(a, p):
     """Tension [N] of the dead weight lifted with acceleration a [m/s^2] (a is ignored when the
     inertia effect is off)."""
-    return p.mass * (p.g + a) if p.inertia else p.mass * p.g
+    return p.mass * (p.g + p.inertia * a) if p.inertia else p.mass * p.g
 
 
 @dataclass(frozen=True)

@@ -47,7 +47,7 @@ class DeadWeight(Slave):
                        "(SPEC 2.4, 3.1)")
         self.parameter("g", d.g, "m/s2", "Gravitational acceleration (standard gravity)")
         self.parameter("inertia", d.inertia, "1", "Inertia of the weight (effect): 0 = off, "
-                       "tension m g; 1 = on, tension m (g + a)")
+                       "tension m g; r in (0, 1]: tension m (g + r a)")
         self.input("flange.s", 0.0, "m", S_DESCRIPTION + ", lifting the weight")
         self.output("flange.f", "N", "Tension of the weight on the wire", depends=["flange.s"])
 

@@ -515,6 +515,8 @@ def regimes(problem, unit):
             f = cols[force]
             out["stress_extremes"].append(np.abs(f - np.median(f)) > max(np.std(f), 1e-12))
             out["high_force"].append(f > np.median(f))
+            rate = np.abs(_smooth_rate(t, f))
+            out["load_changing"].append(rate > np.median(rate))
         if positions:
             speed = np.max([np.abs(_smooth_rate(t, cols[c], 0.05)) for c in positions], axis=0)
             moving = speed > 0.1 * np.percentile(speed, 95)

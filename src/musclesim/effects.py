@@ -38,6 +38,7 @@ REGIMES = {
     "slip": "a block slides",
     "switching": "within 0.5 s after a friction indicator switches",
     "high_force": "the actuator force is above its median",
+    "load_changing": "the measured load changes faster than its median rate",
 }
 
 
@@ -88,6 +89,18 @@ EFFECTS = (
            (Parameter("drift_amplitude", 0.0, -0.2, 0.2), Parameter("drift_shift", 0.0, -10.0, 10.0)),
            "late", "SPEC 2.6",
            "the major loop changes over the first cycles, then settles"),
+    # loads and sensors of the position-control bench (SPEC 2.1, 2.4, 4)
+    Effect("load inertia", "DeadWeight", (Parameter("inertia", 0.0, 0.0, 1.0),),
+           "transformation", "SPEC 2.4, 4",
+           "the weight's inertia adds to its tension while the wire moves it fast"),
+    Effect("electromagnet force nonlinearity", "Electromagnet",
+           (Parameter("nonlinearity", 0.0, -0.5, 0.5),), "high_force", "SPEC 2.1, 4",
+           "the magnet's force grows faster or slower than its coil current"),
+    Effect("load-cell lag", "LoadCell", (Parameter("tau", 0.0, 0.0, 0.05),), "load_changing",
+           "SPEC 2.1, 4", "the load cell follows the tension with a first-order lag"),
+    Effect("laser noise", "LaserSensor", (Parameter("noise_std", 0.0, 0.0, 2e-5),), "all",
+           "SPEC 2.1, 4", "the laser's reading is noisy (noise raises the floor; a fit of it "
+           "cannot shrink a gap)"),
     # crawler (SPEC 1, 4)
     Effect("anchoring slip", "FrictionBlock",
            (Parameter("mu_s_high", 1.0, 0.2, 1.0), Parameter("mu_k_high", 0.75, 0.15, 0.75)),
