@@ -11,7 +11,10 @@ Each case is a measured data set made by running one of the SMA benches with hid
 
 all with nuisances: thermocouple noise and quantisation inside the loop, strain-gauge noise and
 quantisation, and an acquisition latency of the strain gauge of 0 or 1 sample behind the
-controller's log. Cases are written without labels
+controller's log. A quarter of the effect cases (drawn from a stream of their own) run on the
+magnet bench instead, hiding an electromagnet force nonlinearity or a load-cell lag, with laser
+and load-cell noise and quantisation (the library's "laser noise" as the nuisance it is: noise
+raises the floor, no fit of it can shrink a gap). Cases are written without labels
 (data.csv + manifest.toml); the key is hashed into key.sha256 before any diagnosis runs and
 written to key.json after. Scores (scores.json): top-1 accuracy over effect and decoy cases,
 the median ratio of our held-out shrinkage (the model with every measured signal replayed) to the
@@ -40,7 +43,11 @@ BENCHES = {
     "stress": ("sma-bench-stress", ["wire.u", "wire.flange.f"],
                ["thermocouple.T_meas", "wire.strain"],
                ["stress dependence ignored", "thermocouple lag", "latent heat"]),
+    "magnet": ("sma-bench-magnet", ["wire.u", "magnet.duty"],
+               ["loadcell.f_meas", "thermocouple.T_meas", "laser.s_meas"],
+               ["electromagnet force nonlinearity", "load-cell lag"]),
 }
+MAGNET_SHARE = 0.25  # of the effect cases move to the magnet bench (drawn from their own stream)
 # Not hidden: clamp heat loss. With the clamps at ambient it is a loss linear in T - T_amb, exactly
 # a larger h; the diagnosis rightly calls such data a recalibration of h, not an effect.
 # hidden magnitudes: (instance, parameter, low, high), drawn uniformly (SPEC 2.1, 2.6, 5)
@@ -52,8 +59,11 @@ MAGNITUDES = {
     "convection change": [("wire", "h_exponent", 0.06, 0.15)],
     "training drift": [("wire", "drift_amplitude", 0.1, 0.2), ("wire", "drift_shift", 5.0, 10.0)],
     "stress dependence ignored": [("wire", "stress_blend", 0.5, 1.0)],
+    "electromagnet force nonlinearity": [("magnet", "nonlinearity", 0.2, 0.5)],
+    # a heavily filtered cell: lags of 1-2 samples (20-40 ms) are latency at this data rate
+    "load-cell lag": [("loadcell", "tau", 0.1, 0.3)],
 }
-SIGNED = {"thermocouple bias", "training drift"}
+SIGNED = {"thermocouple bias", "training drift", "electromagnet force nonlinearity"}
 # (hidden effect, its decoy in the library): both act at high temperatures, or both make the
 # measured temperature trail the wire's model
 DECOYS = [("convection change", "clamp heat loss"), ("thermocouple lag", "latent heat"),
@@ -65,12 +75,16 @@ OUTSIDE = {  # K warmer ambient air (the bench's scenario gets an ambient source
 # nuisances (the same for every case; magnitudes of a bench like SPEC 2.1's)
 TC_NOISE, TC_QUANTUM = 0.08, 0.05  # K
 STRAIN_NOISE, STRAIN_QUANTUM = 2e-5, 1e-5
+LASER_NOISE, LASER_QUANTUM = 2e-6, 1e-6  # m (the laser-noise effect of the library as nuisance)
+LOADCELL_NOISE, LOADCELL_QUANTUM = 2e-3, 1e-3  # N
 HELD_OUT_FRACTION = 0.35
 
 
 def plan(count, seed):
     """The cases' hidden truths: a list of dicts (kind, bench, effect, values, latency, ...)."""
     rng = np.random.default_rng(seed)
+    # its own stream, so that moving a case to the magnet bench changes no other case
+    magnet_rng = np.random.default_rng([seed, 7])
     n_none = max(1, round(0.15 * count))
     n_out = max(1, round(0.15 * count))
     n_decoy = max(1, round(0.15 * count))
@@ -90,6 +104,13 @@ def plan(count, seed):
             sign = -1.0 if effect in SIGNED and rng.random() < 0.5 else 1.0
             for inst, par, lo, hi in MAGNITUDES[effect]:
                 case["values"][f"{inst}.{par}"] = float(sign * rng.uniform(lo, hi))
+        if kind == "effect" and magnet_rng.random() < MAGNET_SHARE:
+            pool = BENCHES["magnet"][3]
+            effect = pool[magnet_rng.integers(len(pool))]
+            sign = -1.0 if effect in SIGNED and magnet_rng.random() < 0.5 else 1.0
+            case.update(bench="magnet", effect=effect, values={
+                f"{inst}.{par}": float(sign * magnet_rng.uniform(lo, hi))
+                for inst, par, lo, hi in MAGNITUDES[effect]})
         elif kind == "outside":
             name = list(OUTSIDE)[rng.integers(len(OUTSIDE))]
             case["effect"] = name
@@ -112,6 +133,10 @@ def record(case, scenarios_dir, fmu_dir):
     sets = [f"{k}={v!r}" for k, v in case["values"].items()]
     sets += [f"thermocouple.noise_std={TC_NOISE!r}", f"thermocouple.quantum={TC_QUANTUM!r}",
              f"thermocouple.seed={case['seed'] % 100000}"]
+    if case["bench"] == "magnet":
+        sets += [f"laser.noise_std={LASER_NOISE!r}", f"laser.quantum={LASER_QUANTUM!r}",
+                 f"laser.seed={case['seed'] % 100001}", f"loadcell.noise_std={LOADCELL_NOISE!r}",
+                 f"loadcell.quantum={LOADCELL_QUANTUM!r}", f"loadcell.seed={case['seed'] % 100003}"]
     s = scenario_mod.load(_scenario_path(case["bench"], scenarios_dir), sets)
     s = replace(s, record=tuple(inputs + outputs), metrics={}, plots=())
     if case.get("ambient_K"):  # the air around the wire is warmer than the model's 20 C
@@ -124,13 +149,14 @@ def record(case, scenarios_dir, fmu_dir):
         raise UserError(f"{case['case']}: the virtual hardware failed: {res.error}")
     rng = np.random.default_rng(case["seed"])
     cols = {c: res[c].copy() for c in inputs + outputs}
-    strain = cols["wire.strain"] * case["strain_gain"] + STRAIN_NOISE * rng.standard_normal(
-        len(res.time))
-    cols["wire.strain"] = STRAIN_QUANTUM * np.round(strain / STRAIN_QUANTUM)
+    gauge = "wire.strain" if "wire.strain" in cols else "laser.s_meas"
+    if gauge == "wire.strain":  # a strain gauge: its noise and quantisation (the laser's in-FMU)
+        strain = cols[gauge] * case["strain_gain"] + STRAIN_NOISE * rng.standard_normal(
+            len(res.time))
+        cols[gauge] = STRAIN_QUANTUM * np.round(strain / STRAIN_QUANTUM)
     lag = case["latency_samples"]
-    if lag:  # the strain gauge's own acquisition lags the controller's log
-        cols["wire.strain"] = np.concatenate([np.full(lag, cols["wire.strain"][0]),
-                                              cols["wire.strain"][:-lag]])
+    if lag:  # the gauge's (or laser's) own acquisition lags the controller's log
+        cols[gauge] = np.concatenate([np.full(lag, cols[gauge][0]), cols[gauge][:-lag]])
     return res.time, cols
 
 

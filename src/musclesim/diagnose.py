@@ -91,6 +91,7 @@ class Unit:
     noise: dict  # observed column -> noise std, normalised
     components: dict  # instance -> component
     alignable: tuple = ()  # columns compared allowing up to MAX_ALIGN samples of latency
+    subjects: tuple = ()  # isolation units: the instances whose own closure this unit is
 
 
 def _span_scenario(s, duration):
@@ -280,16 +281,14 @@ class Problem:
         ds = self.ds
         s = next(iter(self.scenarios.values()))
         measured = set(ds.columns)
-        seen, out = set(), []
+        subjects = {}
         for inst in s.instances:
-            keep = frozenset(_closure(s, {inst}, measured))
-            if keep in seen:
-                continue
-            seen.add(keep)
-            if any(split_signal(c)[0] in keep and c not in _inputs_of(s, keep) for c in ds.outputs):
-                out.append(keep)
-        out.sort(key=lambda k: (len(k), sorted(k)))
-        return [self.unit(" + ".join(sorted(k)), sorted(k)) for k in out]
+            subjects.setdefault(frozenset(_closure(s, {inst}, measured)), []).append(inst)
+        out = sorted((k for k in subjects if any(
+            split_signal(c)[0] in k and c not in _inputs_of(s, k) for c in ds.outputs)),
+            key=lambda k: (len(k), sorted(k)))
+        return [replace(self.unit(" + ".join(sorted(k)), sorted(k)), subjects=tuple(subjects[k]))
+                for k in out]
 
 
 # ---- simulation and residuals ------------------------------------------------------------------
@@ -681,18 +680,23 @@ def _candidates(problem, unit, suspects):
 
 
 def _locate(problem, isolated):
-    """Suspect instances and the ranked `located` table from the isolation results."""
+    """Suspect instances and the ranked `located` table from the isolation results.
+
+    A unit that matches clears only its subjects (the instances it isolates): its other members
+    may act on what it observes too weakly to show (the magnet's force on the temperature).
+    """
     deviating = [u for u in isolated if u["deviates"]]
-    cleared = set().union(*[set(u["unit"].instances) for u in isolated if not u["deviates"]])
+    cleared = set().union(*[set(u["unit"].subjects) for u in isolated if not u["deviates"]])
     suspects = set().union(*[set(u["unit"].instances) for u in deviating]) - cleared
     if deviating and not suspects:  # every member cleared alone: blame the interaction
         suspects = set(deviating[0]["unit"].instances)
     table = []
     for inst in problem.components:
-        own = [u for u in isolated if inst in u["unit"].instances]
+        own = [u for u in isolated if inst in u["unit"].subjects] or \
+            [u for u in isolated if inst in u["unit"].instances]
         if not own:
             continue
-        u = own[0]  # the smallest unit holding it
+        u = own[0]  # its own unit, else the smallest holding it
         table.append({"instance": inst, "component": problem.components[inst],
                       "isolated_gap": u["gap"], "noise_floor": u["floor"], "unit": u["unit"].name,
                       "deviates": u["deviates"], "exonerated": inst in cleared,

@@ -96,7 +96,7 @@ EFFECTS = (
     Effect("electromagnet force nonlinearity", "Electromagnet",
            (Parameter("nonlinearity", 0.0, -0.5, 0.5),), "high_force", "SPEC 2.1, 4",
            "the magnet's force grows faster or slower than its coil current"),
-    Effect("load-cell lag", "LoadCell", (Parameter("tau", 0.0, 0.0, 0.05),), "load_changing",
+    Effect("load-cell lag", "LoadCell", (Parameter("tau", 0.0, 0.0, 0.5),), "load_changing",
            "SPEC 2.1, 4", "the load cell follows the tension with a first-order lag"),
     Effect("laser noise", "LaserSensor", (Parameter("noise_std", 0.0, 0.0, 2e-5),), "all",
            "SPEC 2.1, 4", "the laser's reading is noisy (noise raises the floor; a fit of it "
