@@ -77,11 +77,8 @@ def write_table(out, name, rows, columns, cells):
             for c in columns:
                 v = cells.get((r, c))
                 w.writerow([r, c, *(("", "") if v is None else (repr(v[0]), repr(v[1])))])
-        for label, (m, s) in stats.items():
-            w.writerow([f"mean {label}", "", repr(m), ""] if label == "rmse" else
-                       [f"mean {label}", "", "", repr(m)])
-            w.writerow([f"std {label}", "", repr(s), ""] if label == "rmse" else
-                       [f"std {label}", "", "", repr(s)])
+        for k, label in ((0, "mean"), (1, "std")):
+            w.writerow([label, "", repr(stats["rmse"][k]), repr(stats["percent"][k])])
     lines = [f"### {name}: strain RMSE [1e-3] (% of the maximum reference strain)", "",
              "| | " + " | ".join(columns) + " |", "|---" * (len(columns) + 1) + "|"]
     for r in rows:
