@@ -15,3 +15,12 @@ def fmu_dir(tmp_path_factory):
     path = tmp_path_factory.mktemp("fmus")
     build_all(path)
     return path
+
+
+def in_process(cls, name, **params):
+    """A slave of `cls` driven without FMI: instance `name`, `params` set, experiment set up."""
+    slave = cls(instance_name=name)
+    for key, value in params.items():
+        setattr(slave, key, value)
+    slave.setup_experiment(0.0)
+    return slave

@@ -12,6 +12,8 @@ from musclesim.components.sma.preisach import PreisachModel
 from musclesim.components.sma.profiles import loading_profile, strain_profile
 from musclesim.components.sma.slaves import PreisachInverse
 
+from conftest import in_process
+
 ZERO_C = 273.15
 RATE = 25.0  # Hz, as tests/test_inverse.py: the 550 s profiles keep their shape
 TIMES = np.arange(0.0, 550.0, 1 / RATE)
@@ -19,11 +21,7 @@ DT = 1 / RATE
 
 
 def _inverse(**params):
-    slave = PreisachInverse(instance_name="inverse")
-    for name, value in params.items():
-        setattr(slave, name, value)
-    slave.setup_experiment(0.0)
-    return slave
+    return in_process(PreisachInverse, "inverse", **params)
 
 
 def start(slave, eps0, sigma0):

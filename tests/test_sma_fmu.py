@@ -18,6 +18,8 @@ from musclesim.components.sma.thermal import (ThermalInputs, ThermalParams, cros
                                               resistance, step)
 from musclesim.components.sma.wire import ReferenceWire
 
+from conftest import in_process
+
 DT = 4e-4  # s, the study's 2.5 kHz loop (SPEC 2.1)
 ZERO_C = 273.15
 AREA = cross_section(ThermalParams())
@@ -263,11 +265,7 @@ def test_out_of_range_stress_is_clamped_with_one_logged_warning(wire_fmu):
 
 
 def _wire(**params):
-    wire = SmaWire(instance_name="wire")
-    for name, value in params.items():
-        setattr(wire, name, value)
-    wire.setup_experiment(0.0)
-    return wire
+    return in_process(SmaWire, "wire", **params)
 
 
 @pytest.mark.parametrize("params, match", [

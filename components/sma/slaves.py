@@ -15,6 +15,8 @@ from musclesim.fmislave import Slave
 
 ZERO_C = 273.15  # K; the FMU speaks K, the cores C
 LOAD_150G = 0.150 * 9.80665  # N, the 150 g weight of the multiplier tests (SPEC 3.1): 116 MPa
+HYSTERESIS = ("Hysteresis data set: 0 = reference wire (1 C grid, 60-200 MPa); k >= 1 = FORC "
+              "data set k of sma/data/forc-sets.toml shipped in the FMU")
 
 _BASES = {}  # id(surface) -> (surface, its InverseBases); the surface is held, so ids stay unique
 
@@ -52,9 +54,7 @@ class SmaWire(Slave):
                        "martensitic and heated to it (SPEC 2.2 memory)")
         self.parameter("drive_current", 0.0, "1",
                        "Electrical input u: 0 = voltage [V] (default), 1 = current [A] (SPEC 2.1)")
-        self.parameter("hysteresis", 0.0, "1",
-                       "Hysteresis data set: 0 = reference wire (1 C grid, 60-200 MPa); k >= 1 = "
-                       "FORC data set k of sma/data/forc-sets.toml shipped in the FMU")
+        self.parameter("hysteresis", 0.0, "1", HYSTERESIS)
         self.parameter("sigma_surface", 0.0, "Pa",
                        "Stress ignored (effect, 0 = off): > 0 uses the single surface at this "
                        "stress for every stress (SPEC 2.4)")
@@ -215,9 +215,7 @@ class PreisachInverse(Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.parameter("hysteresis", 0.0, "1",
-                       "Hysteresis data set: 0 = reference wire (1 C grid, 60-200 MPa); k >= 1 = "
-                       "FORC data set k of sma/data/forc-sets.toml shipped in the FMU")
+        self.parameter("hysteresis", 0.0, "1", HYSTERESIS)
         self.parameter("sigma_surface", 0.0, "Pa",
                        "0 = stress-aware inverse over the hypersurface; > 0 = the single surface "
                        "at this stress for every stress, stress ignored (SPEC 2.4)")

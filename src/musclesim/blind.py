@@ -195,7 +195,8 @@ def _diagnose(args):
 
 def _oracle(args):
     """Held-out gap of the model with every measured signal replayed (the report's section 4):
-    nominal, with the true values (the oracle), with our selected effects' values."""
+    nominal and with our selected effects' values, as the report has them, and with the true
+    values (the oracle), simulated here."""
     case, case_dir, report, fmu_dir = args
     problem = diagnose.Problem(dataset.load(case_dir), fmu_dir)
     whole = problem.replayed()
@@ -208,13 +209,9 @@ def _oracle(args):
         return diagnose.gap(whole, diagnose.residuals(whole, sims), 1)
 
     truth = {tuple(k.split(".", 1)): v for k, v in case["values"].items()}
-    ours = {}
-    for e in report.get("effects", []):
-        if e["name"] in report.get("selected", []):
-            for p, spec in e["parameters"].items():
-                ours.update({(inst, p): spec["value"] for inst in e["instances"]})
-    before = heldout({})
-    return {"before": before, "oracle": heldout(truth), "ours": heldout(ours) if ours else before}
+    ours = report.get("shrinkage", {}).get("all")
+    before = ours["before"] if ours else heldout({})  # no report section 4: the case failed
+    return {"before": before, "oracle": heldout(truth), "ours": ours["after"] if ours else before}
 
 
 def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, progress=None):

@@ -142,6 +142,17 @@ def design_pi(plant, omega_n, zeta):
     return float(K[0, 0]), float(-K[0, 1])
 
 
+def pi_margins(plant, Kp, Ki, step):
+    """Gain margin (None: infinite), phase margin [deg] and gain crossover [rad/s] of the loop
+    PI x plant, and the largest pole radius of its closed loop sampled at `step` (below 1: the
+    controller running sampled keeps it stable)."""
+    loop = ct.tf([Kp, Ki], [1, 0]) * ct.tf(plant)
+    gm, pm, _, _, wc, _ = ct.stability_margins(loop)
+    sampled = ct.feedback(ct.sample_system(loop, step, method="zoh"))
+    return {"gain_margin": None if math.isinf(gm) else float(gm), "phase_margin_deg": float(pm),
+            "crossover": float(wc), "sampled_pole_radius": float(np.abs(ct.poles(sampled)).max())}
+
+
 def sma_thermal(design=None):
     """Linear thermal models at the 21 scheduling points (30..130 C) and a PI per point.
 
@@ -160,15 +171,9 @@ def sma_thermal(design=None):
         T_op = x_K - 273.15
         plant, u_op = sma_thermal_plant(T_op, wire=wire, T_amb=d["T_amb"], sigma=d["sigma"])
         Kp, Ki = design_pi(plant, d["omega_n"], d["zeta"])
-        loop = ct.tf([Kp, Ki], [1, 0]) * ct.tf(plant)
-        gm, pm, _, _, wc, _ = ct.stability_margins(loop)
-        # the controller runs sampled at `step`: the sampled closed loop must stay stable
-        sampled = ct.feedback(ct.sample_system(loop, d["step"], method="zoh"))
         points.append({"T_op": T_op, "u_op": u_op, "plant_gain": float(ct.dcgain(plant)),
                        "time_constant": -1.0 / plant.A[0, 0], "Kp": Kp, "Ki": Ki, "Kd": 0.0,
-                       "gain_margin": None if math.isinf(gm) else float(gm),
-                       "phase_margin_deg": float(pm), "crossover": float(wc),
-                       "sampled_pole_radius": float(np.abs(ct.poles(sampled)).max())})
+                       **pi_margins(plant, Kp, Ki, d["step"])})
     return {"system": "sma-thermal", "spec": "SPEC.md 2.5", "design": d, "points": points}
 
 
@@ -256,14 +261,9 @@ def sma_load(fmu_dir="fmus", design=None):
     d = {**LOAD_DESIGN, **(design or {})}
     plant, K, tau, rms = identify_load_path(fmu_dir, d)
     Kp, Ki = design_pi(plant, d["omega_n"], d["zeta"])
-    loop = ct.tf([Kp, Ki], [1, 0]) * ct.tf(plant)
-    gm, pm, _, _, wc, _ = ct.stability_margins(loop)
-    sampled = ct.feedback(ct.sample_system(loop, d["step"], method="zoh"))
     return {"system": "sma-load", "spec": "SPEC.md 2.1, 2.4", "design": d,
             "identified": {"K": K, "tau": tau, "fit_rms": rms},
-            "Kp": Kp, "Ki": Ki, "gain_margin": None if math.isinf(gm) else float(gm),
-            "phase_margin_deg": float(pm), "crossover": float(wc),
-            "sampled_pole_radius": float(np.abs(ct.poles(sampled)).max())}
+            "Kp": Kp, "Ki": Ki, **pi_margins(plant, Kp, Ki, d["step"])}
 
 
 def format_sma_load(report):

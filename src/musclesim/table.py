@@ -48,15 +48,20 @@ def cases():
     return out
 
 
-def strain_error(results_csv, length):
-    """(RMSE, % of the maximum reference strain) of a run's results.csv; laser strain = s / L."""
+def _columns(results_csv):
+    """(time, {column: values}) of a run's results.csv."""
     from musclesim.timeseries import read_time_series
 
     problems = []
     header, time, data = read_time_series(results_csv, problems)
     if problems:
         raise UserError(f"{results_csv}: " + "; ".join(problems))
-    col = {name: data[:, j] for j, name in enumerate(header[1:])}
+    return time, {name: data[:, j] for j, name in enumerate(header[1:])}
+
+
+def strain_error(results_csv, length):
+    """(RMSE, % of the maximum reference strain) of a run's results.csv; laser strain = s / L."""
+    _, col = _columns(results_csv)
     ref = col["strain.eps_ref"]
     err = ref - col["laser.s_meas"] / length
     rmse = float(np.sqrt(np.mean(err ** 2)))
@@ -99,10 +104,7 @@ def figure(case_dir, length, title):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from musclesim.timeseries import read_time_series
-
-    header, t, data = read_time_series(case_dir / "results.csv", [])
-    col = {name: data[:, j] for j, name in enumerate(header[1:])}
+    t, col = _columns(case_dir / "results.csv")
     fig, axes = plt.subplots(3, 1, sharex=True, figsize=(9, 7))
     panels = [(("strain.eps_ref", 1, "reference"), ("laser.s_meas", 1 / length, "laser")),
               (("loading.sigma_ref", 1e-6, "reference"), ("wire.stress", 1e-6, "wire")),
