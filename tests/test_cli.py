@@ -138,14 +138,30 @@ def test_parameters_file_is_read_and_inline_values_win(fmu_dir, tmp_path, capsys
     assert code == 2 and "sets m1 = 'heavy', not a number" in err
 
 
-def test_metric_window_starts_at_from(fmu_dir, tmp_path, capsys):
+def test_metric_window_scale_and_per_period(fmu_dir, tmp_path, capsys):
     import numpy as np
 
-    path = ideal_with(tmp_path, "[metrics]", '[metrics]\nlate = { signal = "body.x_cm", op = "rms", from = 1.5 }')
+    metrics = ('[metrics]\nlate = { signal = "body.x_cm", op = "rms", from = 1.5 }\n'
+               'middle = { signal = "body.x_cm", op = "max", from = 0.5, to = 1.0 }\n'
+               'per_stride = { signal = "body.x_cm", op = "per_period", period = 3.0, '
+               'from = 0.5, scale = -1.0 }')
+    path = ideal_with(tmp_path, "[metrics]", metrics)
     code, _, err = run(capsys, "run", path, "--out", tmp_path / "o", "--fmus", fmu_dir,
                        "--stop-time", "2")
     assert code == 0, err
     data = np.genfromtxt(tmp_path / "o" / "results.csv", delimiter=",", names=True)
-    late = data["bodyx_cm"][data["time"] >= 1.5]
+    t, x = data["time"], data["bodyx_cm"]
     summary = json.loads((tmp_path / "o" / "summary.json").read_text())
-    assert summary["late"] == pytest.approx(float(np.sqrt(np.mean(late ** 2))), rel=1e-12)
+    assert summary["late"] == pytest.approx(float(np.sqrt(np.mean(x[t >= 1.5] ** 2))), rel=1e-12)
+    assert summary["middle"] == pytest.approx(x[(t >= 0.5) & (t <= 1.0)].max(), rel=1e-12)
+    window = t >= 0.5
+    rate = (x[window][-1] - x[window][0]) / (t[window][-1] - t[window][0])
+    assert summary["per_stride"] == pytest.approx(-3.0 * rate, rel=1e-12)
+    assert summary["units"]["per_stride"] == "m"
+
+
+def test_per_period_metric_needs_a_period(fmu_dir, tmp_path, capsys):
+    path = ideal_with(tmp_path, "[metrics]",
+                      '[metrics]\nstride = { signal = "body.x_cm", op = "per_period" }')
+    code, _, err = run(capsys, "run", path, "--out", tmp_path / "o", "--fmus", fmu_dir)
+    assert code == 2 and "per_period with period = a positive time" in err

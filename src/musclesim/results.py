@@ -7,18 +7,24 @@ import numpy as np
 
 from musclesim.scenario import split_signal
 
-# op -> (function of (time, values), how the unit changes)
+def _rate(t, y):
+    return (y[-1] - y[0]) / (t[-1] - t[0]) if t[-1] > t[0] else math.nan
+
+
+# op -> (function of (time, values, metric), how the unit changes)
 _OPS = {
-    "final": (lambda t, y: y[-1], "{}"),
-    "initial": (lambda t, y: y[0], "{}"),
-    "mean": (lambda t, y: float(np.mean(y)), "{}"),
-    "min": (lambda t, y: float(np.min(y)), "{}"),
-    "max": (lambda t, y: float(np.max(y)), "{}"),
-    "max_abs": (lambda t, y: float(np.max(np.abs(y))), "{}"),
-    "rms": (lambda t, y: float(np.sqrt(np.mean(np.square(y)))), "{}"),
-    "peak_to_peak": (lambda t, y: float(np.ptp(y)), "{}"),
+    "final": (lambda t, y, m: y[-1], "{}"),
+    "initial": (lambda t, y, m: y[0], "{}"),
+    "mean": (lambda t, y, m: float(np.mean(y)), "{}"),
+    "min": (lambda t, y, m: float(np.min(y)), "{}"),
+    "max": (lambda t, y, m: float(np.max(y)), "{}"),
+    "max_abs": (lambda t, y, m: float(np.max(np.abs(y))), "{}"),
+    "rms": (lambda t, y, m: float(np.sqrt(np.mean(np.square(y)))), "{}"),
+    "peak_to_peak": (lambda t, y, m: float(np.ptp(y)), "{}"),
     # mean rate of change over the run, e.g. mean speed from a position
-    "rate": (lambda t, y: (y[-1] - y[0]) / (t[-1] - t[0]) if t[-1] > t[0] else math.nan, "{}/s"),
+    "rate": (lambda t, y, m: _rate(t, y), "{}/s"),
+    # mean change per period, e.g. stride length from a position and the stride period
+    "per_period": (lambda t, y, m: _rate(t, y) * m.period, "{}"),
 }
 
 
@@ -31,9 +37,9 @@ def compute_metrics(results, metrics):
     """Evaluate ``{name: Metric}`` on `results`; a metric without samples in its window is NaN."""
     out = {}
     for name, m in metrics.items():
-        window = results.time >= m.start
+        window = (results.time >= m.start) & (results.time <= m.stop)
         t, y = results.time[window], results[m.signal][window]
-        out[name] = float(_OPS[m.op][0](t, y)) if len(y) else math.nan
+        out[name] = m.scale * float(_OPS[m.op][0](t, y, m)) if len(y) else math.nan
     return out
 
 
@@ -81,8 +87,8 @@ def write_all(out_dir, scenario, results, units, with_plot=True):
     metrics = compute_metrics(results, scenario.metrics)
     summary = {
         **metrics,
-        "units": {name: metric_unit(units.get(sig), op)
-                  for name, (sig, op, _) in scenario.metrics.items()},
+        "units": {name: metric_unit(units.get(m.signal), m.op)
+                  for name, m in scenario.metrics.items()},
         "scenario": scenario.name,
         "description": scenario.description,
         "scenario_file": str(scenario.path),

@@ -14,17 +14,24 @@ from typing import NamedTuple
 from musclesim.errors import UserError
 
 ALGORITHMS = ("gauss-seidel", "jacobi")
-METRIC_OPS = ("final", "initial", "mean", "min", "max", "max_abs", "rms", "rate", "peak_to_peak")
+METRIC_OPS = ("final", "initial", "mean", "min", "max", "max_abs", "rms", "rate", "peak_to_peak",
+              "per_period")
 _TOP_KEYS = {"name", "description", "spec", "step", "start_time", "stop_time", "algorithm",
              "connections", "record", "instances", "metrics", "plots"}
 
 
 class Metric(NamedTuple):
-    """A number computed from one signal: ``op`` over the samples from time ``start`` on."""
+    """A number computed from one signal: ``op`` over the samples from time ``start`` to ``stop``,
+    times ``scale`` (e.g. -1 to count a backward run's distance along its direction of travel).
+    ``period`` [s] is the period of op ``per_period`` (mean change per period, e.g. per stride).
+    """
 
     signal: str
     op: str
     start: float = -math.inf
+    stop: float = math.inf
+    scale: float = 1.0
+    period: float = None
 
 
 @dataclass(frozen=True)
@@ -145,13 +152,19 @@ def _parse(data, path, problems):
 
     metrics = {}
     for name, spec in data.get("metrics", {}).items():
+        keys = {"signal", "op", "from", "to", "scale"} | ({"period"} if isinstance(spec, dict)
+                                                         and spec.get("op") == "per_period" else set())
         if not isinstance(spec, dict) or spec.get("op") not in METRIC_OPS \
-                or not isinstance(spec.get("signal"), str) or set(spec) - {"signal", "op", "from"} \
-                or not _number(spec.get("from", 0.0)):
+                or not isinstance(spec.get("signal"), str) or set(spec) - keys \
+                or not all(_number(spec.get(k, 1.0)) for k in ("from", "to", "scale", "period")) \
+                or (spec["op"] == "per_period" and not spec.get("period", 0) > 0):
             problems.append(f"metric {name!r} needs signal = \"inst.var\", op in {METRIC_OPS} "
-                            "and optionally from = a start time [s]")
+                            "(per_period with period = a positive time [s]) and optionally "
+                            "from / to = the window's start / end time [s] and scale = a factor")
             continue
-        metrics[name] = Metric(spec["signal"], spec["op"], float(spec.get("from", -math.inf)))
+        metrics[name] = Metric(spec["signal"], spec["op"], float(spec.get("from", -math.inf)),
+                               float(spec.get("to", math.inf)), float(spec.get("scale", 1.0)),
+                               spec.get("period"))
     plots = data.get("plots", [])
     for panel in plots:
         if not isinstance(panel, dict) or not isinstance(panel.get("signals"), list):

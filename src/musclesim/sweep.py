@@ -271,7 +271,7 @@ def _check(sweep, path, fmu_dir, overrides, stop_time):
     s = scenario.load(sweep.scenario, overrides, stop_time)
     build.check_fresh(fmu_dir)
     sig_units = results.signal_units(master.Master(s, fmu_dir))
-    units = {n: results.metric_unit(sig_units[sig], op) for n, (sig, op, _) in s.metrics.items()}
+    units = {n: results.metric_unit(sig_units[m.signal], m.op) for n, m in s.metrics.items()}
     plot_spec = sweep.plot or _default_plot(sweep.axes, s.metrics)
     unknown = [x for x in plot_spec.get("metrics", []) if x not in s.metrics]
     if unknown:
