@@ -165,3 +165,23 @@ def test_per_period_metric_needs_a_period(fmu_dir, tmp_path, capsys):
                       '[metrics]\nstride = { signal = "body.x_cm", op = "per_period" }')
     code, _, err = run(capsys, "run", path, "--out", tmp_path / "o", "--fmus", fmu_dir)
     assert code == 2 and "per_period with period = a positive time" in err
+
+
+def test_a_scenario_extends_another(fmu_dir, tmp_path, capsys):
+    from musclesim import scenario
+
+    shutil.copy(IDEAL, tmp_path / "base.toml")
+    (tmp_path / "variant.toml").write_text(
+        'extends = "base.toml"\nname = "variant"\nstop_time = 2.0\n'
+        '[instances.body]\nparameters = { theta = 0.1 }\n'
+        '[metrics]\nx1_final = { signal = "body.flange1.s", op = "max" }\n')
+    s = scenario.load(tmp_path / "variant.toml")
+    assert (s.name, s.stop_time) == ("variant", 2.0)
+    # tables merge key by key: the other parameters and metrics stay
+    assert s.instances["body"].parameters == {"m1": 0.2, "m2": 0.2, "k": 200.0, "c": 1.3,
+                                              "theta": 0.1}
+    assert s.metrics["x1_final"].op == "max" and "mean_speed" in s.metrics
+    (tmp_path / "base.toml").write_text('extends = "variant.toml"\n')
+    code, _, err = run(capsys, "run", tmp_path / "variant.toml", "--out", tmp_path / "o",
+                       "--fmus", fmu_dir)
+    assert code == 2 and "extends itself through" in err

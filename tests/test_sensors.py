@@ -40,7 +40,9 @@ def test_thermocouple_fmu_lags_a_step(fmu_dir):
 
 @pytest.mark.parametrize("kind, t, expected", [
     (0, 3.0, 2.0), (1, 0.25, 3.0), (2, 0.6, 1.0), (2, 0.1, 3.0), (3, 0.5, 3.0), (3, 0.0, 1.0),
-], ids=["constant", "sine-peak", "square-low", "square-high", "triangle-peak", "triangle-trough"])
+    (4, 0.25, 2.25), (4, 7.0, 3.0),
+], ids=["constant", "sine-peak", "square-low", "square-high", "triangle-peak", "triangle-trough",
+        "ramp-rising", "ramp-held"])
 def test_signal_source_waves(kind, t, expected):
     from musclesim.components.sources import signals
 

@@ -1,17 +1,18 @@
-"""Periodic test signals: constant, sine, square and triangle waves around an offset.
+"""Test signals: constant, sine, square and triangle waves around an offset, and a ramp.
 
     y(t) = offset                                  for t < t_start or kind = constant
     y(t) = offset + amplitude w(f (t - t_start) + phase / 2 pi)   otherwise
 
 with w the unit wave of the kind (sine; square: +1 over the first half period, -1 over the
-second; triangle: -1 -> +1 -> -1), so a square wave alternates between two set-points.
+second; triangle: -1 -> +1 -> -1; ramp: 0 -> 1 over the first period, then held), so a square
+wave alternates between two set-points and a ramp rises by `amplitude` over 1/f seconds.
 """
 import math
 from dataclasses import dataclass
 
 from musclesim.components.checks import require
 
-KINDS = ("constant", "sine", "square", "triangle")
+KINDS = ("constant", "sine", "square", "triangle", "ramp")
 
 
 @dataclass(frozen=True)
@@ -40,7 +41,11 @@ def unit_wave(kind, cycles):
     --------
     >>> [unit_wave("square", c) for c in (0.25, 0.75)], unit_wave("triangle", 0.5)
     ([1.0, -1.0], 1.0)
+    >>> [unit_wave("ramp", c) for c in (0.25, 3.0)]
+    [0.25, 1.0]
     """
+    if kind == "ramp":
+        return min(max(cycles, 0.0), 1.0)
     frac = cycles - math.floor(cycles)
     if kind == "sine":
         return math.sin(2 * math.pi * cycles)

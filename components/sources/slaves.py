@@ -8,13 +8,14 @@ from musclesim.fmislave import Slave
 
 
 class SignalSource(Slave):
-    """Constant, sine, square or triangle signal (references, loads)."""
+    """Constant, sine, square, triangle or ramp signal (references, loads)."""
 
-    description = "Signal source: constant, sine, square or triangle wave around an offset"
+    description = "Signal source: constant, sine, square or triangle wave around an offset, or a ramp"
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.parameter("kind", 0.0, "1", "Wave: 0 constant, 1 sine, 2 square, 3 triangle")
+        self.parameter("kind", 0.0, "1", "Wave: 0 constant, 1 sine, 2 square, 3 triangle, "
+                       "4 ramp (rises by amplitude over 1/frequency s, then holds)")
         self.parameter("offset", 0.0, "1", "Offset (the value before t_start)")
         self.parameter("amplitude", 0.0, "1", "Amplitude")
         self.parameter("frequency", 0.0, "Hz", "Frequency")

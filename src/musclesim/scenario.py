@@ -3,7 +3,10 @@
 A scenario names instances (component + parameter values, inline or from a TOML file given as
 ``parameters_file`` relative to the scenario, inline values winning), connections ``"a.y" -> "b.u"``, the
 communication step, start and stop time, the master algorithm, the signals to record, the metrics
-to compute and the plot panels. Checks collect every problem and raise once with the whole list.
+to compute and the plot panels. A file may ``extends = "other.toml"`` (relative to it): its
+tables merge key by key onto the other's, its other values replace them, so that variants of an
+experiment state only what differs. Checks collect every problem and raise once with the whole
+list.
 """
 import math
 import tomllib
@@ -97,10 +100,7 @@ def load(path, overrides=(), stop_time=None):
     path = Path(path)
     if not path.is_file():
         raise UserError(f"scenario file {path} does not exist")
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise UserError(f"scenario file {path} is not valid TOML: {exc}") from None
+    data = _read(path, ())
     problems = []
     scenario = _parse(data, path, problems)
     if scenario is not None:
@@ -111,6 +111,33 @@ def load(path, overrides=(), stop_time=None):
     if problems:
         raise UserError(f"scenario {path} has {len(problems)} problem(s): " + "; ".join(problems))
     return scenario
+
+
+def _read(path, chain):
+    """The scenario file's table, merged onto the file it ``extends`` (tables merge key by key,
+    other values replace); `chain` holds the files that extend this one."""
+    if path in chain:
+        raise UserError(f"scenario {chain[0]} extends itself through {' -> '.join(map(str, chain))}")
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except OSError as exc:
+        raise UserError(f"scenario {chain[-1]} extends {path}, which cannot be read: {exc}") from None
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise UserError(f"scenario file {path} is not valid TOML: {exc}") from None
+    base = data.pop("extends", None)
+    if base is None:
+        return data
+    if not isinstance(base, str):
+        raise UserError(f"scenario {path}: extends must be a file name, not {base!r}")
+    return _merge(_read(path.parent / base, (*chain, path)), data)
+
+
+def _merge(base, data):
+    out = dict(base)
+    for key, value in data.items():
+        both = isinstance(value, dict) and isinstance(out.get(key), dict)
+        out[key] = _merge(out[key], value) if both else value
+    return out
 
 
 def _parse(data, path, problems):
