@@ -172,7 +172,7 @@ def test_a_scenario_extends_another(fmu_dir, tmp_path, capsys):
 
     shutil.copy(IDEAL, tmp_path / "base.toml")
     (tmp_path / "variant.toml").write_text(
-        'extends = "base.toml"\nname = "variant"\nstop_time = 2.0\n'
+        'extends = "base.toml"\nname = "variant"\nstop_time = 2.0\nrecord = ["body.flange1.N"]\n'
         '[instances.body]\nparameters = { theta = 0.1 }\n'
         '[metrics]\nx1_final = { signal = "body.flange1.s", op = "max" }\n')
     s = scenario.load(tmp_path / "variant.toml")
@@ -181,6 +181,7 @@ def test_a_scenario_extends_another(fmu_dir, tmp_path, capsys):
     assert s.instances["body"].parameters == {"m1": 0.2, "m2": 0.2, "k": 200.0, "c": 1.3,
                                               "theta": 0.1}
     assert s.metrics["x1_final"].op == "max" and "mean_speed" in s.metrics
+    assert s.record[-2:] == ("friction2.flange.f", "body.flange1.N")  # lists are added to
     (tmp_path / "base.toml").write_text('extends = "variant.toml"\n')
     code, _, err = run(capsys, "run", tmp_path / "variant.toml", "--out", tmp_path / "o",
                        "--fmus", fmu_dir)

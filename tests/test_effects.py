@@ -10,7 +10,10 @@ from musclesim.components import CATALOGUE
 from conftest import SCENARIOS
 
 # a scenario and an instance per component to switch effects on in
-WHERE = {"CrawlerBody": ("crawler-ideal", "body"), "FrictionBlock": ("crawler-ideal", "friction1"),
+WHERE = {"CrawlerBody": ("crawler-ideal", "body"),
+         # on the incline, so that bending shows; the gait anchors the back block at once
+         "FrictionBlock": ("crawler-gait-incline", "friction1"),
+         "SoftActuator": ("crawler-gait-forward", "act1"),
          "SmaWire": ("sma-temperature-tracking", "wire"),
          "Thermocouple": ("sma-temperature-tracking", "thermocouple"),
          "DeadWeight": ("sma-dead-weight", "weight"), "LaserSensor": ("sma-dead-weight", "laser"),
@@ -29,7 +32,8 @@ def test_library_covers_the_issue_list():
             "clamp heat loss", "convection change", "training drift", "anchoring slip",
             "friction switching time", "pressure-dependent stiffness",
             "viscous ground drag", "load inertia", "electromagnet force nonlinearity",
-            "load-cell lag", "laser noise"} <= set(IDS)
+            "load-cell lag", "laser noise", "valve delay", "supply-pressure drop",
+            "chamber leakage", "actuator bending on an incline", "friction decay"} <= set(IDS)
     assert effects.find("anchoring slip").per_instance
     with pytest.raises(KeyError, match="known: stress dependence ignored"):
         effects.find("gremlins")

@@ -19,13 +19,19 @@ from musclesim.fmislave import UNITS
 # parameter values that give each component internal state worth saving
 STATEFUL = {
     "FrictionBlock": {"t_switch": 0.05},
+    "GaitSequencer": {"t_protrusion": 0.002, "t_stance": 0.006},  # 8 ms strides: phases change
     "PID": {"Ki": 2.0, "Kd": 0.1, "Tf": 0.01},
     "GainScheduledPID": {"Ki[1]": 2.0, "Kd[1]": 0.1, "Tf": 0.01},
     "Thermocouple": {"tau": 0.01, "noise_std": 0.5, "seed": 3.0},  # the generator is state too
     "LoadCell": {"tau": 0.01},
     "LaserSensor": {"tau": 0.01, "noise_std": 1e-5, "seed": 2.0},
+    "PressureSensor": {"tau": 0.01},
     "DeadWeight": {"inertia": 1.0},  # the positions of the last steps
     "Electromagnet": {"nonlinearity": 0.5},  # the coil current
+    # valve delays pend across steps; a small cross-section keeps the random +-1 m flange
+    # positions a small volume change
+    "SoftActuator": {"s_a": 1e-6, "t_open_delay": 3e-3, "t_close_delay": 2e-3,
+                     "C_leak": 1e-10},
     "SignalSource": {"kind": 1.0, "amplitude": 1.0, "frequency": 5.0},
     "ForcReference": {"period": 0.01},  # run 2 (5 K above T_low) spans the test steps
     # hot in the transformation, so the hysteresis memory moves; latent heat and drift state too

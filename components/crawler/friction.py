@@ -3,6 +3,9 @@
 The indicator u in [0, 1] selects low (casing on the ground, 0) or high (inflated silicone, 1)
 friction. With a switching time t_switch > 0 the contact state s follows u at a finite rate instead
 of jumping (a candidate unmodelled effect; SPEC 1.1 says switching takes up to 0.4 s).
+Two more effects, off by default, lower the high (silicone) coefficients only: bending of the soft
+actuator under shear on an incline, and contamination of the silicone over time (SPEC 1.5, 4).
+The anchoring slip, the distance a block slides while its contact is high, is accumulated here too.
 """
 import math
 from dataclasses import dataclass
@@ -19,17 +22,40 @@ class FrictionParams:
     mu_k_low: float = 0.0975  # ABS casing, kinetic = 0.75 mu_s (SPEC 1.3)
     v_s: float = 1e-3  # m/s, stick velocity band (SPEC 1.3)
     t_switch: float = 0.0  # s, low<->high transition time; 0 = the study's square switching
+    # effects, off by default (diagnosis candidates, SPEC 4):
+    bending: float = 0.0  # 1/rad, high coefficients scaled by max(0, 1 - bending |theta|): the soft
+    #                       actuator bends under shear on an incline (SPEC 1.3 plates, 1.5 climbing)
+    mu_decay: float = 0.0  # 1/s, high coefficients scaled by exp(-mu_decay t): particles collect
+    #                        on the silicone and lower its friction over time (SPEC 1.5 wood)
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("v_s",),
-                non_negative=("mu_s_high", "mu_k_high", "mu_s_low", "mu_k_low", "t_switch"))
+                non_negative=("mu_s_high", "mu_k_high", "mu_s_low", "mu_k_low", "t_switch",
+                              "bending", "mu_decay"))
 
 
-def coefficients(s, p):
-    """Static and kinetic coefficients at contact state s (0 = low, 1 = high friction)."""
-    return (p.mu_s_low + s * (p.mu_s_high - p.mu_s_low),
-            p.mu_k_low + s * (p.mu_k_high - p.mu_k_low))
+def high_scale(theta, t, p):
+    """Factor on the high coefficients from bending on the incline theta [rad] and decay at time t [s].
+
+    Exactly 1.0 with both effects off.
+
+    Examples
+    --------
+    >>> high_scale(0.5, 10.0, FrictionParams())
+    1.0
+    >>> high_scale(-0.5, 0.0, FrictionParams(bending=1.0))
+    0.5
+    """
+    return max(0.0, 1.0 - p.bending * abs(theta)) * math.exp(-p.mu_decay * t)
+
+
+def coefficients(s, p, scale=1.0):
+    """Static and kinetic coefficients at contact state s (0 = low, 1 = high friction), with the
+    high coefficients multiplied by `scale` (see `high_scale`); the low ones are unaffected."""
+    mu_s_high, mu_k_high = scale * p.mu_s_high, scale * p.mu_k_high
+    return (p.mu_s_low + s * (mu_s_high - p.mu_s_low),
+            p.mu_k_low + s * (mu_k_high - p.mu_k_low))
 
 
 def friction_force(v, f_n, normal, mu_s, mu_k, v_s):
@@ -76,3 +102,19 @@ def advance_contact(s, u, dt, t_switch):
         return u
     rate = dt / t_switch
     return min(u, s + rate) if u > s else max(u, s - rate)
+
+
+def accumulate_slip(slip, v, contact, dt, v_s):
+    """Anchoring slip after a step of dt: grows by |v| dt while the contact is high (>= 0.5) and
+    the block slides (|v| > v_s); v and contact are the values at the start of the step.
+
+    Examples
+    --------
+    >>> accumulate_slip(0.0, -0.01, 1.0, 0.1, 1e-3)
+    0.001
+    >>> accumulate_slip(0.0, -0.01, 0.0, 0.1, 1e-3)
+    0.0
+    """
+    if contact >= 0.5 and abs(v) > v_s:
+        return slip + abs(v) * dt
+    return slip

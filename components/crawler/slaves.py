@@ -3,7 +3,7 @@ import math
 
 import numpy as np
 
-from musclesim.components.crawler import body, friction, inputs
+from musclesim.components.crawler import body, friction, gait, inputs
 from musclesim.fmislave import Slave
 
 
@@ -34,12 +34,15 @@ class CrawlerBody(Slave):
                         depends=["f_a"])
             self.output(f"flange{i}.N", "N", f"Normal force of block {i} on the ground")
         self.output("x_cm", "m", "Position of the centre of mass")
+        self.output("incline", "rad", "Incline of the ground, the parameter theta (for the friction "
+                    "blocks' bending effect)")
 
     def setup(self):
         self.p = self.core_params(body.BodyParams)
         self.x = np.zeros(4)  # zero initial state (SPEC 1.4)
         self.dt = self.f_held = None
         self.flange1_N, self.flange2_N = body.normal_forces(self.p)
+        self.incline = self.p.theta
 
     def evaluate(self):
         x = self.x
@@ -73,18 +76,25 @@ class FrictionBlock(Slave):
         self.parameter("v_s", d.v_s, "m/s", "Stick velocity band (SPEC 1.3)")
         self.parameter("t_switch", d.t_switch, "s",
                        "Low/high friction transition time; 0 = instantaneous (SPEC 1.1, effect off)")
+        self.parameter("bending", d.bending, "1/rad", "Effect, 0 = off: high coefficients scaled "
+                       "by max(0, 1 - bending |theta|) (actuator bending on an incline, SPEC 1.3)")
+        self.parameter("mu_decay", d.mu_decay, "1/s", "Effect, 0 = off: high coefficients scaled "
+                       "by exp(-mu_decay t) (contamination of the silicone, SPEC 1.5)")
         self.input("flange.v", 0.0, "m/s", "Velocity of the block")
         self.input("flange.f_n", 0.0, "N", "Net non-friction force along the surface on the block")
         self.input("flange.N", 0.0, "N", "Normal force of the block on the ground")
         self.input("u", 0.0, "1", "Friction indicator: 1 = inflated (high), 0 = deflated (low)")
-        ins = ["flange.v", "flange.f_n", "flange.N", "u"]
+        self.input("theta", 0.0, "rad", "Incline of the ground (from the body's output incline)")
+        ins = ["flange.v", "flange.f_n", "flange.N", "u", "theta"]
         self.output("flange.f", "N", "Friction force on the block", depends=ins)
         self.output("contact", "1", "Contact state: 0 = low, 1 = high friction", depends=["u"])
         self.output("stuck", "1", "1 while the block sticks, else 0", depends=ins)
+        self.output("slip", "m", "Anchoring slip: distance slid while the contact is high")
 
     def setup(self):
         self.p = self.core_params(friction.FrictionParams)
         self.s = self.u
+        self.slip = 0.0
 
     def initialize(self):
         self.s = self.u  # the contact starts settled in the state the indicator asks for
@@ -92,12 +102,14 @@ class FrictionBlock(Slave):
     def evaluate(self):
         p = self.p
         self.contact = self.u if p.t_switch <= 0 else self.s
-        mu_s, mu_k = friction.coefficients(self.contact, p)
+        scale = friction.high_scale(self.theta, self.time, p)
+        mu_s, mu_k = friction.coefficients(self.contact, p, scale)
         self.flange_f = friction.friction_force(self.flange_v, self.flange_f_n, self.flange_N,
                                                 mu_s, mu_k, p.v_s)
         self.stuck = float(abs(self.flange_v) <= p.v_s and abs(self.flange_f_n) <= mu_s * self.flange_N)
 
     def advance(self, t, dt):
+        self.slip = friction.accumulate_slip(self.slip, self.flange_v, self.contact, dt, self.p.v_s)
         self.s = friction.advance_contact(self.s, self.u, dt, self.p.t_switch)
 
 
@@ -123,3 +135,43 @@ class FrictionSwitchingInputs(Slave):
 
     def evaluate(self):
         self.f_a, self.u1, self.u2 = inputs.signals(self.time, self.p)
+
+
+class GaitSequencer(Slave):
+    """Four-phase peristaltic gait (SPEC 1.5): pressure references of the three actuators."""
+
+    description = ("Peristaltic gait sequencer: pressure references of the back, central and front "
+                   "actuators (SPEC 1.5)")
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        d = gait.GaitParams()
+        self.parameter("t_protrusion", d.t_protrusion, "s", "Protrusion time, phase 2 (SPEC 1.5)")
+        self.parameter("t_stance", d.t_stance, "s",
+                       "Stance time, split equally over phases 1, 3 and 4 (SPEC 1.5)")
+        self.parameter("direction", d.direction, "1",
+                       "Direction of the first stride: +1 forward, -1 backward (SPEC 1.5)")
+        self.parameter("t_reverse", d.t_reverse, "s",
+                       "Direction reversal period; 0 = never (SPEC 1.5 bidirectional test: 32.5 s)")
+        self.parameter("p_central", d.p_central, "Pa",
+                       "Central actuator reference while protruding (from the characterisation)")
+        self.parameter("p_anchor1", d.p_anchor1, "Pa",
+                       "Back extremal actuator reference while anchoring (from the characterisation)")
+        self.parameter("p_anchor2", d.p_anchor2, "Pa",
+                       "Front extremal actuator reference while anchoring (from the characterisation)")
+        self.parameter("p_off", d.p_off, "Pa", "Reference of a deflated actuator")
+        self.output("p_ref1", "Pa", "Pressure reference of the back extremal actuator 1")
+        self.output("p_ref_c", "Pa", "Pressure reference of the central actuator")
+        self.output("p_ref2", "Pa", "Pressure reference of the front extremal actuator 2")
+        self.output("phase", "1", "Gait phase 1..4 (SPEC 1.5)")
+        # not "direction": that is the parameter's name
+        self.output("stride_direction", "1",
+                    "Direction of the current stride: +1 forward, -1 backward")
+        self.output("stride", "1", "Index of the current stride since the start, from 1")
+
+    def setup(self):
+        self.p = self.core_params(gait.GaitParams)
+
+    def evaluate(self):
+        (self.p_ref1, self.p_ref_c, self.p_ref2, self.phase, self.stride_direction,
+         self.stride) = gait.references(self.time, self.p)

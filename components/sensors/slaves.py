@@ -26,21 +26,21 @@ class _ScalarSensor(Slave):
                     f"{self.signal_description[1:]}", depends=[self.signal])
 
     def setup(self):
-        self.p = self.core_params(sensor.SensorParams)
-        self.rng = sensor.make_rng(self.p)
+        self.params = self.core_params(sensor.SensorParams)  # not self.p: PressureSensor reads "p"
+        self.rng = sensor.make_rng(self.params)
         self.x = getattr(self, self.signal)
-        self.noise = sensor.noise_sample(self.p, self.rng)
+        self.noise = sensor.noise_sample(self.params, self.rng)
 
     def initialize(self):
         self.x = getattr(self, self.signal)  # the sensing element starts settled on the signal
 
     def evaluate(self):
-        x = getattr(self, self.signal) if self.p.tau <= 0 else self.x
-        setattr(self, self.measured, sensor.reading(x, self.p, self.noise))
+        x = getattr(self, self.signal) if self.params.tau <= 0 else self.x
+        setattr(self, self.measured, sensor.reading(x, self.params, self.noise))
 
     def advance(self, t, dt):
-        self.x = sensor.lag(self.x, getattr(self, self.signal), dt, self.p.tau)
-        self.noise = sensor.noise_sample(self.p, self.rng)  # one sample per communication step
+        self.x = sensor.lag(self.x, getattr(self, self.signal), dt, self.params.tau)
+        self.noise = sensor.noise_sample(self.params, self.rng)  # one sample per communication step
 
 
 class Thermocouple(_ScalarSensor):
@@ -67,3 +67,12 @@ class LaserSensor(_ScalarSensor):
                    "seeded noise, quantisation (SPEC 2.1, 4)")
     signal, measured, unit = "s", "s_meas", "m"
     element, signal_description = "sensor's filter", "Contraction of the wire (SmaWire flange.s)"
+
+
+class PressureSensor(_ScalarSensor):
+    """Pressure sensor on a soft actuator's chamber, imperfections off by default (SPEC 1.1)."""
+
+    description = ("Pressure sensor: chamber gauge pressure with first-order lag, bias, seeded "
+                   "noise, quantisation (SPEC 1.1, 4)")
+    signal, measured, unit = "p", "p_meas", "Pa"
+    element, signal_description = "pressure sensor", "Gauge pressure of the chamber"

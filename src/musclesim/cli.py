@@ -1,5 +1,5 @@
 """The `musclesim` command line: build, run, export, sweep, loops, identify, dataset, diagnose,
-benchmark-diagnosis, bench, linear.
+benchmark-diagnosis, bench, linear, characterise.
 
 Mistakes a user can fix end in one sentence on stderr and exit status 2; a failed simulation
 exits with status 1 after writing the results it reached.
@@ -74,17 +74,46 @@ def _cmd_linear(args):
         report, text, toml = linear.crawler(), linear.format_crawler, None
     elif args.system == "sma-thermal":
         report, text, toml = linear.sma_thermal(), linear.format_sma_thermal, linear.gain_table_toml
-    else:
+    elif args.system == "sma-load":
         build.check_fresh(args.fmus)
         report, text, toml = linear.sma_load(args.fmus), linear.format_sma_load, \
             linear.load_gains_toml
+    else:
+        build.check_fresh(args.fmus)
+        report, text, toml = linear.pneumatic(args.fmus), linear.format_pneumatic, \
+            linear.pneumatic_gains_toml
     if args.write and toml is None:
-        raise UserError(f"--write is for sma-thermal and sma-load, not {args.system}")
-    if args.write:
-        Path(args.write).write_text(toml(report))
+        raise UserError(f"--write is for sma-thermal, sma-load and pneumatic, not {args.system}")
+    written = []
+    if args.write and args.system == "pneumatic":  # one file per actuator kind, into a folder
+        Path(args.write).mkdir(parents=True, exist_ok=True)
+        for actuator in report["loops"]:
+            written.append(Path(args.write) / f"pneumatic-{actuator}-pid.toml")
+            written[-1].write_text(toml(report, actuator))
+    elif args.write:
+        written.append(Path(args.write))
+        written[-1].write_text(toml(report))
     print(json.dumps(report, indent=2) if args.json else text(report))
+    for path in written:
+        print(f"wrote the gains to {path}", file=sys.stderr)
+    return 0
+
+
+def _cmd_characterise(args):
+    from musclesim import characterise
+
+    summary, res = run_scenario(args.scenario, args.out, args.fmus, args.set)
+    if res.error:
+        raise UserError(f"{args.scenario}: the characterisation run stopped: {res.error}")
+    refs = characterise.references(res)
+    print(f"central: {refs['p_central']:.1f} Pa for {characterise.ELONGATION_TARGET:g} m "
+          f"elongation ({refs['elongation_at_ramp_end']:.4f} m at the end of the ramp)")
+    for i, where in ((1, "back"), (2, "front")):
+        print(f"{where} extremal: firm ground contact from {refs[f'p_anchor{i}']:.1f} Pa")
+    print(f"wrote the run to {args.out}")
     if args.write:
-        print(f"wrote the gains to {args.write}", file=sys.stderr)
+        Path(args.write).write_text(characterise.references_toml(refs, args.scenario))
+        print(f"wrote the gait references to {args.write}", file=sys.stderr)
     return 0
 
 
@@ -282,12 +311,26 @@ def _parser():
     q.add_argument("--json", action="store_true", help="print JSON instead of text")
     q.set_defaults(func=_cmd_bench)
 
+    q = sub.add_parser("characterise", help="the crawler's characterisation: the gait's pressure "
+                                            "references (SPEC 1.5)")
+    q.add_argument("scenario", nargs="?", default="scenarios/crawler-characterisation.toml",
+                   help="the characterisation scenario (default: %(default)s)")
+    q.add_argument("--out", default="results/crawler-characterisation",
+                   help="folder for the run's results (default: %(default)s)")
+    q.add_argument("--write", metavar="FILE", help="write the references (TOML) the gait "
+                                                   "scenarios read")
+    q.add_argument("--set", action="append", default=[], metavar="INST.PARAM=VALUE",
+                   help="override a parameter (repeatable)")
+    common(q)
+    q.set_defaults(func=_cmd_characterise)
+
     q = sub.add_parser("linear", help="linear analysis with python-control")
-    q.add_argument("system", choices=["crawler", "sma-thermal", "sma-load"],
+    q.add_argument("system", choices=["crawler", "sma-thermal", "sma-load", "pneumatic"],
                    help="the system to analyse")
     q.add_argument("--json", action="store_true", help="print JSON instead of text")
     q.add_argument("--write", metavar="FILE", help="sma-thermal, sma-load: write the controller "
-                                                   "parameters (TOML) a scenario can read")
+                   "parameters (TOML) a scenario can read; pneumatic: a folder that receives "
+                   "pneumatic-central-pid.toml and pneumatic-extremal-pid.toml")
     common(q)
     q.set_defaults(func=_cmd_linear)
     return p

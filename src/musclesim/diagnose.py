@@ -494,6 +494,7 @@ def regimes(problem, unit):
                   and problem.components.get(split_signal(c)[0]) == "FrictionSwitchingInputs"
                   and split_signal(c)[1] != "f_a"]
     force = force or next((c for c in cols_all if split_signal(c)[1] == "f_a"), None)
+    pressure = _first(cols_all, problem.units_of, ("Pa",))
     out = {k: [] for k in effects.REGIMES}
     for run in unit.runs:
         t = run.time
@@ -516,6 +517,10 @@ def regimes(problem, unit):
             out["high_force"].append(f > np.median(f))
             rate = np.abs(_smooth_rate(t, f))
             out["load_changing"].append(rate > np.median(rate))
+        if pressure:
+            rate = np.abs(_smooth_rate(t, cols[pressure]))
+            out["pressure_changing"].append(rate > np.median(rate))
+            out["pressurised"].append(cols[pressure] > np.median(cols[pressure]))
         if positions:
             speed = np.max([np.abs(_smooth_rate(t, cols[c], 0.05)) for c in positions], axis=0)
             moving = speed > 0.1 * np.percentile(speed, 95)

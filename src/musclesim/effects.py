@@ -39,6 +39,8 @@ REGIMES = {
     "switching": "within 0.5 s after a friction indicator switches",
     "high_force": "the actuator force is above its median",
     "load_changing": "the measured load changes faster than its median rate",
+    "pressure_changing": "a measured pressure changes faster than its median rate",
+    "pressurised": "a measured pressure is above its median",
 }
 
 
@@ -115,6 +117,23 @@ EFFECTS = (
     Effect("viscous ground drag", "CrawlerBody", (Parameter("c_ground", 0.0, 0.0, 5.0),),
            "slip", "SPEC 4",
            "the ground resists motion in proportion to the block's speed"),
+    Effect("actuator bending on an incline", "FrictionBlock", (Parameter("bending", 0.0, 0.0, 4.0),),
+           "stick", "SPEC 1.3, 1.5, 4",
+           "the inflated actuator bends under shear on a slope and grips less, the more the steeper"),
+    Effect("friction decay", "FrictionBlock", (Parameter("mu_decay", 0.0, 0.0, 0.02),),
+           "late", "SPEC 1.5, 4",
+           "particles collect on the silicone and lower its friction over time"),
+    # pneumatic actuation of the crawler (SPEC 1.1, 4, 5)
+    Effect("valve delay", "SoftActuator",
+           (Parameter("t_open_delay", 0.0, 0.0, 0.02), Parameter("t_close_delay", 0.0, 0.0, 0.02)),
+           "pressure_changing", "SPEC 4, 5",
+           "the solenoid valves open and close a few ms after their PWM command"),
+    Effect("supply-pressure drop", "SoftActuator", (Parameter("supply_drop", 0.0, 0.0, 0.5),),
+           "pressurised", "SPEC 1.1, 4",
+           "the inflation pump does not hold its pressure"),
+    Effect("chamber leakage", "SoftActuator", (Parameter("C_leak", 0.0, 0.0, 5e-11),),
+           "pressurised", "SPEC 4",
+           "air leaks from the chamber to the atmosphere"),
 )
 
 
@@ -125,6 +144,8 @@ CALIBRATION = {
                 Parameter("rho_austenite", 1.0, 0.8, 1.2)),
     "CrawlerBody": (Parameter("k", 1.0, 0.7, 1.3), Parameter("c", 1.0, 0.5, 2.0)),
     "FrictionBlock": (Parameter("mu_k_low", 1.0, 0.7, 1.3),),
+    # the valves' sonic conductances are assumptions (SPEC 1.1 names no valve; SPEC 5 the law)
+    "SoftActuator": (Parameter("C_in", 1.0, 0.5, 2.0), Parameter("C_out", 1.0, 0.5, 2.0)),
 }
 
 

@@ -1,5 +1,7 @@
-"""Linear analysis with python-control: crawler controllability (SPEC 1.2) and the SMA wire's
-thermal models with the gain-scheduled temperature controller designed on them (SPEC 2.5)."""
+"""Linear analysis with python-control: crawler controllability (SPEC 1.2), the SMA wire's
+thermal models with the gain-scheduled temperature controller designed on them (SPEC 2.5), the
+SMA bench's load path (SPEC 2.4) and the crawler's pressure loops (SPEC 1.1), the last two
+identified on their FMUs."""
 import math
 
 import control as ct
@@ -9,6 +11,7 @@ from musclesim.components.control.slaves import SCHEDULE_K
 from musclesim.components.crawler.body import BodyParams, state_space
 from musclesim.components.sma import thermal
 from musclesim.components.sma.wire import ReferenceWire
+from musclesim.errors import UserError
 
 STATES = ["x1", "v1", "x2", "v2"]
 INPUTS = ["f_a", "f1", "f2"]
@@ -286,3 +289,145 @@ def load_gains_toml(report):
         "# `musclesim linear sma-load --write FILE`: do not edit, rerun the design.",
         f"Kp = {report['Kp']!r}  # duty per N", f"Ki = {report['Ki']!r}  # duty per N s",
         "Kd = 0.0", "u_min = 0.0  # PWM duty", "u_max = 1.0", ""])
+
+
+# ---- the pressure loops of the pneumatic crawler (SPEC 1.1, 1.5) ------------------------------
+
+PNEUMATIC_DESIGN = {
+    "scenario": "scenarios/pneumatic-identification.toml",
+    "p_op": 12e3,  # Pa, operating point: the gait's working range, above the contact threshold
+    "fill_duty": 0.2,  # duty that inflates the chamber to p_op and full contact before the PRBS
+    "amplitude": 0.1,  # PRBS duty amplitude around 0 (valves closed: the chamber holds)
+    "bit": 0.1,  # s, PRBS bit length: five PWM carrier periods at 50 Hz
+    "bits": 20,
+    "seed": 0,
+    "max_delay": 20,  # samples of input delay tried in the fit
+    "crossover": 20.0,  # rad/s: pressures settle within ~0.2 s, well inside the 0.6 s phases
+    "zero_ratio": 4.0,  # the PI zero sits this factor below the crossover
+    "step": 1e-3,  # s, the DAQ's 1 kHz (SPEC 1.1)
+}
+ACTUATORS = ("central", "extremal")  # instance names in the identification scenario
+
+
+def _fit_arx(p, u, max_delay):
+    """Least-squares p[k+1] = a p[k] + b u[k-d] + c for d = 0..max_delay; the best (a, b, c, d,
+    RMS residual)."""
+    best = None
+    for d in range(max_delay + 1):
+        X = np.column_stack([p[d:-1], u[:len(u) - 1 - d] if d else u[:-1], np.ones(len(p) - 1 - d)])
+        y = p[d + 1:]
+        coef, *_ = np.linalg.lstsq(X, y, rcond=None)
+        rms = float(np.sqrt(np.mean((X @ coef - y) ** 2)))
+        if best is None or rms < best[4]:
+            best = (*map(float, coef), d, rms)
+    return best
+
+
+def identify_pneumatic(fmu_dir="fmus", design=None):
+    """Discrete models duty -> measured pressure of the central and the extremal actuator.
+
+    Runs scenarios/pneumatic-identification.toml twice with the duties replayed: once inflating
+    at ``fill_duty`` to find when each chamber reaches ``p_op`` with its contact full, then inflating until then and
+    applying a seeded PRBS of +-``amplitude`` (each bit followed by its opposite). A first-order ARX model with input delay is fitted
+    to the PRBS part. Returns ``{actuator: (python-control discrete system, fit dict)}``.
+    """
+    from musclesim import scenario as scenario_mod
+    from musclesim.master import Master
+
+    d = {**PNEUMATIC_DESIGN, **(design or {})}
+    n_bit = round(d["bit"] / d["step"])
+    # each random bit is followed by its opposite, so that the integrating chamber stays near p_op
+    signs = np.where(np.random.default_rng(d["seed"]).integers(0, 2, d["bits"] // 2) > 0, 1.0, -1.0)
+    prbs = d["amplitude"] * np.column_stack([signs, -signs]).ravel().repeat(n_bit)
+    fill_time = 1.0  # s, generous: the run below checks p_op is reached
+    s = scenario_mod.load(d["scenario"], stop_time=fill_time)
+    res = Master(s, fmu_dir, {f"{a}.duty": np.full(s.n_steps + 1, d["fill_duty"])
+                              for a in ACTUATORS}).run()
+    fill = {}
+    for a in ACTUATORS:
+        # an extremal chamber bulges while its contact builds: identify it once contact is full
+        reached = np.flatnonzero((res[f"{a}_sensor.p_meas"] >= d["p_op"]) & (res[f"{a}.u"] >= 0.999))
+        if not len(reached):
+            raise UserError(f"{d['scenario']}: {a} does not reach p_op = {d['p_op']:g} Pa with full "
+                            f"contact within {fill_time:g} s at duty {d['fill_duty']:g}")
+        fill[a] = int(reached[0])
+    n = max(fill.values()) + len(prbs)
+    s = scenario_mod.load(d["scenario"], stop_time=n * d["step"])
+    duties = {a: np.concatenate([np.full(fill[a], d["fill_duty"]), prbs,
+                                 np.zeros(n + 1 - fill[a] - len(prbs))]) for a in ACTUATORS}
+    res = Master(s, fmu_dir, {f"{a}.duty": u for a, u in duties.items()}).run()
+    out = {}
+    for a in ACTUATORS:
+        window = slice(fill[a], fill[a] + len(prbs))
+        p, u = res[f"{a}_sensor.p_meas"][window], duties[a][window]
+        A, B, c, delay, rms = _fit_arx(p, u, d["max_delay"])
+        plant = ct.tf([B], np.r_[1.0, -A, np.zeros(delay)], d["step"], inputs="duty", outputs="p")
+        out[a] = (plant, {"a": A, "b": B, "c": c, "delay_samples": delay, "fit_rms": rms,
+                          "p_range": [float(p.min()), float(p.max())]})
+    return out
+
+
+def discrete_pi(plant, crossover, zero_ratio, step):
+    """PI u = Kp e + Ki sum(e) step (the PID FMU's form) for a discrete plant: the zero at
+    crossover / zero_ratio, Kp so that the loop gain is 1 at `crossover` [rad/s]."""
+    z = np.exp(1j * crossover * step)
+    shape = (1.0 + step / zero_ratio * crossover / (z - 1.0)) * complex(plant(z))
+    Kp = 1.0 / float(abs(shape))
+    return Kp, Kp * crossover / zero_ratio
+
+
+def pneumatic(fmu_dir="fmus", design=None):
+    """The pressure loops: identified discrete plants and a PI per actuator kind with margins.
+
+    Returns a dict with, per actuator kind, the ARX fit (a, b, c, delay, RMS residual [Pa]),
+    the integrator gain [Pa/s per unit duty], the gains Kp [1/Pa], Ki [1/(Pa s)], the discrete
+    loop's gain margin (None: infinite), phase margin [deg], crossover [rad/s] and the largest
+    closed-loop pole radius (below 1: stable).
+    """
+    d = {**PNEUMATIC_DESIGN, **(design or {})}
+    loops = {}
+    for a, (plant, fit) in identify_pneumatic(fmu_dir, d).items():
+        Kp, Ki = discrete_pi(plant, d["crossover"], d["zero_ratio"], d["step"])
+        pi = ct.tf([Kp + Ki * d["step"], -Kp], [1.0, -1.0], d["step"])
+        loop = pi * plant
+        gms, pms, _, _, wcs, _ = ct.stability_margins(loop, returnall=True)
+        # a gain margin below 1 is how much *lower* gain would destabilise (phase near -180 deg
+        # at low frequency, plant and PI both integrating): report the upper one
+        gm = min((float(g) for g in gms if g > 1), default=math.inf)
+        pm, wc = min(zip(pms, wcs), default=(math.inf, math.nan))
+        loops[a] = {"identified": {**fit, "rate_per_duty": fit["b"] / d["step"]},
+                    "Kp": Kp, "Ki": Ki, "gain_margin": None if math.isinf(gm) else float(gm),
+                    "phase_margin_deg": float(pm), "crossover": float(wc),
+                    "closed_loop_pole_radius": float(np.abs(ct.poles(ct.feedback(loop))).max())}
+    return {"system": "pneumatic", "spec": "SPEC.md 1.1, 1.5", "design": d, "loops": loops}
+
+
+def format_pneumatic(report):
+    """Human-readable summary of a `pneumatic` report."""
+    d = report["design"]
+    lines = [f"Pressure loops (SPEC 1.1, 1.5): duty -> measured pressure identified at "
+             f"{d['p_op'] / 1e3:g} kPa from a PRBS of +-{d['amplitude']:g} duty "
+             f"({d['bits']} bits of {d['bit'] * 1e3:g} ms); PI with loop crossover "
+             f"{d['crossover']:g} rad/s, zero {d['zero_ratio']:g}x below, sampled at "
+             f"{d['step'] * 1e3:g} ms"]
+    for a, q in report["loops"].items():
+        i, gm = q["identified"], q["gain_margin"]
+        lines.append(
+            f"  {a:9s} p[k+1] = {i['a']:.5f} p[k] + {i['b']:.4g} u[k-{i['delay_samples']}] "
+            f"(fit RMS {i['fit_rms']:.3g} Pa; {i['rate_per_duty'] / 1e3:.4g} kPa/s per unit duty): "
+            f"Kp = {q['Kp']:.4g} 1/Pa, Ki = {q['Ki']:.4g} 1/(Pa s); gain margin "
+            + ("infinite" if gm is None else f"{20 * math.log10(gm):.1f} dB")
+            + f", phase margin {q['phase_margin_deg']:.1f} deg at {q['crossover']:.1f} rad/s, "
+              f"closed-loop pole radius {q['closed_loop_pole_radius']:.4f}")
+    return "\n".join(lines)
+
+
+def pneumatic_gains_toml(report, actuator):
+    """The PID parameters of one actuator kind's loop, as the TOML a scenario's instance reads."""
+    q = report["loops"][actuator]
+    return "\n".join([
+        f"# PID gains of the {actuator} soft actuator's pressure loop (SPEC 1.1), written by",
+        "# `musclesim linear pneumatic --write DIR`: do not edit, rerun the design.",
+        f"Kp = {float(q['Kp'])!r}  # duty per Pa", f"Ki = {float(q['Ki'])!r}  # duty per Pa s",
+        "Kd = 0.0",
+        "u_min = -1.0  # full exhaust", "u_max = 1.0  # full inflation", ""])

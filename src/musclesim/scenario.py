@@ -4,8 +4,9 @@ A scenario names instances (component + parameter values, inline or from a TOML 
 ``parameters_file`` relative to the scenario, inline values winning), connections ``"a.y" -> "b.u"``, the
 communication step, start and stop time, the master algorithm, the signals to record, the metrics
 to compute and the plot panels. A file may ``extends = "other.toml"`` (relative to it): its
-tables merge key by key onto the other's, its other values replace them, so that variants of an
-experiment state only what differs. Checks collect every problem and raise once with the whole
+tables merge key by key onto the other's, its connections, recorded signals and plots are added
+to the other's, its other values replace them, so that variants of an experiment state only what
+differs. Checks collect every problem and raise once with the whole
 list.
 """
 import math
@@ -115,7 +116,8 @@ def load(path, overrides=(), stop_time=None):
 
 def _read(path, chain):
     """The scenario file's table, merged onto the file it ``extends`` (tables merge key by key,
-    other values replace); `chain` holds the files that extend this one."""
+    connections, recorded signals and plots are added, other values replace); `chain` holds the
+    files that extend this one."""
     if path in chain:
         raise UserError(f"scenario {chain[0]} extends itself through {' -> '.join(map(str, chain))}")
     try:
@@ -132,11 +134,18 @@ def _read(path, chain):
     return _merge(_read(path.parent / base, (*chain, path)), data)
 
 
+_ADDED = ("connections", "record", "plots")  # lists an extending file adds to
+
+
 def _merge(base, data):
     out = dict(base)
     for key, value in data.items():
-        both = isinstance(value, dict) and isinstance(out.get(key), dict)
-        out[key] = _merge(out[key], value) if both else value
+        if isinstance(value, dict) and isinstance(out.get(key), dict):
+            out[key] = _merge(out[key], value)
+        elif key in _ADDED and isinstance(value, list) and isinstance(out.get(key), list):
+            out[key] = out[key] + value
+        else:
+            out[key] = value
     return out
 
 

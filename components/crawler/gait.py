@@ -1,0 +1,112 @@
+"""Four-phase peristaltic gait of the real crawler (SPEC 1.5) as pressure references.
+
+Three actuators: back extremal (1), central (c), front extremal (2). A forward stride:
+
+=====  ===========================  ==========  ==========  ==========
+phase  what happens                 p_ref1      p_ref_c     p_ref2
+=====  ===========================  ==========  ==========  ==========
+1      anchor back                  p_anchor1   p_off       p_off
+2      protrusion: front slides     p_anchor1   p_central   p_off
+3      anchor front                 p_anchor1   p_central   p_anchor2
+4      deflate back and central     p_off       p_off       p_anchor2
+=====  ===========================  ==========  ==========  ==========
+
+A backward stride is the mirror image: back and front swap roles (phase 1 anchors the front,
+phase 3 the back, phase 4 deflates the front and the central actuator); each extremal actuator
+keeps its own anchoring pressure. Phase 2 lasts the protrusion time; the stance time is split
+equally over phases 1, 3 and 4 (an assumption: SPEC 1.5 gives only the protrusion and stance
+times). With t_reverse > 0 the direction flips every t_reverse seconds and a new stride starts at
+phase 1 in the other direction (SPEC 1.5 bidirectional test).
+"""
+import math
+from dataclasses import dataclass
+
+from musclesim.components.checks import require
+
+# s: times within this of a phase boundary count as past it, so that a time accumulated step by
+# step (0.001 + 0.001 + ...) switches on the same sample as the exact time would
+EPS = 1e-9
+
+
+@dataclass(frozen=True)
+class GaitParams:
+    """Gait timing and pressure references (defaults: SPEC 1.5 timing)."""
+
+    t_protrusion: float = 1.2  # s, phase 2 (SPEC 1.5)
+    t_stance: float = 1.8  # s, phases 1, 3 and 4 together, 0.6 s each (SPEC 1.5; equal split assumed)
+    direction: float = 1.0  # direction of the first stride: +1 forward, -1 backward
+    t_reverse: float = 0.0  # s, direction reversal period; 0 = never (SPEC 1.5 test: 32.5 s)
+    # Pa: scenarios set these from the off-line characterisation (scenarios/params, SPEC 1.5);
+    # the defaults only make the FMU runnable on its own
+    p_central: float = 10e3  # central actuator while protruding
+    p_anchor1: float = 10e3  # back extremal actuator while anchoring
+    p_anchor2: float = 10e3  # front extremal actuator while anchoring
+    p_off: float = 0.0  # Pa, reference of a deflated actuator
+
+    def check(self):
+        """Raise ValueError naming the first parameter outside its valid range."""
+        require(self, positive=("t_protrusion", "t_stance"), non_negative=("t_reverse",))
+        if self.direction not in (1.0, -1.0):
+            raise ValueError(f"direction must be +1 (forward) or -1 (backward) (got {self.direction!r})")
+        for name in ("p_central", "p_anchor1", "p_anchor2", "p_off"):
+            if not math.isfinite(getattr(self, name)):
+                raise ValueError(f"{name} must be a finite pressure (got {getattr(self, name)!r})")
+
+
+def period(p):
+    """Stride period [s]: protrusion plus stance time (3 s in SPEC 1.5)."""
+    return p.t_protrusion + p.t_stance
+
+
+def phase_ends(p):
+    """Times since the start of a stride at which phases 1, 2 and 3 end [s]."""
+    d = p.t_stance / 3
+    return d, d + p.t_protrusion, 2 * d + p.t_protrusion
+
+
+def references(t, p):
+    """Pressure references and gait state at time t.
+
+    Parameters
+    ----------
+    t : float
+        Time since the start of the gait [s].
+    p : GaitParams
+        Gait parameters.
+
+    Returns
+    -------
+    tuple of float
+        (p_ref1, p_ref_c, p_ref2) [Pa] for the back extremal, central and front extremal actuator,
+        then phase (1..4), direction (+1 forward, -1 backward) and stride (index of the stride
+        since the start, counted from 1).
+
+    Examples
+    --------
+    >>> references(0.0, GaitParams(p_central=5e3, p_anchor1=2e3, p_anchor2=3e3))
+    (2000.0, 0.0, 0.0, 1.0, 1.0, 1.0)
+    >>> references(2.0, GaitParams(p_central=5e3, p_anchor1=2e3, p_anchor2=3e3))
+    (2000.0, 5000.0, 3000.0, 3.0, 1.0, 1.0)
+    """
+    T = period(p)
+    if p.t_reverse > 0:
+        k = math.floor((t + EPS) / p.t_reverse)  # reversals so far
+        t = t - k * p.t_reverse
+        per_segment = math.floor((p.t_reverse - EPS) / T) + 1  # strides started between reversals
+    else:
+        k, per_segment = 0, 0
+    j = math.floor((t + EPS) / T)  # strides completed since the last reversal
+    tau = t - j * T + EPS
+    phase = 1 + sum(tau >= end for end in phase_ends(p))
+    direction = p.direction * (-1) ** k
+    off = p.p_off
+    central = p.p_central if phase in (2, 3) else off
+    anchor_first = phase < 4  # the actuator that anchors first holds through phases 1 to 3
+    anchor_second = phase >= 3  # the other one anchors from phase 3 on
+    if direction > 0:
+        back, front = anchor_first, anchor_second
+    else:  # mirror image: the front actuator anchors first
+        back, front = anchor_second, anchor_first
+    back = p.p_anchor1 if back else off
+    front = p.p_anchor2 if front else off
+    return back, central, front, float(phase), float(direction), float(k * per_segment + j + 1)

@@ -1,0 +1,57 @@
+"""The crawler's off-line characterisation (SPEC 1.5): the gait's pressure references.
+
+`scenarios/crawler-characterisation.toml` ramps the central actuator's pressure reference with
+both extremal actuators deflated, then the extremal actuators' references. From its results:
+
+- ``p_central``: the measured central pressure at which the elongation (front minus back block
+  position) first reaches the target elongation on the rising ramp;
+- ``p_anchor1``, ``p_anchor2``: the lowest measured pressure at which each extremal actuator's
+  contact is firm (indicator >= `FIRM`), the study's "minimum pressure for firm ground contact".
+"""
+import numpy as np
+
+from musclesim.errors import UserError
+
+# m: assumption, about half the central actuator's 83 mm length (SPEC 1.1); the study names no
+# elongation, only that the references came from the pressure-elongation curve (SPEC 1.5)
+ELONGATION_TARGET = 0.04
+FIRM = 0.99  # contact indicator counted as firm ground contact
+CENTRAL_RAMP_END = 20.0  # s, end of the central ramp in the characterisation scenario
+
+
+def references(res, elongation_target=ELONGATION_TARGET):
+    """Gait references from the characterisation's results (a `musclesim.master.Results`).
+
+    Returns ``{"p_central", "p_anchor1", "p_anchor2"}`` in Pa, plus the elongation reached at
+    the end of the central ramp [m]; raises UserError naming what the run did not reach.
+    """
+    rising = res.time <= CENTRAL_RAMP_END
+    elongation = (res["body.flange2.s"] - res["body.flange1.s"])[rising]
+    p = res["sensorc.p_meas"][rising]
+    reached = np.flatnonzero(elongation >= elongation_target)
+    if not len(reached):
+        raise UserError(f"the central actuator reaches only {elongation.max():.4g} m of the "
+                        f"{elongation_target:g} m elongation target by t = {CENTRAL_RAMP_END:g} s")
+    k = reached[0]
+    # interpolate the pressure between the samples around the crossing
+    w = (elongation_target - elongation[k - 1]) / (elongation[k] - elongation[k - 1]) if k else 0.0
+    out = {"p_central": float(p[k - 1] + w * (p[k] - p[k - 1])) if k else float(p[0])}
+    for i in (1, 2):
+        firm = np.flatnonzero(res[f"act{i}.u"] >= FIRM)
+        if not len(firm):
+            raise UserError(f"extremal actuator act{i} never reaches firm contact "
+                            f"(indicator >= {FIRM}) in the characterisation")
+        out[f"p_anchor{i}"] = float(res[f"sensor{i}.p_meas"][firm[0]])
+    out["elongation_at_ramp_end"] = float(elongation[-1])
+    return out
+
+
+def references_toml(refs, scenario_path):
+    """The GaitSequencer parameters of `refs`, as the TOML the gait scenarios read."""
+    return "\n".join([
+        "# Pressure references of the four-phase gait (SPEC 1.5), written by",
+        f"# `musclesim characterise` from {scenario_path}: do not edit, rerun it.",
+        f"p_central = {refs['p_central']!r}  # Pa: elongation {ELONGATION_TARGET:g} m on the "
+        "pressure-elongation curve",
+        f"p_anchor1 = {refs['p_anchor1']!r}  # Pa: firm ground contact of the back actuator",
+        f"p_anchor2 = {refs['p_anchor2']!r}  # Pa: firm ground contact of the front actuator", ""])

@@ -1,0 +1,222 @@
+"""Soft pneumatic actuator (SPEC 1.1, 1.5, 5) against hand solutions: the ISO 6358 valve law,
+choked filling at constant volume, PWM-averaged flow, valve delays, polytropic compression,
+contact build-up, effects off = nominal exactly; the SoftActuator and PressureSensor FMUs."""
+import math
+
+import numpy as np
+import pytest
+from fmpy import simulate_fmu
+from scipy.integrate import solve_ivp
+
+from musclesim.components.pneumatic import actuator as pa
+from musclesim.components.pneumatic.actuator import P_ATM, R_AIR, ActuatorParams, mass_flow
+
+C, B = 5e-10, 0.3
+HUGE = dict(central=0.0, V0=1.0, dV_contact=0.0)  # the pressure barely moves
+
+
+def run(params, duties, h=1e-3, elongations=None):
+    """Step an actuator through the duties (one per step of h); returns the pressures and contacts
+    at t_0..t_n and the masses delivered per step."""
+    act = pa.Actuator(params)
+    p, u, m = [act.pressure], [act.contact], []
+    for k, duty in enumerate(duties):
+        m.append(act.step(k * h, h, duty, 0.0 if elongations is None else elongations[k]))
+        p.append(act.pressure)
+        u.append(act.contact)
+    return np.array(p), np.array(u), np.array(m)
+
+
+# ---- the valve (ISO 6358) ------------------------------------------------------------------------
+
+def test_choked_flow_is_c_p_up_rho_0():
+    # r = 100/500 = 0.2 <= b: 5e-10 m3/(s Pa) x 500 kPa x 1.185 kg/m3
+    assert mass_flow(500e3, 100e3, C, B) == pytest.approx(2.9625e-4, rel=1e-14)
+    assert mass_flow(500e3, 150e3, C, B) == mass_flow(500e3, 100e3, C, B)  # r = b: still choked
+    # four times the reference temperature: sqrt(T_0 / T) = 1/2
+    assert mass_flow(500e3, 100e3, C, B, 4 * 293.15) == pytest.approx(2.9625e-4 / 2, rel=1e-14)
+
+
+def test_unchoked_flow_hand_number():
+    # r = 150/200 = 0.75: (0.75 - 0.3) / 0.7 = 0.642857, sqrt(1 - 0.413265) = 0.765986;
+    # C p_up rho_0 = 5e-10 x 200e3 x 1.185 = 1.185e-4 kg/s
+    assert mass_flow(200e3, 150e3, C, B) == pytest.approx(1.185e-4 * 0.765986, rel=1e-6)
+
+
+def test_flow_is_continuous_at_b_zero_at_1_and_falls_with_r():
+    p_up = 300e3
+    choked = mass_flow(p_up, B * p_up, C, B)
+    assert mass_flow(p_up, B * p_up * (1 + 1e-9), C, B) == pytest.approx(choked, rel=1e-8)
+    assert mass_flow(p_up, p_up, C, B) == 0.0
+    assert mass_flow(p_up, p_up * (1 - 1e-12), C, B) < 1e-5 * choked
+    q = [mass_flow(p_up, r * p_up, C, B) for r in np.linspace(0, 1, 201)]
+    assert np.all(np.diff(q) <= 0) and q[0] == choked and q[-1] == 0.0
+    assert pa.signed_flow(150e3, 200e3, C, B) == -mass_flow(200e3, 150e3, C, B)
+    assert mass_flow(100e3, 200e3, C, B) == 0.0  # never against the pressure difference
+
+
+# ---- the chamber ---------------------------------------------------------------------------------
+
+def test_zero_duty_no_flow_constant_pressure():
+    for params in (ActuatorParams(), ActuatorParams(C_leak=1e-10, t_open_delay=0.003)):
+        p, u, m = run(params, [0.0] * 200)
+        assert np.all(p == 0.0) and np.all(m == 0.0) and np.all(u == 0.0)
+
+
+def test_choked_filling_at_constant_volume_is_linear():
+    # 400 kPa gauge supply: the flow stays choked while the chamber is below 0.3 x 501.325 kPa
+    # absolute (49 kPa gauge); isothermal (kappa = 1): dp/dt = R T q / V0, q = C p_sup rho_0
+    params = ActuatorParams(central=0.0, dV_contact=0.0, p_supply=400e3, kappa=1.0)
+    q = C * (P_ATM + 400e3) * 1.185
+    rate = R_AIR * 293.15 * q / params.V0  # 4.26e5 Pa/s
+    p, _, m = run(params, [1.0] * 100)
+    t = np.arange(101) * 1e-3
+    np.testing.assert_allclose(p, rate * t, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(m, q * 1e-3, rtol=1e-9)
+    k = np.flatnonzero(p >= 30e3)[0]  # the time to reach 30 kPa
+    t30 = t[k - 1] + (30e3 - p[k - 1]) / (p[k] - p[k - 1]) * 1e-3
+    assert t30 == pytest.approx(30e3 / rate, rel=1e-9)
+
+
+def test_unchoked_filling_matches_an_ode_solver():
+    params = ActuatorParams()  # central at rest: constant volume; 40 kPa supply: unchoked
+    gain = params.kappa * R_AIR * params.T / params.V0
+    sol = solve_ivp(lambda t, y: [gain * mass_flow(P_ATM + 40e3, P_ATM + y[0], C, B)],
+                    (0, 0.3), [0.0], rtol=1e-10, atol=1e-6)
+    p, _, _ = run(params, [1.0] * 300)
+    assert p[-1] == pytest.approx(sol.y[0, -1], rel=1e-3)
+    assert 20e3 < p[-1] < 40e3
+
+
+def test_mass_balance_holds_through_the_clamp_at_the_supply():
+    params = ActuatorParams()
+    p, _, m = run(params, [1.0] * 800)  # reaches the supply pressure (clamped) at about 0.65 s
+    assert p[-1] == 40e3 and p.max() == 40e3
+    gain = params.kappa * R_AIR * params.T / params.V0  # constant volume: dp = gain dm
+    np.testing.assert_allclose(np.cumsum(m) * gain, p[1:], rtol=1e-9, atol=1e-6)
+
+
+@pytest.mark.parametrize("duty", [0.1, 0.25, 1 / 3, 0.5, 0.73, 1.0, -0.4, -1.0])
+def test_pwm_delivers_duty_times_the_continuous_flow(duty):
+    p, _, m = run(ActuatorParams(**HUGE), [duty] * 100)  # 5 carrier periods of 20 ms
+    if duty > 0:
+        q = mass_flow(P_ATM + 40e3, P_ATM, C, B)
+    else:
+        q = -mass_flow(P_ATM, P_ATM - 20e3, C, B)
+    # the valve's edges are exact: no sub-step resolution error (1/3 of 20 ms is off the grid)
+    assert m.sum() == pytest.approx(abs(duty) * q * 0.1, rel=1e-5)
+    assert abs(p[-1]) < 1.0  # Pa: the huge chamber kept the flow at its start value
+
+
+@pytest.mark.parametrize("t_open, t_close, open_per_period", [
+    (0.002, 0.0, 0.008), (0.0, 0.003, 0.013), (0.002, 0.003, 0.011), (0.003, 0.0, 0.007)])
+def test_valve_delays_shift_and_shorten_the_opening(t_open, t_close, open_per_period):
+    params = ActuatorParams(**HUGE, t_open_delay=t_open, t_close_delay=t_close)
+    _, _, m = run(params, [0.5] * 100)  # 10 ms pulses every 20 ms
+    q = mass_flow(P_ATM + 40e3, P_ATM, C, B)
+    assert m.sum() == pytest.approx(5 * open_per_period * q, rel=1e-5)
+    assert np.all(m[:int(round(t_open * 1e3))] == 0.0)  # nothing until the valve opens
+
+
+def test_a_pulse_shorter_than_the_delay_difference_never_opens_the_valve():
+    params = ActuatorParams(**HUGE, t_open_delay=0.003)
+    _, _, m = run(params, [0.05] * 100)  # 1 ms pulses
+    assert np.all(m == 0.0)
+    _, _, m = run(ActuatorParams(**HUGE, t_open_delay=0.005), [1.0] * 20)  # always on
+    q = mass_flow(P_ATM + 40e3, P_ATM, C, B)
+    assert np.all(m[:5] == 0.0) and m.sum() == pytest.approx(0.015 * q, rel=1e-5)
+
+
+def test_compression_at_closed_valves_is_polytropic():
+    params = ActuatorParams()  # central, kappa 1.2
+    e = np.r_[np.linspace(-1e-3, -0.01, 10), [-0.01] * 5, np.linspace(-0.009, 0.0, 10), [0.0] * 3]
+    p, _, _ = run(params, [0.0] * len(e), elongations=e)
+    v0, v1 = params.V0, params.V0 - params.s_a * 0.01
+    assert p[15] == pytest.approx(P_ATM * (v0 / v1) ** 1.2 - P_ATM, rel=1e-11)  # 21 kPa
+    assert p[15] > 20e3 and np.all(np.diff(p[:11]) > 0)
+    assert abs(p[-1]) < 1e-6  # back to the rest volume, back to the start pressure
+
+
+def test_contact_builds_over_t_contact_above_p_contact():
+    params = ActuatorParams(central=0.0, V0=1.41e-5)  # an extremal actuator
+    p, u, _ = run(params, [1.0] * 600)
+    k = np.flatnonzero(p > params.p_contact)[0]  # crossed between k-1 and k ms
+    assert np.all(u[:k] == 0.0) and u[k] > 0
+    assert u[k + 199] < 1.0 and np.all(u[k + 201:] == 1.0)  # 0.2 s later (within a step)
+    np.testing.assert_allclose(np.diff(u[k + 1:k + 199]), 1e-3 / 0.2, rtol=1e-9)
+    # deflating: the contact falls at the same rate once the pressure drops below p_contact
+    act = pa.Actuator(params)
+    for i in range(600):
+        act.step(i * 1e-3, 1e-3, 1.0, 0.0)
+    us, ps = [], []
+    for i in range(600, 1000):
+        act.step(i * 1e-3, 1e-3, -1.0, 0.0)
+        us.append(act.contact)
+        ps.append(act.pressure)
+    j = np.flatnonzero(np.array(ps) <= params.p_contact)[0]
+    assert us[j - 1] == 1.0 and us[j + 201] == 0.0 and 0 < us[j + 100] < 1
+
+
+def test_contact_at_once_bulges_at_p_contact():
+    # t_contact = 0: the extremal chamber bulges as the inflow allows, holding p at p_contact
+    params = ActuatorParams(central=0.0, V0=1.41e-5, t_contact=0.0)
+    p, u, _ = run(params, [1.0] * 200)
+    sliding = (u > 0) & (u < 1)
+    assert sliding.sum() > 30 and np.all(np.diff(u) >= 0) and u[-1] == 1.0
+    np.testing.assert_allclose(p[sliding], 8e3, rtol=1e-12)
+    assert np.all(np.diff(p) >= -1e-9)
+    # the central actuator's volume does not depend on its contact: the contact jumps
+    p, u, _ = run(ActuatorParams(t_contact=0.0), [1.0] * 100)
+    assert np.array_equal(u, (p > 8e3).astype(float))
+
+
+def test_effects_off_are_the_nominal_model_bit_for_bit():
+    duties = np.r_[np.full(300, 0.6), np.full(200, 0.0), np.full(200, -0.3)]
+    nominal = run(ActuatorParams(), duties)
+    off = run(ActuatorParams(C_leak=0.0, supply_drop=0.0, t_open_delay=0.0, t_close_delay=0.0),
+              duties)
+    for a, b in zip(nominal, off):
+        assert np.array_equal(a, b)
+    leak = run(ActuatorParams(C_leak=1e-11), duties)[0]
+    assert np.all(nominal[0][301:500] == nominal[0][300])  # closed valves hold the pressure
+    assert np.all(np.diff(leak[301:500]) < 0)  # a leak lets it fall
+    drop = run(ActuatorParams(supply_drop=0.5), [1.0] * 1000)[0]
+    assert drop.max() == 20e3 and drop[-1] == 20e3  # the sagged supply bounds the pressure
+
+
+@pytest.mark.parametrize("field, value", [
+    ("central", 0.5), ("V0", 0.0), ("b", 1.0), ("kappa", 1.5), ("p_exhaust", 1e3),
+    ("supply_drop", 1.0), ("C_leak", -1e-10), ("t_open_delay", -1e-3), ("f_pwm", math.nan)])
+def test_bad_parameters_are_named(field, value):
+    with pytest.raises(ValueError, match=field):
+        ActuatorParams(**{field: value}).check()
+
+
+# ---- the FMUs ------------------------------------------------------------------------------------
+
+def test_soft_actuator_fmu_fills_and_empties_within_its_sources(fmu_dir):
+    fmu = str(fmu_dir / "SoftActuator.fmu")
+    r = simulate_fmu(fmu, stop_time=1.0, output_interval=1e-3, start_values={"duty": 1.0})
+    assert np.all(np.diff(r["p"]) >= 0) and r["p"].max() <= 40e3 and r["p"][-1] > 39e3
+    np.testing.assert_allclose(r["f_a"], 9.62e-4 * r["p"], rtol=1e-15)
+    assert np.all(r["m_flow"] >= 0) and r["m_flow"][1] > 0
+    r = simulate_fmu(fmu, stop_time=0.5, output_interval=1e-3, start_values={"duty": -1.0})
+    assert np.all(np.diff(r["p"]) <= 0) and r["p"].min() >= -20e3 and r["p"][-1] < -10e3
+    clamped = simulate_fmu(fmu, stop_time=0.1, output_interval=1e-3, start_values={"duty": 2.0})
+    full = simulate_fmu(fmu, stop_time=0.1, output_interval=1e-3, start_values={"duty": 1.0})
+    assert np.array_equal(clamped["p"], full["p"])
+
+
+def test_soft_actuator_fmu_extremal_contact(fmu_dir):
+    r = simulate_fmu(str(fmu_dir / "SoftActuator.fmu"), stop_time=0.6, output_interval=1e-3,
+                     start_values={"duty": 1.0, "central": 0.0, "V0": 1.41e-5})
+    assert r["u"][0] == 0.0 and r["u"][-1] == 1.0
+
+
+def test_pressure_sensor_fmu_passes_the_reading(fmu_dir):
+    r = simulate_fmu(str(fmu_dir / "PressureSensor.fmu"), stop_time=0.05, output_interval=1e-3,
+                     start_values={"p": 12e3}, output=["p_meas"])
+    assert np.all(r["p_meas"] == 12e3)
+    r = simulate_fmu(str(fmu_dir / "PressureSensor.fmu"), stop_time=0.05, output_interval=1e-3,
+                     start_values={"p": 12e3, "bias": 150.0, "quantum": 100.0}, output=["p_meas"])
+    assert np.all(r["p_meas"] == 12.2e3)
