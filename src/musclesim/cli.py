@@ -109,7 +109,8 @@ def _cmd_characterise(args):
     print(f"central: {refs['p_central']:.1f} Pa for {characterise.ELONGATION_TARGET:g} m "
           f"elongation ({refs['elongation_at_ramp_end']:.4f} m at the end of the ramp)")
     for i, where in ((1, "back"), (2, "front")):
-        print(f"{where} extremal: firm ground contact from {refs[f'p_anchor{i}']:.1f} Pa")
+        print(f"{where} extremal: firm ground contact from {refs[f'p_firm{i}']:.1f} Pa, "
+              f"reference {refs[f'p_anchor{i}']:.1f} Pa")
     print(f"wrote the run to {args.out}")
     if args.write:
         Path(args.write).write_text(characterise.references_toml(refs, args.scenario))

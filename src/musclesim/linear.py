@@ -296,8 +296,12 @@ def load_gains_toml(report):
 PNEUMATIC_DESIGN = {
     "scenario": "scenarios/pneumatic-identification.toml",
     "p_op": 12e3,  # Pa, operating point: the gait's working range, above the contact threshold
-    "fill_duty": 0.2,  # duty that inflates the chamber to p_op and full contact before the PRBS
-    "amplitude": 0.1,  # PRBS duty amplitude around 0 (valves closed: the chamber holds)
+    # per actuator kind: the duty that inflates the chamber to p_op (and full contact) before the
+    # PRBS, and the PRBS duty amplitude around 0 (valves closed: the chamber holds); the central
+    # chamber, whose elongation adds volume, fills ~10x slower than an extremal one
+    "fill_duty": {"central": 0.5, "extremal": 0.2},
+    "amplitude": {"central": 0.5, "extremal": 0.1},
+    "fill_time": 5.0,  # s, at most
     "bit": 0.1,  # s, PRBS bit length: five PWM carrier periods at 50 Hz
     "bits": 20,
     "seed": 0,
@@ -338,10 +342,9 @@ def identify_pneumatic(fmu_dir="fmus", design=None):
     n_bit = round(d["bit"] / d["step"])
     # each random bit is followed by its opposite, so that the integrating chamber stays near p_op
     signs = np.where(np.random.default_rng(d["seed"]).integers(0, 2, d["bits"] // 2) > 0, 1.0, -1.0)
-    prbs = d["amplitude"] * np.column_stack([signs, -signs]).ravel().repeat(n_bit)
-    fill_time = 1.0  # s, generous: the run below checks p_op is reached
-    s = scenario_mod.load(d["scenario"], stop_time=fill_time)
-    res = Master(s, fmu_dir, {f"{a}.duty": np.full(s.n_steps + 1, d["fill_duty"])
+    prbs = np.column_stack([signs, -signs]).ravel().repeat(n_bit)
+    s = scenario_mod.load(d["scenario"], stop_time=d["fill_time"])
+    res = Master(s, fmu_dir, {f"{a}.duty": np.full(s.n_steps + 1, d["fill_duty"][a])
                               for a in ACTUATORS}).run()
     fill = {}
     for a in ACTUATORS:
@@ -349,11 +352,11 @@ def identify_pneumatic(fmu_dir="fmus", design=None):
         reached = np.flatnonzero((res[f"{a}_sensor.p_meas"] >= d["p_op"]) & (res[f"{a}.u"] >= 0.999))
         if not len(reached):
             raise UserError(f"{d['scenario']}: {a} does not reach p_op = {d['p_op']:g} Pa with full "
-                            f"contact within {fill_time:g} s at duty {d['fill_duty']:g}")
+                            f"contact within {d['fill_time']:g} s at duty {d['fill_duty'][a]:g}")
         fill[a] = int(reached[0])
     n = max(fill.values()) + len(prbs)
     s = scenario_mod.load(d["scenario"], stop_time=n * d["step"])
-    duties = {a: np.concatenate([np.full(fill[a], d["fill_duty"]), prbs,
+    duties = {a: np.concatenate([np.full(fill[a], d["fill_duty"][a]), d["amplitude"][a] * prbs,
                                  np.zeros(n + 1 - fill[a] - len(prbs))]) for a in ACTUATORS}
     res = Master(s, fmu_dir, {f"{a}.duty": u for a, u in duties.items()}).run()
     out = {}
@@ -388,7 +391,7 @@ def pneumatic(fmu_dir="fmus", design=None):
     loops = {}
     for a, (plant, fit) in identify_pneumatic(fmu_dir, d).items():
         Kp, Ki = discrete_pi(plant, d["crossover"], d["zero_ratio"], d["step"])
-        pi = ct.tf([Kp + Ki * d["step"], -Kp], [1.0, -1.0], d["step"])
+        pi = ct.tf([Kp, Ki * d["step"] - Kp], [1.0, -1.0], d["step"])  # Kp + Ki T / (z - 1)
         loop = pi * plant
         gms, pms, _, _, wcs, _ = ct.stability_margins(loop, returnall=True)
         # a gain margin below 1 is how much *lower* gain would destabilise (phase near -180 deg
@@ -406,7 +409,8 @@ def format_pneumatic(report):
     """Human-readable summary of a `pneumatic` report."""
     d = report["design"]
     lines = [f"Pressure loops (SPEC 1.1, 1.5): duty -> measured pressure identified at "
-             f"{d['p_op'] / 1e3:g} kPa from a PRBS of +-{d['amplitude']:g} duty "
+             f"{d['p_op'] / 1e3:g} kPa from a PRBS of +-{d['amplitude']['central']:g} (central), "
+             f"+-{d['amplitude']['extremal']:g} (extremal) duty "
              f"({d['bits']} bits of {d['bit'] * 1e3:g} ms); PI with loop crossover "
              f"{d['crossover']:g} rad/s, zero {d['zero_ratio']:g}x below, sampled at "
              f"{d['step'] * 1e3:g} ms"]
