@@ -3,10 +3,6 @@
 Every load reads the wire's contraction `flange.s` [m] and gives the tension `flange.f` [N] it
 puts on the wire (the SmaWire FMU's convention); equations in components/loads/README.md.
 """
-import math
-
-from pythonfmu.enums import Fmi2Status
-
 from musclesim.components.loads import loads
 from musclesim.fmislave import Slave
 
@@ -93,29 +89,16 @@ class Electromagnet(Slave):
 
     def setup(self):
         self.p = self.core_params(loads.MagnetParams)
-        self.warned = False
         self.current = 0.0
 
     def initialize(self):
-        self.current = loads.coil_steady(self._duty(self.time), self.p)  # settled at the start
+        duty = self.clamped_input("duty", 0.0, 1.0, self.time)
+        self.current = loads.coil_steady(duty, self.p)  # settled at the start
 
     def evaluate(self):
         self.i = self.current
         self.flange_f = loads.magnet_tension(self.current, self.p)
 
     def advance(self, t, dt):
-        self.current = loads.coil_step(self.current, self._duty(t), dt, self.p)
-
-    def _duty(self, t):
-        """The duty input clamped to [0, 1]; the first clamp is logged as a warning."""
-        duty = self.duty
-        if math.isnan(duty):
-            raise ValueError(f"input duty is NaN at t = {t:g} s")
-        if 0.0 <= duty <= 1.0:
-            return duty
-        clamped = min(max(duty, 0.0), 1.0)
-        if not self.warned:
-            self.warned = True
-            self.log(f"duty {duty:g} at t = {t:g} s is outside [0, 1]; clamped to {clamped:g} "
-                     "(warned once)", Fmi2Status.warning)
-        return clamped
+        duty = self.clamped_input("duty", 0.0, 1.0, t)
+        self.current = loads.coil_step(self.current, duty, dt, self.p)

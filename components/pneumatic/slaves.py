@@ -2,10 +2,6 @@
 
 Equations, ports and sign conventions: components/pneumatic/README.md.
 """
-import math
-
-from pythonfmu.enums import Fmi2Status
-
 from musclesim.components.pneumatic import actuator
 from musclesim.fmislave import Slave
 
@@ -73,7 +69,6 @@ class SoftActuator(Slave):
     def setup(self):
         self.params = self.core_params(actuator.ActuatorParams)
         self.core = actuator.Actuator(self.params, self._elongation())
-        self.warned = False
         self.m_flow = 0.0
 
     def initialize(self):
@@ -86,22 +81,9 @@ class SoftActuator(Slave):
         self.u = self.core.contact
 
     def advance(self, t, dt):
-        mass = self.core.step(t, dt, self._duty(t), self._elongation())
+        duty = self.clamped_input("duty", -1.0, 1.0, t)
+        mass = self.core.step(t, dt, duty, self._elongation())
         self.m_flow = mass / dt if dt > 0 else 0.0
 
     def _elongation(self):
         return self.flange_b_s - self.flange_a_s
-
-    def _duty(self, t):
-        """The duty input clamped to [-1, 1]; the first clamp is logged as a warning."""
-        duty = self.duty
-        if math.isnan(duty):
-            raise ValueError(f"input duty is NaN at t = {t:g} s")
-        if -1.0 <= duty <= 1.0:
-            return duty
-        clamped = min(max(duty, -1.0), 1.0)
-        if not self.warned:
-            self.warned = True
-            self.log(f"duty {duty:g} at t = {t:g} s is outside [-1, 1]; clamped to {clamped:g} "
-                     "(warned once)", Fmi2Status.warning)
-        return clamped

@@ -15,9 +15,11 @@ This module must import nothing but the standard library, numpy and pythonfmu: i
 every FMU, which must run where only Python, numpy and scipy are installed.
 """
 import copy
+import math
 from xml.etree.ElementTree import Element, SubElement
 
 from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Real
+from pythonfmu.enums import Fmi2Status
 
 # SI base-unit exponents of every unit a variable may carry (FMI 2.0 BaseUnit attributes).
 UNITS = {
@@ -86,6 +88,7 @@ class Slave(Fmi2Slave):
         self._configured = False  # setup() has run for the current parameter values
         self._initialized = False  # initialization mode has been left
         self._dirty = True  # an input changed since the outputs were evaluated
+        self._clamped = set()  # inputs whose clamping has been warned about
         self.time = 0.0
 
     # ---- declaring variables -------------------------------------------------------------------
@@ -128,6 +131,21 @@ class Slave(Fmi2Slave):
         params = cls(**{name: getattr(self, name) for name in cls.__dataclass_fields__})
         params.check()
         return params
+
+    def clamped_input(self, name, lo, hi, t):
+        """Input `name` clamped to [lo, hi] at time t; its first clamp is logged as a warning,
+        NaN raises ValueError."""
+        value = getattr(self, name.replace(".", "_"))
+        if math.isnan(value):
+            raise ValueError(f"input {name} is NaN at t = {t:g} s")
+        if lo <= value <= hi:
+            return value
+        clamped = min(max(value, lo), hi)
+        if name not in self._clamped:
+            self._clamped.add(name)
+            self.log(f"{name} {value:g} at t = {t:g} s is outside [{lo:g}, {hi:g}]; clamped to "
+                     f"{clamped:g} (warned once)", Fmi2Status.warning)
+        return clamped
 
     # ---- hooks for subclasses ------------------------------------------------------------------
     def setup(self):
