@@ -244,3 +244,28 @@ def test_cli_dataset_check(fmu_dir, capsys):
     # its model: the pneumatic crawler's gait scenarios, whose metrics it measures
     assert cli.main(["dataset", "check", str(real), "--model", "--fmus", str(fmu_dir)]) == 0
     assert "OK (scalar-only" in capsys.readouterr().out
+
+
+def test_scalar_only_experiments_may_shorten_the_model_run(tmp_path):
+    ds = dataset.load(REAL)
+    assert {e.stop_time for e in ds.experiments.values()} == {12.0}
+    manifest = ('scenario = "crawler-ideal"\n[experiments.a]\nstop_time = -1\n'
+                'metrics.mean_speed = { value = 0.02, unit = "m/s" }\n')
+    assert "experiment 'a': stop_time -1 is not a positive number of seconds" in problems_of(
+        write_set(tmp_path / "scalar", manifest, rows=False))
+    timed = GOOD_MANIFEST.replace("[experiments.first]\n", "[experiments.first]\nstop_time = 3\n")
+    assert "stop_time 3 is for scalar-only sets" in problems_of(write_set(tmp_path / "ts", timed))
+
+
+def test_the_same_data_against_another_model(fmu_dir):
+    """--model swaps the experiments' scenarios: the real crawler's data against the ideal
+    model, forward and (mirrored) backward; checked against those models' metrics and units."""
+    ds = dataset.load(REAL, check_model=True, fmu_dir=fmu_dir, models={
+        "*": "crawler-ideal", "backward": "crawler-ideal-backward"})
+    assert ds.experiments["forward"].scenario_path == SCENARIOS / "crawler-ideal.toml"
+    assert ds.experiments["backward"].scenario_path == SCENARIOS / "crawler-ideal-backward.toml"
+    assert ds.experiments["backward"].metrics == dataset.load(REAL).experiments["backward"].metrics
+    message = problems_of(REAL, check_model=True, fmu_dir=fmu_dir,
+                          models={"sideways": "crawler-ideal", "forward": "no-such-model"})
+    assert "model for experiment 'sideways': the data set has no such experiment" in message
+    assert "scenario 'no-such-model' not found" in message

@@ -13,10 +13,13 @@ class InputParams:
     f_f: float = 1.0  # Hz, frequency of f_a (SPEC 1.4)
     f_u: float = 1.0  # Hz, frequency of the friction indicators (SPEC 1.4)
     phi: float = 1.64  # rad, phase lag of u2 behind u1; steers the direction (SPEC 1.4)
+    direction: float = 1.0  # +1; -1 swaps the indicators: the mirror image, driven backward
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, non_negative=("f_f", "f_u", "f_amp"))
+        if self.direction not in (1.0, -1.0):
+            raise ValueError(f"direction must be 1 or -1 (got {self.direction!r})")
 
 
 def signals(t, p):
@@ -24,4 +27,4 @@ def signals(t, p):
     f_a = p.f_mean + p.f_amp * math.sin(2 * math.pi * p.f_f * t)
     u1 = 1.0 if math.sin(2 * math.pi * p.f_u * t) >= 0 else 0.0
     u2 = 1.0 if math.sin(2 * math.pi * p.f_u * t - p.phi) >= 0 else 0.0
-    return f_a, u1, u2
+    return (f_a, u1, u2) if p.direction > 0 else (f_a, u2, u1)

@@ -126,6 +126,8 @@ class FrictionSwitchingInputs(Slave):
         self.parameter("f_f", d.f_f, "Hz", "Frequency of the actuator force (SPEC 1.4)")
         self.parameter("f_u", d.f_u, "Hz", "Frequency of the friction indicators (SPEC 1.4)")
         self.parameter("phi", d.phi, "rad", "Phase lag of u2 behind u1 (SPEC 1.4)")
+        self.parameter("direction", d.direction, "1", "1; -1 swaps u1 and u2: the mirror image "
+                       "of the gait, driven backward")
         self.output("f_a", "N", "Actuator force")
         self.output("u1", "1", "Friction indicator of block 1")
         self.output("u2", "1", "Friction indicator of block 2")

@@ -168,7 +168,13 @@ def _cmd_diagnose(args):
     from musclesim import build, dataset, diagnose, diagreport
     from musclesim.sweep import dask_client
 
-    ds = dataset.load(args.dataset, check_model=True, fmu_dir=args.fmus)
+    models = {}
+    for item in args.model:
+        experiment, sep, ref = item.rpartition("=")
+        if not ref:
+            raise UserError(f"--model {item!r}: give SCENARIO or EXPERIMENT=SCENARIO")
+        models[experiment if sep else "*"] = ref
+    ds = dataset.load(args.dataset, check_model=True, fmu_dir=args.fmus, models=models)
     build.check_fresh(args.fmus)
     traces = {}
     with dask_client(args.scheduler, args.workers) as client:
@@ -280,6 +286,9 @@ def _parser():
     q = sub.add_parser("diagnose", help="sim-to-real gap diagnosis of a measured data set")
     q.add_argument("dataset", help="data set folder (manifest.toml + data.csv)")
     q.add_argument("--out", required=True, help="folder for report.json, report.md and plots")
+    q.add_argument("--model", action="append", default=[], metavar="[EXPERIMENT=]SCENARIO",
+                   help="diagnose against this scenario instead of the manifest's (for every "
+                   "experiment, or the one named; repeatable)")
     dask_args(q)
     common(q)
     q.set_defaults(func=_cmd_diagnose)

@@ -29,7 +29,7 @@ array([2., 3.])
 """
 import math
 import tomllib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -41,7 +41,7 @@ MANIFEST = "manifest.toml"
 DATA = "data.csv"
 _TOP_KEYS = {"description", "spec", "scenario", "inputs", "outputs", "units", "experiments",
              "split"}
-_EXPERIMENT_KEYS = {"span", "scenario", "description", "metrics"}
+_EXPERIMENT_KEYS = {"span", "scenario", "description", "metrics", "stop_time"}
 _METRIC_KEYS = {"value", "unit", "uncertainty", "description"}
 _SPLIT_KEYS = {"held_out", "train", "held_out_fraction"}
 _PARTS = ("train", "held_out")
@@ -67,6 +67,7 @@ class Experiment:
     scenario_path: Path = None  # the resolved scenario file, None if not found
     metrics: dict = field(default_factory=dict)  # name -> MeasuredMetric
     description: str = ""
+    stop_time: float = None  # scalar-only: how long the model runs (None: the scenario's)
 
 
 @dataclass(frozen=True)
@@ -174,7 +175,7 @@ def find_scenario(reference, manifest_dir, scenarios_dir=None):
     return path if path.is_file() else None
 
 
-def load(path, check_model=False, fmu_dir="fmus", scenarios_dir=None):
+def load(path, check_model=False, fmu_dir="fmus", scenarios_dir=None, models=None):
     """Read and check the measured data set in directory `path` (or its manifest.toml).
 
     Parameters
@@ -188,6 +189,10 @@ def load(path, check_model=False, fmu_dir="fmus", scenarios_dir=None):
         Folder of built FMUs, used when `check_model`.
     scenarios_dir : str or Path, optional
         Where scenario names are looked up (see `find_scenario`).
+    models : dict, optional
+        ``{experiment: scenario}`` replacing the manifest's models, ``"*"`` for every experiment
+        (the same data against another model, e.g. the ideal-actuation crawler). A reference
+        ending in ``.toml`` is a path from the current folder, else a name in `scenarios_dir`.
 
     Returns
     -------
@@ -211,11 +216,28 @@ def load(path, check_model=False, fmu_dir="fmus", scenarios_dir=None):
     ds = None
     if manifest is not None:
         ds = _build(path, manifest, table, data_path.is_file(), scenarios_dir, problems)
+    if ds is not None and models:
+        ds = _with_models(ds, models, scenarios_dir, problems)
     if ds is not None and check_model:
         _check_model(ds, fmu_dir, problems)
     if problems:
         raise UserError(f"data set {path} has {len(problems)} problem(s): " + "; ".join(problems))
     return ds
+
+
+def _with_models(ds, models, scenarios_dir, problems):
+    """`ds` with the experiments' scenarios replaced by `models` (see `load`)."""
+    for name in sorted(set(models) - set(ds.experiments) - {"*"}):
+        problems.append(f"model for experiment {name!r}: the data set has no such experiment "
+                        f"(experiments: {', '.join(ds.experiments)})")
+    experiments = {}
+    for name, e in ds.experiments.items():
+        ref = models.get(name, models.get("*"))
+        if ref is not None:
+            path = Path(ref) if ref.endswith(".toml") else find_scenario(ref, ds.path, scenarios_dir)
+            e = replace(e, scenario=ref, scenario_path=path if path and path.is_file() else None)
+        experiments[name] = e
+    return replace(ds, experiments=experiments)
 
 
 def _read_manifest(path, problems):
@@ -323,8 +345,15 @@ def _experiments(raw, reference, path, scenarios_dir, time, has_data, problems):
             span = _span(spec, where, time, problems)
         elif "span" in spec:
             problems.append(f"{where}: 'span' needs {DATA}, which is missing")
+        stop = spec.get("stop_time")
+        if stop is not None and (has_data or not _number(stop) or stop <= 0):
+            problems.append(f"{where}: stop_time {stop!r} " + (
+                f"is for scalar-only sets (with {DATA} the span gives the duration)" if has_data
+                else "is not a positive number of seconds"))
+            stop = None
         out[name] = Experiment(name, span, ref, find_scenario(ref, path, scenarios_dir)
-                               if ref else None, metrics, str(spec.get("description", "")))
+                               if ref else None, metrics, str(spec.get("description", "")),
+                               None if stop is None else float(stop))
     spans = sorted((e.span, e.name) for e in out.values() if e.span is not None)
     for (a, na), (b, nb) in zip(spans, spans[1:]):
         if b[0] < a[1]:
@@ -429,17 +458,17 @@ def _check_model(ds, fmu_dir, problems):
     """Check columns, metrics and units against the scenarios and their FMUs."""
     from musclesim import master, results, scenario
 
-    refs = {e.scenario: e.scenario_path for e in ds.experiments.values()}
+    refs = {(e.scenario, e.stop_time): e.scenario_path for e in ds.experiments.values()}
     metric_names = {}
     for e in ds.experiments.values():
-        metric_names.setdefault(e.scenario, []).append(e)
-    for ref, spath in refs.items():
+        metric_names.setdefault((e.scenario, e.stop_time), []).append(e)
+    for (ref, stop_time), spath in refs.items():
         if spath is None:
             problems.append(f"{MANIFEST}: scenario {ref!r} not found (a .toml path relative to "
                             "the manifest, or a name in the scenarios folder)")
             continue
         try:
-            s = scenario.load(spath)
+            s = scenario.load(spath, (), stop_time)
             m = master.Master(s, fmu_dir)
         except UserError as exc:
             problems.append(f"{MANIFEST}: scenario {ref!r} cannot be checked: {exc}")
@@ -464,7 +493,7 @@ def _check_model(ds, fmu_dir, problems):
         for column, unit in model_units.items():
             if ds.units.get(column) is None:
                 ds.units[column] = unit
-        for e in metric_names[ref]:
+        for e in metric_names[(ref, stop_time)]:
             for name, mm in e.metrics.items():
                 sm = s.metrics.get(name)
                 if sm is None:
