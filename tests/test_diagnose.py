@@ -159,3 +159,36 @@ def test_scalar_only_data_are_diagnosed_from_metrics(fmu_dir, tmp_path):
         -3.0 / measured["low"]["T_max"], rel=0.05)
     assert report["verdict"] == "thermocouple bias"
     assert report["effects"][0]["parameters"]["bias"]["value"] == pytest.approx(3.0, abs=0.1)
+
+
+def test_crawler_bench_hides_one_draw_in_every_actuator(fmu_dir, tmp_path):
+    """The pneumatic crawler's effects are in the blind plan (their own stream), one magnitude
+    for every instance of the component; a recorded case is a data set of the gait model, with
+    the video's and the sensors' nuisances, and differs from the unchanged bench."""
+    cases = blind.plan(60, seed=1)
+    crawler = [c for c in cases if c["bench"] == "crawler"]
+    assert crawler and all(c["kind"] == "effect" for c in crawler)
+    assert {c["effect"] for c in crawler} <= set(blind.BENCHES["crawler"][3])
+    for c in crawler:
+        by_par = {}
+        for key, v in c["values"].items():
+            by_par.setdefault(key.split(".", 1)[1], set()).add(v)
+        assert all(len(vs) == 1 for vs in by_par.values()), c  # one draw per parameter
+    assert blind.plan(60, seed=1) == cases  # reproducible from the seed
+    recorded = {}
+    for name, values in (("none", {}), ("leak", {f"{a}.C_leak": 4e-11
+                                                 for a in ("act1", "actc", "act2")})):
+        case = {"case": name, "kind": "effect", "bench": "crawler", "effect": "chamber leakage",
+                "values": values, "latency_samples": 0, "seed": 9, "strain_gain": 1.0}
+        blind._make((case, tmp_path, SCENARIOS, fmu_dir))
+        ds = dataset.load(tmp_path / "cases" / name, check_model=True, fmu_dir=fmu_dir)
+        assert ds.inputs == ("act1.duty", "actc.duty", "act2.duty")
+        recorded[name] = ds
+    t, cols = recorded["none"].experiment("all")
+    assert t[-1] == pytest.approx(blind.STOP_TIME["crawler"])
+    x = cols["body.flange2.s"]
+    assert np.allclose(x / blind.VIDEO_QUANTUM, np.round(x / blind.VIDEO_QUANTUM))
+    p = cols["sensorc.p_meas"]
+    assert np.allclose(p / blind.PRESSURE_QUANTUM, np.round(p / blind.PRESSURE_QUANTUM))
+    leak = recorded["leak"].experiment("all")[1]["sensorc.p_meas"]
+    assert np.max(np.abs(leak - p)) > 20 * blind.PRESSURE_NOISE

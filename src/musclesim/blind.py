@@ -14,7 +14,11 @@ quantisation, and an acquisition latency of the strain gauge of 0 or 1 sample be
 controller's log. A quarter of the effect cases (drawn from a stream of their own) run on the
 magnet bench instead, hiding an electromagnet force nonlinearity or a load-cell lag, with laser
 and load-cell noise and quantisation (the library's "laser noise" as the nuisance it is: noise
-raises the floor, no fit of it can shrink a gap). Cases are written without labels
+raises the floor, no fit of it can shrink a gap). Another quarter (a third stream; it wins over
+the magnet draw) runs on the pneumatic crawler climbing 7.5 deg (12 s of crawler-gait-incline, the
+controllers' duties replayed, pressure sensors and the blocks' video positions observed, both with
+noise and quantisation) and hides one of the crawler's effects, one magnitude for every instance
+of its component. Cases are written without labels
 (data.csv + manifest.toml); the key is hashed into key.sha256 before any diagnosis runs and
 written to key.json after. Scores (scores.json): top-1 accuracy over effect and decoy cases,
 the median ratio of our held-out shrinkage (the model with every measured signal replayed) to the
@@ -46,8 +50,18 @@ BENCHES = {
     "magnet": ("sma-bench-magnet", ["wire.u", "magnet.duty"],
                ["loadcell.f_meas", "thermocouple.T_meas", "laser.s_meas"],
                ["electromagnet force nonlinearity", "load-cell lag"]),
+    # the pneumatic crawler climbing 7.5 deg (where bending shows): the controllers' logged
+    # duties replayed, the pressure sensors and the blocks' positions from video observed
+    "crawler": ("crawler-gait-incline", ["act1.duty", "actc.duty", "act2.duty"],
+                ["sensor1.p_meas", "sensorc.p_meas", "sensor2.p_meas", "body.flange1.s",
+                 "body.flange2.s"],
+                ["valve delay", "supply-pressure drop", "chamber leakage",
+                 "pressure-dependent stiffness", "actuator bending on an incline",
+                 "friction decay"]),
 }
+STOP_TIME = {"crawler": 12.0}  # s: the first stride and three more (the scenario runs 30 s)
 MAGNET_SHARE = 0.25  # of the effect cases move to the magnet bench (drawn from their own stream)
+CRAWLER_SHARE = 0.25  # ... and, drawn from a third stream, to the crawler bench
 # Not hidden: clamp heat loss. With the clamps at ambient it is a loss linear in T - T_amb, exactly
 # a larger h; the diagnosis rightly calls such data a recalibration of h, not an effect.
 # hidden magnitudes: (instance, parameter, low, high), drawn uniformly (SPEC 2.1, 2.6, 5)
@@ -62,8 +76,17 @@ MAGNITUDES = {
     "electromagnet force nonlinearity": [("magnet", "nonlinearity", 0.2, 0.5)],
     # a heavily filtered cell: lags of 1-2 samples (20-40 ms) are latency at this data rate
     "load-cell lag": [("loadcell", "tau", 0.1, 0.3)],
+    # one draw for several instances: the three valves, pumps and chambers are alike
+    "valve delay": [(("act1", "actc", "act2"), "t_open_delay", 0.005, 0.02),
+                    (("act1", "actc", "act2"), "t_close_delay", 0.005, 0.02)],
+    "supply-pressure drop": [(("act1", "actc", "act2"), "supply_drop", 0.2, 0.5)],
+    "chamber leakage": [(("act1", "actc", "act2"), "C_leak", 2e-11, 5e-11)],
+    "pressure-dependent stiffness": [("body", "k_slope", 0.015, 0.04)],
+    "actuator bending on an incline": [(("friction1", "friction2"), "bending", 1.5, 4.0)],
+    "friction decay": [(("friction1", "friction2"), "mu_decay", 0.01, 0.02)],
 }
-SIGNED = {"thermocouple bias", "training drift", "electromagnet force nonlinearity"}
+SIGNED = {"thermocouple bias", "training drift", "electromagnet force nonlinearity",
+          "pressure-dependent stiffness"}
 # (hidden effect, its decoy in the library): both act at high temperatures, or both make the
 # measured temperature trail the wire's model
 DECOYS = [("convection change", "clamp heat loss"), ("thermocouple lag", "latent heat"),
@@ -77,6 +100,15 @@ TC_NOISE, TC_QUANTUM = 0.08, 0.05  # K
 STRAIN_NOISE, STRAIN_QUANTUM = 2e-5, 1e-5
 LASER_NOISE, LASER_QUANTUM = 2e-6, 1e-6  # m (the laser-noise effect of the library as nuisance)
 LOADCELL_NOISE, LOADCELL_QUANTUM = 2e-3, 1e-3  # N
+PRESSURE_NOISE, PRESSURE_QUANTUM = 30.0, 10.0  # Pa
+VIDEO_NOISE, VIDEO_QUANTUM = 2e-4, 1e-4  # m: block edges tracked on video
+# (sensor instance, noise, quantum, modulus of the case's seed that seeds it)
+NUISANCES = [("thermocouple", TC_NOISE, TC_QUANTUM, 100000),
+             ("laser", LASER_NOISE, LASER_QUANTUM, 100001),
+             ("loadcell", LOADCELL_NOISE, LOADCELL_QUANTUM, 100003),
+             ("sensor1", PRESSURE_NOISE, PRESSURE_QUANTUM, 100019),
+             ("sensorc", PRESSURE_NOISE, PRESSURE_QUANTUM, 100043),
+             ("sensor2", PRESSURE_NOISE, PRESSURE_QUANTUM, 100049)]
 HELD_OUT_FRACTION = 0.35
 
 
@@ -85,6 +117,7 @@ def plan(count, seed):
     rng = np.random.default_rng(seed)
     # its own stream, so that moving a case to the magnet bench changes no other case
     magnet_rng = np.random.default_rng([seed, 7])
+    crawler_rng = np.random.default_rng([seed, 11])
     n_none = max(1, round(0.15 * count))
     n_out = max(1, round(0.15 * count))
     n_decoy = max(1, round(0.15 * count))
@@ -101,16 +134,14 @@ def plan(count, seed):
             pool = BENCHES[bench][3] if kind == "effect" else [d[0] for d in DECOYS]
             effect = pool[rng.integers(len(pool))]
             case["effect"] = effect
-            sign = -1.0 if effect in SIGNED and rng.random() < 0.5 else 1.0
-            for inst, par, lo, hi in MAGNITUDES[effect]:
-                case["values"][f"{inst}.{par}"] = float(sign * rng.uniform(lo, hi))
-        if kind == "effect" and magnet_rng.random() < MAGNET_SHARE:
-            pool = BENCHES["magnet"][3]
-            effect = pool[magnet_rng.integers(len(pool))]
-            sign = -1.0 if effect in SIGNED and magnet_rng.random() < 0.5 else 1.0
-            case.update(bench="magnet", effect=effect, values={
-                f"{inst}.{par}": float(sign * magnet_rng.uniform(lo, hi))
-                for inst, par, lo, hi in MAGNITUDES[effect]})
+            case["values"] = _draw(effect, rng)
+        if kind == "effect":  # moved to the magnet bench, then (the later draw wins) the crawler
+            for bench, share, stream in (("magnet", MAGNET_SHARE, magnet_rng),
+                                         ("crawler", CRAWLER_SHARE, crawler_rng)):
+                if stream.random() < share:
+                    pool = BENCHES[bench][3]
+                    effect = pool[stream.integers(len(pool))]
+                    case.update(bench=bench, effect=effect, values=_draw(effect, stream))
         elif kind == "outside":
             name = list(OUTSIDE)[rng.integers(len(OUTSIDE))]
             case["effect"] = name
@@ -123,6 +154,16 @@ def plan(count, seed):
     return cases
 
 
+def _draw(effect, rng):
+    """{"instance.parameter": value} of `effect` at a random magnitude (and sign if signed)."""
+    sign = -1.0 if effect in SIGNED and rng.random() < 0.5 else 1.0
+    values = {}
+    for inst, par, lo, hi in MAGNITUDES[effect]:
+        v = float(sign * rng.uniform(lo, hi))
+        values.update({f"{i}.{par}": v for i in ((inst,) if isinstance(inst, str) else inst)})
+    return values
+
+
 def _scenario_path(bench, scenarios_dir):
     return Path(scenarios_dir) / f"{BENCHES[bench][0]}.toml"
 
@@ -130,14 +171,14 @@ def _scenario_path(bench, scenarios_dir):
 def record(case, scenarios_dir, fmu_dir):
     """Run the virtual hardware of `case`: (time, {column: values}) as the bench records them."""
     name, inputs, outputs, _ = BENCHES[case["bench"]]
+    path = _scenario_path(case["bench"], scenarios_dir)
+    present = scenario_mod.load(path).instances
     sets = [f"{k}={v!r}" for k, v in case["values"].items()]
-    sets += [f"thermocouple.noise_std={TC_NOISE!r}", f"thermocouple.quantum={TC_QUANTUM!r}",
-             f"thermocouple.seed={case['seed'] % 100000}"]
-    if case["bench"] == "magnet":
-        sets += [f"laser.noise_std={LASER_NOISE!r}", f"laser.quantum={LASER_QUANTUM!r}",
-                 f"laser.seed={case['seed'] % 100001}", f"loadcell.noise_std={LOADCELL_NOISE!r}",
-                 f"loadcell.quantum={LOADCELL_QUANTUM!r}", f"loadcell.seed={case['seed'] % 100003}"]
-    s = scenario_mod.load(_scenario_path(case["bench"], scenarios_dir), sets)
+    for inst, noise, quantum, modulus in NUISANCES:  # on the sensors this bench has
+        if inst in present:
+            sets += [f"{inst}.noise_std={noise!r}", f"{inst}.quantum={quantum!r}",
+                     f"{inst}.seed={case['seed'] % modulus}"]
+    s = scenario_mod.load(path, sets, STOP_TIME.get(case["bench"]))
     s = replace(s, record=tuple(inputs + outputs), metrics={}, plots=())
     if case.get("ambient_K"):  # the air around the wire is warmer than the model's 20 C
         ambient = scenario_mod.Instance("ambient", "SignalSource",
@@ -149,14 +190,19 @@ def record(case, scenarios_dir, fmu_dir):
         raise UserError(f"{case['case']}: the virtual hardware failed: {res.error}")
     rng = np.random.default_rng(case["seed"])
     cols = {c: res[c].copy() for c in inputs + outputs}
-    gauge = "wire.strain" if "wire.strain" in cols else "laser.s_meas"
-    if gauge == "wire.strain":  # a strain gauge: its noise and quantisation (the laser's in-FMU)
-        strain = cols[gauge] * case["strain_gain"] + STRAIN_NOISE * rng.standard_normal(
+    if "wire.strain" in cols:  # a strain gauge: its noise and quantisation (the laser's in-FMU)
+        strain = cols["wire.strain"] * case["strain_gain"] + STRAIN_NOISE * rng.standard_normal(
             len(res.time))
-        cols[gauge] = STRAIN_QUANTUM * np.round(strain / STRAIN_QUANTUM)
+        cols["wire.strain"] = STRAIN_QUANTUM * np.round(strain / STRAIN_QUANTUM)
+    for c in ("body.flange1.s", "body.flange2.s"):  # video: noise, pixel quantisation
+        if c in cols:
+            x = cols[c] + VIDEO_NOISE * rng.standard_normal(len(res.time))
+            cols[c] = VIDEO_QUANTUM * np.round(x / VIDEO_QUANTUM)
     lag = case["latency_samples"]
-    if lag:  # the gauge's (or laser's) own acquisition lags the controller's log
-        cols[gauge] = np.concatenate([np.full(lag, cols[gauge][0]), cols[gauge][:-lag]])
+    # the gauge's (or laser's, or the video's) own acquisition lags the controller's log
+    for c in ("wire.strain", "laser.s_meas", "body.flange1.s", "body.flange2.s"):
+        if lag and c in cols:
+            cols[c] = np.concatenate([np.full(lag, cols[c][0]), cols[c][:-lag]])
     return res.time, cols
 
 
