@@ -102,6 +102,7 @@ LASER_NOISE, LASER_QUANTUM = 2e-6, 1e-6  # m (the laser-noise effect of the libr
 LOADCELL_NOISE, LOADCELL_QUANTUM = 2e-3, 1e-3  # N
 PRESSURE_NOISE, PRESSURE_QUANTUM = 30.0, 10.0  # Pa
 VIDEO_NOISE, VIDEO_QUANTUM = 2e-4, 1e-4  # m: block edges tracked on video
+VIDEO = ("body.flange1.s", "body.flange2.s")  # the columns the video gives
 # (sensor instance, noise, quantum, modulus of the case's seed that seeds it)
 NUISANCES = [("thermocouple", TC_NOISE, TC_QUANTUM, 100000),
              ("laser", LASER_NOISE, LASER_QUANTUM, 100001),
@@ -171,14 +172,13 @@ def _scenario_path(bench, scenarios_dir):
 def record(case, scenarios_dir, fmu_dir):
     """Run the virtual hardware of `case`: (time, {column: values}) as the bench records them."""
     name, inputs, outputs, _ = BENCHES[case["bench"]]
-    path = _scenario_path(case["bench"], scenarios_dir)
-    present = scenario_mod.load(path).instances
     sets = [f"{k}={v!r}" for k, v in case["values"].items()]
-    for inst, noise, quantum, modulus in NUISANCES:  # on the sensors this bench has
-        if inst in present:
-            sets += [f"{inst}.noise_std={noise!r}", f"{inst}.quantum={quantum!r}",
-                     f"{inst}.seed={case['seed'] % modulus}"]
-    s = scenario_mod.load(path, sets, STOP_TIME.get(case["bench"]))
+    s = scenario_mod.load(_scenario_path(case["bench"], scenarios_dir), sets,
+                          STOP_TIME.get(case["bench"]))
+    # the nuisances on the sensors this bench has (_with_values skips the others)
+    s = diagnose._with_values(s, {(inst, par): v for inst, noise, quantum, modulus in NUISANCES
+                                  for par, v in (("noise_std", noise), ("quantum", quantum),
+                                                 ("seed", case["seed"] % modulus))})
     s = replace(s, record=tuple(inputs + outputs), metrics={}, plots=())
     if case.get("ambient_K"):  # the air around the wire is warmer than the model's 20 C
         ambient = scenario_mod.Instance("ambient", "SignalSource",
@@ -194,14 +194,14 @@ def record(case, scenarios_dir, fmu_dir):
         strain = cols["wire.strain"] * case["strain_gain"] + STRAIN_NOISE * rng.standard_normal(
             len(res.time))
         cols["wire.strain"] = STRAIN_QUANTUM * np.round(strain / STRAIN_QUANTUM)
-    for c in ("body.flange1.s", "body.flange2.s"):  # video: noise, pixel quantisation
+    for c in VIDEO:  # noise, pixel quantisation
         if c in cols:
             x = cols[c] + VIDEO_NOISE * rng.standard_normal(len(res.time))
             cols[c] = VIDEO_QUANTUM * np.round(x / VIDEO_QUANTUM)
     lag = case["latency_samples"]
     # the gauge's (or laser's, or the video's) own acquisition lags the controller's log
-    for c in ("wire.strain", "laser.s_meas", "body.flange1.s", "body.flange2.s"):
-        if lag and c in cols:
+    for c in ("wire.strain", "laser.s_meas", *VIDEO) if lag else ():
+        if c in cols:
             cols[c] = np.concatenate([np.full(lag, cols[c][0]), cols[c][:-lag]])
     return res.time, cols
 
