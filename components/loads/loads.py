@@ -7,6 +7,9 @@ and where every default comes from: components/loads/README.md.
 import math
 from dataclasses import dataclass
 
+import numpy as np
+from scipy.linalg import expm
+
 from musclesim.components.checks import require
 
 G = 9.80665  # m/s^2, standard gravity
@@ -46,41 +49,58 @@ def spring_tension(s, p):
 
 @dataclass(frozen=True)
 class WeightParams:
-    """Dead weight hanging from the wire; default: 125 MPa on the wire (SPEC 2.4, 3.1)."""
+    """Dead weight hanging from the wire on a springy link; default: 125 MPa on the wire (SPEC 2.4,
+    3.1). Quasi-static (tension m g) unless its inertia is on (effect)."""
 
     mass: float = PRELOAD_125MPA / G  # kg
     g: float = G  # m/s^2
-    inertia: float = 0.0  # effect: share of the weight's inertia the wire feels, 0 = off (m g)
-                          # .. 1 = the whole weight (m (g + a))
+    inertia: float = 0.0  # effect: share of the mass that moves on the link, 0 = off (m g)
+    k_link: float = 300.0  # N/m, assumption: softer than the wire's transformation stiffness
+    zeta: float = 0.02  # 1, assumption: damping ratio of the weight's motion on the link
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
-        require(self, positive=("mass",), non_negative=("g",))
-        _require_finite(self, ("mass", "g"))
+        require(self, positive=("mass", "k_link"), non_negative=("g", "zeta"))
+        _require_finite(self, ("mass", "g", "k_link", "zeta"))
         if not 0.0 <= self.inertia <= 1.0:
             raise ValueError(f"inertia must be within [0, 1] (0 = off, 1 = the whole weight; "
                              f"got {self.inertia!r})")
 
 
-def acceleration(points):
-    """Acceleration [m/s^2] from the last three (t, s) points: the second difference with the
-    steps actually taken (the acceleration at the middle point, one step old); 0 with fewer points.
+def link_omega(p):
+    """Natural angular frequency [rad/s] of the moving mass inertia x mass on the link."""
+    return math.sqrt(p.k_link / (p.inertia * p.mass))
+
+
+def link_transition(dt, p):
+    """2x2 matrix advancing (y, dy/dt) of y'' = -w^2 y - 2 zeta w y' exactly over dt."""
+    w = link_omega(p)
+    return expm(np.array([[0.0, 1.0], [-w * w, -2.0 * p.zeta * w]]) * dt)
+
+
+def weight_step(x, v, s, u, phi, dt, p):
+    """Lift x [m] and velocity v [m/s] of the weight after dt, with phi = link_transition(dt, p)
+    and the wire's end moving as s + u t over the step (u: its slope extrapolated).
+
+    With m_r = inertia mass, m_r x'' = k_link (s - x) - d x', d = 2 zeta w m_r (the weight's
+    motion damped, not the link: a damper in series with the wire's quasi-static compliance
+    would be a loop of time constant ~ compliance x d, a few communication steps). For s linear
+    in t, y = x - s + d u / k_link obeys the free equation, which phi advances exactly.
 
     Examples
     --------
-    >>> acceleration([(0.0, 0.0), (0.5, 0.25), (1.5, 2.25)])  # s = t^2, uneven steps
-    2.0
+    >>> p = WeightParams(mass=0.1, inertia=1.0)
+    >>> weight_step(0.002, 0.0, 0.002, 0.0, link_transition(0.01, p), 0.01, p)  # at rest
+    (0.002, 0.0)
     """
-    if len(points) < 3:
-        return 0.0
-    (t0, s0), (t1, s1), (t2, s2) = points[-3:]
-    return 2.0 * ((s2 - s1) / (t2 - t1) - (s1 - s0) / (t1 - t0)) / (t2 - t0)
+    lag = 2.0 * p.zeta * u / link_omega(p)  # d u / k_link: how far it trails a steady lift
+    y, w = phi @ (x - s + lag, v - u)
+    return float(y + s + u * dt - lag), float(w + u)
 
 
-def weight_tension(a, p):
-    """Tension [N] of the dead weight lifted with acceleration a [m/s^2] (a is ignored when the
-    inertia effect is off)."""
-    return p.mass * (p.g + p.inertia * a) if p.inertia else p.mass * p.g
+def weight_tension(x, s, p):
+    """Tension [N] on the wire: m g, plus the link's pull k_link (s - x) when the inertia is on."""
+    return p.mass * p.g + p.k_link * (s - x) if p.inertia else p.mass * p.g
 
 
 @dataclass(frozen=True)

@@ -33,8 +33,8 @@ class BiasSpring(Slave):
 class DeadWeight(Slave):
     """Weight hanging from the wire, quasi-static by default; inertia is an effect (SPEC 2.4, 4)."""
 
-    description = ("Dead weight on the wire: tension m g, or m (g + a) with its inertia "
-                   "(effect; a from the positions at the communication points, one step old)")
+    description = ("Dead weight on the wire: tension m g, or (inertia effect) a mass on a "
+                   "spring link pulled by the wire, its motion damped: m g + k_link (s - lift)")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
@@ -43,23 +43,39 @@ class DeadWeight(Slave):
                        "(SPEC 2.4, 3.1)")
         self.parameter("g", d.g, "m/s2", "Gravitational acceleration (standard gravity)")
         self.parameter("inertia", d.inertia, "1", "Inertia of the weight (effect): 0 = off, "
-                       "tension m g; r in (0, 1]: tension m (g + r a)")
+                       "tension m g; r in (0, 1]: r x mass moves on the link")
+        self.parameter("k_link", d.k_link, "N/m", "Stiffness of the link from the wire to the "
+                       "weight (assumption: 300 N/m, softer than the wire's transformation)")
+        self.parameter("zeta", d.zeta, "1", "Damping ratio of the weight's motion on its link "
+                       "(assumption)")
         self.input("flange.s", 0.0, "m", S_DESCRIPTION + ", lifting the weight")
         self.output("flange.f", "N", "Tension of the weight on the wire", depends=["flange.s"])
+        self.output("lift", "m", "Lift of the weight (= flange.s unless its inertia is on)",
+                    depends=["flange.s"])
 
     def setup(self):
         self.p = self.core_params(loads.WeightParams)
-        self.points = ()  # (t, s) at the last two communication points
+        self.phi = {}  # step -> the link's transition matrix over it
+        self.initialize()
 
     def initialize(self):
-        self.points = ()
+        self.x, self.v = self.flange_s, 0.0  # at rest at the wire's end
+        self.last = (self.time, self.flange_s)
 
     def evaluate(self):
-        a = loads.acceleration(self.points + ((self.time, self.flange_s),)) if self.p.inertia else 0.0
-        self.flange_f = loads.weight_tension(a, self.p)
+        self.flange_f = loads.weight_tension(self.x, self.flange_s, self.p)
+        self.lift = self.x if self.p.inertia else self.flange_s
 
     def advance(self, t, dt):
-        self.points = (self.points + ((t, self.flange_s),))[-2:]
+        if not self.p.inertia:
+            return
+        t0, s0 = self.last
+        u = (self.flange_s - s0) / (t - t0) if t > t0 else 0.0
+        if dt not in self.phi:
+            self.phi[dt] = loads.link_transition(dt, self.p)
+        self.x, self.v = loads.weight_step(self.x, self.v, self.flange_s, u, self.phi[dt], dt,
+                                           self.p)
+        self.last = (t, self.flange_s)
 
 
 class Electromagnet(Slave):

@@ -3,8 +3,8 @@
     y(t) = offset                                  for t < t_start or kind = constant
     y(t) = offset + amplitude w(f (t - t_start) + phase / 2 pi)   otherwise
 
-with w the unit wave of the kind (sine; square: +1 over the first half period, -1 over the
-second; triangle: -1 -> +1 -> -1; ramp: 0 -> 1 over the first period, then held), so a square
+with w the unit wave of the kind (sine; square: +1 over the first `duty` of each period, -1 over
+the rest, so a square wave with offset = amplitude = V/2 is a heating pulse train of duty `duty`; triangle: -1 -> +1 -> -1; ramp: 0 -> 1 over the first period, then held), so a square
 wave alternates between two set-points and a ramp rises by `amplitude` over 1/f seconds.
 """
 import math
@@ -17,7 +17,8 @@ KINDS = ("constant", "sine", "square", "triangle", "ramp")
 
 @dataclass(frozen=True)
 class SignalParams:
-    """Wave kind (an index into KINDS), offset, amplitude, frequency [Hz], phase [rad], start [s]."""
+    """Wave kind (an index into KINDS), offset, amplitude, frequency [Hz], phase [rad], start [s],
+    share of the period a square wave is high."""
 
     kind: float = 0.0
     offset: float = 0.0
@@ -25,6 +26,7 @@ class SignalParams:
     frequency: float = 0.0
     phase: float = 0.0
     t_start: float = 0.0
+    duty: float = 0.5
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
@@ -32,15 +34,20 @@ class SignalParams:
             raise ValueError(f"kind must be one of 0..{len(KINDS) - 1} ({', '.join(KINDS)}), "
                              f"got {self.kind!r}")
         require(self, non_negative=("frequency",))
+        if not 0.0 < self.duty < 1.0:
+            raise ValueError(f"duty must be within (0, 1) (the share of a square wave's period "
+                             f"at offset + amplitude; got {self.duty!r})")
 
 
-def unit_wave(kind, cycles):
-    """The unit wave of `kind` after `cycles` periods (a float).
+def unit_wave(kind, cycles, duty=0.5):
+    """The unit wave of `kind` after `cycles` periods (a float); `duty`: a square wave's high share.
 
     Examples
     --------
     >>> [unit_wave("square", c) for c in (0.25, 0.75)], unit_wave("triangle", 0.5)
     ([1.0, -1.0], 1.0)
+    >>> [unit_wave("square", c, duty=0.1) for c in (0.05, 0.25)]
+    [1.0, -1.0]
     >>> [unit_wave("ramp", c) for c in (0.25, 3.0)]
     [0.25, 1.0]
     """
@@ -50,7 +57,7 @@ def unit_wave(kind, cycles):
     if kind == "sine":
         return math.sin(2 * math.pi * cycles)
     if kind == "square":
-        return 1.0 if frac < 0.5 else -1.0
+        return 1.0 if frac < duty else -1.0
     return 4 * frac - 1 if frac < 0.5 else 3 - 4 * frac  # triangle
 
 
@@ -59,4 +66,5 @@ def value(t, p):
     kind = KINDS[int(p.kind)]
     if kind == "constant" or t < p.t_start:
         return p.offset
-    return p.offset + p.amplitude * unit_wave(kind, p.frequency * (t - p.t_start) + p.phase / (2 * math.pi))
+    cycles = p.frequency * (t - p.t_start) + p.phase / (2 * math.pi)
+    return p.offset + p.amplitude * unit_wave(kind, cycles, p.duty)

@@ -21,6 +21,8 @@ class SignalSource(Slave):
         self.parameter("frequency", 0.0, "Hz", "Frequency")
         self.parameter("phase", 0.0, "rad", "Phase")
         self.parameter("t_start", 0.0, "s", "Start of the wave")
+        self.parameter("duty", 0.5, "1", "Square wave: share of each period at offset + amplitude "
+                       "(0..1 exclusive; a pulse train of this duty)")
         self.output("y", "1", "Signal")
 
     def setup(self):
