@@ -192,3 +192,27 @@ def test_crawler_bench_hides_one_draw_in_every_actuator(fmu_dir, tmp_path):
     assert np.allclose(p / blind.PRESSURE_QUANTUM, np.round(p / blind.PRESSURE_QUANTUM))
     leak = recorded["leak"].experiment("all")[1]["sensorc.p_meas"]
     assert np.max(np.abs(leak - p)) > 20 * blind.PRESSURE_NOISE
+
+
+def test_weight_bench_hides_the_weights_inertia(fmu_dir, tmp_path):
+    """Load inertia is in the blind plan (on the weight bench, from the load benches' stream); a
+    recorded case is a data set of sma-dead-weight whose laser sees the weight ring after a
+    lift, beyond the laser's noise."""
+    cases = blind.plan(20, seed=1)
+    weight = [c for c in cases if c["bench"] == "weight"]
+    assert weight and all(c["effect"] == "load inertia" for c in weight)
+    assert all(0.3 <= c["values"]["weight.inertia"] <= 1.0 for c in weight)
+    recorded = {}
+    for name, values in (("none", {}), ("ringing", {"weight.inertia": 0.5})):
+        case = {"case": name, "kind": "effect", "bench": "weight", "effect": "load inertia",
+                "values": values, "latency_samples": 1, "seed": 5, "strain_gain": 1.0}
+        blind._make((case, tmp_path, SCENARIOS, fmu_dir))
+        ds = dataset.load(tmp_path / "cases" / name, check_model=True, fmu_dir=fmu_dir)
+        assert ds.inputs == ("wire.u",) and ds.outputs == ("laser.s_meas",)
+        recorded[name] = ds.experiment("all")
+    t, cols = recorded["none"]
+    assert t[-1] == pytest.approx(blind.STOP_TIME["weight"])
+    s = cols["laser.s_meas"]
+    assert np.allclose(s / blind.LASER_QUANTUM, np.round(s / blind.LASER_QUANTUM))
+    ringing = recorded["ringing"][1]["laser.s_meas"]
+    assert np.max(np.abs(ringing - s)) > 100 * blind.LASER_NOISE

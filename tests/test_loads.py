@@ -79,9 +79,10 @@ def test_dead_weight_off_is_m_g_exactly(fmu_dir):
 
 
 def test_dead_weight_rings_at_the_spring_mass_period(fmu_dir):
-    """The wire's end steps up by A and holds: the weight's lift x rings about A with the damped
-    period 2 pi / (w sqrt(1 - zeta^2)), w = sqrt(k_link / (inertia m)), its amplitude falling by
-    exp(-2 pi zeta / sqrt(1 - zeta^2)) a period; the tension is m g + k_link (A - x)."""
+    """The wire's end steps up by A and holds: the weight rings about A with the damped period
+    2 pi / (w sqrt(1 - zeta^2)), w = sqrt(k_link / m), whatever share r of it moves (that share
+    hangs on r k_link), its amplitude falling by exp(-2 pi zeta / sqrt(1 - zeta^2)) a period; the
+    tension is m g + k_link (A - lift)."""
     m, r, k, zeta, A, h = 0.15, 0.8, 300.0, 0.05, 1e-3, 4e-4
     t = np.arange(5001) * h
     s = np.where(t > 0, A, 0.0)
@@ -92,34 +93,38 @@ def test_dead_weight_rings_at_the_spring_mass_period(fmu_dir):
     tt = t[2:]
     up = np.flatnonzero((y[:-1] < 0) & (y[1:] >= 0))
     crossings = tt[up] - y[up] * h / (y[up + 1] - y[up])
-    w = math.sqrt(k / (r * m))
+    w = math.sqrt(k / m)
     period = 2 * math.pi / (w * math.sqrt(1 - zeta ** 2))
     assert np.diff(crossings) == pytest.approx(period, rel=1e-4)
     peaks = [y[(tt >= c) & (tt < c + period)].max() for c in crossings[:-1]]
     ratio = math.exp(-2 * math.pi * zeta / math.sqrt(1 - zeta ** 2))
     np.testing.assert_allclose(np.array(peaks[1:]) / peaks[:-1], ratio, rtol=2e-3)
+    half = run(fmu_dir, "DeadWeight", {"flange.s": s}, dt=h, outputs=("lift",),
+               params={"mass": m, "inertia": r / 2, "k_link": k, "zeta": zeta})["lift"]
+    np.testing.assert_allclose(half[2:] - A, y / 2, rtol=0, atol=1e-15)  # linear in the share
 
 
 def test_dead_weight_under_a_sinusoidal_lift_feels_its_inertia(fmu_dir):
-    """s = A sin(w t): once settled, the tension's oscillating part is k_link (s - x) with
-    (S - X) / S = (-m_r w^2 + i d w) / (k_link - m_r w^2 + i d w): the inertia m_r a of a
-    weight following the wire (m_r w^2 A) and its motion's drag (d w A), raised near the link's
-    resonance."""
-    m, r, k, zeta, A, f, h = 0.15, 1.0, 300.0, 0.1, 1e-3, 2.0, 4e-4
-    w, m_r = 2 * math.pi * f, r * m
-    d = 2 * zeta * math.sqrt(k * m_r)
+    """s = A sin(w t): once settled, the tension's oscillating part is r k_link (s - x) with
+    (S - X) / S = (-m w^2 + i d w) / (k_link - m w^2 + i d w): the inertia r m a of the moving
+    share following the wire (r m w^2 A) and its motion's drag (r d w A), raised near the link's
+    resonance; linear in the share r."""
+    m, k, zeta, A, f, h = 0.15, 300.0, 0.1, 1e-3, 2.0, 4e-4
+    w = 2 * math.pi * f
+    d = 2 * zeta * math.sqrt(k * m)
     t = np.arange(15001) * h
-    res = run(fmu_dir, "DeadWeight", {"flange.s": A * np.sin(w * t)}, dt=h,
-              params={"mass": m, "inertia": r, "k_link": k, "zeta": zeta})
-    settled = res["flange.f"][t > 4.0] - m * G  # the transient decays as exp(-4.5 t / s)
-    hand = k * A * abs((-m_r * w ** 2 + 1j * d * w) / (k - m_r * w ** 2 + 1j * d * w))
-    assert (settled.max() - settled.min()) / 2 == pytest.approx(hand, rel=1e-3)
+    for r in (0.3, 1.0):
+        res = run(fmu_dir, "DeadWeight", {"flange.s": A * np.sin(w * t)}, dt=h,
+                  params={"mass": m, "inertia": r, "k_link": k, "zeta": zeta})
+        settled = res["flange.f"][t > 4.0] - m * G  # the transient decays as exp(-4.5 t / s)
+        hand = r * k * A * abs((-m * w ** 2 + 1j * d * w) / (k - m * w ** 2 + 1j * d * w))
+        assert (settled.max() - settled.min()) / 2 == pytest.approx(hand, rel=1e-3)
 
 
 def test_dead_weight_in_a_steady_lift_trails_by_its_damping():
     # riding along at the particular solution x = s - d U / k_link, v = U, for any steps: the
-    # tension is m g + d U (the damped motion's drag), nothing else
-    p = loads.WeightParams(mass=0.15, inertia=1.0, k_link=300.0, zeta=0.1)
+    # tension is m g + r d U (the damped motion's drag), nothing else
+    p = loads.WeightParams(mass=0.15, inertia=0.5, k_link=300.0, zeta=0.1)
     U = 0.05
     lag = 2 * p.zeta * math.sqrt(p.k_link * p.mass) * U / p.k_link
     x, v, s = -lag, U, 0.0
@@ -127,7 +132,9 @@ def test_dead_weight_in_a_steady_lift_trails_by_its_damping():
         x, v = loads.weight_step(x, v, s, U, loads.link_transition(dt, p), dt, p)
         s += U * dt
         assert x == pytest.approx(s - lag, abs=1e-15) and v == pytest.approx(U, rel=1e-12)
-    assert loads.weight_tension(x, s, p) == pytest.approx(p.mass * G + p.k_link * lag, rel=1e-9)
+    assert loads.weight_tension(x, s, p) == pytest.approx(p.mass * G + 0.5 * p.k_link * lag,
+                                                          rel=1e-9)
+    assert loads.weight_lift(x, s, p) == pytest.approx(s - 0.5 * lag, rel=1e-9)
 
 
 def test_coil_current_step_is_exact(fmu_dir):

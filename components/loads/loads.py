@@ -54,7 +54,8 @@ class WeightParams:
 
     mass: float = PRELOAD_125MPA / G  # kg
     g: float = G  # m/s^2
-    inertia: float = 0.0  # effect: share of the mass that moves on the link, 0 = off (m g)
+    inertia: float = 0.0  # effect: share of the weight moving on its link (on inertia x k_link),
+                          # 0 = off (m g)
     k_link: float = 300.0  # N/m, assumption: softer than the wire's transformation stiffness
     zeta: float = 0.02  # 1, assumption: damping ratio of the weight's motion on the link
 
@@ -68,8 +69,8 @@ class WeightParams:
 
 
 def link_omega(p):
-    """Natural angular frequency [rad/s] of the moving mass inertia x mass on the link."""
-    return math.sqrt(p.k_link / (p.inertia * p.mass))
+    """Natural angular frequency [rad/s] of the weight on its link (whatever share moves)."""
+    return math.sqrt(p.k_link / p.mass)
 
 
 def link_transition(dt, p):
@@ -79,13 +80,15 @@ def link_transition(dt, p):
 
 
 def weight_step(x, v, s, u, phi, dt, p):
-    """Lift x [m] and velocity v [m/s] of the weight after dt, with phi = link_transition(dt, p)
-    and the wire's end moving as s + u t over the step (u: its slope extrapolated).
+    """Position x [m] and velocity v [m/s] of the weight's moving share after dt, with
+    phi = link_transition(dt, p) and the wire's end moving as s + u t over the step (u: its
+    slope extrapolated).
 
-    With m_r = inertia mass, m_r x'' = k_link (s - x) - d x', d = 2 zeta w m_r (the weight's
-    motion damped, not the link: a damper in series with the wire's quasi-static compliance
-    would be a loop of time constant ~ compliance x d, a few communication steps). For s linear
-    in t, y = x - s + d u / k_link obeys the free equation, which phi advances exactly.
+    The share r = inertia of the weight hangs on r k_link, so any share rings alike:
+    m x'' = k_link (s - x) - d x', d = 2 zeta w m (the weight's motion damped, not the link: a
+    damper in series with the wire's quasi-static compliance closes a loop of gain
+    compliance x d / step). For s linear in t, y = x - s + d u / k_link obeys the free equation,
+    which phi advances exactly.
 
     Examples
     --------
@@ -99,8 +102,15 @@ def weight_step(x, v, s, u, phi, dt, p):
 
 
 def weight_tension(x, s, p):
-    """Tension [N] on the wire: m g, plus the link's pull k_link (s - x) when the inertia is on."""
-    return p.mass * p.g + p.k_link * (s - x) if p.inertia else p.mass * p.g
+    """Tension [N] on the wire: m g plus the moving share's pull inertia k_link (s - x) (exactly
+    m g with the inertia off)."""
+    return p.mass * p.g + p.inertia * p.k_link * (s - x)
+
+
+def weight_lift(x, s, p):
+    """Lift [m] of the weight: the wire's end s less the link's stretch beyond its static one,
+    (tension - m g) / k_link = inertia (s - x); s exactly with the inertia off."""
+    return s + p.inertia * (x - s)
 
 
 @dataclass(frozen=True)

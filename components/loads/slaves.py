@@ -43,7 +43,7 @@ class DeadWeight(Slave):
                        "(SPEC 2.4, 3.1)")
         self.parameter("g", d.g, "m/s2", "Gravitational acceleration (standard gravity)")
         self.parameter("inertia", d.inertia, "1", "Inertia of the weight (effect): 0 = off, "
-                       "tension m g; r in (0, 1]: r x mass moves on the link")
+                       "tension m g; r in (0, 1]: the share r of the weight moving on its link")
         self.parameter("k_link", d.k_link, "N/m", "Stiffness of the link from the wire to the "
                        "weight (assumption: 300 N/m, softer than the wire's transformation)")
         self.parameter("zeta", d.zeta, "1", "Damping ratio of the weight's motion on its link "
@@ -64,7 +64,7 @@ class DeadWeight(Slave):
 
     def evaluate(self):
         self.flange_f = loads.weight_tension(self.x, self.flange_s, self.p)
-        self.lift = self.x if self.p.inertia else self.flange_s
+        self.lift = loads.weight_lift(self.x, self.flange_s, self.p)
 
     def advance(self, t, dt):
         if not self.p.inertia:

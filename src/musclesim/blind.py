@@ -11,9 +11,10 @@ Each case is a measured data set made by running one of the SMA benches with hid
 
 all with nuisances: thermocouple noise and quantisation inside the loop, strain-gauge noise and
 quantisation, and an acquisition latency of the strain gauge of 0 or 1 sample behind the
-controller's log. A quarter of the effect cases (drawn from a stream of their own) run on the
-magnet bench instead, hiding an electromagnet force nonlinearity or a load-cell lag, with laser
-and load-cell noise and quantisation (the library's "laser noise" as the nuisance it is: noise
+controller's log. A quarter of the effect cases (drawn from a stream of their own) run on a load
+bench instead: the magnet bench hiding an electromagnet force nonlinearity or a load-cell lag, or
+the weight bench (SPEC 3.1's 150 g weight lifted by fast heating pulses) hiding the weight's
+inertia; with laser and load-cell noise and quantisation (the library's "laser noise" as the nuisance it is: noise
 raises the floor, no fit of it can shrink a gap). Another quarter (a third stream; it wins over
 the magnet draw) runs on the pneumatic crawler climbing 7.5 deg (12 s of crawler-gait-incline, the
 controllers' duties replayed, pressure sensors and the blocks' video positions observed, both with
@@ -50,6 +51,8 @@ BENCHES = {
     "magnet": ("sma-bench-magnet", ["wire.u", "magnet.duty"],
                ["loadcell.f_meas", "thermocouple.T_meas", "laser.s_meas"],
                ["electromagnet force nonlinearity", "load-cell lag"]),
+    # SPEC 3.1's 150 g weight lifted by fast heating pulses, the laser on the weight
+    "weight": ("sma-dead-weight", ["wire.u"], ["laser.s_meas"], ["load inertia"]),
     # the pneumatic crawler climbing 7.5 deg (where bending shows): the controllers' logged
     # duties replayed, the pressure sensors and the blocks' positions from video observed
     "crawler": ("crawler-gait-incline", ["act1.duty", "actc.duty", "act2.duty"],
@@ -59,8 +62,11 @@ BENCHES = {
                  "pressure-dependent stiffness", "actuator bending on an incline",
                  "friction decay"]),
 }
-STOP_TIME = {"crawler": 12.0}  # s: the first stride and three more (the scenario runs 30 s)
-MAGNET_SHARE = 0.25  # of the effect cases move to the magnet bench (drawn from their own stream)
+STOP_TIME = {"crawler": 12.0,  # s: the first stride and three more (the scenario runs 30 s)
+             "weight": 6.0}  # s: two lifts, the second in the held-out part
+MAGNET_SHARE = 0.25  # of the effect cases move to a load bench, magnet or weight, with one of its
+                     # effects (drawn from their own stream)
+LOAD_BENCHES = ("magnet", "weight")
 CRAWLER_SHARE = 0.25  # ... and, drawn from a third stream, to the crawler bench
 # Not hidden: clamp heat loss. With the clamps at ambient it is a loss linear in T - T_amb, exactly
 # a larger h; the diagnosis rightly calls such data a recalibration of h, not an effect.
@@ -76,6 +82,7 @@ MAGNITUDES = {
     "electromagnet force nonlinearity": [("magnet", "nonlinearity", 0.2, 0.5)],
     # a heavily filtered cell: lags of 1-2 samples (20-40 ms) are latency at this data rate
     "load-cell lag": [("loadcell", "tau", 0.1, 0.3)],
+    "load inertia": [("weight", "inertia", 0.3, 1.0)],
     # one draw for several instances: the three valves, pumps and chambers are alike
     "valve delay": [(("act1", "actc", "act2"), "t_open_delay", 0.005, 0.02),
                     (("act1", "actc", "act2"), "t_close_delay", 0.005, 0.02)],
@@ -137,11 +144,11 @@ def plan(count, seed):
             case["effect"] = effect
             case["values"] = _draw(effect, rng)
         if kind == "effect":  # moved to the magnet bench, then (the later draw wins) the crawler
-            for bench, share, stream in (("magnet", MAGNET_SHARE, magnet_rng),
-                                         ("crawler", CRAWLER_SHARE, crawler_rng)):
+            for benches, share, stream in ((LOAD_BENCHES, MAGNET_SHARE, magnet_rng),
+                                           (("crawler",), CRAWLER_SHARE, crawler_rng)):
                 if stream.random() < share:
-                    pool = BENCHES[bench][3]
-                    effect = pool[stream.integers(len(pool))]
+                    pool = [(b, e) for b in benches for e in BENCHES[b][3]]
+                    bench, effect = pool[stream.integers(len(pool))]
                     case.update(bench=bench, effect=effect, values=_draw(effect, stream))
         elif kind == "outside":
             name = list(OUTSIDE)[rng.integers(len(OUTSIDE))]

@@ -94,7 +94,7 @@ EFFECTS = (
     # loads and sensors of the position-control bench (SPEC 2.1, 2.4, 4)
     Effect("load inertia", "DeadWeight", (Parameter("inertia", 0.0, 0.0, 1.0),),
            "transformation", "SPEC 2.4, 4",
-           "the weight's inertia adds to its tension while the wire moves it fast"),
+           "the weight rings on its link after a fast lift, pulling on the wire"),
     Effect("electromagnet force nonlinearity", "Electromagnet",
            (Parameter("nonlinearity", 0.0, -0.5, 0.5),), "high_force", "SPEC 2.1, 4",
            "the magnet's force grows faster or slower than its coil current"),
