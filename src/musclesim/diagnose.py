@@ -134,7 +134,10 @@ def _replays(s, keep, columns, input_columns, cut_all=False):
     """{input of a kept instance: the measured column replayed into it}.
 
     Measured inputs are replayed as such; a connection carrying a measured output is cut and
-    replayed when its source is not kept (or always, with `cut_all`).
+    replayed when its source is not kept, or with `cut_all` when it is a signal: a measured
+    physical port (a ``flange*`` variable, half of a two-way mechanical coupling such as the
+    crawler body's flange position into its central actuator) stays coupled, since the coupled
+    element would differentiate the measurement's noise and quantisation.
     """
     out = {}
     for src, dst in s.connections:
@@ -142,7 +145,8 @@ def _replays(s, keep, columns, input_columns, cut_all=False):
             continue
         if dst in columns:
             out[dst] = dst
-        elif src in columns and (cut_all or split_signal(src)[0] not in keep):
+        elif src in columns and (split_signal(src)[0] not in keep or (
+                cut_all and not split_signal(src)[1].startswith("flange"))):
             out[dst] = src
     out.update({c: c for c in input_columns if split_signal(c)[0] in keep})
     return out
@@ -268,8 +272,9 @@ class Problem:
 
     def replayed(self):
         """Every instance, every measured signal replayed where it feeds one (loops cut open at
-        the measurements): the model in which section 4 compares before and after, so that a
-        closed loop's oscillation phase does not hide what an effect explains."""
+        the measurements; measured physical ports stay coupled, `_replays`): the model in which
+        section 4 compares before and after, so that a closed loop's oscillation phase does not
+        hide what an effect explains."""
         if self.scalar_only:
             return self._metric_unit()
         return self.unit("all measured signals replayed", sorted(self.components), cut_all=True)
