@@ -4,8 +4,9 @@
     y(t) = offset + amplitude w(f (t - t_start) + phase / 2 pi)   otherwise
 
 with w the unit wave of the kind (sine; square: +1 over the first `duty` of each period, -1 over
-the rest, so a square wave with offset = amplitude = V/2 is a heating pulse train of duty `duty`; triangle: -1 -> +1 -> -1; ramp: 0 -> 1 over the first period, then held), so a square
-wave alternates between two set-points and a ramp rises by `amplitude` over 1/f seconds.
+the rest; triangle: -1 -> +1 -> -1; ramp: 0 -> 1 over the first period, then held), so a square
+wave alternates between two set-points (offset = amplitude = V/2: a pulse train 0 / V of that
+duty) and a ramp rises by `amplitude` over 1/f seconds.
 """
 import math
 from dataclasses import dataclass
