@@ -14,18 +14,17 @@ quantisation, and an acquisition latency of the strain gauge of 0 or 1 sample be
 controller's log. A quarter of the effect cases (drawn from a stream of their own) run on a load
 bench instead: the magnet bench hiding an electromagnet force nonlinearity or a load-cell lag, or
 the weight bench (SPEC 3.1's 150 g weight lifted by fast heating pulses) hiding the weight's
-inertia; with laser and load-cell noise and quantisation (the library's "laser noise" as the nuisance it is: noise
-raises the floor, no fit of it can shrink a gap). Another quarter (a third stream; it wins over
-the magnet draw) runs on the pneumatic crawler climbing 7.5 deg (12 s of crawler-gait-incline, the
-controllers' duties replayed, pressure sensors and the blocks' video positions observed, both with
-noise and quantisation) and hides one of the crawler's effects, one magnitude for every instance
-of its component. Cases are written without labels
+inertia; with laser and load-cell noise and quantisation (the library's "laser noise" as the
+nuisance it is: noise raises the floor, no fit of it can shrink a gap). Another quarter (a third
+stream; it wins over the load-bench draw) runs on the pneumatic crawler climbing 7.5 deg (12 s of
+crawler-gait-incline, the controllers' duties replayed, pressure sensors and the blocks' video
+positions observed, both with noise and quantisation) and hides one of the crawler's effects,
+one magnitude for every instance of its component. Cases are written without labels
 (data.csv + manifest.toml); the key is hashed into key.sha256 before any diagnosis runs and
 written to key.json after. Scores (scores.json): top-1 accuracy over effect and decoy cases,
 the median ratio of our held-out shrinkage (the model with every measured signal replayed) to the
-oracle's (the true effect at
-its true values), the false-alarm rate over ``none`` cases (a verdict naming an effect) and the
-``unexplained`` rate over ``outside`` cases.
+oracle's (the true effect at its true values), the false-alarm rate over ``none`` cases (a
+verdict naming an effect) and the ``unexplained`` rate over ``outside`` cases.
 """
 import hashlib
 import json
@@ -64,8 +63,8 @@ BENCHES = {
 }
 STOP_TIME = {"crawler": 12.0,  # s: the first stride and three more (the scenario runs 30 s)
              "weight": 6.0}  # s: two lifts, the second in the held-out part
-MAGNET_SHARE = 0.25  # of the effect cases move to a load bench, magnet or weight, with one of its
-                     # effects (drawn from their own stream)
+LOAD_SHARE = 0.25  # of the effect cases move to a load bench, magnet or weight, with one of its
+                   # effects (drawn from their own stream)
 LOAD_BENCHES = ("magnet", "weight")
 CRAWLER_SHARE = 0.25  # ... and, drawn from a third stream, to the crawler bench
 # Not hidden: clamp heat loss. With the clamps at ambient it is a loss linear in T - T_amb, exactly
@@ -123,8 +122,8 @@ HELD_OUT_FRACTION = 0.35
 def plan(count, seed):
     """The cases' hidden truths: a list of dicts (kind, bench, effect, values, latency, ...)."""
     rng = np.random.default_rng(seed)
-    # its own stream, so that moving a case to the magnet bench changes no other case
-    magnet_rng = np.random.default_rng([seed, 7])
+    # their own streams, so that moving a case to another bench changes no other case
+    load_rng = np.random.default_rng([seed, 7])
     crawler_rng = np.random.default_rng([seed, 11])
     n_none = max(1, round(0.15 * count))
     n_out = max(1, round(0.15 * count))
@@ -143,8 +142,8 @@ def plan(count, seed):
             effect = pool[rng.integers(len(pool))]
             case["effect"] = effect
             case["values"] = _draw(effect, rng)
-        if kind == "effect":  # moved to the magnet bench, then (the later draw wins) the crawler
-            for benches, share, stream in ((LOAD_BENCHES, MAGNET_SHARE, magnet_rng),
+        if kind == "effect":  # moved to a load bench, then (the later draw wins) the crawler
+            for benches, share, stream in ((LOAD_BENCHES, LOAD_SHARE, load_rng),
                                            (("crawler",), CRAWLER_SHARE, crawler_rng)):
                 if stream.random() < share:
                     pool = [(b, e) for b in benches for e in BENCHES[b][3]]

@@ -143,10 +143,11 @@ def _replays(s, keep, columns, input_columns, cut_all=False):
     for src, dst in s.connections:
         if split_signal(dst)[0] not in keep:
             continue
+        source, variable = split_signal(src)
         if dst in columns:
             out[dst] = dst
-        elif src in columns and (split_signal(src)[0] not in keep or (
-                cut_all and not split_signal(src)[1].startswith("flange"))):
+        elif src in columns and (source not in keep or (
+                cut_all and not variable.startswith("flange"))):
             out[dst] = src
     out.update({c: c for c in input_columns if split_signal(c)[0] in keep})
     return out
