@@ -30,6 +30,17 @@ def test_each_kind_of_the_matrix_runs_and_tracks(fmu_dir, kind):
     assert np.max(res["wire.strain"]) > 0.5 * np.max(res["strain.eps_ref"])  # the wire moves
 
 
+def test_the_tables_strain_is_the_lasers_contraction_over_the_wires_length(fmu_dir):
+    s = scenario.load(POSITION, (), 2.0)
+    assert table.wire_length(s, fmu_dir) == 58.42e-3  # the SmaWire's own (SPEC 2.1)
+    res = master.Master(s, fmu_dir).run()
+    laser_strain = res["laser.s_meas"] / table.wire_length(s, fmu_dir)  # laser effects off
+    assert np.max(res["wire.strain"]) > 0.004
+    np.testing.assert_allclose(laser_strain, res["wire.strain"], rtol=0, atol=1e-12)
+    longer = scenario.load(POSITION, ["wire.length=0.2"], 2.0)
+    assert table.wire_length(longer, fmu_dir) == 0.2
+
+
 def test_stress_ignored_inverse_does_not_follow_the_stress(fmu_dir):
     sets = ["strain.profile=1.0", "loading.profile=1.0"]
     aware = run(fmu_dir, sets, 2.0)

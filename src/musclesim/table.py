@@ -59,6 +59,18 @@ def _columns(results_csv):
     return time, {name: data[:, j] for j, name in enumerate(header[1:])}
 
 
+def wire_length(s, fmu_dir):
+    """The length [m] of the scenario's `wire`: its parameter if the scenario sets it, else the
+    start value in the SmaWire FMU (the laser's contraction over it is the measured strain)."""
+    from musclesim.fmuhost import read_fmu
+
+    inst = s.instances["wire"]
+    if "length" in inst.parameters:
+        return float(inst.parameters["length"])
+    md = read_fmu(Path(fmu_dir) / f"{inst.component}.fmu")
+    return float(next(v.start for v in md.modelVariables if v.name == "length"))
+
+
 def strain_error(results_csv, length):
     """(RMSE, % of the maximum reference strain) of a run's results.csv; laser strain = s / L."""
     _, col = _columns(results_csv)
@@ -131,7 +143,7 @@ def sma_position(out, scenario_path, fmu_dir="fmus", stop_time=None, scheduler=N
     out.mkdir(parents=True, exist_ok=True)
     s = scenario.load(scenario_path, (), stop_time)  # checked once, not in every case
     build.check_fresh(fmu_dir)
-    length = float(s.instances["wire"].parameters.get("length", 0.1))
+    length = wire_length(s, fmu_dir)
     matrix = {k: v for k, v in cases().items() if not only or k in only}
     todo = [(cid, sets) for rows in matrix.values() for _, _, cid, sets in rows
             if sweep._finished(out / "cases" / cid) is None]
