@@ -5,7 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from musclesim import linear, master, scenario, table
+from musclesim import linear, master, scenario, sweep, table
+from musclesim.errors import UserError
 
 from conftest import SCENARIOS
 
@@ -66,14 +67,16 @@ def test_table_of_a_fixed_small_run(tmp_path):
     csv = tmp_path / "results.csv"
     np.savetxt(csv, np.column_stack([t, ref, laser]), delimiter=",",
                header="time,strain.eps_ref,laser.s_meas", comments="")
-    rmse, percent = table.strain_error(csv, 0.1)
+    time, col = table.read_case(csv, ("strain.eps_ref", "laser.s_meas"))
+    np.testing.assert_array_equal(time, t)
+    rmse, percent = table.strain_error(col, 0.1)
     assert rmse == pytest.approx(math.sqrt((1 + 1 + 4) / 5) * 1e-3)
     assert percent == pytest.approx(100 * rmse / 0.04)
     cells = {("SP I", "105 MPa"): (1e-3, 2.0), ("SP I", "115 MPa"): (3e-3, 4.0),
              ("SP II", "105 MPa"): None, ("SP II", "115 MPa"): (2e-3, 6.0)}
     stats = table.write_table(tmp_path, "t", ["SP I", "SP II"], ["105 MPa", "115 MPa"], cells)
-    assert stats["rmse"][0] == pytest.approx(2e-3) and stats["percent"] == pytest.approx(
-        (4.0, math.sqrt(8 / 3)))
+    assert stats["cells"] == 3 and stats["rmse"][0] == pytest.approx(2e-3)
+    assert stats["percent"] == pytest.approx((4.0, math.sqrt(8 / 3)))
     md = (tmp_path / "t.md").read_text()
     assert "| SP II | - | 2.000 (6.00 %) |" in md and "over 3 of 4 cells" in md
     rows = (tmp_path / "t.csv").read_text().splitlines()
@@ -85,3 +88,38 @@ def test_the_matrix_is_the_studys():
     assert [len(c[k]) for k in ("constant-stress", "stress-aware", "stress-ignored")] == \
         [20, 24, 30]
     assert all("strain.profile=4.0" in sets for *_, sets in c["stress-ignored"])
+
+
+def test_a_case_without_the_tables_columns_is_named(tmp_path):
+    csv = tmp_path / "results.csv"
+    csv.write_text("time,strain.eps_ref\n0,0\n")
+    with pytest.raises(UserError, match=r"results.csv has no column laser.s_meas"):
+        table.read_case(csv, ("strain.eps_ref", "laser.s_meas"))
+
+
+def test_the_figures_envelope_keeps_every_peak():
+    t = np.arange(100003) * 4e-4
+    y = np.sin(t) + (np.arange(t.size) == 54321) * 5.0  # one spike of a single sample
+    tt, yy = table.envelope(t, y, 1000)
+    assert len(yy) == 2 * 1000 + 3 and np.all(np.diff(tt) >= 0)  # min, max per run + the rest
+    assert yy.max() == y.max() and yy.min() == y.min() and tt[np.argmax(yy)] <= t[54321]
+    np.testing.assert_array_equal(table.envelope(t[:10], y[:10], 1000)[1], y[:10])  # short
+
+
+def test_tables_are_written_from_the_finished_cases(tmp_path, fmu_dir):
+    out = tmp_path / "matrix"
+    first, second = table.cases()["stress-ignored"][:2]
+    for r, c, cid, sets in (first, second):
+        summary = sweep.run_case(str(POSITION), str(out / "cases" / cid), str(fmu_dir), sets, 0.4)
+        assert summary["completed"] is True
+    report = table.sma_position(out, POSITION, fmu_dir, only=["stress-ignored"], run=False)
+    time, col = table.read_case(out / "cases" / first[2] / "results.csv")
+    rmse = table.strain_error(col, 58.42e-3)[0]
+    assert rmse == pytest.approx(np.sqrt(np.mean(
+        (col["strain.eps_ref"] - col["laser.s_meas"] / 58.42e-3) ** 2)), rel=1e-12)
+    md = (out / "stress-ignored.md").read_text()
+    assert f"| {first[0]} | {rmse * 1e3:.3f} (" in md and "over 2 of 30 cells" in md
+    assert report["stress-ignored"]["rmse"][0] > 0
+    assert all((out / "cases" / cid / "figure.png").stat().st_size > 10_000
+               for _, _, cid, _ in (first, second))
+    assert not (out / "constant-stress.md").exists()

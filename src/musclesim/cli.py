@@ -205,10 +205,14 @@ def _cmd_table(args):
     from musclesim import table
 
     report = table.sma_position(args.out, args.scenario, args.fmus, args.stop_time,
-                                args.scheduler, args.workers, args.only)
+                                args.scheduler, args.workers, args.only, run=not args.no_run)
     for name, stats in report.items():
-        print(f"{name}: mean strain RMSE {stats['rmse'][0]:.4g} (std {stats['rmse'][1]:.3g}), "
-              f"{stats['percent'][0]:.3g} % of the maximum reference strain")
+        if stats["cells"] == 0:
+            print(f"{name}: no case finished yet")
+            continue
+        print(f"{name}: {stats['cells']} cells, mean strain RMSE {stats['rmse'][0]:.4g} "
+              f"(std {stats['rmse'][1]:.3g}), {stats['percent'][0]:.3g} % of the maximum "
+              "reference strain")
     print(f"wrote the tables (CSV, Markdown) and the per-case figures into {args.out}")
     return 0
 
@@ -312,6 +316,8 @@ def _parser():
     q.add_argument("--only", action="append", choices=["constant-stress", "stress-aware",
                                                        "stress-ignored"],
                    help="run only these tables (repeatable)")
+    q.add_argument("--no-run", action="store_true",
+                   help="run no case: write the tables and figures of the cases finished so far")
     dask_args(q)
     common(q)
     q.set_defaults(func=_cmd_table)

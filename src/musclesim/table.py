@@ -48,15 +48,28 @@ def cases():
     return out
 
 
-def _columns(results_csv):
-    """(time, {column: values}) of a run's results.csv."""
-    from musclesim.timeseries import read_time_series
+SIGNALS = ("strain.eps_ref", "laser.s_meas", "loading.sigma_ref", "wire.stress", "inverse.T_ref",
+           "thermocouple.T_meas")  # what a cell and its figure read from a case's results.csv
 
-    problems = []
-    header, time, data = read_time_series(results_csv, problems)
-    if problems:
-        raise UserError(f"{results_csv}: " + "; ".join(problems))
-    return time, {name: data[:, j] for j, name in enumerate(header[1:])}
+
+def read_case(results_csv, names=SIGNALS):
+    """(time, {name: values}) of the named columns of a run's results.csv (the master's own
+    output: plain numbers, so numpy's parser reads it; a missing column is the user's error)."""
+    try:
+        with open(results_csv, encoding="utf-8") as f:
+            header = [h.strip() for h in f.readline().split(",")]
+    except OSError as exc:
+        raise UserError(f"{results_csv} cannot be read: {exc}") from None
+    missing = [n for n in names if n not in header]
+    if header[:1] != ["time"] or missing:
+        raise UserError(f"{results_csv} has no column {', '.join(missing) or 'time'} "
+                        f"(the scenario must record {', '.join(names)})")
+    try:
+        data = np.loadtxt(results_csv, delimiter=",", skiprows=1, ndmin=2,
+                          usecols=[0] + [header.index(n) for n in names])
+    except ValueError as exc:
+        raise UserError(f"{results_csv} is not a run's results: {exc}") from None
+    return data[:, 0], {n: data[:, j] for j, n in enumerate(names, 1)}
 
 
 def wire_length(s, fmu_dir):
@@ -71,9 +84,8 @@ def wire_length(s, fmu_dir):
     return float(next(v.start for v in md.modelVariables if v.name == "length"))
 
 
-def strain_error(results_csv, length):
-    """(RMSE, % of the maximum reference strain) of a run's results.csv; laser strain = s / L."""
-    _, col = _columns(results_csv)
+def strain_error(col, length):
+    """(RMSE, % of the maximum reference strain) of a run's columns; laser strain = s / L."""
     ref = col["strain.eps_ref"]
     err = ref - col["laser.s_meas"] / length
     rmse = float(np.sqrt(np.mean(err ** 2)))
@@ -83,7 +95,7 @@ def strain_error(results_csv, length):
 def write_table(out, name, rows, columns, cells):
     """Write DIR/<name>.csv and DIR/<name>.md; `cells[(row, column)]` = (RMSE, %) or None."""
     values = [v for v in cells.values() if v is not None]
-    stats = {}
+    stats = {"cells": len(values)}
     for k, label in ((0, "rmse"), (1, "percent")):
         xs = [v[k] for v in values]
         stats[label] = (float(np.mean(xs)), float(np.std(xs))) if xs else (math.nan, math.nan)
@@ -109,34 +121,47 @@ def write_table(out, name, rows, columns, cells):
     return stats
 
 
-def figure(case_dir, length, title):
-    """case_dir/figure.png: reference vs measured strain, stress, temperature."""
+def envelope(t, y, bins):
+    """(t, y) reduced to the minimum and maximum of each of `bins` runs of samples (each at its
+    run's first time), so that a plot of millions of samples keeps every peak."""
+    k = max(1, len(y) // bins)
+    n = len(y) // k * k
+    if k == 1 or n < 2 * k:
+        return t, y
+    runs = y[:n].reshape(-1, k)
+    tt = np.repeat(t[:n:k], 2)
+    yy = np.column_stack([runs.min(axis=1), runs.max(axis=1)]).ravel()
+    return np.append(tt, t[n:]), np.append(yy, y[n:])
+
+
+def figure(path, t, col, length, title):
+    """`path` (PNG): reference vs measured strain, stress, temperature of a run's columns."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    t, col = _columns(case_dir / "results.csv")
     fig, axes = plt.subplots(3, 1, sharex=True, figsize=(9, 7))
     panels = [(("strain.eps_ref", 1, "reference"), ("laser.s_meas", 1 / length, "laser")),
               (("loading.sigma_ref", 1e-6, "reference"), ("wire.stress", 1e-6, "wire")),
               (("inverse.T_ref", 1, "inverse T_ref"), ("thermocouple.T_meas", 1, "thermocouple"))]
     for ax, panel, label in zip(axes, panels, ("strain [1]", "stress [MPa]", "temperature [K]")):
         for name, scale, legend in panel:
-            ax.plot(t, col[name] * scale, lw=0.8, label=legend)
+            ax.plot(*envelope(t, col[name] * scale, 4000), lw=0.8, label=legend)
         ax.set_ylabel(label, fontsize=8)
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=7, loc="upper right")
         ax.grid(alpha=0.3)
     axes[-1].set_xlabel("time [s]")
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    fig.savefig(case_dir / "figure.png", dpi=90)
+    fig.savefig(path, dpi=90)
     plt.close(fig)
 
 
 def sma_position(out, scenario_path, fmu_dir="fmus", stop_time=None, scheduler=None,
-                 workers=None, only=None):
-    """Run the matrix (or the tables named in `only`) and write the tables; return their stats."""
+                 workers=None, only=None, run=True):
+    """Run the matrix (or the tables named in `only`; with `run` False, none of their cases) and
+    write the tables of the cases finished; return their stats."""
     from musclesim import build, scenario, sweep
 
     out = Path(out)
@@ -147,7 +172,7 @@ def sma_position(out, scenario_path, fmu_dir="fmus", stop_time=None, scheduler=N
     matrix = {k: v for k, v in cases().items() if not only or k in only}
     todo = [(cid, sets) for rows in matrix.values() for _, _, cid, sets in rows
             if sweep._finished(out / "cases" / cid) is None]
-    if todo:
+    if todo and run:
         with sweep.dask_client(scheduler, workers, len(todo)) as client:
             futures = [client.submit(sweep.run_case, str(scenario_path), str(out / "cases" / cid),
                                      str(fmu_dir), sets, stop_time, pure=False)
@@ -161,9 +186,9 @@ def sma_position(out, scenario_path, fmu_dir="fmus", stop_time=None, scheduler=N
             if sweep._finished(case_dir) is None:
                 cells[(r, c)] = None
                 continue
-            cells[(r, c)] = strain_error(case_dir / "results.csv", length)
-            if not (case_dir / "figure.png").is_file():
-                figure(case_dir, length, f"{name}: {r}, {c}")
+            time, col = read_case(case_dir / "results.csv")
+            cells[(r, c)] = strain_error(col, length)
+            figure(case_dir / "figure.png", time, col, length, f"{name}: {r}, {c}")
         row_names = list(dict.fromkeys(r for r, _, _, _ in rows))
         col_names = list(dict.fromkeys(c for _, c, _, _ in rows))
         report[name] = write_table(out, name, row_names, col_names, cells)
