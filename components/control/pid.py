@@ -8,6 +8,7 @@ Parallel form u = Kp e + I + D with e = r - y, sampled at the communication step
 
 The integral is stored already multiplied by Ki, so changing gains (scheduling) does not bump u.
 """
+import bisect
 import math
 from dataclasses import dataclass
 
@@ -76,6 +77,6 @@ def scheduled_gains(x, breakpoints, table):
         return tuple(table[0])
     if x >= breakpoints[-1]:
         return tuple(table[-1])
-    i = max(j for j in range(len(breakpoints) - 1) if breakpoints[j] <= x)
+    i = bisect.bisect_right(breakpoints, x) - 1  # breakpoints[i] <= x < breakpoints[i + 1]
     w = (x - breakpoints[i]) / (breakpoints[i + 1] - breakpoints[i])
     return tuple(a + w * (b - a) for a, b in zip(table[i], table[i + 1]))
