@@ -124,10 +124,10 @@ def write_table(out, name, rows, columns, cells):
 def envelope(t, y, bins):
     """(t, y) reduced to the minimum and maximum of each of `bins` runs of samples (each at its
     run's first time), so that a plot of millions of samples keeps every peak."""
-    k = max(1, len(y) // bins)
-    n = len(y) // k * k
-    if k == 1 or n < 2 * k:
+    k = len(y) // bins
+    if k < 2:
         return t, y
+    n = len(y) // k * k
     runs = y[:n].reshape(-1, k)
     tt = np.repeat(t[:n:k], 2)
     yy = np.column_stack([runs.min(axis=1), runs.max(axis=1)]).ravel()
