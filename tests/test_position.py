@@ -33,9 +33,10 @@ def test_each_kind_of_the_matrix_runs_and_tracks(fmu_dir, kind):
 
 def test_the_tables_strain_is_the_lasers_contraction_over_the_wires_length(fmu_dir):
     s = scenario.load(POSITION, (), 2.0)
-    assert table.wire_length(s, fmu_dir) == 58.42e-3  # the SmaWire's own (SPEC 2.1)
+    length = table.wire_length(s, fmu_dir)
+    assert length == 58.42e-3  # the SmaWire's own (SPEC 2.1)
     res = master.Master(s, fmu_dir).run()
-    laser_strain = res["laser.s_meas"] / table.wire_length(s, fmu_dir)  # laser effects off
+    laser_strain = res["laser.s_meas"] / length  # laser effects off
     assert np.max(res["wire.strain"]) > 0.004
     np.testing.assert_allclose(laser_strain, res["wire.strain"], rtol=0, atol=1e-12)
     longer = scenario.load(POSITION, ["wire.length=0.2"], 2.0)
@@ -113,10 +114,8 @@ def test_tables_are_written_from_the_finished_cases(tmp_path, fmu_dir):
         summary = sweep.run_case(str(POSITION), str(out / "cases" / cid), str(fmu_dir), sets, 0.4)
         assert summary["completed"] is True
     report = table.sma_position(out, POSITION, fmu_dir, only=["stress-ignored"], run=False)
-    time, col = table.read_case(out / "cases" / first[2] / "results.csv")
-    rmse = table.strain_error(col, 58.42e-3)[0]
-    assert rmse == pytest.approx(np.sqrt(np.mean(
-        (col["strain.eps_ref"] - col["laser.s_meas"] / 58.42e-3) ** 2)), rel=1e-12)
+    _, col = table.read_case(out / "cases" / first[2] / "results.csv")
+    rmse = np.sqrt(np.mean((col["strain.eps_ref"] - col["laser.s_meas"] / 58.42e-3) ** 2))
     md = (out / "stress-ignored.md").read_text()
     assert f"| {first[0]} | {rmse * 1e3:.3f} (" in md and "over 2 of 30 cells" in md
     assert report["stress-ignored"]["rmse"][0] > 0
