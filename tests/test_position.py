@@ -81,7 +81,10 @@ def test_table_of_a_fixed_small_run(tmp_path):
     md = (tmp_path / "t.md").read_text()
     assert "| SP II | - | 2.000 (6.00 %) |" in md and "over 3 of 4 cells" in md
     rows = (tmp_path / "t.csv").read_text().splitlines()
-    assert len(rows) == 1 + 4 + 2 and rows[-2] == f"mean,,{2e-3!r},{4.0!r}"
+    assert len(rows) == 1 + 4 + 2 and rows[-2] == f"mean,,{2e-3!r},{4.0!r},"
+    assert rows[1] == f"SP I,105 MPa,{1e-3!r},{2.0!r},done" and rows[3] == "SP II,105 MPa,,,not run"
+    table.write_table(tmp_path, "empty", ["SP I"], ["105 MPa"], {("SP I", "105 MPa"): None})
+    assert "No cell finished yet (0 of 1)." in (tmp_path / "empty.md").read_text()
 
 
 def test_the_matrix_is_the_studys():
@@ -109,16 +112,26 @@ def test_the_figures_envelope_keeps_every_peak():
 
 def test_tables_are_written_from_the_finished_cases(tmp_path, fmu_dir):
     out = tmp_path / "matrix"
-    first, second = table.cases()["stress-ignored"][:2]
+    first, second, third = table.cases()["stress-ignored"][:3]
     for r, c, cid, sets in (first, second):
         summary = sweep.run_case(str(POSITION), str(out / "cases" / cid), str(fmu_dir), sets, 0.4)
         assert summary["completed"] is True
-    report = table.sma_position(out, POSITION, fmu_dir, only=["stress-ignored"], run=False)
+    # a case that fails (no SP IX) is reported as failed, not as a case still to run
+    summary = sweep.run_case(str(POSITION), str(out / "cases" / third[2]), str(fmu_dir),
+                             [*third[3], "strain.profile=9.0"], 0.4)
+    assert summary["completed"] is False
+    report = table.sma_position(out, POSITION, fmu_dir, 0.4, only=["stress-ignored"], run=False)
     _, col = table.read_case(out / "cases" / first[2] / "results.csv")
     rmse = np.sqrt(np.mean((col["strain.eps_ref"] - col["laser.s_meas"] / 58.42e-3) ** 2))
     md = (out / "stress-ignored.md").read_text()
     assert f"| {first[0]} | {rmse * 1e3:.3f} (" in md and "over 2 of 30 cells" in md
+    assert f"| {third[0]} | " in md and "| failed |" in md and "1 failed" in md
     assert report["stress-ignored"]["rmse"][0] > 0
+    assert list(report["stress-ignored"]["failed"]) == [third[2]]
+    assert "profile must be one of 1..4" in report["stress-ignored"]["failed"][third[2]]
     assert all((out / "cases" / cid / "figure.png").stat().st_size > 10_000
                for _, _, cid, _ in (first, second))
     assert not (out / "constant-stress.md").exists()
+    # the folder keeps the cases of one stop time: a table of other runs is refused
+    with pytest.raises(UserError, match="other settings \\(stop_time\\)"):
+        table.sma_position(out, POSITION, fmu_dir, 0.8, only=["stress-ignored"], run=False)

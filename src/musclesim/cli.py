@@ -209,12 +209,14 @@ def _cmd_table(args):
     for name, stats in report.items():
         if stats["cells"] == 0:
             print(f"{name}: no case finished yet")
-            continue
-        print(f"{name}: {stats['cells']} cells, mean strain RMSE {stats['rmse'][0]:.4g} "
-              f"(std {stats['rmse'][1]:.3g}), {stats['percent'][0]:.3g} % of the maximum "
-              "reference strain")
+        else:
+            print(f"{name}: {stats['cells']} cells, mean strain RMSE {stats['rmse'][0]:.4g} "
+                  f"(std {stats['rmse'][1]:.3g}), {stats['percent'][0]:.3g} % of the maximum "
+                  "reference strain")
+        for cid, error in stats["failed"].items():
+            print(f"  case {cid} failed: {error}")
     print(f"wrote the tables (CSV, Markdown) and the per-case figures into {args.out}")
-    return 0
+    return 1 if any(stats["failed"] for stats in report.values()) else 0
 
 
 def _parser():

@@ -187,13 +187,19 @@ def run_case(scenario_path, case_dir, fmu_dir, overrides, stop_time):
     return summary
 
 
-def _finished(case_dir):
-    """The summary of a case that completed, else None."""
+def _summary(case_dir):
+    """The summary of a case that ran (completed or failed), else None."""
     try:
         summary = json.loads((case_dir / "summary.json").read_text())
     except (OSError, ValueError):
         return None
-    return summary if isinstance(summary, dict) and summary.get("completed") is True else None
+    return summary if isinstance(summary, dict) else None
+
+
+def _finished(case_dir):
+    """The summary of a case that completed, else None."""
+    summary = _summary(case_dir)
+    return summary if summary is not None and summary.get("completed") is True else None
 
 
 def _claim(out, config):
@@ -206,7 +212,7 @@ def _claim(out, config):
             old = {}
         differ = [k for k in config if not isinstance(old, dict) or old.get(k) != config[k]]
         if differ:
-            raise UserError(f"{out} holds a sweep with other settings ({', '.join(differ)}); "
+            raise UserError(f"{out} holds the cases of a run with other settings ({', '.join(differ)}); "
                             "choose another --out or delete that folder")
     out.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(config, indent=2) + "\n")

@@ -10,8 +10,9 @@ Three tables, each cell one run of scenarios/sma-position-control.toml with ``--
 A cell is the strain RMSE between the reference and the laser's strain (contraction / wire
 length) and that RMSE as a percentage of the maximum reference strain. Runs go to Dask (the
 sweep machinery: a local cluster or ``--scheduler``), one folder per case, resumable; each table
-is written as CSV and Markdown with the mean and standard deviation of its cells, and every case
-gets a figure (reference vs measured strain, stress, temperature).
+is written as CSV and Markdown with the mean and standard deviation of its cells (a case that
+failed is a ``failed`` cell, counted in neither), and every case gets a figure (reference vs
+measured strain, stress, temperature).
 """
 import csv
 import json
@@ -92,31 +93,46 @@ def strain_error(col, length):
     return rmse, 100.0 * rmse / float(np.max(ref)) if np.max(ref) > 0 else math.nan
 
 
-def write_table(out, name, rows, columns, cells):
-    """Write DIR/<name>.csv and DIR/<name>.md; `cells[(row, column)]` = (RMSE, %) or None."""
+def write_table(out, name, rows, columns, cells, failed=()):
+    """Write DIR/<name>.csv and DIR/<name>.md; `cells[(row, column)]` = (RMSE, %) or None (not
+    run yet, or in `failed`: its case failed)."""
     values = [v for v in cells.values() if v is not None]
     stats = {"cells": len(values)}
     for k, label in ((0, "rmse"), (1, "percent")):
         xs = [v[k] for v in values]
         stats[label] = (float(np.mean(xs)), float(np.std(xs))) if xs else (math.nan, math.nan)
+
+    def status(r, c):
+        return "failed" if (r, c) in failed else "not run" if cells.get((r, c)) is None else "done"
+
     with open(out / f"{name}.csv", "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["row", "column", "strain_rmse", "percent_of_max_reference"])
+        w.writerow(["row", "column", "strain_rmse", "percent_of_max_reference", "status"])
         for r in rows:
             for c in columns:
                 v = cells.get((r, c))
-                w.writerow([r, c, *(("", "") if v is None else (repr(v[0]), repr(v[1])))])
+                w.writerow([r, c, *(("", "") if v is None else (repr(v[0]), repr(v[1]))),
+                            status(r, c)])
         for k, label in ((0, "mean"), (1, "std")):
-            w.writerow([label, "", repr(stats["rmse"][k]), repr(stats["percent"][k])])
+            w.writerow([label, "", repr(stats["rmse"][k]), repr(stats["percent"][k]), ""])
+
+    def text(r, c):
+        v = cells.get((r, c))
+        return {"failed": "failed", "not run": "-"}.get(status(r, c)) or \
+            f"{v[0] * 1e3:.3f} ({v[1]:.2f} %)"
+
     lines = [f"### {name}: strain RMSE [1e-3] (% of the maximum reference strain)", "",
              "| | " + " | ".join(columns) + " |", "|---" * (len(columns) + 1) + "|"]
     for r in rows:
-        cell = [("-" if cells.get((r, c)) is None else
-                 f"{cells[(r, c)][0] * 1e3:.3f} ({cells[(r, c)][1]:.2f} %)") for c in columns]
-        lines.append(f"| {r} | " + " | ".join(cell) + " |")
+        lines.append(f"| {r} | " + " | ".join(text(r, c) for c in columns) + " |")
+    total = len(rows) * len(columns)
     lines += ["", f"Mean {stats['rmse'][0] * 1e3:.3f}e-3 (std {stats['rmse'][1] * 1e3:.3f}e-3); "
               f"{stats['percent'][0]:.2f} % (std {stats['percent'][1]:.2f} %) over "
-              f"{len(values)} of {len(rows) * len(columns)} cells.", ""]
+              f"{len(values)} of {total} cells." if values else
+              f"No cell finished yet (0 of {total}).", ""]
+    if failed:
+        lines[-1:-1] = [f"{len(failed)} failed: their errors are in summary.json in their case "
+                        "folders."]
     (out / f"{name}.md").write_text("\n".join(lines))
     return stats
 
@@ -161,36 +177,45 @@ def figure(path, t, col, length, title):
 def sma_position(out, scenario_path, fmu_dir="fmus", stop_time=None, scheduler=None,
                  workers=None, only=None, run=True):
     """Run the matrix (or the tables named in `only`; with `run` False, none of their cases) and
-    write the tables of the cases finished; return their stats."""
+    write the tables of the cases finished; return their stats, with ``failed`` ({case id:
+    error}) for each table. `out` keeps the cases of one scenario file, stop time and build of the
+    FMUs: another one is refused (its cells would not be comparable)."""
+    import hashlib
+
     from musclesim import build, scenario, sweep
 
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
+    out, scenario_path = Path(out).resolve(), Path(scenario_path).resolve()
     s = scenario.load(scenario_path, (), stop_time)  # checked once, not in every case
     build.check_fresh(fmu_dir)
     length = wire_length(s, fmu_dir)
+    sweep._claim(out, {"table": "sma-position", "scenario": str(scenario_path),
+                       "scenario_sha256": hashlib.sha256(scenario_path.read_bytes()).hexdigest(),
+                       "stop_time": s.stop_time, "fmu_sources": build.source_digest()})
     matrix = {k: v for k, v in cases().items() if not only or k in only}
     todo = [(cid, sets) for rows in matrix.values() for _, _, cid, sets in rows
             if sweep._finished(out / "cases" / cid) is None]
     if todo and run:
-        with sweep.dask_client(scheduler, workers, len(todo)) as client:
-            futures = [client.submit(sweep.run_case, str(scenario_path), str(out / "cases" / cid),
-                                     str(fmu_dir), sets, stop_time, pure=False)
-                       for cid, sets in todo]
-            client.gather(futures)
+        sweep._compute(todo, lambda cid, sets: (str(scenario_path), str(out / "cases" / cid),
+                                                str(fmu_dir), sets, stop_time),
+                       scheduler, workers, lambda cid, sets, summary: None)
     report = {}
     for name, rows in matrix.items():
-        cells = {}
+        cells, failed = {}, {}
         for r, c, cid, _ in rows:
             case_dir = out / "cases" / cid
-            if sweep._finished(case_dir) is None:
+            summary = sweep._summary(case_dir)
+            if summary is None or not summary.get("completed"):
                 cells[(r, c)] = None
+                if summary is not None:
+                    failed[cid] = summary.get("error") or "the case did not complete"
                 continue
             time, col = read_case(case_dir / "results.csv")
             cells[(r, c)] = strain_error(col, length)
             figure(case_dir / "figure.png", time, col, length, f"{name}: {r}, {c}")
         row_names = list(dict.fromkeys(r for r, _, _, _ in rows))
         col_names = list(dict.fromkeys(c for _, c, _, _ in rows))
-        report[name] = write_table(out, name, row_names, col_names, cells)
+        failed_cells = {(r, c) for r, c, cid, _ in rows if cid in failed}
+        report[name] = {**write_table(out, name, row_names, col_names, cells, failed_cells),
+                        "failed": failed}
     (out / "tables.json").write_text(json.dumps(report, indent=2) + "\n")
     return report
