@@ -212,8 +212,8 @@ def _claim(out, config):
             old = {}
         differ = [k for k in config if not isinstance(old, dict) or old.get(k) != config[k]]
         if differ:
-            raise UserError(f"{out} holds the cases of a run with other settings ({', '.join(differ)}); "
-                            "choose another --out or delete that folder")
+            raise UserError(f"{out} holds the cases of a run with other settings "
+                            f"({', '.join(differ)}); choose another --out or delete that folder")
     out.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(config, indent=2) + "\n")
 
