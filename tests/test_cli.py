@@ -23,6 +23,7 @@ def test_run_writes_results_summary_and_plot_reproducibly(fmu_dir, tmp_path, cap
                               "--stop-time", "2", "--set", "inputs.phi=1.0")
         assert code == 0, err
     assert "mean_speed" in text and str(tmp_path / "b" / "results.png") in text
+    assert text.splitlines()[0].endswith("(with --set inputs.phi=1.0)")  # the run, not the file
     summary = json.loads((tmp_path / "a" / "summary.json").read_text())
     for key in ("x1_final", "x2_final", "x_cm_final", "mean_speed"):
         assert isinstance(summary[key], float)

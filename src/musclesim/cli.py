@@ -35,8 +35,8 @@ def run_scenario(path, out, fmu_dir="fmus", overrides=(), stop_time=None, with_p
 def _cmd_run(args):
     summary, res = run_scenario(args.scenario, args.out, args.fmus, args.set, args.stop_time)
     out = Path(args.out)
-    if summary["description"]:
-        print(summary["description"])
+    if summary["description"]:  # the file's words: overrides may have changed what it says
+        print(summary["description"] + (f" (with --set {', '.join(args.set)})" if args.set else ""))
     for name, unit in summary["units"].items():
         print(f"{name} = {summary[name]:.6g} {unit}")
     print(f"wrote {out / 'results.csv'}, {out / 'summary.json'} and {out / 'results.png'}")
