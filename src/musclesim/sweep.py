@@ -202,8 +202,14 @@ def _finished(case_dir):
     return summary if summary is not None and summary.get("completed") is True else None
 
 
-def _claim(out, config):
-    """Record the sweep's settings in out/sweep.json, refusing a folder of another sweep."""
+def _claim(out, scenario_path, **settings):
+    """Record in out/sweep.json what the cases come from (the scenario file and its hash, the
+    FMUs' sources, `settings`), refusing a folder whose cases came from something else."""
+    from musclesim import build
+
+    config = {"scenario": str(scenario_path),
+              "scenario_sha256": hashlib.sha256(Path(scenario_path).read_bytes()).hexdigest(),
+              **settings, "fmu_sources": build.source_digest()}
     path = out / "sweep.json"
     if path.is_file():
         try:
@@ -320,8 +326,6 @@ def run(scenario_path, grid, out, fmu_dir="fmus", scheduler=None, workers=None, 
     UserError
         For a bad sweep file, axis, scenario, parameter or output folder.
     """
-    from musclesim import build
-
     start = time.perf_counter()
     sweep = load(scenario_path, grid)
     if workers is not None and workers < 1:
@@ -330,10 +334,7 @@ def run(scenario_path, grid, out, fmu_dir="fmus", scheduler=None, workers=None, 
     all_cases = cases(sweep.axes)
     s, units, plot_spec = _check(sweep, scenario_path, fmu_dir,
                                  [*overrides, *_sets(all_cases[0][1])], stop_time)
-    _claim(out, {"scenario": str(scen_path),
-                 "scenario_sha256": hashlib.sha256(scen_path.read_bytes()).hexdigest(),
-                 "overrides": list(overrides), "stop_time": stop_time,
-                 "fmu_sources": build.source_digest()})
+    _claim(out, scen_path, overrides=list(overrides), stop_time=stop_time)
 
     columns = ["case", *sweep.axes, "completed", *s.metrics, "error"]
     done = {cid: _finished(out / "cases" / cid) for cid, _ in all_cases}

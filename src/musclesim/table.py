@@ -180,17 +180,13 @@ def sma_position(out, scenario_path, fmu_dir="fmus", stop_time=None, scheduler=N
     write the tables of the cases finished; return their stats, with ``failed`` ({case id:
     error}) for each table. `out` keeps the cases of one scenario file, stop time and build of the
     FMUs: another one is refused (its cells would not be comparable)."""
-    import hashlib
-
     from musclesim import build, scenario, sweep
 
     out, scenario_path = Path(out).resolve(), Path(scenario_path).resolve()
     s = scenario.load(scenario_path, (), stop_time)  # checked once, not in every case
     build.check_fresh(fmu_dir)
     length = wire_length(s, fmu_dir)
-    sweep._claim(out, {"table": "sma-position", "scenario": str(scenario_path),
-                       "scenario_sha256": hashlib.sha256(scenario_path.read_bytes()).hexdigest(),
-                       "stop_time": s.stop_time, "fmu_sources": build.source_digest()})
+    sweep._claim(out, scenario_path, table="sma-position", stop_time=s.stop_time)
     matrix = {k: v for k, v in cases().items() if not only or k in only}
     todo = [(cid, sets) for rows in matrix.values() for _, _, cid, sets in rows
             if sweep._finished(out / "cases" / cid) is None]
@@ -200,21 +196,21 @@ def sma_position(out, scenario_path, fmu_dir="fmus", stop_time=None, scheduler=N
                        scheduler, workers, lambda cid, sets, summary: None)
     report = {}
     for name, rows in matrix.items():
-        cells, failed = {}, {}
+        cells, failed, failed_cells = {}, {}, set()
         for r, c, cid, _ in rows:
             case_dir = out / "cases" / cid
             summary = sweep._summary(case_dir)
-            if summary is None or not summary.get("completed"):
+            if summary is None or summary.get("completed") is not True:  # as sweep._finished
                 cells[(r, c)] = None
                 if summary is not None:
                     failed[cid] = summary.get("error") or "the case did not complete"
+                    failed_cells.add((r, c))
                 continue
             time, col = read_case(case_dir / "results.csv")
             cells[(r, c)] = strain_error(col, length)
             figure(case_dir / "figure.png", time, col, length, f"{name}: {r}, {c}")
         row_names = list(dict.fromkeys(r for r, _, _, _ in rows))
         col_names = list(dict.fromkeys(c for _, c, _, _ in rows))
-        failed_cells = {(r, c) for r, c, cid, _ in rows if cid in failed}
         report[name] = {**write_table(out, name, row_names, col_names, cells, failed_cells),
                         "failed": failed}
     (out / "tables.json").write_text(json.dumps(report, indent=2) + "\n")
