@@ -203,8 +203,13 @@ def test_round_trip_at_constant_stress(sp, hysteresis):
 @pytest.mark.parametrize("lp", ["LP I", "LP V"])
 @pytest.mark.parametrize("hysteresis", [0.0, 1.0])
 def test_round_trip_under_time_varying_stress(hysteresis, lp):
-    """Stress-aware: RMSE < 1 % of the maximum strain (tests/test_inverse.py's claim; single
-    samples inside a wipe-out's strain jump miss, README 'Inverse')."""
+    """Stress-aware: T_ref only moves the way eps_r does (SPEC 2.4's direction, where the stress
+    alone would push it back it holds, tests/test_inverse.py), and the wire it drives tracks
+    several times better than with the single 125 MPa surface (SPEC 2.4's comparison)."""
     eps_r, sigma = strain_profile("SP IV")(TIMES), loading_profile(lp)(TIMES)
-    eps = forward(run(eps_r, sigma, hysteresis=hysteresis), sigma, datasets.surface(hysteresis))
-    assert rmse_percent(eps, eps_r) < 1.0
+    T_ref = run(eps_r, sigma, hysteresis=hysteresis)
+    assert np.all(np.diff(T_ref) * np.diff(eps_r) >= 0.0)
+    ignored = run(eps_r, sigma, hysteresis=hysteresis, sigma_surface=125e6)
+    surface = datasets.surface(hysteresis)
+    aware_error = rmse_percent(forward(T_ref, sigma, surface), eps_r)
+    assert 3 * aware_error < rmse_percent(forward(ignored, sigma, surface), eps_r)

@@ -59,22 +59,28 @@ class PreisachInverse(StressInput):
     It keeps the forward model's memory (the same extrema stack, frozen terms and rules of
     `MemoryParams`) as if the forward model were driven by the temperatures it outputs, so that
     a `PreisachModel` with the same surface and parameters fed with T_out reproduces eps_r up
-    to the interpolation error of the bases:
+    to the interpolation error of the bases at constant stress (under time-varying stress, see
+    the direction below):
 
     - rising strain: T_out = a-inverse(b' = last minimum, eps_r - S_heat), S_heat the prefix sum;
     - falling strain: T_out = b-inverse(a' = last maximum, S_cool - eps_r);
     - a T_out beyond an older extremum wipes it out (the pair is dropped, T_out recomputed, and
       kept at least at that extremum so that the forward model wipes it out too).
 
-    The direction is the branch the reference lies on: a reversal happens when eps_r is below
-    the ascending branch (or above the descending branch) at the turning point X under the
-    current stress. At constant stress this is the sign of d eps_r / dt of SPEC 2.4; under
-    time-varying stress it also turns when the stress alone moves T_out back, which keeps the
-    memory identical to the forward model's. A reversal smaller than ``tol`` holds T_out at X.
+    The direction is that of the reference (SPEC 2.4: the sign of d eps_r / dt, stress changes
+    ignored): the inverse turns only when eps_r moves back, and only if the branch at the turning
+    point X lies across it. When the stress alone would move T_out back (eps_r still rising, but
+    the ascending branch under the new stress lies above it), or forward while eps_r moves back,
+    T_out holds at X and the strain follows the stress until the reference catches up. Turning there instead would put eps_r on the flat start of the other
+    branch, a jump of several C within one sample and back at the next: an ideal plant follows
+    it, a heated wire, whose temperature lags, does not, and its memory parts from the inverse's
+    (a 0.02 s lag made SP III under LP II miss by 5e-3 strain where holding misses by 1e-3). A
+    reversal smaller than ``tol`` holds T_out at X too. T_out is thus monotone between turns of
+    eps_r, and a forward model fed with it keeps the inverse's memory.
 
     Under time-varying stress the forward strain jumps where a wipe-out joins terms frozen at
-    other stresses (SPEC 2.2's rule); a reference inside such a jump is missed for one sample,
-    after which the inverse turns and tracks again.
+    other stresses (SPEC 2.2's rule); a reference inside such a jump holds T_out until it is
+    passed.
 
     Out-of-range policy: stress as `PreisachModel`; eps_r outside [0, max F(a0, b0)] is clamped
     with a one-time warning; a reference the current stress cannot reach saturates T_out at
@@ -112,6 +118,7 @@ class PreisachInverse(StressInput):
         without its first step (clear, then step the first sample, is reset bit for bit)."""
         self._set_stress(sigma, t)
         self._all_off()
+        self._eps = 0.0  # the reference the all-off memory produces
 
     def peek(self, eps_r, sigma, t=None):
         """The T_out [C] `step` would return for eps_r [-], sigma [Pa], leaving the memory
@@ -137,15 +144,12 @@ class PreisachInverse(StressInput):
             eps_r = clamp(self._warned, "reference strain", eps_r, 0.0, self._eps_hi, "", t)
         if sigma != self._sigma:
             self._set_stress(sigma, t)
-        X = self.X
+        X, last = self.X, self._eps
+        self._eps = eps_r
         if self.rising:
-            T = self._rise(eps_r)
-            if T < X:
-                T = self._reverse(eps_r)
+            T = self._reverse(eps_r) if eps_r < last else max(self._rise(eps_r), X)
         else:
-            T = self._fall(eps_r)
-            if T > X:
-                T = self._reverse(eps_r)
+            T = self._reverse(eps_r) if eps_r > last else min(self._fall(eps_r), X)
         self.X, self.X_sigma = T, self._sig
         return T
 
@@ -172,7 +176,8 @@ class PreisachInverse(StressInput):
         return T
 
     def _reverse(self, eps_r):
-        """eps_r lies across the branch at X: turn at X, unless the turn is within tol."""
+        """eps_r moved back: turn at X, unless the branch at X does not lie across eps_r or the
+        turn is within tol (then hold at X)."""
         X, last = self.X, self.extrema[-1]
         k, w = self.surface.stress_weights(self.X_sigma)
         if self.rising:
