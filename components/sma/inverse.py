@@ -69,14 +69,15 @@ class PreisachInverse(StressInput):
 
     The direction is that of the reference (SPEC 2.4: the sign of d eps_r / dt, stress changes
     ignored): the inverse turns only when eps_r moves back, and only if the branch at the turning
-    point X lies across it. When the stress alone would move T_out back (eps_r still rising, but
-    the ascending branch under the new stress lies above it), or forward while eps_r moves back,
-    T_out holds at X and the strain follows the stress until the reference catches up. Turning there instead would put eps_r on the flat start of the other
-    branch, a jump of several C within one sample and back at the next: an ideal plant follows
-    it, a heated wire, whose temperature lags, does not, and its memory parts from the inverse's
-    (a 0.02 s lag made SP III under LP II miss by 5e-3 strain where holding misses by 1e-3). A
-    reversal smaller than ``tol`` holds T_out at X too. T_out is thus monotone between turns of
-    eps_r, and a forward model fed with it keeps the inverse's memory.
+    point X lies across it. When the stress alone would move T_out back (eps_r still rising, but the
+    ascending branch under the new stress lies above it), or forward while eps_r moves back, T_out
+    holds at X and the strain follows the stress until the reference catches up. Turning there
+    instead would put eps_r on the flat start of the other branch, a jump of several C within one
+    sample and back at the next: an ideal plant follows it, a heated wire, whose temperature lags,
+    does not, and its memory parts from the inverse's (a 0.02 s lag made SP III under LP II miss by
+    5e-3 strain where holding misses by 1e-3). A reversal smaller than ``tol`` holds T_out at X too.
+    T_out is thus monotone between turns of eps_r, and a forward model fed with it keeps the
+    inverse's memory.
 
     Under time-varying stress the forward strain jumps where a wipe-out joins terms frozen at
     other stresses (SPEC 2.2's rule); a reference inside such a jump holds T_out until it is
