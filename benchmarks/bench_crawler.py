@@ -22,11 +22,11 @@ import numpy as np
 from fmpy import extract
 from fmpy.fmi2 import FMU2Slave
 
-from musclesim import build, scenario, ssp
+from musclesim.cosim import build, scenario, ssp
 from musclesim.components.crawler import body, friction, inputs
 from musclesim.components.crawler.monolithic import simulate_ideal
-from musclesim.fmuhost import read_fmu
-from musclesim.master import Master
+from musclesim.cosim.host import read_fmu
+from musclesim.cosim.master import Master
 
 ROOT = Path(__file__).resolve().parents[1]
 IDEAL = ROOT / "scenarios" / "crawler-ideal.toml"

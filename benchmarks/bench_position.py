@@ -13,7 +13,7 @@ import json
 import time
 from pathlib import Path
 
-from musclesim import master, scenario
+from musclesim.cosim import master, scenario
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -3,7 +3,7 @@ from pathlib import Path
 
 import pytest
 
-from musclesim.build import build_all
+from musclesim.cosim.build import build_all
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENARIOS = ROOT / "scenarios"

@@ -1,6 +1,6 @@
 """FMU slaves of the controllers: thin adapters over musclesim.components.control.pid."""
 from musclesim.components.control import pid
-from musclesim.fmislave import Slave
+from musclesim.fmu import Slave
 
 # SPEC 2.5: 21 operating points of the temperature reference, 30..130 C every 5 C (in K)
 SCHEDULE_K = [273.15 + 30.0 + 5.0 * i for i in range(21)]

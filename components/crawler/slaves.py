@@ -4,7 +4,7 @@ import math
 import numpy as np
 
 from musclesim.components.crawler import body, friction, gait, inputs
-from musclesim.fmislave import Slave
+from musclesim.fmu import Slave
 
 
 class CrawlerBody(Slave):

@@ -4,7 +4,7 @@ Every load reads the wire's contraction `flange.s` [m] and gives the tension `fl
 puts on the wire (the SmaWire FMU's convention); equations in components/loads/README.md.
 """
 from musclesim.components.loads import loads
-from musclesim.fmislave import Slave
+from musclesim.fmu import Slave
 
 S_DESCRIPTION = "Contraction of the wire (SmaWire flange.s); positive = the wire shortens"
 

@@ -3,7 +3,7 @@
 Equations, ports and sign conventions: components/pneumatic/README.md.
 """
 from musclesim.components.pneumatic import actuator
-from musclesim.fmislave import Slave
+from musclesim.fmu import Slave
 
 
 class SoftActuator(Slave):

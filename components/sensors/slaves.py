@@ -1,6 +1,6 @@
 """FMU slaves of the sensors: thin adapters over musclesim.components.sensors.sensor."""
 from musclesim.components.sensors import sensor
-from musclesim.fmislave import Slave
+from musclesim.fmu import Slave
 
 
 class _ScalarSensor(Slave):

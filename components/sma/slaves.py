@@ -11,7 +11,7 @@ from musclesim.components.sma.inverse import InverseBases
 from musclesim.components.sma.inverse import PreisachInverse as InverseCore
 from musclesim.components.sma.preisach import PreisachModel
 from musclesim.components.sma.surface import clamp
-from musclesim.fmislave import Slave
+from musclesim.fmu import Slave
 
 ZERO_C = 273.15  # K; the FMU speaks K, the cores C
 LOAD_150G = 0.150 * 9.80665  # N, the 150 g weight of the multiplier tests (SPEC 3.1): 116 MPa

@@ -4,7 +4,7 @@ import math
 
 from musclesim.components.sma import profiles
 from musclesim.components.sources import forc, signals
-from musclesim.fmislave import Slave
+from musclesim.fmu import Slave
 
 
 class SignalSource(Slave):

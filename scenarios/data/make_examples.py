@@ -15,7 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from musclesim import blind, master, scenario
+from musclesim.diagnosis import blind
+from musclesim.cosim import master, scenario
 from musclesim.components.sma import profiles
 
 HERE = Path(__file__).parent

@@ -13,26 +13,16 @@ from musclesim.errors import UserError
 
 
 def _cmd_build(args):
-    from musclesim.build import build_all
+    from musclesim.cosim.build import build_all
 
     for path in build_all(args.fmus):
         print(f"built {path}")
     return 0
 
 
-def run_scenario(path, out, fmu_dir="fmus", overrides=(), stop_time=None, with_plot=True):
-    """Load, run and write one scenario (the plot only `with_plot`); return (summary, results)."""
-    from musclesim import build, master, results, scenario
-
-    s = scenario.load(path, overrides, stop_time)
-    build.check_fresh(fmu_dir)
-    m = master.Master(s, fmu_dir)
-    res = m.run()
-    summary = results.write_all(out, s, res, results.signal_units(m), with_plot)
-    return summary, res
-
-
 def _cmd_run(args):
+    from musclesim.cosim import run_scenario
+
     summary, res = run_scenario(args.scenario, args.out, args.fmus, args.set, args.stop_time)
     out = Path(args.out)
     if summary["description"]:  # the file's words: overrides may have changed what it says
@@ -49,7 +39,7 @@ def _cmd_run(args):
 
 
 def _cmd_export(args):
-    from musclesim import build, scenario, ssp
+    from musclesim.cosim import build, scenario, ssp
 
     s = scenario.load(args.scenario, args.set, args.stop_time)
     build.check_fresh(args.fmus)
@@ -58,7 +48,7 @@ def _cmd_export(args):
 
 
 def _cmd_sweep(args):
-    from musclesim import sweep
+    from musclesim.batch import sweep
 
     summary = sweep.run(args.scenario, grid=args.grid, out=args.out, fmu_dir=args.fmus,
                         scheduler=args.scheduler, workers=args.workers, overrides=args.set,
@@ -68,7 +58,8 @@ def _cmd_sweep(args):
 
 
 def _cmd_linear(args):
-    from musclesim import build, linear
+    from musclesim.cosim import build
+    from musclesim.analysis import linear
 
     if args.system == "crawler":
         report, text, toml = linear.crawler(), linear.format_crawler, None
@@ -100,7 +91,9 @@ def _cmd_linear(args):
 
 
 def _cmd_characterise(args):
-    from musclesim import characterise
+    from musclesim.analysis import characterise
+
+    from musclesim.cosim import run_scenario
 
     summary, res = run_scenario(args.scenario, args.out, args.fmus, args.set)
     if res.error:
@@ -119,7 +112,7 @@ def _cmd_characterise(args):
 
 
 def _cmd_loops(args):
-    from musclesim.loops import loops_main
+    from musclesim.hysteresis.loops import loops_main
 
     out = loops_main(args.stress, args.band, model_path=args.model, as_json=args.json,
                      plot_path=args.plot)
@@ -128,7 +121,7 @@ def _cmd_loops(args):
 
 
 def _cmd_bench(args):
-    from musclesim import bench
+    from musclesim.hysteresis import timing as bench
 
     report = bench.preisach()
     print(json.dumps(report, indent=2) if args.json else bench.format_preisach(report))
@@ -136,7 +129,7 @@ def _cmd_bench(args):
 
 
 def _cmd_identify(args):
-    from musclesim.identify import identify_main
+    from musclesim.hysteresis.identify import identify_main
 
     out = identify_main(args.records, args.out, validate=args.validate, as_json=args.json)
     print(json.dumps(out, indent=2) if args.json else out)
@@ -144,7 +137,7 @@ def _cmd_identify(args):
 
 
 def _cmd_dataset_check(args):
-    from musclesim import dataset
+    from musclesim.diagnosis import dataset
 
     ds = dataset.load(args.dataset, check_model=args.model, fmu_dir=args.fmus)
     train, held = ds.parts()
@@ -165,8 +158,9 @@ def _dask_map(client):
 
 
 def _cmd_diagnose(args):
-    from musclesim import build, dataset, diagnose, diagreport
-    from musclesim.sweep import dask_client
+    from musclesim.cosim import build
+    from musclesim.diagnosis import dataset, pipeline as diagnose, report as diagreport
+    from musclesim.batch.sweep import dask_client
 
     models = {}
     for item in args.model:
@@ -188,8 +182,9 @@ def _cmd_diagnose(args):
 
 
 def _cmd_benchmark_diagnosis(args):
-    from musclesim import blind, build
-    from musclesim.sweep import dask_client
+    from musclesim.diagnosis import blind
+    from musclesim.cosim import build
+    from musclesim.batch.sweep import dask_client
 
     build.check_fresh(args.fmus)
     with dask_client(args.scheduler, args.workers) as client:
@@ -202,7 +197,7 @@ def _cmd_benchmark_diagnosis(args):
 
 
 def _cmd_table(args):
-    from musclesim import table
+    from musclesim.analysis import position as table
 
     report = table.sma_position(args.out, args.scenario, args.fmus, args.stop_time,
                                 args.scheduler, args.workers, args.only, run=not args.no_run)

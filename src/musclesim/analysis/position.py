@@ -1,0 +1,218 @@
+"""`musclesim table sma-position`: the study's position-control matrix (SPEC 2.4) as tables.
+
+Three tables, each cell one run of scenarios/sma-position-control.toml with ``--set`` overrides:
+
+- ``constant-stress``: SP I-IV (rows) at each constant stress 105..145 MPa (columns);
+- ``stress-aware``: SP I-IV (rows) under LP I-VI (columns), the stress-aware inverse;
+- ``stress-ignored``: SP IV under LP I-VI (rows) with each single-surface inverse base
+  105..145 MPa (columns).
+
+A cell is the strain RMSE between the reference and the laser's strain (contraction / wire
+length) and that RMSE as a percentage of the maximum reference strain. Runs go to Dask (the
+sweep machinery: a local cluster or ``--scheduler``), one folder per case, resumable; each table
+is written as CSV and Markdown with the mean and standard deviation of its cells (a case that
+failed is a ``failed`` cell, counted in neither), and every case gets a figure (reference vs
+measured strain, stress, temperature).
+"""
+import csv
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from musclesim.components.sma import profiles
+from musclesim.errors import UserError
+
+STRESSES = (105e6, 115e6, 125e6, 135e6, 145e6)  # Pa (SPEC 2.4)
+SP = profiles.STRAIN_PROFILES
+LP = profiles.LOADING_PROFILES
+
+
+def cases():
+    """{table: [(row, column, case id, overrides)]} of the study's matrix."""
+    def mpa(s):
+        return f"{s / 1e6:g} MPa"
+
+    out = {"constant-stress": [], "stress-aware": [], "stress-ignored": []}
+    for i, sp in enumerate(SP, 1):
+        for s in STRESSES:
+            out["constant-stress"].append((sp, mpa(s), f"const-{i}-{s / 1e6:g}", [
+                f"strain.profile={i}.0", f"loading.lo={s!r}", f"loading.hi={s!r}"]))
+        for j, lp in enumerate(LP, 1):
+            out["stress-aware"].append((sp, lp, f"aware-{i}-{j}", [
+                f"strain.profile={i}.0", f"loading.profile={j}.0"]))
+    for j, lp in enumerate(LP, 1):
+        for s in STRESSES:
+            out["stress-ignored"].append((lp, mpa(s), f"ignored-{j}-{s / 1e6:g}", [
+                "strain.profile=4.0", f"loading.profile={j}.0", f"inverse.sigma_surface={s!r}"]))
+    return out
+
+
+SIGNALS = ("strain.eps_ref", "laser.s_meas", "loading.sigma_ref", "wire.stress", "inverse.T_ref",
+           "thermocouple.T_meas")  # what a cell and its figure read from a case's results.csv
+
+
+def read_case(results_csv, names=SIGNALS):
+    """(time, {name: values}) of the named columns of a run's results.csv (the master's own
+    output: plain numbers, so numpy's parser reads it; a missing column is the user's error)."""
+    try:
+        with open(results_csv, encoding="utf-8") as f:
+            header = [h.strip() for h in f.readline().split(",")]
+    except OSError as exc:
+        raise UserError(f"{results_csv} cannot be read: {exc}") from None
+    missing = [n for n in names if n not in header]
+    if header[:1] != ["time"] or missing:
+        raise UserError(f"{results_csv} has no column {', '.join(missing) or 'time'} "
+                        f"(the scenario must record {', '.join(names)})")
+    try:
+        data = np.loadtxt(results_csv, delimiter=",", skiprows=1, ndmin=2,
+                          usecols=[0] + [header.index(n) for n in names])
+    except ValueError as exc:
+        raise UserError(f"{results_csv} is not a run's results: {exc}") from None
+    return data[:, 0], {n: data[:, j] for j, n in enumerate(names, 1)}
+
+
+def wire_length(s, fmu_dir):
+    """The length [m] of the scenario's `wire`: its parameter if the scenario sets it, else the
+    start value in the SmaWire FMU (the laser's contraction over it is the measured strain)."""
+    from musclesim.cosim.host import read_fmu
+
+    inst = s.instances["wire"]
+    if "length" in inst.parameters:
+        return float(inst.parameters["length"])
+    md = read_fmu(Path(fmu_dir) / f"{inst.component}.fmu")
+    return float(next(v.start for v in md.modelVariables if v.name == "length"))
+
+
+def strain_error(col, length):
+    """(RMSE, % of the maximum reference strain) of a run's columns; laser strain = s / L."""
+    ref = col["strain.eps_ref"]
+    err = ref - col["laser.s_meas"] / length
+    rmse = float(np.sqrt(np.mean(err ** 2)))
+    return rmse, 100.0 * rmse / float(np.max(ref)) if np.max(ref) > 0 else math.nan
+
+
+def write_table(out, name, rows, columns, cells, failed=()):
+    """Write DIR/<name>.csv and DIR/<name>.md; `cells[(row, column)]` = (RMSE, %) or None (not
+    run yet, or in `failed`: its case failed)."""
+    values = [v for v in cells.values() if v is not None]
+    stats = {"cells": len(values)}
+    for k, label in ((0, "rmse"), (1, "percent")):
+        xs = [v[k] for v in values]
+        stats[label] = (float(np.mean(xs)), float(np.std(xs))) if xs else (math.nan, math.nan)
+
+    def status(r, c):
+        return "failed" if (r, c) in failed else "not run" if cells.get((r, c)) is None else "done"
+
+    with open(out / f"{name}.csv", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["row", "column", "strain_rmse", "percent_of_max_reference", "status"])
+        for r in rows:
+            for c in columns:
+                v = cells.get((r, c))
+                w.writerow([r, c, *(("", "") if v is None else (repr(v[0]), repr(v[1]))),
+                            status(r, c)])
+        for k, label in ((0, "mean"), (1, "std")):
+            w.writerow([label, "", repr(stats["rmse"][k]), repr(stats["percent"][k]), ""])
+
+    def text(r, c):
+        v = cells.get((r, c))
+        return {"failed": "failed", "not run": "-"}.get(status(r, c)) or \
+            f"{v[0] * 1e3:.3f} ({v[1]:.2f} %)"
+
+    lines = [f"### {name}: strain RMSE [1e-3] (% of the maximum reference strain)", "",
+             "| | " + " | ".join(columns) + " |", "|---" * (len(columns) + 1) + "|"]
+    for r in rows:
+        lines.append(f"| {r} | " + " | ".join(text(r, c) for c in columns) + " |")
+    total = len(rows) * len(columns)
+    lines += ["", f"Mean {stats['rmse'][0] * 1e3:.3f}e-3 (std {stats['rmse'][1] * 1e3:.3f}e-3); "
+              f"{stats['percent'][0]:.2f} % (std {stats['percent'][1]:.2f} %) over "
+              f"{len(values)} of {total} cells." if values else
+              f"No cell finished yet (0 of {total}).", ""]
+    if failed:
+        lines[-1:-1] = [f"{len(failed)} failed: their errors are in summary.json in their case "
+                        "folders."]
+    (out / f"{name}.md").write_text("\n".join(lines))
+    return stats
+
+
+def envelope(t, y, bins):
+    """(t, y) reduced to the minimum and maximum of each of `bins` runs of samples (each at its
+    run's first time), so that a plot of millions of samples keeps every peak."""
+    k = len(y) // bins
+    if k < 2:
+        return t, y
+    n = len(y) // k * k
+    runs = y[:n].reshape(-1, k)
+    tt = np.repeat(t[:n:k], 2)
+    yy = np.column_stack([runs.min(axis=1), runs.max(axis=1)]).ravel()
+    return np.append(tt, t[n:]), np.append(yy, y[n:])
+
+
+def figure(path, t, col, length, title):
+    """`path` (PNG): reference vs measured strain, stress, temperature of a run's columns."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(3, 1, sharex=True, figsize=(9, 7))
+    panels = [(("strain.eps_ref", 1, "reference"), ("laser.s_meas", 1 / length, "laser")),
+              (("loading.sigma_ref", 1e-6, "reference"), ("wire.stress", 1e-6, "wire")),
+              (("inverse.T_ref", 1, "inverse T_ref"), ("thermocouple.T_meas", 1, "thermocouple"))]
+    for ax, panel, label in zip(axes, panels, ("strain [1]", "stress [MPa]", "temperature [K]")):
+        for name, scale, legend in panel:
+            ax.plot(*envelope(t, col[name] * scale, 4000), lw=0.8, label=legend)
+        ax.set_ylabel(label, fontsize=8)
+        ax.legend(fontsize=7, loc="upper right")
+        ax.grid(alpha=0.3)
+    axes[-1].set_xlabel("time [s]")
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+
+
+def sma_position(out, scenario_path, fmu_dir="fmus", stop_time=None, scheduler=None,
+                 workers=None, only=None, run=True):
+    """Run the matrix (or the tables named in `only`; with `run` False, none of their cases) and
+    write the tables of the cases finished; return their stats, with ``failed`` ({case id:
+    error}) for each table. `out` keeps the cases of one scenario file, stop time and build of the
+    FMUs: another one is refused (its cells would not be comparable)."""
+    from musclesim.cosim import build, scenario
+    from musclesim.batch import sweep
+
+    out, scenario_path = Path(out).resolve(), Path(scenario_path).resolve()
+    s = scenario.load(scenario_path, (), stop_time)  # checked once, not in every case
+    build.check_fresh(fmu_dir)
+    length = wire_length(s, fmu_dir)
+    sweep._claim(out, scenario_path, table="sma-position", stop_time=s.stop_time)
+    matrix = {k: v for k, v in cases().items() if not only or k in only}
+    todo = [(cid, sets) for rows in matrix.values() for _, _, cid, sets in rows
+            if sweep._finished(out / "cases" / cid) is None]
+    if todo and run:
+        sweep._compute(todo, lambda cid, sets: (str(scenario_path), str(out / "cases" / cid),
+                                                str(fmu_dir), sets, stop_time),
+                       scheduler, workers, lambda cid, sets, summary: None)
+    report = {}
+    for name, rows in matrix.items():
+        cells, failed, failed_cells = {}, {}, set()
+        for r, c, cid, _ in rows:
+            case_dir = out / "cases" / cid
+            summary = sweep._summary(case_dir)
+            if summary is None or summary.get("completed") is not True:  # as sweep._finished
+                cells[(r, c)] = None
+                if summary is not None:
+                    failed[cid] = summary.get("error") or "the case did not complete"
+                    failed_cells.add((r, c))
+                continue
+            time, col = read_case(case_dir / "results.csv")
+            cells[(r, c)] = strain_error(col, length)
+            figure(case_dir / "figure.png", time, col, length, f"{name}: {r}, {c}")
+        row_names = list(dict.fromkeys(r for r, _, _, _ in rows))
+        col_names = list(dict.fromkeys(c for _, c, _, _ in rows))
+        report[name] = {**write_table(out, name, row_names, col_names, cells, failed_cells),
+                        "failed": failed}
+    (out / "tables.json").write_text(json.dumps(report, indent=2) + "\n")
+    return report

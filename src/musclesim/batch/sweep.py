@@ -1,0 +1,420 @@
+"""`musclesim sweep`: run a scenario over a parameter grid on Dask, resumable, with a plot."""
+import contextlib
+import csv
+import hashlib
+import itertools
+import json
+import logging
+import math
+import os
+import time
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from musclesim.errors import UserError
+
+_SWEEP_KEYS = {"scenario", "grid", "description", "plot"}
+_PLOT_KEYS = {"kind", "x", "y", "metrics"}
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """A sweep: the scenario file, the grid axes ``{"inst.param": values}`` and the plot."""
+
+    scenario: Path
+    axes: dict
+    plot: dict = field(default_factory=dict)  # {"kind": "line"|"heatmap", "x", "y", "metrics"}
+    title: str = ""
+
+
+def _number(token, axis, where):
+    """A finite float from `token`; angles may be written ``pi``, ``2pi`` or ``2*pi``."""
+    text = token.strip()
+    try:
+        if text.endswith("pi"):
+            coef = text[:-2].rstrip("*").strip()
+            value = float(coef + "1" if coef in ("", "+", "-") else coef) * math.pi
+        else:
+            value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise UserError(f"{where}: grid axis {axis!r} has {text!r}, which is not a finite number")
+    return value
+
+
+def parse_axis(text, where="--grid"):
+    """Parse one grid axis.
+
+    Parameters
+    ----------
+    text : str
+        ``"inst.param=start:stop:n"`` (n >= 2 evenly spaced points, both ends included) or
+        ``"inst.param=a,b,c"``; numbers may be written as multiples of ``pi``.
+    where : str
+        Where the axis comes from, for error messages.
+
+    Returns
+    -------
+    tuple
+        ``("inst.param", values)``, values rounded to 12 significant digits (stable case ids).
+
+    Raises
+    ------
+    UserError
+        If the axis is malformed.
+
+    Examples
+    --------
+    >>> parse_axis("inputs.f_f=0:1:3")
+    ('inputs.f_f', (0.0, 0.5, 1.0))
+    """
+    name, sep, spec = text.partition("=")
+    name = name.strip()
+    inst, _, par = name.partition(".")
+    if not sep or not inst or not par or not spec.strip():
+        raise UserError(f"{where}: grid axis {text!r} is not of the form inst.param=start:stop:n "
+                        "or inst.param=a,b,c")
+    if ":" in spec:
+        parts = spec.split(":")
+        count = parts[-1].strip()
+        if len(parts) != 3 or not count.isdigit() or int(count) < 2:
+            raise UserError(f"{where}: grid axis {text!r} needs start:stop:n with an integer "
+                            "n >= 2")
+        values = np.linspace(_number(parts[0], name, where), _number(parts[1], name, where),
+                             int(count))
+    else:
+        values = [_number(p, name, where) for p in spec.split(",")]
+    return name, tuple(dict.fromkeys(float(f"{v:.12g}") for v in values))
+
+
+def _axes(texts, where):
+    axes = {}
+    for text in texts:
+        name, values = parse_axis(text, where)
+        if name in axes:
+            raise UserError(f"{where}: grid axis {name!r} is given twice")
+        axes[name] = values
+    return axes
+
+
+def load(path, grid=()):
+    """Read a sweep file (a TOML file with a ``[sweep]`` table) or take `path` as a scenario.
+
+    Parameters
+    ----------
+    path : str or Path
+        Sweep file (``scenario`` relative to it, ``grid``, ``description``, ``plot``) or scenario.
+    grid : sequence of str
+        Axes (``--grid``) added to the file's; an axis of the same parameter replaces the file's.
+
+    Returns
+    -------
+    Sweep
+
+    Raises
+    ------
+    UserError
+        For a malformed sweep table or axis, or when there is no axis at all.
+    """
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError):
+        data = {}  # not a sweep file: scenario.load reports what is wrong with it
+    table = data.get("sweep")
+    sweep = Sweep(path, {})
+    if table is not None:
+        where = f"sweep file {path}"
+        plot = table.get("plot", {}) if isinstance(table, dict) else None
+        if not isinstance(table, dict) or set(data) != {"sweep"} or set(table) - _SWEEP_KEYS \
+                or not isinstance(table.get("scenario"), str) \
+                or not isinstance(table.get("grid", []), list) \
+                or not all(isinstance(g, str) for g in table.get("grid", [])) \
+                or not isinstance(plot, dict) or set(plot) - _PLOT_KEYS:
+            raise UserError(f"{where} must hold only a [sweep] table with scenario = \"FILE\", "
+                            f"grid = [\"inst.param=start:stop:n\", ...], description and a plot "
+                            f"table with keys {', '.join(sorted(_PLOT_KEYS))}")
+        axes_named = [plot.get("x"), *([plot.get("y")] if plot.get("kind") == "heatmap" else [])]
+        if plot and (plot.get("kind") not in ("line", "heatmap")
+                     or not all(isinstance(a, str) for a in axes_named)
+                     or not isinstance(plot.get("metrics"), list)):
+            raise UserError(f"{where}: the plot needs kind = \"line\" (with x) or \"heatmap\" "
+                            "(with x and y), and a metrics list")
+        sweep = Sweep(path.parent / table["scenario"], _axes(table.get("grid", []), where), plot,
+                      str(table.get("description", "")))
+    axes = {**sweep.axes, **_axes(grid, "--grid")}
+    if not axes:
+        raise UserError(f"{path}: no grid axis (give --grid inst.param=start:stop:n)")
+    return Sweep(sweep.scenario, axes, sweep.plot, sweep.title)
+
+
+def cases(axes):
+    """Every point of the Cartesian grid as ``(case id, {axis: value})``, in grid order.
+
+    The id names the values (axes sorted by name), so it does not change between runs.
+    """
+    points = [dict(zip(axes, values)) for values in itertools.product(*axes.values())]
+    return [(",".join(f"{n}={p[n]:.12g}" for n in sorted(p)), p) for p in points]
+
+
+def _sets(point):
+    return [f"{name}={value!r}" for name, value in point.items()]
+
+
+def _write_failure(case_dir, error):
+    summary = {"completed": False, "error": error}
+    Path(case_dir).mkdir(parents=True, exist_ok=True)
+    (Path(case_dir) / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+    return summary
+
+
+def run_case(scenario_path, case_dir, fmu_dir, overrides, stop_time):
+    """Run one case into `case_dir` (on a Dask worker); return its summary, failed or not."""
+    from musclesim.cosim import run_scenario
+
+    try:
+        # no per-case plot: drawing it costs about a third of a 60 s case; sweep.png summarises
+        summary, _ = run_scenario(scenario_path, case_dir, fmu_dir, overrides, stop_time,
+                                  with_plot=False)
+    except UserError as exc:
+        return _write_failure(case_dir, str(exc))
+    except Exception as exc:  # whatever breaks one case is recorded; the sweep goes on
+        return _write_failure(case_dir, f"{type(exc).__name__}: {exc}")
+    return summary
+
+
+def _summary(case_dir):
+    """The summary of a case that ran (completed or failed), else None."""
+    try:
+        summary = json.loads((case_dir / "summary.json").read_text())
+    except (OSError, ValueError):
+        return None
+    return summary if isinstance(summary, dict) else None
+
+
+def _finished(case_dir):
+    """The summary of a case that completed, else None."""
+    summary = _summary(case_dir)
+    return summary if summary is not None and summary.get("completed") is True else None
+
+
+def _claim(out, scenario_path, **settings):
+    """Record in out/sweep.json what the cases come from (the scenario file and its hash, the
+    FMUs' sources, `settings`), refusing a folder whose cases came from something else."""
+    from musclesim.cosim import build
+
+    config = {"scenario": str(scenario_path),
+              "scenario_sha256": hashlib.sha256(Path(scenario_path).read_bytes()).hexdigest(),
+              **settings, "fmu_sources": build.source_digest()}
+    path = out / "sweep.json"
+    if path.is_file():
+        try:
+            old = json.loads(path.read_text())
+        except ValueError:
+            old = {}
+        differ = [k for k in config if not isinstance(old, dict) or old.get(k) != config[k]]
+        if differ:
+            raise UserError(f"{out} holds the cases of a run with other settings "
+                            f"({', '.join(differ)}); choose another --out or delete that folder")
+    out.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps(config, indent=2) + "\n")
+
+
+@contextlib.contextmanager
+def dask_client(scheduler=None, workers=None, tasks=None):
+    """A Dask client on `scheduler`, else on a LocalCluster of `workers` processes (default: the
+    cores, at most `tasks`), closed on exit. Sweeps and the diagnosis's fits run on it."""
+    from distributed import Client, LocalCluster
+
+    from musclesim.cosim.host import forget_fmu_resource_paths
+
+    forget_fmu_resource_paths()  # workers inherit sys.path: no FMU's copy of musclesim in it
+    cluster = None
+    try:
+        if scheduler is None:
+            # one thread per worker process, since the Python FMUs hold the GIL; the cluster's
+            # log noise (heartbeats cut at shutdown) stays quiet, as task errors are recorded
+            n = workers or os.cpu_count() or 1
+            cluster = LocalCluster(n_workers=max(1, min(n, tasks or n)), threads_per_worker=1,
+                                   processes=True, dashboard_address=None,
+                                   silence_logs=logging.CRITICAL)
+        client = Client(scheduler or cluster)
+    except (OSError, TimeoutError) as exc:
+        if cluster is not None:
+            cluster.close()
+        raise UserError(f"cannot start or reach the Dask scheduler {scheduler or ''}: "
+                        f"{exc}") from None
+    try:
+        yield client
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def _compute(todo, submit, scheduler, workers, record):
+    """Submit `todo` on Dask (a LocalCluster unless `scheduler` is given), record as they finish."""
+    from distributed import as_completed
+    from tqdm import tqdm
+
+    with dask_client(scheduler, workers, len(todo)) as client:
+        futures = {client.submit(run_case, *submit(cid, point), pure=False): (cid, point)
+                   for cid, point in todo}
+        for fut in tqdm(as_completed(futures), total=len(futures), desc="sweep", unit="case"):
+            cid, point = futures.pop(fut)
+            try:
+                summary = fut.result()
+            except Exception as exc:  # the worker itself died (e.g. KilledWorker)
+                summary = _write_failure(submit(cid, point)[1], f"{type(exc).__name__}: {exc}")
+            record(cid, point, summary)
+
+
+def _check(sweep, path, fmu_dir, overrides, stop_time):
+    """Check the scenario, axes and plot once, rather than fail every case the same way.
+
+    Returns the scenario of the first case, the metrics' units and the plot to draw.
+    """
+    from musclesim.cosim import build, master, results, scenario
+
+    s = scenario.load(sweep.scenario, overrides, stop_time)
+    build.check_fresh(fmu_dir)
+    sig_units = results.signal_units(master.Master(s, fmu_dir))
+    units = {n: results.metric_unit(sig_units[m.signal], m.op) for n, m in s.metrics.items()}
+    plot_spec = sweep.plot or _default_plot(sweep.axes, s.metrics)
+    unknown = [x for x in plot_spec.get("metrics", []) if x not in s.metrics]
+    if unknown:
+        raise UserError(f"sweep file {path}: plot metric(s) {', '.join(unknown)} not in the "
+                        f"scenario's metrics ({', '.join(s.metrics)})")
+    return s, units, plot_spec
+
+
+def run(scenario_path, grid, out, fmu_dir="fmus", scheduler=None, workers=None, overrides=(),
+        stop_time=None):
+    """Run every case of a grid, write out/cases/<id>/, out/sweep.csv and out/sweep.png.
+
+    Parameters
+    ----------
+    scenario_path : str or Path
+        Sweep file or scenario file (see `load`).
+    grid : sequence of str
+        Extra or replacing axes, ``"inst.param=start:stop:n"`` or ``"inst.param=a,b,c"``.
+    out : str or Path
+        Output folder; re-running into it skips the cases that completed.
+    fmu_dir : str or Path
+        Folder of built FMUs.
+    scheduler : str, optional
+        Address of an existing Dask scheduler (its workers must see the same files).
+    workers : int, optional
+        Worker processes of the local cluster (default: the machine's cores).
+    overrides : sequence of str
+        ``"inst.param=value"`` applied to every case (the grid's values win).
+    stop_time : float, optional
+        Replaces the scenario's stop time.
+
+    Returns
+    -------
+    dict
+        Counts of cases (total, skipped, ran, completed), ``failed`` ({case id: error}), the
+        files written and the wall time in seconds.
+
+    Raises
+    ------
+    UserError
+        For a bad sweep file, axis, scenario, parameter or output folder.
+    """
+    start = time.perf_counter()
+    sweep = load(scenario_path, grid)
+    if workers is not None and workers < 1:
+        raise UserError(f"--workers must be at least 1 (got {workers})")
+    out, fmu_dir, scen_path = Path(out).resolve(), Path(fmu_dir).resolve(), sweep.scenario.resolve()
+    all_cases = cases(sweep.axes)
+    s, units, plot_spec = _check(sweep, scenario_path, fmu_dir,
+                                 [*overrides, *_sets(all_cases[0][1])], stop_time)
+    _claim(out, scen_path, overrides=list(overrides), stop_time=stop_time)
+
+    columns = ["case", *sweep.axes, "completed", *s.metrics, "error"]
+    done = {cid: _finished(out / "cases" / cid) for cid, _ in all_cases}
+    todo = [(cid, p) for cid, p in all_cases if done[cid] is None]
+    failed = {}
+    csv_path = out / "sweep.csv"
+
+    def record(cid, point, summary):
+        if not summary.get("completed"):
+            failed[cid] = summary.get("error") or "the case did not complete"
+        with csv_path.open("a", newline="") as f:
+            csv.writer(f).writerow([cid, *point.values(), bool(summary.get("completed")),
+                                    *(summary.get(n, math.nan) for n in s.metrics),
+                                    summary.get("error") or ""])
+
+    csv_path.write_text(",".join(columns) + "\n")
+    for cid, point in all_cases:
+        if done[cid] is not None:
+            record(cid, point, done[cid])
+
+    def submit(cid, point):
+        return (str(scen_path), str(out / "cases" / cid), str(fmu_dir),
+                [*overrides, *_sets(point)], stop_time)
+
+    if todo:
+        _compute(todo, submit, scheduler, workers, record)
+    png = out / "sweep.png"
+    drawn = _plot(csv_path, png, plot_spec, sweep.axes, units,
+                  sweep.title or f"{s.name}, {s.stop_time:g} s")
+    return {"sweep": str(scenario_path), "scenario": str(scen_path), "out": str(out),
+            "cases": len(all_cases), "skipped": len(all_cases) - len(todo), "ran": len(todo),
+            "completed": len(all_cases) - len(failed), "failed": failed, "csv": str(csv_path),
+            "plot": str(png) if drawn else None, "seconds": round(time.perf_counter() - start, 1)}
+
+
+def _default_plot(axes, metrics):
+    names = list(axes)
+    if len(names) == 1:
+        return {"kind": "line", "x": names[0], "metrics": list(metrics)}
+    if len(names) == 2:
+        return {"kind": "heatmap", "x": names[0], "y": names[1], "metrics": list(metrics)}
+    return {}
+
+
+def _plot(csv_path, png, spec, axes, units, title):
+    """Draw `spec` from sweep.csv into `png`; False if the plot's axes are not the grid's."""
+    used = [spec.get("x"), *([spec.get("y")] if spec.get("kind") == "heatmap" else [])]
+    if not spec or set(used) != set(axes) or not spec["metrics"]:
+        return False
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    with csv_path.open(newline="") as f:
+        rows = list(csv.DictReader(f))
+    col = {k: np.array([float(r[k]) for r in rows]) for k in [*used, *spec["metrics"]]}
+    labels = {n: f"{n} [{units[n]}]" for n in spec["metrics"]}
+    if spec["kind"] == "line":
+        fig, ax = plt.subplots(figsize=(8, 4.5))
+        order = np.argsort(col[used[0]])
+        for name in spec["metrics"]:
+            ax.plot(col[used[0]][order], col[name][order], marker="o", ms=3, label=labels[name])
+        ax.set_xlabel(used[0])
+        ax.legend()
+        ax.grid(alpha=0.3)
+    else:
+        xs, ys = np.unique(col[used[0]]), np.unique(col[used[1]])
+        n = len(spec["metrics"])
+        fig, axs = plt.subplots(1, n, figsize=(5.5 * n, 4.5), squeeze=False)
+        for ax, name in zip(axs[0], spec["metrics"]):
+            z = np.full((len(ys), len(xs)), np.nan)  # failed or missing cases stay blank
+            z[np.searchsorted(ys, col[used[1]]), np.searchsorted(xs, col[used[0]])] = col[name]
+            lim = float(np.nanmax(np.abs(z))) if np.isfinite(z).any() else 1.0
+            mesh = ax.pcolormesh(xs, ys, z, shading="nearest", cmap="RdBu_r", vmin=-lim, vmax=lim)
+            fig.colorbar(mesh, ax=ax, label=labels[name])
+            ax.set_xlabel(used[0])
+            ax.set_ylabel(used[1])
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(png, dpi=110)
+    plt.close(fig)
+    return True

@@ -1,0 +1,22 @@
+"""One co-simulation run: build the FMUs, host them in this process, read and check a scenario
+file, step it with the master algorithm, write its results, export it as SSP, read time series.
+
+The data path of a run is ``load_scenario`` -> ``Master(...).run()`` -> ``write_results``;
+``run_scenario`` does all three (with the freshness check of the FMUs) for the command line and
+for every case of a sweep.
+"""
+from musclesim.cosim.build import build_all, check_fresh, source_digest
+from musclesim.cosim.host import forget_fmu_resource_paths, read_fmu
+from musclesim.cosim.master import Master
+from musclesim.cosim.results import compute_metrics, metric_unit, signal_units
+from musclesim.cosim.results import write_all as write_results
+from musclesim.cosim.run import run_scenario
+from musclesim.cosim.scenario import Instance, Scenario, split_signal
+from musclesim.cosim.scenario import load as load_scenario
+from musclesim.cosim.ssp import export as export_ssp
+from musclesim.cosim.timeseries import read_time_series
+
+__all__ = ["build_all", "check_fresh", "source_digest", "forget_fmu_resource_paths", "read_fmu",
+           "Master", "compute_metrics", "metric_unit", "signal_units", "write_results",
+           "run_scenario", "Instance", "Scenario", "split_signal", "load_scenario", "export_ssp",
+           "read_time_series"]

@@ -1,0 +1,114 @@
+"""`musclesim build`: package every component of the catalogue as an FMI 2.0 co-simulation FMU.
+
+Each FMU is self-contained: its resources hold the slave, the physics cores with the data files
+they read, and the FMU base (`musclesim.fmu`, under the `musclesim` package name with an empty
+package __init__), so it runs where only Python, numpy and scipy are installed. fmus/BUILD.json
+records a digest of the sources the FMUs came from, so that the runner can tell when they are
+stale.
+"""
+import hashlib
+import json
+import shutil
+import tempfile
+from pathlib import Path
+
+from pythonfmu import FmuBuilder
+
+import musclesim
+import musclesim.fmu
+from musclesim.components import CATALOGUE
+from musclesim.errors import UserError
+
+
+# pythonfmu 0.7.0 finds the slave class by executing this script in the module's namespace once per
+# instantiation, and then releases a reference to that namespace it never owned; the second
+# instance of the same FMU in one process then crashes. Each execution therefore adds the
+# reference that is taken away (the module's first import adds one spare).
+# Where musclesim is not installed, the package comes from the first musclesim FMU's resources; a
+# host that deletes that folder (fmpy's simulate_fmu does) would leave a second FMU importing from
+# nowhere, so a package whose folder is gone is forgotten and imported again from this FMU.
+_STUB = '''"""FMU entry point of {name}."""
+import os
+import sys
+
+globals().setdefault("_pythonfmu_refs", []).append(globals())
+if not all(os.path.isdir(p) for p in getattr(sys.modules.get("musclesim"), "__path__", [])):
+    for _name in [n for n in sys.modules if n == "musclesim" or n.startswith("musclesim.")]:
+        del sys.modules[_name]
+
+from {module} import {cls} as _Slave
+
+
+class {name}(_Slave):
+    pass
+'''
+
+
+# what every FMU ships from components/: the code, and the data files the cores read at run time
+# (wire parameter sets, FORC data sets and their index) — not reference results such as CSVs of
+# scenario outputs
+_SHIPPED = ("*.py", "*/params/*.toml", "*/data/*.toml", "*/data/*.csv")
+
+
+def _component_sources():
+    """The files shipped in every FMU: {relative path in resources: source path}."""
+    import musclesim.components as comps
+
+    root = Path(comps.__file__).parent
+    fmu_base = Path(musclesim.fmu.__file__).parent
+    files = {Path("musclesim/fmu") / src.name: src for src in sorted(fmu_base.glob("*.py"))}
+    found = {src for pattern in _SHIPPED for src in root.rglob(pattern)}
+    for src in sorted(found):
+        files[Path("musclesim/components") / src.relative_to(root)] = src
+    return files
+
+
+def source_digest():
+    """SHA-256 over the sources an FMU is built from (names and contents)."""
+    h = hashlib.sha256(musclesim.__version__.encode())
+    for rel, src in _component_sources().items():
+        h.update(str(rel).encode())
+        h.update(src.read_bytes())
+    return h.hexdigest()
+
+
+def build_all(dest="fmus", names=None):
+    """Build the FMUs of `names` (default: the whole catalogue) into `dest`; return their paths."""
+    dest = Path(dest)
+    dest.mkdir(parents=True, exist_ok=True)
+    built = []
+    with tempfile.TemporaryDirectory(prefix="musclesim_build_") as tmp:
+        stage = Path(tmp) / "stage"
+        for rel, src in _component_sources().items():
+            (stage / rel).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(src, stage / rel)
+        (stage / "musclesim" / "__init__.py").write_text('"""musclesim FMU runtime."""\n')
+        for name in names or CATALOGUE:
+            module, cls = CATALOGUE[name].split(":")
+            # pythonfmu loads the deepest Fmi2Slave subclass of a one-class script: a stub per FMU
+            script = Path(tmp) / f"musclesim_fmu_{name}.py"
+            script.write_text(_STUB.format(name=name, module=module, cls=cls))
+            built.append(FmuBuilder.build_FMU(
+                script, dest=dest, project_files=[stage / "musclesim"],
+                canGetAndSetFMUstate=True, needsExecutionTool=True))
+    (dest / "BUILD.json").write_text(json.dumps(
+        {"musclesim": musclesim.__version__, "sources": source_digest()}, indent=2) + "\n")
+    return built
+
+
+def check_fresh(fmu_dir):
+    """Refuse FMUs that `musclesim build` made from other sources than the installed ones.
+
+    In the runner's process the FMUs' slaves import the installed musclesim modules, so a stale
+    FMU would run code that differs from the one it ships; rebuilding keeps the two the same.
+    """
+    stamp = Path(fmu_dir) / "BUILD.json"
+    if not stamp.is_file():
+        return  # foreign or missing FMUs: the master reports what is missing
+    try:
+        built = json.loads(stamp.read_text()).get("sources")
+    except (ValueError, AttributeError):
+        built = None
+    if built != source_digest():
+        raise UserError(f"the FMUs in {fmu_dir} were built from other sources than this musclesim; "
+                        "run `musclesim build` to rebuild them")

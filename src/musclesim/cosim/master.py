@@ -1,0 +1,390 @@
+"""The co-simulation master: fixed communication step over fmpy's FMU2Slave.
+
+At every communication point t_k the master first *exchanges* values: it visits the instances in
+the order of direct feedthrough (an output that depends on an input at the same instant, declared
+in ModelStructure/Outputs), sets each one's inputs and reads its outputs, so that every value in a
+row of results belongs to t_k. A cycle of feedthrough is an algebraic loop this master cannot
+order: it is refused with the instances named. Then it *steps*:
+
+- ``jacobi``: every instance steps from t_k with its inputs at t_k (all inputs are sampled and held,
+  as in a zero-order-hold discrete model);
+- ``gauss-seidel``: instances step one after the other in data-flow order (sources before their
+  consumers; a feedback cycle is entered at the instance declared first in the scenario), and
+  each refreshes its inputs right before its step from the instances already stepped, i.e. with
+  their values at t_k+1.
+
+Values move through one preallocated float64 buffer and preallocated ctypes arrays: one batched
+fmi2GetReal / fmi2SetReal per instance and phase, no Python allocation per step.
+"""
+import ctypes
+import math
+import re
+import shutil
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from fmpy import extract
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Slave
+
+from musclesim.errors import UserError
+from musclesim.cosim.host import LOG_SINKS, callbacks, forget_fmu_resource_paths, read_fmu
+from musclesim.cosim.scenario import split_signal
+
+
+@dataclass
+class Results:
+    """Recorded signals: ``time[i]`` and ``data[i, j]`` for column ``names[j]``, rows 0..n-1.
+
+    ``error`` is None for a complete run, else the sentence saying which instance failed, when
+    and why; the rows before the failure are kept. ``warnings`` holds what the FMUs logged as
+    warnings (e.g. an input clamped to a model's valid range), each prefixed with its instance.
+    """
+
+    time: np.ndarray
+    names: list
+    data: np.ndarray
+    error: str = None
+    warnings: list = field(default_factory=list)
+
+    def __getitem__(self, name):
+        return self.data[:, self.names.index(name)]
+
+
+def _topological(nodes, edges, pick_in_cycle):
+    """Order `nodes` so that a -> b edges put a first; `pick_in_cycle(remaining)` breaks cycles."""
+    incoming = {n: {a for a, b in edges if b == n and a != n} for n in nodes}
+    order, remaining = [], list(nodes)
+    while remaining:
+        ready = [n for n in remaining if not incoming[n] & set(remaining)]
+        nxt = ready[0] if ready else pick_in_cycle(remaining)
+        order.append(nxt)
+        remaining.remove(nxt)
+    return order
+
+
+def _check(status, function):
+    """Raise like fmpy does for a status above fmi2Warning."""
+    if status > 1:
+        raise FMICallException(function=function, status=status)
+
+
+def _recorded(s):
+    """The signals a scenario records, plots or computes metrics of, each once, in order."""
+    return list(dict.fromkeys([*s.record, *(m.signal for m in s.metrics.values()),
+                               *(sig for panel in s.plots for sig in panel["signals"])]))
+
+
+def _vrs(variables):
+    return (ctypes.c_uint * max(1, len(variables)))(*[v.valueReference for v in variables])
+
+
+def _transfer(variables, slots):
+    """Preallocated (count, value refs, values array, its numpy view, buffer slots) of a set."""
+    vals = (ctypes.c_double * max(1, len(variables)))()
+    return (len(variables), _vrs(variables), vals, np.ctypeslib.as_array(vals)[:len(variables)],
+            np.array(slots, dtype=np.intp))
+
+
+class _Instance:
+    """An instantiated FMU with the value-reference and buffer-slot tables the loop uses."""
+
+    def __init__(self, name, component, md):
+        self.name, self.component, self.md = name, component, md
+        self.vars = {v.name: v for v in md.modelVariables}
+        self.feedthrough = {}  # input name -> True if some output depends on it directly
+        for out in md.outputs:
+            deps = out.dependencies
+            for v in md.modelVariables:
+                if v.causality == "input" and (deps is None or v in deps):
+                    self.feedthrough[v.name] = True
+        self.slave = None
+        self.log = []
+
+
+class Master:
+    """Load a scenario's FMUs, check the wiring against their model descriptions, run it.
+
+    Parameters
+    ----------
+    scenario : musclesim.scenario.Scenario
+    fmu_dir : str or Path
+        Folder with ``<component>.fmu`` files (output of ``musclesim build``).
+    inputs : dict, optional
+        Replayed inputs: ``{"instance.input": values}`` with one value per communication point
+        (``scenario.n_steps + 1``), set at every exchange in place of a connection, the way an
+        upstream FMU swapped for a measured signal would set them (sampled and held over the
+        step). The diagnosis re-simulates components alone this way.
+
+    Raises
+    ------
+    UserError
+        Listing every wiring problem (unknown instance or variable, wrong causality, unit
+        mismatch, input connected twice, algebraic loop, replayed input not an unconnected input
+        or of the wrong length).
+    """
+
+    def __init__(self, scenario, fmu_dir="fmus", inputs=None):
+        self.scenario = scenario
+        self.fmu_dir = Path(fmu_dir)
+        self.inputs = {k: np.asarray(v, dtype=float) for k, v in (inputs or {}).items()}
+        problems = []
+        mds = {}
+        for comp in sorted({i.component for i in scenario.instances.values()}):
+            path = self.fmu_dir / f"{comp}.fmu"
+            if path.is_file():
+                mds[comp] = read_fmu(path)
+            else:
+                known = sorted(p.stem for p in self.fmu_dir.glob("*.fmu"))
+                problems.append(f"component {comp!r} has no FMU {path} (found: "
+                                f"{', '.join(known) or 'none'}; `musclesim build` builds them)")
+        self.instances = {n: _Instance(n, i.component, mds[i.component])
+                          for n, i in scenario.instances.items() if i.component in mds}
+        if problems:
+            raise UserError("; ".join(problems))
+        self._check(problems)
+        if problems:
+            raise UserError(f"scenario {scenario.path}: " + "; ".join(problems))
+        self._plan(problems)
+        if problems:
+            raise UserError(f"scenario {scenario.path}: " + "; ".join(problems))
+
+    # ---- checks --------------------------------------------------------------------------------
+    def _variable(self, signal, problems, what):
+        inst, var = split_signal(signal)
+        if inst not in self.instances:
+            problems.append(f"{what} {signal!r}: no instance {inst!r}")
+            return None
+        v = self.instances[inst].vars.get(var)
+        if v is None:
+            problems.append(f"{what} {signal!r}: {self.instances[inst].component} has no variable "
+                            f"{var!r} (variables: {', '.join(self.instances[inst].vars)})")
+        elif v.type != "Real":
+            problems.append(f"{what} {signal!r}: only Real variables are supported, not {v.type}")
+            return None
+        return v
+
+    def _check(self, problems):
+        s = self.scenario
+        for name, spec in s.instances.items():
+            for par in spec.parameters:
+                v = self._variable(f"{name}.{par}", problems, "parameter")
+                if v is not None and v.causality != "parameter":
+                    problems.append(f"{name}.{par} is a {v.causality}, not a parameter")
+        targets = {}
+        for src, dst in s.connections:
+            vs = self._variable(src, problems, "connection source")
+            vd = self._variable(dst, problems, "connection destination")
+            if vs is None or vd is None:
+                continue
+            if vs.causality != "output":
+                problems.append(f"connection {src} -> {dst}: {src} is a {vs.causality}, not an output")
+            if vd.causality != "input":
+                problems.append(f"connection {src} -> {dst}: {dst} is a {vd.causality}, not an input")
+            if vs.unit and vd.unit and vs.unit != vd.unit:  # a unitless port takes any signal
+                problems.append(f"connection {src} -> {dst} joins incompatible units "
+                                f"{vs.unit!r} and {vd.unit!r}")
+            if dst in targets:
+                problems.append(f"input {dst} is connected twice (from {targets[dst]} and {src})")
+            targets[dst] = src
+        for dst, values in self.inputs.items():
+            v = self._variable(dst, problems, "replayed input")
+            if v is not None and v.causality != "input":
+                problems.append(f"replayed input {dst} is a {v.causality}, not an input")
+            if dst in targets:
+                problems.append(f"replayed input {dst} is also connected (from {targets[dst]})")
+            if values.shape != (s.n_steps + 1,):
+                problems.append(f"replayed input {dst} has {values.size} values, not one per "
+                                f"communication point ({s.n_steps + 1})")
+        for sig in _recorded(s):
+            self._variable(sig, problems, "recorded signal")
+
+    # ---- planning ------------------------------------------------------------------------------
+    def _plan(self, problems):
+        s = self.scenario
+        names = list(self.instances)
+        ft_edges, edges = set(), set()
+        for src, dst in s.connections:
+            a, b = split_signal(src)[0], split_signal(dst)[0]
+            edges.add((a, b))
+            if self.instances[b].feedthrough.get(split_signal(dst)[1]):
+                ft_edges.add((a, b))
+
+        def algebraic_loop(remaining):
+            loop = [n for n in remaining if any((m, n) in ft_edges for m in remaining)]
+            problems.append("algebraic loop: outputs of " + ", ".join(loop) + " depend on each "
+                            "other's inputs at the same instant (direct feedthrough in a cycle)")
+            return remaining[0]
+
+        self.exchange_order = _topological(names, ft_edges, algebraic_loop)
+        self.step_order = _topological(names, edges, lambda remaining: remaining[0])
+        if problems:
+            return
+
+        # One buffer slot per signal read from an instance, each instance's slots contiguous so
+        # that fmi2GetReal writes straight into the buffer.
+        source_of = {dst: src for src, dst in s.connections}
+        replayed = {dst: f"{dst} (replayed)" for dst in self.inputs}
+        self.columns = _recorded(s)
+        reads = {n: [] for n in names}
+        for sig in [src for src, _ in s.connections] + [c for c in self.columns if c not in source_of]:
+            reads[split_signal(sig)[0]].append(sig)
+        slots = {}
+        for name in names:
+            inst = self.instances[name]
+            inst.reads = list(dict.fromkeys(reads[name]))
+            inst.first = len(slots)
+            slots.update((sig, len(slots)) for sig in inst.reads)
+        self.replay_slots = np.arange(len(slots), len(slots) + len(replayed))
+        self.replay_table = np.column_stack([self.inputs[d] for d in replayed]) if replayed \
+            else None
+        slots.update((sig, len(slots)) for sig in replayed.values())
+        source_of.update(replayed)
+        self.values = np.zeros(max(1, len(slots)))
+        address = self.values.ctypes.data
+        position = {n: i for i, n in enumerate(self.exchange_order)}
+        for name, inst in self.instances.items():
+            n = len(inst.reads)
+            inst.get = (n, _vrs([inst.vars[split_signal(x)[1]] for x in inst.reads]),
+                        ctypes.cast(address + 8 * inst.first, ctypes.POINTER(ctypes.c_double)))
+            ins = [(dst, src) for dst, src in source_of.items() if split_signal(dst)[0] == name]
+            # replayed inputs, and inputs from instances exchanged earlier if they feed through,
+            # are set during the exchange; all others are set just before the step
+            early = [(d, x) for d, x in ins if d in replayed or (
+                inst.feedthrough.get(split_signal(d)[1])
+                and position[split_signal(x)[0]] < position[name])]
+            late = [pair for pair in ins if pair not in early]
+            inst.set_early, inst.set_late, inst.set_all = (
+                _transfer([inst.vars[split_signal(d)[1]] for d, _ in pairs], [slots[x] for _, x in pairs])
+                for pairs in (early, late, ins))
+        self.record_slots = np.array([slots[source_of.get(c, c)] for c in self.columns], dtype=np.intp)
+
+    # ---- running -------------------------------------------------------------------------------
+    # FMI calls go to the FMU's functions directly (fmpy's wrapper costs a Python call each);
+    # the status is checked here as fmpy would: above fmi2Warning is a failure.
+    def _get(self, inst):
+        n, vrs, target = inst.get
+        if n:
+            _check(inst.get_real(inst.c, vrs, n, target), "fmi2GetReal")
+
+    def _set(self, inst, transfer):
+        n, vrs, vals, view, slots = transfer
+        if n:
+            self.values.take(slots, out=view)
+            _check(inst.set_real(inst.c, vrs, n, vals), "fmi2SetReal")
+
+    def _exchange(self, row):
+        """Values at communication point `row`: replayed inputs, then every instance's."""
+        if self.replay_table is not None:
+            self.values[self.replay_slots] = self.replay_table[row]
+        for name in self.exchange_order:
+            inst = self.current = self.instances[name]
+            self._set(inst, inst.set_early)
+            self._get(inst)
+
+    def _failure(self, inst, t):
+        lines = [ln for _, msg in inst.log for ln in msg.splitlines() if ln.strip()]
+        cause = lines[-1] if lines else "the FMU reported an error"
+        # pythonfmu reports an exception as its repr, e.g. ValueError('m1 must be positive')
+        cause = re.sub(r"^\w+(?:Error|Exception)\((['\"])(.*)\1\)$", r"\2", cause)
+        return (f"instance {inst.name!r} ({inst.component}) failed {self.phase} "
+                f"at t = {t:.6g} s: {cause}")
+
+    def run(self):
+        """Run the scenario; return `Results` (with ``error`` set if an instance failed)."""
+        s = self.scenario
+        time = np.empty(s.n_steps + 1)
+        data = np.empty((s.n_steps + 1, len(self.columns)))
+        self.callbacks = callbacks(id(self))
+        LOG_SINKS[id(self)] = self.instances
+        self.current, self.phase, self.row, self.t = None, "while loading", 0, s.start_time
+        failed, error = None, None
+        tmp = Path(tempfile.mkdtemp(prefix="musclesim_run_"))
+        try:
+            self._instantiate(tmp)
+            self.phase = "during initialization"
+            self._initialize()
+            self.phase = "in a step"
+            error = self._loop(time, data)
+        except FMICallException:
+            failed = self.current
+            error = self._failure(failed, self.t)
+        finally:
+            for inst in self.instances.values():
+                # An instance that failed is left alone: pythonfmu 0.7 has already released its
+                # Python objects without forgetting them, and freeing it would release them again.
+                if inst.slave is not None and inst.slave.component is not None and inst is not failed:
+                    inst.slave.terminate()
+                    inst.slave.freeInstance()
+                inst.slave = None
+            shutil.rmtree(tmp, ignore_errors=True)
+            del LOG_SINKS[id(self)]
+        warnings = [f"{i.name}: {msg}" for i in self.instances.values()
+                    for status, msg in i.log if status == 1]  # fmi2Warning
+        return Results(time[:self.row].copy(), list(self.columns), data[:self.row].copy(), error,
+                       warnings)
+
+    def _instantiate(self, tmp):
+        s = self.scenario
+        unzipped = {}
+        for inst in self.instances.values():
+            self.current = inst
+            if inst.component not in unzipped:
+                unzipped[inst.component] = extract(self.fmu_dir / f"{inst.component}.fmu",
+                                                   tmp / inst.component)
+            inst.slave = FMU2Slave(guid=inst.md.guid, unzipDirectory=unzipped[inst.component],
+                                   modelIdentifier=inst.md.coSimulation.modelIdentifier,
+                                   instanceName=inst.name)
+            inst.slave.instantiate(callbacks=self.callbacks, loggingOn=True)
+            functions = inst.slave._functions  # the FMU's own functions, as fmpy loaded them
+            inst.c = inst.slave.component
+            inst.get_real, inst.set_real, inst.do_step = (
+                functions[f] for f in ("fmi2GetReal", "fmi2SetReal", "fmi2DoStep"))
+            inst.slave.setupExperiment(startTime=s.start_time, stopTime=s.stop_time)
+            params = s.instances[inst.name].parameters
+            if params:
+                inst.slave.setReal([inst.vars[p].valueReference for p in params],
+                                   list(params.values()))
+        forget_fmu_resource_paths()
+
+    def _initialize(self):
+        """Initialization mode: propagate start values in feedthrough order, then leave it."""
+        for inst in self.instances.values():
+            self.current = inst
+            inst.slave.enterInitializationMode()
+        self._exchange(0)
+        for inst in self.instances.values():
+            self.current = inst
+            self._set(inst, inst.set_late)
+            inst.slave.exitInitializationMode()
+        self._exchange(0)
+
+    def _loop(self, time, data):
+        """Record, step, exchange until the stop time; return an error sentence or None."""
+        s = self.scenario
+        n, h, t, row = s.n_steps, s.step, self.t, 0
+        gauss_seidel = s.algorithm == "gauss-seidel"
+        order = [self.instances[x] for x in self.step_order]
+        take, rec = self.values.take, self.record_slots
+        try:
+            while True:
+                time[row] = t
+                take(rec, out=data[row])
+                row += 1
+                if not np.isfinite(data[row - 1]).all():
+                    col = next(j for j, x in enumerate(data[row - 1]) if not math.isfinite(x))
+                    return f"signal {self.columns[col]} became {data[row - 1, col]} at t = {t:.6g} s"
+                if row > n:
+                    return None
+                for inst in order:
+                    self.current = inst
+                    self._set(inst, inst.set_all if gauss_seidel else inst.set_late)
+                    _check(inst.do_step(inst.c, t, h, 1), "fmi2DoStep")
+                    if gauss_seidel:
+                        self._get(inst)
+                t += h  # accumulated like the FMUs' own time, so both agree to the bit
+                self._exchange(row)
+        finally:
+            self.row, self.t = row, t

@@ -1,0 +1,184 @@
+"""SSP export: a scenario and its FMUs as an SSP 1.0 archive (SystemStructure.ssd + resources/)."""
+import zipfile
+from pathlib import Path
+from xml.etree import ElementTree as ET
+
+from musclesim.errors import UserError
+from musclesim.cosim.master import Master
+from musclesim.cosim.scenario import split_signal
+
+NS = {
+    "ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription",
+    "ssc": "http://ssp-standard.org/SSP1/SystemStructureCommon",
+    "ssv": "http://ssp-standard.org/SSP1/SystemStructureParameterValues",
+    "osp": "http://opensimulationplatform.com/SSP/OSPAnnotations",
+}
+# FMI 2.0 causalities that are SSP connector kinds of the same name; others get no connector
+_KINDS = ("input", "output", "parameter", "calculatedParameter")
+_BASE_UNIT = ("kg", "m", "s", "A", "K", "mol", "cd", "rad")
+_SCALING = (("factor", 1.0), ("offset", 0.0))
+
+# libcosim matches element names with these prefixes literally, so the archive must use them
+for _prefix, _uri in NS.items():
+    ET.register_namespace(_prefix, _uri)
+
+
+def _tag(qname):
+    """``"ssd:System"`` -> ``"{http://...}System"``."""
+    prefix, _, local = qname.partition(":")
+    return f"{{{NS[prefix]}}}{local}"
+
+
+def _sub(parent, qname, **attrib):
+    return ET.SubElement(parent, _tag(qname), attrib)
+
+
+def _used_variables(scenario):
+    """``{instance: set of variable names}`` that the scenario connects, sets or records."""
+    signals = [s for pair in scenario.connections for s in pair]
+    signals += [*scenario.record, *(m.signal for m in scenario.metrics.values()),
+                *(sig for panel in scenario.plots for sig in panel["signals"])]
+    used = {name: set(inst.parameters) for name, inst in scenario.instances.items()}
+    for signal in signals:
+        inst, var = split_signal(signal)
+        used[inst].add(var)
+    return used
+
+
+def _units(master):
+    """The components' unit definitions as SSC ``BaseUnit`` attributes, ``{name: {attr: text}}``."""
+    units = {}
+    for inst in master.instances.values():
+        for unit in inst.md.unitDefinitions:
+            if unit.baseUnit is None:
+                continue
+            base = unit.baseUnit
+            attrib = {k: str(getattr(base, k)) for k in _BASE_UNIT if getattr(base, k)}
+            attrib.update({k: repr(float(getattr(base, k))) for k, default in _SCALING
+                           if getattr(base, k) != default})
+            if units.setdefault(unit.name, attrib) != attrib:
+                raise UserError(f"unit {unit.name!r} of {inst.component} is defined differently "
+                                "in another component's FMU")
+    return units
+
+
+def _parameter_binding(component, set_name, parameters):
+    """Bind ``{name: value}`` to `component` as an inline ``ssv:ParameterSet``."""
+    binding = _sub(_sub(component, "ssd:ParameterBindings"), "ssd:ParameterBinding")
+    pset = _sub(_sub(binding, "ssd:ParameterValues"), "ssv:ParameterSet",
+                version="1.0", name=set_name)
+    params = _sub(pset, "ssv:Parameters")
+    for name, value in parameters.items():
+        _sub(_sub(params, "ssv:Parameter", name=name), "ssv:Real", value=repr(float(value)))
+
+
+def system_structure(scenario, master):
+    """Build the ``ssd:SystemStructureDescription`` element of `scenario`.
+
+    Parameters
+    ----------
+    scenario : musclesim.scenario.Scenario
+    master : musclesim.master.Master
+        A master of the same scenario: its checked wiring and the FMUs' model descriptions.
+
+    Returns
+    -------
+    xml.etree.ElementTree.Element
+    """
+    units = _units(master)
+    used = _used_variables(scenario)
+    root = ET.Element(_tag("ssd:SystemStructureDescription"), version="1.0", name=scenario.name)
+    system = _sub(root, "ssd:System", name=scenario.name)
+    if scenario.description:
+        system.set("description", scenario.description)
+    elements = _sub(system, "ssd:Elements")
+    referenced = set()
+    for name, spec in scenario.instances.items():
+        inst = master.instances[name]
+        comp = _sub(elements, "ssd:Component", name=name, type="application/x-fmu-sharedlibrary",
+                    source=f"resources/{spec.component}.fmu")
+        variables = [v for v in inst.md.modelVariables
+                     if v.name in used[name] and v.causality in _KINDS]
+        connectors = _sub(comp, "ssd:Connectors") if variables else None
+        for var in variables:
+            real = _sub(_sub(connectors, "ssd:Connector", name=var.name, kind=var.causality),
+                        "ssc:Real")
+            if var.unit in units:
+                real.set("unit", var.unit)
+                referenced.add(var.unit)
+        if spec.parameters:
+            _parameter_binding(comp, scenario.name, spec.parameters)
+    connections = _sub(system, "ssd:Connections") if scenario.connections else None
+    for src, dst in scenario.connections:
+        (a, x), (b, y) = split_signal(src), split_signal(dst)
+        _sub(connections, "ssd:Connection", startElement=a, startConnector=x,
+             endElement=b, endConnector=y)
+    if referenced:
+        defs = _sub(root, "ssd:Units")
+        for unit in sorted(referenced):
+            _sub(_sub(defs, "ssc:Unit", name=unit), "ssc:BaseUnit", **units[unit])
+    experiment = _sub(root, "ssd:DefaultExperiment", startTime=repr(scenario.start_time),
+                      stopTime=repr(scenario.stop_time))
+    # SSP has no field for the communication step; libcosim reads it from this annotation
+    annotation = _sub(_sub(experiment, "ssd:Annotations"), "ssc:Annotation",
+                      type="com.opensimulationplatform")
+    _sub(_sub(annotation, "osp:Algorithm"), "osp:FixedStepAlgorithm",
+         baseStepSize=repr(scenario.step))
+    return root
+
+
+def export(scenario, fmu_dir, ssp_path):
+    """Write `scenario` with its FMUs as the SSP 1.0 archive `ssp_path`.
+
+    Parameters
+    ----------
+    scenario : musclesim.scenario.Scenario
+    fmu_dir : str or Path
+        Folder with ``<component>.fmu`` files (output of ``musclesim build``).
+    ssp_path : str or Path
+        The archive to write (replaced if it exists); its name must end in ``.ssp``.
+
+    Returns
+    -------
+    Path
+        `ssp_path`.
+
+    Raises
+    ------
+    UserError
+        If the path does not end in ``.ssp`` or names a folder, or if the scenario's wiring does
+        not match its FMUs (as `musclesim.master.Master` checks it).
+
+    Notes
+    -----
+    The archive describes the system, not how to step it: SSP 1.0 cannot state a master
+    algorithm, so the communication step goes into the Open Simulation Platform annotation that
+    libcosim reads, and each tool steps the system with its own master. libcosim's fixed-step
+    master passes values only after all instances stepped, so it delays direct feedthrough by one
+    step where ours resolves it at each communication point (tests/test_ssp.py shows both).
+
+    Examples
+    --------
+    >>> from musclesim import scenario, ssp
+    >>> s = scenario.load("scenarios/crawler-ideal.toml")
+    >>> ssp.export(s, "fmus", "crawler.ssp")  # doctest: +SKIP
+    PosixPath('crawler.ssp')
+    """
+    ssp_path, fmu_dir = Path(ssp_path), Path(fmu_dir)
+    if ssp_path.suffix != ".ssp":
+        raise UserError(f"the SSP archive {ssp_path} must have a name ending in .ssp")
+    if ssp_path.is_dir():
+        raise UserError(f"the SSP archive {ssp_path} names a folder, not a file")
+    root = system_structure(scenario, Master(scenario, fmu_dir))
+    ET.indent(root)
+    ssp_path.parent.mkdir(parents=True, exist_ok=True)
+    try:
+        with zipfile.ZipFile(ssp_path, "w", zipfile.ZIP_DEFLATED) as zf:
+            zf.writestr("SystemStructure.ssd",
+                        ET.tostring(root, encoding="UTF-8", xml_declaration=True))
+            for comp in sorted({i.component for i in scenario.instances.values()}):
+                zf.write(fmu_dir / f"{comp}.fmu", f"resources/{comp}.fmu")
+    except BaseException:
+        ssp_path.unlink(missing_ok=True)  # no half-written archive
+        raise
+    return ssp_path

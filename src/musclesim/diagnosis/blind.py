@@ -1,0 +1,321 @@
+"""`musclesim benchmark-diagnosis`: the diagnosis checked blind on virtual hardware.
+
+Each case is a measured data set made by running one of the SMA benches with hidden changes:
+
+- ``effect``: one library effect at a random magnitude (SPEC ranges, `MAGNITUDES`);
+- ``decoy``: an effect with a look-alike in the library (`DECOYS`: both act at high
+  temperatures, or both make the reading trail the model);
+- ``none``: no change at all;
+- ``outside``: a change the library does not hold (`OUTSIDE`: warmer ambient air, a strain gauge
+  with a gain error);
+
+all with nuisances: thermocouple noise and quantisation inside the loop, strain-gauge noise and
+quantisation, and an acquisition latency of the strain gauge of 0 or 1 sample behind the
+controller's log. A quarter of the effect cases (drawn from a stream of their own) run on a load
+bench instead: the magnet bench hiding an electromagnet force nonlinearity or a load-cell lag, or
+the weight bench (SPEC 3.1's 150 g weight lifted by fast heating pulses) hiding the weight's
+inertia; with laser and load-cell noise and quantisation (the library's "laser noise" as the
+nuisance it is: noise raises the floor, no fit of it can shrink a gap). Another quarter (a third
+stream; it wins over the load-bench draw) runs on the pneumatic crawler climbing 7.5 deg (12 s of
+crawler-gait-incline, the controllers' duties replayed, pressure sensors and the blocks' video
+positions observed, both with noise and quantisation) and hides one of the crawler's effects,
+one magnitude for every instance of its component. Cases are written without labels
+(data.csv + manifest.toml); the key is hashed into key.sha256 before any diagnosis runs and
+written to key.json after. Scores (scores.json): top-1 accuracy over effect and decoy cases,
+the median ratio of our held-out shrinkage (the model with every measured signal replayed) to the
+oracle's (the true effect at its true values), the false-alarm rate over ``none`` cases (a
+verdict naming an effect) and the ``unexplained`` rate over ``outside`` cases.
+"""
+import hashlib
+import json
+import math
+import statistics
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+from musclesim.diagnosis import dataset, pipeline as diagnose
+from musclesim.cosim import master, scenario as scenario_mod
+from musclesim.errors import UserError
+
+# the benches: scenario, replayed inputs, observed outputs, the effects that can hide in them
+BENCHES = {
+    "tracking": ("sma-bench-tracking", ["reference.y"],
+                 ["pid.u", "thermocouple.T_meas", "wire.strain"],
+                 ["thermocouple lag", "thermocouple bias", "latent heat", "convection change",
+                  "training drift"]),
+    "stress": ("sma-bench-stress", ["wire.u", "wire.flange.f"],
+               ["thermocouple.T_meas", "wire.strain"],
+               ["stress dependence ignored", "thermocouple lag", "latent heat"]),
+    "magnet": ("sma-bench-magnet", ["wire.u", "magnet.duty"],
+               ["loadcell.f_meas", "thermocouple.T_meas", "laser.s_meas"],
+               ["electromagnet force nonlinearity", "load-cell lag"]),
+    # SPEC 3.1's 150 g weight lifted by fast heating pulses, the laser on the weight
+    "weight": ("sma-dead-weight", ["wire.u"], ["laser.s_meas"], ["load inertia"]),
+    # the pneumatic crawler climbing 7.5 deg (where bending shows): the controllers' logged
+    # duties replayed, the pressure sensors and the blocks' positions from video observed
+    "crawler": ("crawler-gait-incline", ["act1.duty", "actc.duty", "act2.duty"],
+                ["sensor1.p_meas", "sensorc.p_meas", "sensor2.p_meas", "body.flange1.s",
+                 "body.flange2.s"],
+                ["valve delay", "supply-pressure drop", "chamber leakage",
+                 "pressure-dependent stiffness", "actuator bending on an incline",
+                 "friction decay"]),
+}
+STOP_TIME = {"crawler": 12.0,  # s: the first stride and three more (the scenario runs 30 s)
+             "weight": 6.0}  # s: two lifts, the second in the held-out part
+LOAD_SHARE = 0.25  # of the effect cases move to a load bench, magnet or weight, with one of its
+                   # effects (drawn from their own stream)
+LOAD_BENCHES = ("magnet", "weight")
+CRAWLER_SHARE = 0.25  # ... and, drawn from a third stream, to the crawler bench
+# Not hidden: clamp heat loss. With the clamps at ambient it is a loss linear in T - T_amb, exactly
+# a larger h; the diagnosis rightly calls such data a recalibration of h, not an effect.
+# hidden magnitudes: (instance, parameter, low, high), drawn uniformly (SPEC 2.1, 2.6, 5)
+MAGNITUDES = {
+    "thermocouple lag": [("thermocouple", "tau", 0.1, 0.6)],
+    "thermocouple bias": [("thermocouple", "bias", 1.5, 5.0)],  # sign drawn too
+    "latent heat": [("wire", "latent_heat", 12e3, 24e3)],
+    "clamp heat loss": [("wire", "clamp_conductance", 1e-4, 3e-4)],
+    "convection change": [("wire", "h_exponent", 0.06, 0.15)],
+    "training drift": [("wire", "drift_amplitude", 0.1, 0.2), ("wire", "drift_shift", 5.0, 10.0)],
+    "stress dependence ignored": [("wire", "stress_blend", 0.5, 1.0)],
+    "electromagnet force nonlinearity": [("magnet", "nonlinearity", 0.2, 0.5)],
+    # a heavily filtered cell: lags of 1-2 samples (20-40 ms) are latency at this data rate
+    "load-cell lag": [("loadcell", "tau", 0.1, 0.3)],
+    "load inertia": [("weight", "inertia", 0.3, 1.0)],
+    # one draw for several instances: the three valves, pumps and chambers are alike
+    "valve delay": [(("act1", "actc", "act2"), "t_open_delay", 0.005, 0.02),
+                    (("act1", "actc", "act2"), "t_close_delay", 0.005, 0.02)],
+    "supply-pressure drop": [(("act1", "actc", "act2"), "supply_drop", 0.2, 0.5)],
+    "chamber leakage": [(("act1", "actc", "act2"), "C_leak", 2e-11, 5e-11)],
+    "pressure-dependent stiffness": [("body", "k_slope", 0.015, 0.04)],
+    "actuator bending on an incline": [(("friction1", "friction2"), "bending", 1.5, 4.0)],
+    "friction decay": [(("friction1", "friction2"), "mu_decay", 0.01, 0.02)],
+}
+SIGNED = {"thermocouple bias", "training drift", "electromagnet force nonlinearity",
+          "pressure-dependent stiffness"}
+# (hidden effect, its decoy in the library): both act at high temperatures, or both make the
+# measured temperature trail the wire's model
+DECOYS = [("convection change", "clamp heat loss"), ("thermocouple lag", "latent heat"),
+          ("latent heat", "thermocouple lag")]
+OUTSIDE = {  # K warmer ambient air (the bench's scenario gets an ambient source); strain gain
+    "warmer ambient": (6.0, 12.0),
+    "strain gauge gain": (0.05, 0.1),  # applied to the recorded strain: gain 1 -+ this
+}
+# nuisances (the same for every case; magnitudes of a bench like SPEC 2.1's)
+TC_NOISE, TC_QUANTUM = 0.08, 0.05  # K
+STRAIN_NOISE, STRAIN_QUANTUM = 2e-5, 1e-5
+LASER_NOISE, LASER_QUANTUM = 2e-6, 1e-6  # m (the laser-noise effect of the library as nuisance)
+LOADCELL_NOISE, LOADCELL_QUANTUM = 2e-3, 1e-3  # N
+PRESSURE_NOISE, PRESSURE_QUANTUM = 30.0, 10.0  # Pa
+VIDEO_NOISE, VIDEO_QUANTUM = 2e-4, 1e-4  # m: block edges tracked on video
+VIDEO = ("body.flange1.s", "body.flange2.s")  # the columns the video gives
+# (sensor instance, noise, quantum, modulus of the case's seed that seeds it)
+NUISANCES = [("thermocouple", TC_NOISE, TC_QUANTUM, 100000),
+             ("laser", LASER_NOISE, LASER_QUANTUM, 100001),
+             ("loadcell", LOADCELL_NOISE, LOADCELL_QUANTUM, 100003),
+             ("sensor1", PRESSURE_NOISE, PRESSURE_QUANTUM, 100019),
+             ("sensorc", PRESSURE_NOISE, PRESSURE_QUANTUM, 100043),
+             ("sensor2", PRESSURE_NOISE, PRESSURE_QUANTUM, 100049)]
+HELD_OUT_FRACTION = 0.35
+
+
+def plan(count, seed):
+    """The cases' hidden truths: a list of dicts (kind, bench, effect, values, latency, ...)."""
+    rng = np.random.default_rng(seed)
+    # their own streams, so that moving a case to another bench changes no other case
+    load_rng = np.random.default_rng([seed, 7])
+    crawler_rng = np.random.default_rng([seed, 11])
+    n_none = max(1, round(0.15 * count))
+    n_out = max(1, round(0.15 * count))
+    n_decoy = max(1, round(0.15 * count))
+    kinds = (["none"] * n_none + ["outside"] * n_out + ["decoy"] * n_decoy
+             + ["effect"] * (count - n_none - n_out - n_decoy))[:count]
+    rng.shuffle(kinds)
+    cases = []
+    for i, kind in enumerate(kinds):
+        bench = "stress" if kind == "effect" and rng.random() < 0.25 else "tracking"
+        case = {"case": f"case-{i:03d}", "kind": kind, "bench": bench, "effect": None,
+                "values": {}, "latency_samples": int(rng.integers(0, 2)), "seed": int(
+                    rng.integers(0, 2**31)), "strain_gain": 1.0}
+        if kind in ("effect", "decoy"):
+            pool = BENCHES[bench][3] if kind == "effect" else [d[0] for d in DECOYS]
+            effect = pool[rng.integers(len(pool))]
+            case["effect"] = effect
+            case["values"] = _draw(effect, rng)
+        if kind == "effect":  # moved to a load bench, then (the later draw wins) the crawler
+            for benches, share, stream in ((LOAD_BENCHES, LOAD_SHARE, load_rng),
+                                           (("crawler",), CRAWLER_SHARE, crawler_rng)):
+                if stream.random() < share:
+                    pool = [(b, e) for b in benches for e in BENCHES[b][3]]
+                    bench, effect = pool[stream.integers(len(pool))]
+                    case.update(bench=bench, effect=effect, values=_draw(effect, stream))
+        elif kind == "outside":
+            name = list(OUTSIDE)[rng.integers(len(OUTSIDE))]
+            case["effect"] = name
+            size = float(rng.uniform(*OUTSIDE[name]))
+            if name == "warmer ambient":
+                case["ambient_K"] = size
+            else:
+                case["strain_gain"] = float(1 + rng.choice([-1, 1]) * size)
+        cases.append(case)
+    return cases
+
+
+def _draw(effect, rng):
+    """{"instance.parameter": value} of `effect` at a random magnitude (and sign if signed)."""
+    sign = -1.0 if effect in SIGNED and rng.random() < 0.5 else 1.0
+    values = {}
+    for inst, par, lo, hi in MAGNITUDES[effect]:
+        v = float(sign * rng.uniform(lo, hi))
+        values.update({f"{i}.{par}": v for i in ((inst,) if isinstance(inst, str) else inst)})
+    return values
+
+
+def _scenario_path(bench, scenarios_dir):
+    return Path(scenarios_dir) / f"{BENCHES[bench][0]}.toml"
+
+
+def record(case, scenarios_dir, fmu_dir):
+    """Run the virtual hardware of `case`: (time, {column: values}) as the bench records them."""
+    name, inputs, outputs, _ = BENCHES[case["bench"]]
+    sets = [f"{k}={v!r}" for k, v in case["values"].items()]
+    s = scenario_mod.load(_scenario_path(case["bench"], scenarios_dir), sets,
+                          STOP_TIME.get(case["bench"]))
+    # the nuisances on the sensors this bench has (_with_values skips the others)
+    s = diagnose._with_values(s, {(inst, par): v for inst, noise, quantum, modulus in NUISANCES
+                                  for par, v in (("noise_std", noise), ("quantum", quantum),
+                                                 ("seed", case["seed"] % modulus))})
+    s = replace(s, record=tuple(inputs + outputs), metrics={}, plots=())
+    if case.get("ambient_K"):  # the air around the wire is warmer than the model's 20 C
+        ambient = scenario_mod.Instance("ambient", "SignalSource",
+                                        {"offset": 293.15 + case["ambient_K"]})
+        s = replace(s, instances={**s.instances, "ambient": ambient},
+                    connections=s.connections + (("ambient.y", "wire.T_amb"),))
+    res = master.Master(s, fmu_dir).run()
+    if res.error:
+        raise UserError(f"{case['case']}: the virtual hardware failed: {res.error}")
+    rng = np.random.default_rng(case["seed"])
+    cols = {c: res[c].copy() for c in inputs + outputs}
+    if "wire.strain" in cols:  # a strain gauge: its noise and quantisation (the laser's in-FMU)
+        strain = cols["wire.strain"] * case["strain_gain"] + STRAIN_NOISE * rng.standard_normal(
+            len(res.time))
+        cols["wire.strain"] = STRAIN_QUANTUM * np.round(strain / STRAIN_QUANTUM)
+    for c in VIDEO:  # noise, pixel quantisation
+        if c in cols:
+            x = cols[c] + VIDEO_NOISE * rng.standard_normal(len(res.time))
+            cols[c] = VIDEO_QUANTUM * np.round(x / VIDEO_QUANTUM)
+    lag = case["latency_samples"]
+    # the gauge's (or laser's, or the video's) own acquisition lags the controller's log
+    for c in ("wire.strain", "laser.s_meas", *VIDEO) if lag else ():
+        if c in cols:
+            cols[c] = np.concatenate([np.full(lag, cols[c][0]), cols[c][:-lag]])
+    return res.time, cols
+
+
+def write_data_set(path, time, cols, inputs, outputs, scenario_ref, description=""):
+    """Write a measured data set (data.csv + manifest.toml) blocked in time for held-out."""
+    path = Path(path)
+    path.mkdir(parents=True, exist_ok=True)
+    names = inputs + outputs
+    np.savetxt(path / dataset.DATA, np.column_stack([time] + [cols[c] for c in names]),
+               delimiter=",", header=",".join(["time", *names]), comments="", fmt="%.9g")
+    lines = [f"description = {json.dumps(description)}", f"scenario = {json.dumps(scenario_ref)}",
+             f"inputs = {json.dumps(inputs)}", f"outputs = {json.dumps(outputs)}", "",
+             "[split]", f"held_out_fraction = {HELD_OUT_FRACTION}", ""]
+    (path / dataset.MANIFEST).write_text("\n".join(lines))
+
+
+def _make(args):
+    case, out, scenarios_dir, fmu_dir = args
+    time, cols = record(case, scenarios_dir, fmu_dir)
+    name, inputs, outputs, _ = BENCHES[case["bench"]]
+    ref = str(_scenario_path(case["bench"], scenarios_dir).resolve())
+    write_data_set(Path(out) / "cases" / case["case"], time, cols, inputs, outputs, ref,
+                   f"blind case {case['case']} on bench {name}")
+    return case["case"]
+
+
+def _diagnose(args):
+    case_dir, fmu_dir = args
+    try:
+        report = diagnose.diagnose(dataset.load(case_dir), fmu_dir)
+    except UserError as exc:
+        report = {"verdict": "error", "error": str(exc)}
+    (Path(case_dir) / "report.json").write_text(json.dumps(report, indent=1, default=float) + "\n")
+    return report
+
+
+def _oracle(args):
+    """Held-out gap of the model with every measured signal replayed (the report's section 4):
+    nominal and with our selected effects' values, as the report has them, and with the true
+    values (the oracle), simulated here."""
+    case, case_dir, report, fmu_dir = args
+    problem = diagnose.Problem(dataset.load(case_dir), fmu_dir)
+    whole = problem.replayed()
+
+    def heldout(values):
+        try:
+            sims = diagnose.simulate(whole, values, fmu_dir)
+        except diagnose.Failed:
+            return math.inf
+        return diagnose.gap(whole, diagnose.residuals(whole, sims), 1)
+
+    truth = {tuple(k.split(".", 1)): v for k, v in case["values"].items()}
+    ours = report.get("shrinkage", {}).get("all")
+    before = ours["before"] if ours else heldout({})  # no report section 4: the case failed
+    return {"before": before, "oracle": heldout(truth), "ours": ours["after"] if ours else before}
+
+
+def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, progress=None):
+    """Make `count` cases from `seed` into `out`, diagnose them blind, score; return the scores."""
+    pmap = pmap or diagnose._serial
+    say = progress or (lambda text: None)
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    cases = plan(count, seed)
+    say(f"recording {count} cases on the virtual hardware")
+    pmap(_make, [(c, out, scenarios_dir, fmu_dir) for c in cases])
+    key = json.dumps({"seed": seed, "cases": cases}, indent=1, sort_keys=True) + "\n"
+    # sealed: `sha256sum -c key.sha256` checks key.json once it is written, after the diagnosis
+    (out / "key.sha256").write_text(hashlib.sha256(key.encode()).hexdigest() + "  key.json\n")
+    say("diagnosing blind")
+    dirs = [out / "cases" / c["case"] for c in cases]
+    reports = pmap(_diagnose, [(d, fmu_dir) for d in dirs])
+    (out / "key.json").write_text(key)
+    say("scoring against the key and the oracle")
+    gaps = pmap(_oracle, [(c, d, r, fmu_dir) for c, d, r in zip(cases, dirs, reports)])
+    scores = score(cases, reports, gaps)
+    (out / "scores.json").write_text(json.dumps(scores, indent=1) + "\n")
+    return scores
+
+
+def score(cases, reports, gaps):
+    """The benchmark's scores and per-case table from the key, the reports and the gaps."""
+    table = []
+    for c, r, g in zip(cases, reports, gaps):
+        row = {"case": c["case"], "kind": c["kind"], "bench": c["bench"], "truth": c["effect"],
+               "values": c["values"], "verdict": r.get("verdict"), "selected": r.get("selected"),
+               "gap_before": g["before"], "gap_oracle": g["oracle"], "gap_ours": g["ours"]}
+        if c["kind"] in ("effect", "decoy"):
+            row["correct"] = r.get("verdict") == c["effect"]
+            oracle = 1 - g["oracle"] / g["before"]
+            ours = 1 - g["ours"] / g["before"]
+            row["shrinkage_oracle"], row["shrinkage_ours"] = oracle, ours
+            row["shrinkage_vs_oracle"] = ours / oracle if oracle > 0 else None
+        elif c["kind"] == "none":
+            row["false_alarm"] = r.get("verdict") not in ("none", "unexplained")
+        else:
+            row["unexplained"] = r.get("verdict") == "unexplained"
+        table.append(row)
+
+    def rate(kinds, key):
+        rows = [t for t in table if t["kind"] in kinds]
+        return sum(bool(t[key]) for t in rows) / len(rows) if rows else None
+
+    ratios = [t["shrinkage_vs_oracle"] for t in table if t.get("shrinkage_vs_oracle") is not None]
+    return {"top1_accuracy": rate(("effect", "decoy"), "correct"),
+            "shrinkage_vs_oracle": statistics.median(ratios) if ratios else None,
+            "false_alarm_rate": rate(("none",), "false_alarm"),
+            "unexplained_rate": rate(("outside",), "unexplained"),
+            "cases": len(table), "per_case": table}

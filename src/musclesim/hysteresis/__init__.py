@@ -1,0 +1,12 @@
+"""The SMA wire's hysteresis as a study: FORC identification from the identification runs and its
+validation on the virtual wire (SPEC 2.3), the loop explorer (steady peak-to-peak strain of cycled
+temperature bands) and the timing of the Preisach core.
+"""
+from musclesim.hysteresis.identify import identify, identify_main
+from musclesim.hysteresis.loops import loops, loops_main, parse_band
+from musclesim.hysteresis.timing import format_preisach as format_preisach_timing
+from musclesim.hysteresis.timing import preisach as preisach_timing
+from musclesim.hysteresis.validation import report as validation_report
+
+__all__ = ["identify", "identify_main", "loops", "loops_main", "parse_band",
+           "preisach_timing", "format_preisach_timing", "validation_report"]

@@ -1,0 +1,214 @@
+"""The crawler's pressure loops (SPEC 1.1, 1.5, 5) and the gait's pressure references (SPEC 1.5):
+the identified plants against the ISO 6358 law by hand, the designed PIs, the gain and reference
+files the scenarios read (reproducible from a fresh design / characterisation), and
+`characterise.references` on hand-made results."""
+import math
+import tomllib
+
+import numpy as np
+import pytest
+
+from musclesim.analysis import characterise, linear
+from musclesim import cli
+from musclesim.cosim import master, scenario
+from musclesim.components.pneumatic.actuator import ActuatorParams
+from musclesim.errors import UserError
+
+from conftest import ROOT, SCENARIOS
+
+IDENTIFICATION = SCENARIOS / "pneumatic-identification.toml"
+PARAMS = SCENARIOS / "params"
+PID_KEYS = {"Kp", "Ki", "Kd", "u_min", "u_max"}
+
+
+@pytest.fixture(scope="module")
+def report(fmu_dir):
+    return linear.pneumatic(fmu_dir, {"scenario": str(IDENTIFICATION)})
+
+
+def actuator_params(kind):
+    """The SoftActuator parameters the identification scenario gives `kind`."""
+    if kind == "central":
+        return ActuatorParams()
+    return ActuatorParams(**tomllib.loads((PARAMS / "extremal-actuator.toml").read_text()))
+
+
+def hand_rates(params, p_op, volume):
+    """(inflation, exhaust) pressure rates [Pa/s] at gauge p_op with a valve fully open, from the
+    unchoked ISO 6358 law (SPEC 5) and dp/dt = kappa R T / V mdot at a constant volume."""
+    p_atm, rho_0, R = 101325.0, 1.185, 287.05  # Pa; kg/m^3 (ISO 6358 reference); J/(kg K)
+
+    def flow(p_up, p_down, C):  # absolute pressures; T = T_0 (the defaults)
+        r = p_down / p_up
+        assert r > params.b  # unchoked: the law below applies
+        return C * p_up * rho_0 * math.sqrt(1.0 - ((r - params.b) / (1.0 - params.b)) ** 2)
+
+    gain = params.kappa * R * params.T / volume
+    chamber = p_op + p_atm
+    return (gain * flow(params.p_supply + p_atm, chamber, params.C_in),
+            gain * flow(chamber, params.p_exhaust + p_atm, params.C_out))
+
+
+def test_identified_extremal_rate_matches_the_iso_6358_law_by_hand(report):
+    p = actuator_params("extremal")
+    # identified at full contact: V = V0 + dV_contact
+    rate_in, rate_out = hand_rates(p, report["design"]["p_op"], p.V0 + p.dV_contact)
+    fitted = report["loops"]["extremal"]["identified"]["rate_per_duty"]
+    # the PRBS has as many up bits as down bits: the fit sits between the two rates (the PRBS
+    # swings the pressure over a few kPa around p_op, so allow 10 %)
+    assert 0.9 * min(rate_in, rate_out) <= fitted <= 1.1 * max(rate_in, rate_out)
+    assert fitted == pytest.approx((rate_in + rate_out) / 2, rel=0.10)
+
+
+def test_identified_central_rate_lies_between_held_and_quasi_static_blocks(report):
+    """The central actuator is identified between its blocks, free to slide: its rate lies
+    between that of the chamber alone at the elongated volume (blocks too slow to follow) and
+    the quasi-static one, where the elongation s_a p / k follows the pressure and the
+    chamber's compliance s_a^2 / k divides the rate by 1 + kappa p_abs s_a^2 / (k V)."""
+    p, p_op = actuator_params("central"), report["design"]["p_op"]
+    rate_in, rate_out = hand_rates(p, p_op, p.V0)
+    assert (rate_in, rate_out) == pytest.approx((100.4e3, 92.6e3), rel=0.005)  # by hand
+    k = scenario.load(IDENTIFICATION).instances["body"].parameters["k"]
+    volume = p.V0 + p.s_a * p.s_a * p_op / k
+    held = hand_rates(p, p_op, volume)
+    quasi_static = [r / (1 + p.kappa * (p_op + 101325.0) * p.s_a ** 2 / (k * volume)) for r in held]
+    fitted = report["loops"]["central"]["identified"]["rate_per_duty"]
+    assert min(quasi_static) < fitted < max(held)
+
+
+@pytest.mark.parametrize("kind", ["central", "extremal"])
+def test_identified_around_the_operating_point(report, kind):
+    lo, hi = report["loops"][kind]["identified"]["p_range"]
+    assert lo < report["design"]["p_op"] < hi
+
+
+@pytest.mark.parametrize("kind", ["central", "extremal"])
+def test_designed_loops_margins_crossover_and_poles(report, kind):
+    d, q = report["design"], report["loops"][kind]
+    assert q["phase_margin_deg"] >= 45
+    assert q["gain_margin"] is None or q["gain_margin"] > 2
+    assert q["crossover"] == pytest.approx(d["crossover"], rel=0.1)
+    assert 0 < q["closed_loop_pole_radius"] < 1
+    # the same from the numbers alone, with the PI the PID FMU runs (u[k] = Kp e[k] + I[k],
+    # I[k+1] = I[k] + Ki T e[k]): plant b z^-d / (z - a), PI (Kp z - Kp + Ki T) / (z - 1)
+    fit, T = q["identified"], d["step"]
+    a, b, delay = fit["a"], fit["b"], fit["delay_samples"]
+    z = np.exp(1j * d["crossover"] * T)
+    loop = (q["Kp"] * z - q["Kp"] + q["Ki"] * T) / (z - 1) * b / (z ** delay * (z - a))
+    assert abs(loop) == pytest.approx(1.0, rel=1e-6)  # loop gain 1 at the design crossover
+    assert math.degrees(np.angle(loop)) + 180 >= 45
+    char = np.polyadd(np.polymul(np.polymul([1.0, -1.0], [1.0, -a]), [1.0] + [0.0] * delay),
+                      [b * q["Kp"], b * (q["Ki"] * T - q["Kp"])])
+    radius = np.abs(np.roots(char)).max()
+    assert radius < 1
+    # the report's margins and poles are of Kp + Ki T z / (z - 1) (an integrator one sample
+    # ahead of the FMU's): the same to within a few 1e-5 here
+    assert radius == pytest.approx(q["closed_loop_pole_radius"], abs=1e-3)
+
+
+def test_cli_writes_pid_files_that_scenarios_read_and_match_the_committed_ones(
+        fmu_dir, tmp_path, capsys, monkeypatch, report):
+    monkeypatch.chdir(ROOT)  # the design's scenario path is relative to the project
+    out = tmp_path / "gains"
+    assert cli.main(["linear", "pneumatic", "--write", str(out), "--fmus", str(fmu_dir)]) == 0
+    text, err = capsys.readouterr()
+    assert "phase margin" in text and err.count("wrote the gains to") == 2
+    for kind in ("central", "extremal"):
+        fresh = tomllib.loads((out / f"pneumatic-{kind}-pid.toml").read_text())
+        assert set(fresh) == PID_KEYS
+        assert all(type(v) is float for v in fresh.values())
+        assert (fresh["u_min"], fresh["u_max"], fresh["Kd"]) == (-1.0, 1.0, 0.0)
+        assert fresh["Kp"] > 0 and fresh["Ki"] > 0
+        assert fresh["Kp"] == pytest.approx(report["loops"][kind]["Kp"], rel=1e-9)
+        # the committed gains are those of a fresh design (rerun the design when it changes)
+        committed = tomllib.loads((PARAMS / f"pneumatic-{kind}-pid.toml").read_text())
+        assert set(committed) == PID_KEYS
+        for key in PID_KEYS:
+            assert committed[key] == pytest.approx(fresh[key], rel=1e-9, abs=1e-300), (kind, key)
+    # a scenario reads them as a PID's parameters and runs
+    lines = ['step = 1e-3', 'stop_time = 0.01', 'record = ["central.u", "extremal.u"]']
+    for kind in ("central", "extremal"):
+        lines += [f'[instances.{kind}]', 'component = "PID"',
+                  f'parameters_file = "gains/pneumatic-{kind}-pid.toml"']
+    (tmp_path / "pids.toml").write_text("\n".join(lines) + "\n")
+    s = scenario.load(tmp_path / "pids.toml")
+    assert s.instances["extremal"].parameters == fresh
+    res = master.Master(s, fmu_dir).run()  # the FMU knows every key as a parameter
+    assert res.error is None and len(res.time) == 11
+
+
+# ---- the gait's pressure references (characterise) -------------------------------------------
+
+class FakeResults:
+    """What `characterise.references` reads of a `master.Results`: time and signals by name."""
+
+    def __init__(self, time, **signals):
+        self.time = np.asarray(time, dtype=float)
+        self.signals = {k.replace("__", "."): np.asarray(v, dtype=float)
+                        for k, v in signals.items()}
+
+    def __getitem__(self, name):
+        return self.signals[name]
+
+
+def fake(elongation=None, u1=None, u2=None):
+    """One sample a second over 0..40 s: the central ramp to 20 s, the extremal ones after 25 s."""
+    t = np.arange(41.0)
+    return FakeResults(
+        t,
+        body__flange1__s=0.01 + 0.0 * t,  # the back block sits at 10 mm: elongation is relative
+        body__flange2__s=0.01 + (0.003 * t if elongation is None else elongation),
+        sensorc__p_meas=100.0 * t ** 2,  # not linear: the interpolation shows
+        act1__u=np.clip(t - 29.0, 0.0, 1.0) if u1 is None else u1,  # 0.995 would be at 29.995
+        sensor1__p_meas=500.0 * t,
+        act2__u=np.where(t >= 32, 0.995, 0.5 * (t >= 31)) if u2 is None else u2,
+        sensor2__p_meas=400.0 * t + 7.0)
+
+
+def test_references_interpolate_the_central_pressure_and_take_first_firm_contact():
+    refs = characterise.references(fake())
+    # elongation 0.039 m at 13 s, 0.042 m at 14 s: 0.04 m a third of the way, where
+    # p = 16900 + (19600 - 16900) / 3 = 17800 Pa
+    assert refs["p_central"] == pytest.approx(17800.0, rel=1e-9)
+    assert refs["p_firm1"] == 500.0 * 30  # act1.u = 1 >= 0.99 first at 30 s
+    assert refs["p_firm2"] == 400.0 * 32 + 7.0  # 0.5 at 31 s is not firm; 0.995 at 32 s is
+    for i in (1, 2):  # the references keep a margin above firm contact
+        assert refs[f"p_anchor{i}"] == (1 + characterise.ANCHOR_MARGIN) * refs[f"p_firm{i}"]
+    assert refs["elongation_at_ramp_end"] == pytest.approx(0.06)  # the last sample at 20 s
+    # a target reached at the very first sample takes the first pressure
+    assert characterise.references(fake(), elongation_target=-1.0)["p_central"] == 0.0
+
+
+def test_references_say_what_the_characterisation_did_not_reach():
+    with pytest.raises(UserError, match=r"^the central actuator reaches only 0\.03 m of the "
+                                        r"0\.04 m elongation target by t = 20 s$"):
+        characterise.references(fake(elongation=0.0015 * np.arange(41.0)))
+    with pytest.raises(UserError, match=r"^extremal actuator act2 never reaches firm contact "
+                                        r"\(indicator >= 0\.99\) in the characterisation$"):
+        characterise.references(fake(u2=np.full(41, 0.98)))
+    with pytest.raises(UserError, match="act1 never reaches firm contact"):
+        characterise.references(fake(u1=np.zeros(41)))
+
+
+def test_committed_gait_references_are_what_characterise_computes_now(fmu_dir, tmp_path, capsys):
+    """The gait scenarios' references come from the characterisation run (~15 s), not typed in."""
+    out = tmp_path / "refs.toml"
+    code = cli.main(["characterise", str(SCENARIOS / "crawler-characterisation.toml"),
+                     "--out", str(tmp_path / "char"), "--write", str(out), "--fmus", str(fmu_dir)])
+    text, err = capsys.readouterr()
+    assert code == 0, err
+    assert "back extremal: firm ground contact from" in text and "wrote the gait references" in err
+    fresh = tomllib.loads(out.read_text())
+    committed = tomllib.loads((PARAMS / "crawler-gait-references.toml").read_text())
+    assert set(fresh) == set(committed) == {"p_central", "p_anchor1", "p_anchor2"}
+    for key in fresh:
+        assert committed[key] == pytest.approx(fresh[key], rel=1e-9), key
+    # plausibility: the blocks slide on their casings, so the elongation is the spring's
+    # s_a p / k less a little friction lag (SPEC 1.2, 1.3)
+    body = scenario.load(SCENARIOS / "crawler-pneumatic.toml").instances["body"].parameters
+    stretch = ActuatorParams().s_a * fresh["p_central"] / body["k"]
+    assert characterise.ELONGATION_TARGET < stretch < characterise.ELONGATION_TARGET * 1.05
+    # firm contact needs the extremal pressure above the contact threshold for t_contact
+    p_contact = actuator_params("extremal").p_contact
+    for key in ("p_anchor1", "p_anchor2"):
+        assert p_contact < fresh[key] / (1 + characterise.ANCHOR_MARGIN) < 1.1 * p_contact

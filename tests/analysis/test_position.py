@@ -1,0 +1,139 @@
+"""SMA position control (issue 5, SPEC 2.4): short runs of each kind of the study's matrix, the
+stress loop's design on the identified load path, the tables' computation."""
+import math
+
+import numpy as np
+import pytest
+
+from musclesim.analysis import linear, position as table
+from musclesim.cosim import master, scenario
+from musclesim.batch import sweep
+from musclesim.errors import UserError
+
+from conftest import SCENARIOS
+
+POSITION = SCENARIOS / "sma-position-control.toml"
+
+
+def run(fmu_dir, sets, stop_time=3.0):
+    s = scenario.load(POSITION, sets, stop_time)
+    res = master.Master(s, fmu_dir).run()
+    assert res.error is None, res.error
+    return res
+
+
+@pytest.mark.parametrize("kind", ["constant-stress", "stress-aware", "stress-ignored"])
+def test_each_kind_of_the_matrix_runs_and_tracks(fmu_dir, kind):
+    res = run(fmu_dir, table.cases()[kind][0][3])  # the first cell of its table
+    settled = res.time >= 0.5  # after the stress loop's start from the weight alone
+    stress_error = res["wire.stress"][settled] - res["loading.sigma_ref"][settled]
+    assert np.max(np.abs(stress_error)) < 1e6  # Pa: the stress loop holds within 1 MPa
+    temperature_error = res["thermocouple.T_meas"] - res["inverse.T_ref"]
+    assert np.sqrt(np.mean(temperature_error[settled] ** 2)) < 2.0  # K
+    assert np.max(res["wire.strain"]) > 0.5 * np.max(res["strain.eps_ref"])  # the wire moves
+
+
+def test_the_tables_strain_is_the_lasers_contraction_over_the_wires_length(fmu_dir):
+    s = scenario.load(POSITION, (), 2.0)
+    length = table.wire_length(s, fmu_dir)
+    assert length == 58.42e-3  # the SmaWire's own (SPEC 2.1)
+    res = master.Master(s, fmu_dir).run()
+    laser_strain = res["laser.s_meas"] / length  # laser effects off
+    assert np.max(res["wire.strain"]) > 0.004
+    np.testing.assert_allclose(laser_strain, res["wire.strain"], rtol=0, atol=1e-12)
+    longer = scenario.load(POSITION, ["wire.length=0.2"], 2.0)
+    assert table.wire_length(longer, fmu_dir) == 0.2
+
+
+def test_stress_ignored_inverse_does_not_follow_the_stress(fmu_dir):
+    sets = ["strain.profile=1.0", "loading.profile=1.0"]
+    aware = run(fmu_dir, sets, 2.0)
+    ignored = run(fmu_dir, sets + ["inverse.sigma_surface=125e6"], 2.0)
+    assert not np.array_equal(aware["inverse.T_ref"], ignored["inverse.T_ref"])
+
+
+def test_stress_loop_is_designed_on_the_identified_load_path(fmu_dir):
+    report = linear.sma_load(fmu_dir)
+    K, tau = report["identified"]["K"], report["identified"]["tau"]
+    assert K == pytest.approx(2.0 * 12.0 / 24.0, rel=1e-6)  # k_f V / R of the Electromagnet
+    assert tau == pytest.approx(0.05 / 24.0, rel=1e-6)  # L / R
+    assert report["Kp"] > 0 and report["Ki"] > 0
+    assert report["sampled_pole_radius"] < 1 and report["phase_margin_deg"] > 45
+    gains = (SCENARIOS / "params" / "sma-load-gains.toml").read_text()
+    assert linear.load_gains_toml(report) == gains  # the scenario uses this design
+
+
+def test_table_of_a_fixed_small_run(tmp_path):
+    t = np.linspace(0.0, 1.0, 5)
+    ref = np.array([0.0, 0.01, 0.02, 0.03, 0.04])
+    laser = (ref + np.array([0.0, 0.001, -0.001, 0.002, 0.0])) * 0.1  # s = strain x 0.1 m
+    csv = tmp_path / "results.csv"
+    np.savetxt(csv, np.column_stack([t, ref, laser]), delimiter=",",
+               header="time,strain.eps_ref,laser.s_meas", comments="")
+    time, col = table.read_case(csv, ("strain.eps_ref", "laser.s_meas"))
+    np.testing.assert_array_equal(time, t)
+    rmse, percent = table.strain_error(col, 0.1)
+    assert rmse == pytest.approx(math.sqrt((1 + 1 + 4) / 5) * 1e-3)
+    assert percent == pytest.approx(100 * rmse / 0.04)
+    cells = {("SP I", "105 MPa"): (1e-3, 2.0), ("SP I", "115 MPa"): (3e-3, 4.0),
+             ("SP II", "105 MPa"): None, ("SP II", "115 MPa"): (2e-3, 6.0)}
+    stats = table.write_table(tmp_path, "t", ["SP I", "SP II"], ["105 MPa", "115 MPa"], cells)
+    assert stats["cells"] == 3 and stats["rmse"][0] == pytest.approx(2e-3)
+    assert stats["percent"] == pytest.approx((4.0, math.sqrt(8 / 3)))
+    md = (tmp_path / "t.md").read_text()
+    assert "| SP II | - | 2.000 (6.00 %) |" in md and "over 3 of 4 cells" in md
+    rows = (tmp_path / "t.csv").read_text().splitlines()
+    assert len(rows) == 1 + 4 + 2 and rows[-2] == f"mean,,{2e-3!r},{4.0!r},"
+    assert rows[1] == f"SP I,105 MPa,{1e-3!r},{2.0!r},done" and rows[3] == "SP II,105 MPa,,,not run"
+    table.write_table(tmp_path, "empty", ["SP I"], ["105 MPa"], {("SP I", "105 MPa"): None})
+    assert "No cell finished yet (0 of 1)." in (tmp_path / "empty.md").read_text()
+
+
+def test_the_matrix_is_the_studys():
+    c = table.cases()
+    assert [len(c[k]) for k in ("constant-stress", "stress-aware", "stress-ignored")] == \
+        [20, 24, 30]
+    assert all("strain.profile=4.0" in sets for *_, sets in c["stress-ignored"])
+
+
+def test_a_case_without_the_tables_columns_is_named(tmp_path):
+    csv = tmp_path / "results.csv"
+    csv.write_text("time,strain.eps_ref\n0,0\n")
+    with pytest.raises(UserError, match=r"results.csv has no column laser.s_meas"):
+        table.read_case(csv, ("strain.eps_ref", "laser.s_meas"))
+
+
+def test_the_figures_envelope_keeps_every_peak():
+    t = np.arange(100003) * 4e-4
+    y = np.sin(t) + (np.arange(t.size) == 54321) * 5.0  # one spike of a single sample
+    tt, yy = table.envelope(t, y, 1000)
+    assert len(yy) == 2 * 1000 + 3 and np.all(np.diff(tt) >= 0)  # min, max per run + the rest
+    assert yy.max() == y.max() and yy.min() == y.min() and tt[np.argmax(yy)] <= t[54321]
+    np.testing.assert_array_equal(table.envelope(t[:10], y[:10], 1000)[1], y[:10])  # short
+
+
+def test_tables_are_written_from_the_finished_cases(tmp_path, fmu_dir):
+    out = tmp_path / "matrix"
+    first, second, third = table.cases()["stress-ignored"][:3]
+    for r, c, cid, sets in (first, second):
+        summary = sweep.run_case(str(POSITION), str(out / "cases" / cid), str(fmu_dir), sets, 0.4)
+        assert summary["completed"] is True
+    # a case that fails (no SP IX) is reported as failed, not as a case still to run
+    summary = sweep.run_case(str(POSITION), str(out / "cases" / third[2]), str(fmu_dir),
+                             [*third[3], "strain.profile=9.0"], 0.4)
+    assert summary["completed"] is False
+    report = table.sma_position(out, POSITION, fmu_dir, 0.4, only=["stress-ignored"], run=False)
+    _, col = table.read_case(out / "cases" / first[2] / "results.csv")
+    rmse = np.sqrt(np.mean((col["strain.eps_ref"] - col["laser.s_meas"] / 58.42e-3) ** 2))
+    md = (out / "stress-ignored.md").read_text()
+    assert f"| {first[0]} | {rmse * 1e3:.3f} (" in md and "over 2 of 30 cells" in md
+    assert f"| {third[0]} | " in md and "| failed |" in md and "1 failed" in md
+    assert report["stress-ignored"]["rmse"][0] > 0
+    assert list(report["stress-ignored"]["failed"]) == [third[2]]
+    assert "profile must be one of 1..4" in report["stress-ignored"]["failed"][third[2]]
+    assert all((out / "cases" / cid / "figure.png").stat().st_size > 10_000
+               for _, _, cid, _ in (first, second))
+    assert not (out / "constant-stress.md").exists()
+    # the folder keeps the cases of one stop time: a table of other runs is refused
+    with pytest.raises(UserError, match="other settings \\(stop_time\\)"):
+        table.sma_position(out, POSITION, fmu_dir, 0.8, only=["stress-ignored"], run=False)

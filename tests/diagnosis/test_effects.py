@@ -1,0 +1,83 @@
+"""The effect library (issue 4): every effect is parameters of an existing component, off gives the
+nominal model exactly, and on it changes the simulation."""
+import numpy as np
+import pytest
+from fmpy import read_model_description
+
+from musclesim.diagnosis import effects
+from musclesim.cosim import master, scenario
+from musclesim.components import CATALOGUE
+
+from conftest import SCENARIOS
+
+# a scenario and an instance per component to switch effects on in
+WHERE = {"CrawlerBody": ("crawler-ideal", "body"),
+         # on the incline, so that bending shows; the gait anchors the back block at once
+         "FrictionBlock": ("crawler-gait-incline", "friction1"),
+         "SoftActuator": ("crawler-gait-forward", "act1"),
+         "SmaWire": ("sma-temperature-tracking", "wire"),
+         "Thermocouple": ("sma-temperature-tracking", "thermocouple"),
+         "DeadWeight": ("sma-dead-weight", "weight"), "LaserSensor": ("sma-dead-weight", "laser"),
+         "Electromagnet": ("sma-position-control", "magnet"),
+         "LoadCell": ("sma-position-control", "loadcell")}
+# context that lets a slow effect show within a short run (no effect by itself when it is off)
+CONTEXT = {"training drift": ["wire.drift_cycles_start=200"],
+           # a model ignoring stress (one surface at 125 MPa) of a wire loaded with 145 MPa
+           "stress dependence ignored": ["wire.sigma_surface=125e6",
+                                         f"load.offset={145e6 * 1.26677e-8!r}"]}
+IDS = [e.name for e in effects.EFFECTS]
+
+
+def test_library_covers_the_issue_list():
+    assert {"stress dependence ignored", "thermocouple lag", "thermocouple bias", "latent heat",
+            "clamp heat loss", "convection change", "training drift", "anchoring slip",
+            "friction switching time", "pressure-dependent stiffness",
+            "viscous ground drag", "load inertia", "electromagnet force nonlinearity",
+            "load-cell lag", "laser noise", "valve delay", "supply-pressure drop",
+            "chamber leakage", "actuator bending on an incline", "friction decay"} <= set(IDS)
+    assert effects.find("anchoring slip").per_instance
+    with pytest.raises(KeyError, match="known: stress dependence ignored"):
+        effects.find("gremlins")
+
+
+@pytest.mark.parametrize("effect", effects.EFFECTS, ids=IDS)
+def test_off_values_are_the_fmu_defaults(fmu_dir, effect):
+    assert effect.component in CATALOGUE and effect.spec.startswith("SPEC")
+    assert effect.regime in effects.REGIMES
+    md = read_model_description(str(fmu_dir / f"{effect.component}.fmu"))
+    variables = {v.name: v for v in md.modelVariables}
+    for p in effect.parameters:
+        v = variables[p.name]
+        assert v.causality == "parameter" and float(v.start) == p.off
+        assert p.lower < p.upper
+
+
+def _run(fmu_dir, name, overrides):
+    s = scenario.load(SCENARIOS / f"{name}.toml", overrides, stop_time=2.0)
+    res = master.Master(s, fmu_dir).run()
+    assert res.error is None, res.error
+    return res.data
+
+
+@pytest.mark.parametrize("effect", effects.EFFECTS, ids=IDS)
+def test_off_is_nominal_exactly_and_on_changes_the_run(fmu_dir, effect):
+    name, instance = WHERE[effect.component]
+    context = CONTEXT.get(effect.name, [])
+    nominal = _run(fmu_dir, name, context)
+    off = _run(fmu_dir, name, context + effect.overrides(instance, [p.off for p in effect.parameters]))
+    assert np.array_equal(nominal, off)
+    # on: the bound farthest from off, for every parameter
+    far = [p.upper if abs(p.upper - p.off) >= abs(p.lower - p.off) else p.lower
+           for p in effect.parameters]
+    on = _run(fmu_dir, name, context + effect.overrides(instance, far))
+    assert not np.allclose(nominal, on, rtol=1e-6, atol=1e-9)
+
+
+def test_calibration_parameters_are_nominal_parameters_of_their_component(fmu_dir):
+    for component, params in effects.CALIBRATION.items():
+        md = read_model_description(str(fmu_dir / f"{component}.fmu"))
+        variables = {v.name: v for v in md.modelVariables}
+        effect_params = {p.name for e in effects.by_component(component) for p in e.parameters}
+        for p in params:
+            assert variables[p.name].causality == "parameter" and p.name not in effect_params
+            assert p.lower < 1.0 < p.upper  # factors around the scenario's value
