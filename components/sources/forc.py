@@ -8,7 +8,7 @@ raised cosine, then cools back to T_low along the mirror image:
 
 so each run starts and ends at T_low with zero slope. Besides the reference the source outputs
 the run index j and a phase flag (+1 heating, tau < P / 2; -1 cooling), which is what the
-identification (`musclesim.identify`) segments the records with. Outside the runs (before
+identification (`musclesim.hysteresis.identify`) segments the records with. Outside the runs (before
 t_start, after the last run) the reference holds T_low, the run index is -1 and the phase 0.
 
 The period P must let the closed loop follow the cooling half: the wire cools by convection alone

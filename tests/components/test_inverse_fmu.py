@@ -15,7 +15,7 @@ from musclesim.components.sma.slaves import PreisachInverse
 from conftest import in_process
 
 ZERO_C = 273.15
-RATE = 25.0  # Hz, as tests/test_inverse.py: the 550 s profiles keep their shape
+RATE = 25.0  # Hz, as tests/components/test_inverse.py: the 550 s profiles keep their shape
 TIMES = np.arange(0.0, 550.0, 1 / RATE)
 DT = 1 / RATE
 
@@ -132,7 +132,7 @@ def test_single_surface_and_aware_inverse_between_stress_levels():
     the aware inverse the inverse temperatures (SPEC 2.4), which differ where F saturates
     (several K for the same strain). Compared where it matters, in strain through the forward
     model: both within the bases' error between levels (0.6 % of the maximum strain,
-    tests/test_inverse.py::test_bases_invert_the_surface) of each other."""
+    tests/components/test_inverse.py::test_bases_invert_the_surface) of each other."""
     eps_r, sigma = strain_profile("SP II")(TIMES), np.full_like(TIMES, 125e6)
     strains = []
     for sigma_surface in (0.0, 125e6):
@@ -192,8 +192,9 @@ def forward(T_ref, sigma, surface):
 @pytest.mark.parametrize("sp", ["SP I", "SP IV"])
 def test_round_trip_at_constant_stress(sp, hysteresis):
     """T_ref through the forward model gives back eps_r within the inverse's claims
-    (tests/test_inverse.py): RMSE < 1 % of the maximum strain, and everywhere within the bases'
-    inversion error between stress levels (0.6 %; data set 0 has no level at 125 MPa)."""
+    (tests/components/test_inverse.py): RMSE < 1 % of the maximum strain, and everywhere within
+    the bases' inversion error between stress levels (0.6 %; data set 0 has no level at
+    125 MPa)."""
     eps_r, sigma = strain_profile(sp)(TIMES), np.full_like(TIMES, 125e6)
     eps = forward(run(eps_r, sigma, hysteresis=hysteresis), sigma, datasets.surface(hysteresis))
     assert rmse_percent(eps, eps_r) < 1.0
@@ -204,8 +205,8 @@ def test_round_trip_at_constant_stress(sp, hysteresis):
 @pytest.mark.parametrize("hysteresis", [0.0, 1.0])
 def test_round_trip_under_time_varying_stress(hysteresis, lp):
     """Stress-aware: T_ref only moves the way eps_r does (SPEC 2.4's direction, where the stress
-    alone would push it back it holds, tests/test_inverse.py), and the wire it drives tracks
-    several times better than with the single 125 MPa surface (SPEC 2.4's comparison)."""
+    alone would push it back it holds, tests/components/test_inverse.py), and the wire it drives
+    tracks several times better than with the single 125 MPa surface (SPEC 2.4's comparison)."""
     eps_r, sigma = strain_profile("SP IV")(TIMES), loading_profile(lp)(TIMES)
     T_ref = run(eps_r, sigma, hysteresis=hysteresis)
     assert np.all(np.diff(T_ref) * np.diff(eps_r) >= 0.0)

@@ -9,7 +9,7 @@ import pytest
 from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 
-from musclesim.cosim import host as fmuhost
+from musclesim.cosim import host
 from musclesim.components.loads import loads
 
 G = 9.80665
@@ -27,9 +27,9 @@ def run(fmu_dir, name, inputs, dt=1e-3, params=None, outputs=("flange.f",), log=
     slave = FMU2Slave(guid=md.guid, unzipDirectory=extract(path), instanceName=name,
                       modelIdentifier=md.coSimulation.modelIdentifier)
     key = id(slave)
-    fmuhost.LOG_SINKS[key] = {name: SimpleNamespace(log=log if log is not None else [])}
+    host.LOG_SINKS[key] = {name: SimpleNamespace(log=log if log is not None else [])}
     try:
-        slave.instantiate(callbacks=fmuhost.callbacks(key), loggingOn=True)
+        slave.instantiate(callbacks=host.callbacks(key), loggingOn=True)
         slave.setupExperiment(startTime=0.0)
         for par, value in (params or {}).items():
             slave.setReal([vr[par]], [value])
@@ -47,7 +47,7 @@ def run(fmu_dir, name, inputs, dt=1e-3, params=None, outputs=("flange.f",), log=
         slave.terminate()
         slave.freeInstance()
     finally:
-        del fmuhost.LOG_SINKS[key]
+        del host.LOG_SINKS[key]
     return dict(zip(outputs, np.array(rows).T))
 
 

@@ -8,7 +8,7 @@ import pytest
 from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 
-from musclesim.cosim import host as fmuhost
+from musclesim.cosim import host
 from musclesim.components.sma import datasets, drift
 from musclesim.components.sma.preisach import PreisachModel
 from musclesim.components.sma.slaves import LOAD_150G, SmaWire
@@ -46,9 +46,9 @@ def simulate(fmu, u, params=None, T_amb=293.15, f=LOAD_150G, dt=DT, log=None):
     slave = FMU2Slave(guid=md.guid, unzipDirectory=unzipped, instanceName="wire",
                       modelIdentifier=md.coSimulation.modelIdentifier)
     key = id(slave)
-    fmuhost.LOG_SINKS[key] = {"wire": SimpleNamespace(log=log if log is not None else [])}
+    host.LOG_SINKS[key] = {"wire": SimpleNamespace(log=log if log is not None else [])}
     try:
-        slave.instantiate(callbacks=fmuhost.callbacks(key), loggingOn=True)
+        slave.instantiate(callbacks=host.callbacks(key), loggingOn=True)
         slave.setupExperiment(startTime=0.0)
         for name, value in (params or {}).items():
             slave.setReal([vr[name]], [value])
@@ -65,7 +65,7 @@ def simulate(fmu, u, params=None, T_amb=293.15, f=LOAD_150G, dt=DT, log=None):
         slave.terminate()
         slave.freeInstance()
     finally:
-        del fmuhost.LOG_SINKS[key]
+        del host.LOG_SINKS[key]
     return dict(zip(OUTPUTS, np.array(rows).T))
 
 

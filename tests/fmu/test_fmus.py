@@ -12,7 +12,7 @@ from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 from fmpy.validation import validate_fmu
 
-from musclesim.cosim import host as fmuhost
+from musclesim.cosim import host
 from musclesim.components import CATALOGUE
 from musclesim.fmu import UNITS
 
@@ -121,7 +121,7 @@ def test_fmu_runs_in_a_venv_without_musclesim(fmu_dir, tmp_path):
     py = venv / "bin" / "python"
     subprocess.run([str(py), "-m", "pip", "install", "-q", "numpy", "scipy", "fmpy"], check=True)
     # the process ends with the same exit-time workaround for pythonfmu 0.7 as musclesim's own
-    release = inspect.getsource(fmuhost.release_pythonfmu_libraries)
+    release = inspect.getsource(host.release_pythonfmu_libraries)
 
     def run(body):
         script = textwrap.dedent("""

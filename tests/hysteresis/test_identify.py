@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from musclesim.hysteresis import validation as forcvalidation
+from musclesim.hysteresis import validation
 from musclesim.hysteresis import identify as ident
 from musclesim.cosim import master, results, scenario
 from musclesim.components.sma import datasets, forcfile
@@ -88,7 +88,7 @@ def test_identify_recovers_a_known_surface(tmp_path):
     assert surface.stresses.tolist() == list(stresses)
     exact = WIRE.hypersurface(surface.temps, stresses).table
     assert np.abs(surface.table - exact).max() < 2e-6  # only linear interpolation between samples
-    assert forcvalidation.surface_error(surface)["max_abs"] < 2e-6
+    assert validation.surface_error(surface)["max_abs"] < 2e-6
     temps, st, table, _ = forcfile.read(out)  # the documented file, read back
     assert temps.tolist() == list(range(30, 131, 5)) and st.tolist() == list(stresses)
     assert np.allclose(np.tril(table), np.tril(surface.table), atol=1e-15, equal_nan=True)
@@ -101,7 +101,7 @@ def test_identify_reads_a_sweep_folder_and_a_coarse_grid(tmp_path):
         synthetic(sweep / "cases", wire_F, s, f"case{k}", dt=0.02, T_step=25.0)
     surface = ident.identify(sweep)
     assert surface.temps.tolist() == [30.0, 55.0, 80.0, 105.0, 130.0]
-    assert forcvalidation.surface_error(surface)["max_abs"] < 1e-5
+    assert validation.surface_error(surface)["max_abs"] < 1e-5
 
 
 def drop(column):
@@ -189,7 +189,7 @@ def test_identify_from_the_closed_loop_on_the_virtual_wire(fmu_dir, tmp_path):
     surface = ident.identify([f for f, _ in fast])
     assert surface.temps.tolist() == [30.0, 55.0, 80.0, 105.0, 130.0]
     assert surface.stresses.tolist() == [105e6, 145e6]
-    err = forcvalidation.surface_error(surface)
+    err = validation.surface_error(surface)
     assert err["max_abs"] < 2e-4  # 0.5 % of the maximum strain
     # rate independence on the FMU: the same runs 1.5 times as slow give the same surface
     slow, _ = closed_loop(fmu_dir, tmp_path, 105e6, 30.0)
@@ -200,7 +200,7 @@ def test_identify_from_the_closed_loop_on_the_virtual_wire(fmu_dir, tmp_path):
 # ---- validation (SPEC 2.3) ---------------------------------------------------------------------
 
 def test_the_virtual_wire_is_rate_independent_wipes_out_and_has_congruent_loops():
-    checks = forcvalidation.memory_checks()
+    checks = validation.memory_checks()
     assert checks["rate_independence"] < 1e-12
     assert checks["wiping_out"] < 1e-12
     assert checks["congruency"] < 1e-12
@@ -210,9 +210,9 @@ def test_the_virtual_wire_is_rate_independent_wipes_out_and_has_congruent_loops(
 
 def test_the_shipped_identified_set_validates_on_unseen_runs():
     surface = datasets.surface(2)
-    err = forcvalidation.surface_error(surface)
+    err = validation.surface_error(surface)
     assert err["max_abs"] < 2e-4 and err["max_rel"] < 0.005
-    runs = forcvalidation.validation_runs(surface, duration=200.0)
+    runs = validation.validation_runs(surface, duration=200.0)
     assert set(runs) == {"minor loops, 120 MPa", "random peaks, 130 MPa", "LP I", "LP V"}
     for name, r in runs.items():
         assert r["rmse_percent"] < 1.5, name  # the 5 C grid itself costs ~0.5-0.9 %

@@ -109,7 +109,7 @@ class Master:
 
     Parameters
     ----------
-    scenario : musclesim.scenario.Scenario
+    scenario : musclesim.cosim.Scenario
     fmu_dir : str or Path
         Folder with ``<component>.fmu`` files (output of ``musclesim build``).
     inputs : dict, optional

@@ -113,7 +113,7 @@ def write_all(out_dir, scenario, results, units, with_plot=True):
 
 
 def signal_units(master):
-    """Unit of every recorded column of a `musclesim.master.Master`."""
+    """Unit of every recorded column of a `musclesim.cosim.Master`."""
     units = {}
     for sig in master.columns:
         inst, var = split_signal(sig)

@@ -77,8 +77,8 @@ def system_structure(scenario, master):
 
     Parameters
     ----------
-    scenario : musclesim.scenario.Scenario
-    master : musclesim.master.Master
+    scenario : musclesim.cosim.Scenario
+    master : musclesim.cosim.Master
         A master of the same scenario: its checked wiring and the FMUs' model descriptions.
 
     Returns
@@ -132,7 +132,7 @@ def export(scenario, fmu_dir, ssp_path):
 
     Parameters
     ----------
-    scenario : musclesim.scenario.Scenario
+    scenario : musclesim.cosim.Scenario
     fmu_dir : str or Path
         Folder with ``<component>.fmu`` files (output of ``musclesim build``).
     ssp_path : str or Path
@@ -147,7 +147,7 @@ def export(scenario, fmu_dir, ssp_path):
     ------
     UserError
         If the path does not end in ``.ssp`` or names a folder, or if the scenario's wiring does
-        not match its FMUs (as `musclesim.master.Master` checks it).
+        not match its FMUs (as `musclesim.cosim.Master` checks it).
 
     Notes
     -----
@@ -155,13 +155,13 @@ def export(scenario, fmu_dir, ssp_path):
     algorithm, so the communication step goes into the Open Simulation Platform annotation that
     libcosim reads, and each tool steps the system with its own master. libcosim's fixed-step
     master passes values only after all instances stepped, so it delays direct feedthrough by one
-    step where ours resolves it at each communication point (tests/test_ssp.py shows both).
+    step where ours resolves it at each communication point (tests/cosim/test_ssp.py shows both).
 
     Examples
     --------
-    >>> from musclesim import scenario, ssp
-    >>> s = scenario.load("scenarios/crawler-ideal.toml")
-    >>> ssp.export(s, "fmus", "crawler.ssp")  # doctest: +SKIP
+    >>> from musclesim.cosim import export_ssp, load_scenario
+    >>> s = load_scenario("scenarios/crawler-ideal.toml")
+    >>> export_ssp(s, "fmus", "crawler.ssp")  # doctest: +SKIP
     PosixPath('crawler.ssp')
     """
     ssp_path, fmu_dir = Path(ssp_path), Path(fmu_dir)

@@ -94,7 +94,7 @@ class Slave(Fmi2Slave):
     # ---- declaring variables -------------------------------------------------------------------
     def _declare(self, name, value, unit, description, causality, variability, initial, depends):
         if unit not in UNITS:
-            raise ValueError(f"variable {name}: unit {unit!r} is not in musclesim.fmislave.UNITS")
+            raise ValueError(f"variable {name}: unit {unit!r} is not in musclesim.fmu.UNITS")
         attr = name.replace(".", "_")
         setattr(self, attr, float(value))  # assign before registering, or pythonfmu makes no setter
         self.register_variable(Real(

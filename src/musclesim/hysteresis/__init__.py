@@ -2,11 +2,13 @@
 validation on the virtual wire (SPEC 2.3), the loop explorer (steady peak-to-peak strain of cycled
 temperature bands) and the timing of the Preisach core.
 """
-from musclesim.hysteresis.identify import identify, identify_main
-from musclesim.hysteresis.loops import loops, loops_main, parse_band
+from musclesim.hysteresis.identify import identify as identify_forc
+from musclesim.hysteresis.identify import identify_main
+from musclesim.hysteresis.loops import loops as band_loops
+from musclesim.hysteresis.loops import loops_main, parse_band
 from musclesim.hysteresis.timing import format_preisach as format_preisach_timing
 from musclesim.hysteresis.timing import preisach as preisach_timing
 from musclesim.hysteresis.validation import report as validation_report
 
-__all__ = ["identify", "identify_main", "loops", "loops_main", "parse_band",
+__all__ = ["identify_forc", "identify_main", "band_loops", "loops_main", "parse_band",
            "preisach_timing", "format_preisach_timing", "validation_report"]

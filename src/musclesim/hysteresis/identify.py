@@ -22,7 +22,7 @@ below its peak, a descending branch that rises more than `RISE_TOL` above its ru
 stops more than `END_TOL` above a grid temperature, a stress that is not constant, two records at
 one stress, and identified values that break the monotonicity of a FORC surface.
 
-Validation on the virtual bench (SPEC 2.3) lives in `musclesim.forcvalidation`.
+Validation on the virtual bench (SPEC 2.3) lives in `musclesim.hysteresis.validation`.
 """
 import json
 from dataclasses import dataclass
@@ -30,9 +30,9 @@ from pathlib import Path
 
 import numpy as np
 
-from musclesim.hysteresis import validation as forcvalidation
+from musclesim.cosim import read_time_series
 from musclesim.errors import UserError
-from musclesim.cosim.timeseries import read_time_series
+from musclesim.hysteresis import validation
 
 ZERO_C = 273.15  # K
 # recorded signals the identification reads (scenario sma-forc-identification)
@@ -327,7 +327,7 @@ def identify_main(paths, out, validate=False, as_json=False):
             "max_strain": {float(s): float(surface.table[k, -1, 0])
                            for k, s in enumerate(surface.stresses)}}
     if validate:
-        info["validation"] = forcvalidation.report(surface)
+        info["validation"] = validation.report(surface)
     if as_json:
         return info
     text = [f"wrote {out}: FORC surfaces at "
@@ -336,5 +336,5 @@ def identify_main(paths, out, validate=False, as_json=False):
             "maximum strain F(a0, b0): "
             + ", ".join(f"{v:.5f}" for v in info["max_strain"].values())]
     if validate:
-        text.append(forcvalidation.format_report(info["validation"]))
+        text.append(validation.format_report(info["validation"]))
     return "\n".join(text)
