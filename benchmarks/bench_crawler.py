@@ -2,7 +2,7 @@
 
     .venv/bin/python benchmarks/bench_crawler.py [--fmus fmus] [--stop-time 60] [--json out.json]
 
-(i) our master (`musclesim.master.Master`), (ii) libcosim (libcosimpy) on the exported SSP archive,
+(i) our master (`musclesim.cosim.Master`), (ii) libcosim (libcosimpy) on the exported SSP archive,
 (iii) a hand-written fmpy loop over the same FMUs doing what our Jacobi master does, (iv) the
 monolithic numpy model. Each time covers loading the FMUs, initializing and stepping; exporting
 the archive and building FMUs are not timed. Goals: ours >= 4x faster than libcosim, and at most
@@ -22,11 +22,10 @@ import numpy as np
 from fmpy import extract
 from fmpy.fmi2 import FMU2Slave
 
-from musclesim.cosim import build, scenario, ssp
 from musclesim.components.crawler import body, friction, inputs
 from musclesim.components.crawler.monolithic import simulate_ideal
-from musclesim.cosim.host import read_fmu
-from musclesim.cosim.master import Master
+from musclesim.cosim import (Master, build_all, check_fresh, export_ssp, load_scenario, read_fmu,
+                             split_signal)
 
 ROOT = Path(__file__).resolve().parents[1]
 IDEAL = ROOT / "scenarios" / "crawler-ideal.toml"
@@ -54,7 +53,7 @@ def run_libcosim(s, ssp_path):
     execution.add_observer(observer)
     ids = {}
     for signal in s.record:
-        inst, var = scenario.split_signal(signal)
+        inst, var = split_signal(signal)
         index = execution.slave_index_from_instance_name(inst)
         ref = next(v.reference for v in execution.slave_variables(index) if v.name.decode() == var)
         observer.start_time_series(index, ref, CosimVariableType.REAL)
@@ -245,7 +244,7 @@ def report(times, results, discretise):
     print(f"ours vs monolithic numpy: {ratios['ours_over_monolithic']:.1f}x its time")
     print(f"ours vs libcosim less its {discretise['libcosim']['calls']} re-discretisations: "
           f"{ratios['libcosim_less_discretisation_over_ours']:.2f}x faster")
-    # libcosim delays direct feedthrough by a step (tests/test_ssp.py), so it ends elsewhere
+    # libcosim delays direct feedthrough by a step (tests/cosim/test_ssp.py), so it ends elsewhere
     print(f"final x_cm: ours {ours['body.x_cm'][-1]:.6f} m, "
           f"libcosim {results['libcosim']['body.x_cm']:.6f} m")
     return ratios, goals
@@ -259,14 +258,14 @@ def main(argv=None):
     ap.add_argument("--repeat", type=int, default=1, help="best of this many runs per method")
     ap.add_argument("--json", help="also write the numbers to this JSON file")
     args = ap.parse_args(argv)
-    s = scenario.load(IDEAL, stop_time=args.stop_time)
+    s = load_scenario(IDEAL, stop_time=args.stop_time)
     with tempfile.TemporaryDirectory(prefix="bench_crawler_") as tmp:
         fmu_dir = Path(args.fmus) if args.fmus else Path(tmp) / "fmus"
         if args.fmus:
-            build.check_fresh(fmu_dir)
+            check_fresh(fmu_dir)
         else:
-            build.build_all(fmu_dir)
-        ssp_path = ssp.export(s, fmu_dir, Path(tmp) / "crawler-ideal.ssp")
+            build_all(fmu_dir)
+        ssp_path = export_ssp(s, fmu_dir, Path(tmp) / "crawler-ideal.ssp")
         times, results, discretise = measure(s, fmu_dir, ssp_path, args.repeat)
     ratios, goals = report(times, results, discretise)
     if args.json:

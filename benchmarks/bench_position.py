@@ -13,13 +13,13 @@ import json
 import time
 from pathlib import Path
 
-from musclesim.cosim import master, scenario
+from musclesim.cosim import Master, load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
 def timed_run(s, fmu_dir, split):
-    m = master.Master(s, fmu_dir)
+    m = Master(s, fmu_dir)
     spent = {}
     if split:
         instantiate = m._instantiate
@@ -58,7 +58,7 @@ def main():
     ap.add_argument("--fmus", default=str(ROOT / "fmus"))
     ap.add_argument("--json", help="also write the numbers to this file")
     args = ap.parse_args()
-    s = scenario.load(ROOT / "scenarios" / "sma-position-control.toml", stop_time=args.stop_time)
+    s = load_scenario(ROOT / "scenarios" / "sma-position-control.toml", stop_time=args.stop_time)
     wall, _, n = timed_run(s, args.fmus, split=False)
     _, spent, _ = timed_run(s, args.fmus, split=True)
     report = {"simulated_s": s.stop_time, "steps": n, "wall_s": wall,

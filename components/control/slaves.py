@@ -1,9 +1,8 @@
 """FMU slaves of the controllers: thin adapters over musclesim.components.control.pid."""
 from musclesim.components.control import pid
+from musclesim.components.control.pid import SCHEDULE_K
 from musclesim.fmu import Slave
 
-# SPEC 2.5: 21 operating points of the temperature reference, 30..130 C every 5 C (in K)
-SCHEDULE_K = [273.15 + 30.0 + 5.0 * i for i in range(21)]
 UNLIMITED = 1e30  # output limits that never act (FMI start values must be finite)
 
 

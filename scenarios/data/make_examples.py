@@ -15,9 +15,10 @@ from pathlib import Path
 
 import numpy as np
 
-from musclesim.diagnosis import blind
-from musclesim.cosim import master, scenario
 from musclesim.components.sma import profiles
+from musclesim.cosim import Master, load_scenario
+from musclesim.diagnosis import write_data_set
+from musclesim.diagnosis.blind import BENCHES, record
 
 HERE = Path(__file__).parent
 EXAMPLES = {
@@ -42,10 +43,10 @@ def position_stress_ignored(path, duration=60.0, seed=7):
     rows, spans = [], []
     for j, lp in enumerate(POSITION_RUNS):
         k = 1 + profiles.LOADING_PROFILES.index(lp)
-        s = scenario.load(HERE.parent / "sma-position-control.toml",
+        s = load_scenario(HERE.parent / "sma-position-control.toml",
                           ["strain.profile=4.0", f"loading.profile={k}.0",
                            "inverse.sigma_surface=125e6"], duration)
-        res = master.Master(s, HERE.parent.parent / "fmus").run()
+        res = Master(s, HERE.parent.parent / "fmus").run()
         assert res.error is None, res.error
         n = (len(res.time) - 1) // LOG_EVERY
         block = slice(1, n * LOG_EVERY + 1)  # each log row closes a 20 ms block
@@ -77,9 +78,9 @@ def position_stress_ignored(path, duration=60.0, seed=7):
 if __name__ == "__main__":
     for i, (name, (truth, description)) in enumerate(EXAMPLES.items()):
         case = {"case": name, "latency_samples": 1, "seed": 100 + i, "strain_gain": 1.0, **truth}
-        time, cols = blind.record(case, HERE.parent, HERE.parent.parent / "fmus")
-        bench, inputs, outputs, _ = blind.BENCHES[case["bench"]]
-        blind.write_data_set(HERE / name, time, cols, inputs, outputs, bench, description)
+        time, cols = record(case, HERE.parent, HERE.parent.parent / "fmus")
+        bench, inputs, outputs, _ = BENCHES[case["bench"]]
+        write_data_set(HERE / name, time, cols, inputs, outputs, bench, description)
         print(f"wrote {HERE / name}")
     position_stress_ignored(HERE / "sma-position-stress-ignored")
     print(f"wrote {HERE / 'sma-position-stress-ignored'}")

@@ -1,5 +1,8 @@
 """The `musclesim` command line: build, run, export, sweep, loops, identify, dataset, diagnose,
-benchmark-diagnosis, bench, linear, characterise.
+benchmark-diagnosis, bench, linear, characterise, table.
+
+The top layer: it parses arguments, calls the public interfaces of the layers below (cosim, batch,
+analysis, hysteresis, diagnosis) and prints; nothing imports it.
 
 Mistakes a user can fix end in one sentence on stderr and exit status 2; a failed simulation
 exits with status 1 after writing the results it reached.
@@ -11,9 +14,11 @@ from pathlib import Path
 
 from musclesim.errors import UserError
 
+__all__ = ["main"]
+
 
 def _cmd_build(args):
-    from musclesim.cosim.build import build_all
+    from musclesim.cosim import build_all
 
     for path in build_all(args.fmus):
         print(f"built {path}")
@@ -39,18 +44,18 @@ def _cmd_run(args):
 
 
 def _cmd_export(args):
-    from musclesim.cosim import build, scenario, ssp
+    from musclesim.cosim import check_fresh, export_ssp, load_scenario
 
-    s = scenario.load(args.scenario, args.set, args.stop_time)
-    build.check_fresh(args.fmus)
-    print(f"wrote {ssp.export(s, args.fmus, args.ssp)}")
+    s = load_scenario(args.scenario, args.set, args.stop_time)
+    check_fresh(args.fmus)
+    print(f"wrote {export_ssp(s, args.fmus, args.ssp)}")
     return 0
 
 
 def _cmd_sweep(args):
-    from musclesim.batch import sweep
+    from musclesim.batch import run_sweep
 
-    summary = sweep.run(args.scenario, grid=args.grid, out=args.out, fmu_dir=args.fmus,
+    summary = run_sweep(args.scenario, grid=args.grid, out=args.out, fmu_dir=args.fmus,
                         scheduler=args.scheduler, workers=args.workers, overrides=args.set,
                         stop_time=args.stop_time)
     print(json.dumps(summary, indent=2))
@@ -58,21 +63,21 @@ def _cmd_sweep(args):
 
 
 def _cmd_linear(args):
-    from musclesim.cosim import build
-    from musclesim.analysis import linear
+    from musclesim.analysis import (crawler, format_crawler, format_pneumatic, format_sma_load,
+                                    format_sma_thermal, gain_table_toml, load_gains_toml,
+                                    pneumatic, pneumatic_gains_toml, sma_load, sma_thermal)
+    from musclesim.cosim import check_fresh
 
     if args.system == "crawler":
-        report, text, toml = linear.crawler(), linear.format_crawler, None
+        report, text, toml = crawler(), format_crawler, None
     elif args.system == "sma-thermal":
-        report, text, toml = linear.sma_thermal(), linear.format_sma_thermal, linear.gain_table_toml
+        report, text, toml = sma_thermal(), format_sma_thermal, gain_table_toml
     elif args.system == "sma-load":
-        build.check_fresh(args.fmus)
-        report, text, toml = linear.sma_load(args.fmus), linear.format_sma_load, \
-            linear.load_gains_toml
+        check_fresh(args.fmus)
+        report, text, toml = sma_load(args.fmus), format_sma_load, load_gains_toml
     else:
-        build.check_fresh(args.fmus)
-        report, text, toml = linear.pneumatic(args.fmus), linear.format_pneumatic, \
-            linear.pneumatic_gains_toml
+        check_fresh(args.fmus)
+        report, text, toml = pneumatic(args.fmus), format_pneumatic, pneumatic_gains_toml
     if args.write and toml is None:
         raise UserError(f"--write is for sma-thermal, sma-load and pneumatic, not {args.system}")
     written = []
@@ -91,28 +96,27 @@ def _cmd_linear(args):
 
 
 def _cmd_characterise(args):
-    from musclesim.analysis import characterise
-
+    from musclesim.analysis import ELONGATION_TARGET, gait_references, gait_references_toml
     from musclesim.cosim import run_scenario
 
     summary, res = run_scenario(args.scenario, args.out, args.fmus, args.set)
     if res.error:
         raise UserError(f"{args.scenario}: the characterisation run stopped: {res.error}")
-    refs = characterise.references(res)
-    print(f"central: {refs['p_central']:.1f} Pa for {characterise.ELONGATION_TARGET:g} m "
+    refs = gait_references(res)
+    print(f"central: {refs['p_central']:.1f} Pa for {ELONGATION_TARGET:g} m "
           f"elongation ({refs['elongation_at_ramp_end']:.4f} m at the end of the ramp)")
     for i, where in ((1, "back"), (2, "front")):
         print(f"{where} extremal: firm ground contact from {refs[f'p_firm{i}']:.1f} Pa, "
               f"reference {refs[f'p_anchor{i}']:.1f} Pa")
     print(f"wrote the run to {args.out}")
     if args.write:
-        Path(args.write).write_text(characterise.references_toml(refs, args.scenario))
+        Path(args.write).write_text(gait_references_toml(refs, args.scenario))
         print(f"wrote the gait references to {args.write}", file=sys.stderr)
     return 0
 
 
 def _cmd_loops(args):
-    from musclesim.hysteresis.loops import loops_main
+    from musclesim.hysteresis import loops_main
 
     out = loops_main(args.stress, args.band, model_path=args.model, as_json=args.json,
                      plot_path=args.plot)
@@ -121,15 +125,15 @@ def _cmd_loops(args):
 
 
 def _cmd_bench(args):
-    from musclesim.hysteresis import timing as bench
+    from musclesim.hysteresis import format_preisach_timing, preisach_timing
 
-    report = bench.preisach()
-    print(json.dumps(report, indent=2) if args.json else bench.format_preisach(report))
+    report = preisach_timing()
+    print(json.dumps(report, indent=2) if args.json else format_preisach_timing(report))
     return 0
 
 
 def _cmd_identify(args):
-    from musclesim.hysteresis.identify import identify_main
+    from musclesim.hysteresis import identify_main
 
     out = identify_main(args.records, args.out, validate=args.validate, as_json=args.json)
     print(json.dumps(out, indent=2) if args.json else out)
@@ -137,9 +141,9 @@ def _cmd_identify(args):
 
 
 def _cmd_dataset_check(args):
-    from musclesim.diagnosis import dataset
+    from musclesim.diagnosis import load_dataset
 
-    ds = dataset.load(args.dataset, check_model=args.model, fmu_dir=args.fmus)
+    ds = load_dataset(args.dataset, check_model=args.model, fmu_dir=args.fmus)
     train, held = ds.parts()
     kind = "scalar-only" if ds.scalar_only else f"{len(ds.time)} samples, {len(ds.columns)} columns"
     print(f"{ds.path}: OK ({kind}; experiments {', '.join(ds.experiments)}; "
@@ -147,20 +151,10 @@ def _cmd_dataset_check(args):
     return 0
 
 
-def _dask_map(client):
-    """`pmap` over a Dask client: the tasks' results in order."""
-    def pmap(fn, items):
-        items = list(items)
-        if len(items) < 2:
-            return [fn(x) for x in items]
-        return client.gather(client.map(fn, items, pure=False))
-    return pmap
-
-
 def _cmd_diagnose(args):
-    from musclesim.cosim import build
-    from musclesim.diagnosis import dataset, pipeline as diagnose, report as diagreport
-    from musclesim.batch.sweep import dask_client
+    from musclesim.batch import dask_client, dask_map
+    from musclesim.cosim import check_fresh
+    from musclesim.diagnosis import diagnose, load_dataset, write_report
 
     models = {}
     for item in args.model:
@@ -168,39 +162,38 @@ def _cmd_diagnose(args):
         if not ref:
             raise UserError(f"--model {item!r}: give SCENARIO or EXPERIMENT=SCENARIO")
         models[experiment if sep else "*"] = ref
-    ds = dataset.load(args.dataset, check_model=True, fmu_dir=args.fmus, models=models)
-    build.check_fresh(args.fmus)
+    ds = load_dataset(args.dataset, check_model=True, fmu_dir=args.fmus, models=models)
+    check_fresh(args.fmus)
     traces = {}
     with dask_client(args.scheduler, args.workers) as client:
-        report = diagnose.diagnose(ds, args.fmus, _dask_map(client),
-                                   lambda text: print(f"musclesim: {text}", file=sys.stderr),
-                                   traces)
-    paths = diagreport.write(args.out, report, traces)
+        report = diagnose(ds, args.fmus, dask_map(client),
+                          lambda text: print(f"musclesim: {text}", file=sys.stderr), traces)
+    paths = write_report(args.out, report, traces)
     print(f"verdict: {report['verdict']} ({report['explanation']})")
     print("wrote " + ", ".join(str(p) for p in paths))
     return 0
 
 
 def _cmd_benchmark_diagnosis(args):
-    from musclesim.diagnosis import blind
-    from musclesim.cosim import build
-    from musclesim.batch.sweep import dask_client
+    from musclesim.batch import dask_client, dask_map
+    from musclesim.cosim import check_fresh
+    from musclesim.diagnosis import run_blind_benchmark
 
-    build.check_fresh(args.fmus)
+    check_fresh(args.fmus)
     with dask_client(args.scheduler, args.workers) as client:
-        scores = blind.run(args.cases, args.seed, args.out, args.fmus, args.scenarios,
-                           _dask_map(client),
-                           lambda text: print(f"musclesim: {text}", file=sys.stderr))
+        scores = run_blind_benchmark(args.cases, args.seed, args.out, args.fmus, args.scenarios,
+                                     dask_map(client),
+                                     lambda text: print(f"musclesim: {text}", file=sys.stderr))
     print(json.dumps({k: v for k, v in scores.items() if k != "per_case"}, indent=2))
     print(f"wrote {Path(args.out) / 'scores.json'} (per-case table inside)")
     return 0
 
 
 def _cmd_table(args):
-    from musclesim.analysis import position as table
+    from musclesim.analysis import sma_position
 
-    report = table.sma_position(args.out, args.scenario, args.fmus, args.stop_time,
-                                args.scheduler, args.workers, args.only, run=not args.no_run)
+    report = sma_position(args.out, args.scenario, args.fmus, args.stop_time,
+                          args.scheduler, args.workers, args.only, run=not args.no_run)
     for name, stats in report.items():
         if stats["cells"] == 0:
             print(f"{name}: no case finished yet")

@@ -5,13 +5,13 @@ import numpy as np
 import pytest
 
 from musclesim import cli
-from musclesim.analysis import linear
+from musclesim.analysis import linear_crawler, linear_sma_thermal
 from musclesim.components.crawler.body import BodyParams
 
 
 @pytest.mark.parametrize("m1, m2", [(0.2, 0.2), (0.3, 0.2), (0.15, 0.4)])
 def test_controllability_ranks_and_subspace(m1, m2):
-    r = linear.crawler(BodyParams(m1=m1, m2=m2))
+    r = linear_crawler.crawler(BodyParams(m1=m1, m2=m2))
     assert r["rank_fa_only"] == 2
     assert r["rank_all_inputs"] == 4
     expected = [[1, 0, -m1 / m2, 0], [0, 1, 0, -m1 / m2]]  # SPEC 1.2
@@ -31,7 +31,7 @@ def test_cli_json_and_text(capsys):
 # ---- SMA wire temperature loop (SPEC 2.5) -----------------------------------------------------
 @pytest.fixture(scope="module")
 def sma_report():
-    return linear.sma_thermal()
+    return linear_sma_thermal.sma_thermal()
 
 
 def test_sma_thermal_plants_and_designed_poles(sma_report):
@@ -48,7 +48,7 @@ def test_sma_thermal_plants_and_designed_poles(sma_report):
     assert points[-1]["plant_gain"] > 2.5 * points[0]["plant_gain"]
     d = sma_report["design"]
     for q in points:
-        plant, _ = linear.sma_thermal_plant(q["T_op"], T_amb=d["T_amb"], sigma=d["sigma"])
+        plant, _ = linear_sma_thermal.sma_thermal_plant(q["T_op"], T_amb=d["T_amb"], sigma=d["sigma"])
         closed = ct.feedback(ct.tf([q["Kp"], q["Ki"]], [1, 0]) * ct.tf(plant))
         poles = sorted(ct.poles(closed), key=lambda z: z.imag)
         wd = d["omega_n"] * np.sqrt(1 - d["zeta"] ** 2)
@@ -62,7 +62,7 @@ def test_shipped_gain_table_is_the_design_output(sma_report):
     from conftest import SCENARIOS
 
     assert (SCENARIOS / "params" / "sma-thermal-gains.toml").read_text() \
-        == linear.gain_table_toml(sma_report)
+        == linear_sma_thermal.gain_table_toml(sma_report)
 
 
 def test_cli_sma_thermal_writes_the_table(tmp_path, capsys):

@@ -8,9 +8,9 @@ import tomllib
 import numpy as np
 import pytest
 
-from musclesim.analysis import characterise, linear
 from musclesim import cli
-from musclesim.cosim import master, scenario
+from musclesim.analysis import characterise, linear_pneumatic
+from musclesim.cosim import Master, load_scenario
 from musclesim.components.pneumatic.actuator import ActuatorParams
 from musclesim.errors import UserError
 
@@ -23,7 +23,7 @@ PID_KEYS = {"Kp", "Ki", "Kd", "u_min", "u_max"}
 
 @pytest.fixture(scope="module")
 def report(fmu_dir):
-    return linear.pneumatic(fmu_dir, {"scenario": str(IDENTIFICATION)})
+    return linear_pneumatic.pneumatic(fmu_dir, {"scenario": str(IDENTIFICATION)})
 
 
 def actuator_params(kind):
@@ -68,7 +68,7 @@ def test_identified_central_rate_lies_between_held_and_quasi_static_blocks(repor
     p, p_op = actuator_params("central"), report["design"]["p_op"]
     rate_in, rate_out = hand_rates(p, p_op, p.V0)
     assert (rate_in, rate_out) == pytest.approx((100.4e3, 92.6e3), rel=0.005)  # by hand
-    k = scenario.load(IDENTIFICATION).instances["body"].parameters["k"]
+    k = load_scenario(IDENTIFICATION).instances["body"].parameters["k"]
     volume = p.V0 + p.s_a * p.s_a * p_op / k
     held = hand_rates(p, p_op, volume)
     quasi_static = [r / (1 + p.kappa * (p_op + 101325.0) * p.s_a ** 2 / (k * volume)) for r in held]
@@ -131,16 +131,16 @@ def test_cli_writes_pid_files_that_scenarios_read_and_match_the_committed_ones(
         lines += [f'[instances.{kind}]', 'component = "PID"',
                   f'parameters_file = "gains/pneumatic-{kind}-pid.toml"']
     (tmp_path / "pids.toml").write_text("\n".join(lines) + "\n")
-    s = scenario.load(tmp_path / "pids.toml")
+    s = load_scenario(tmp_path / "pids.toml")
     assert s.instances["extremal"].parameters == fresh
-    res = master.Master(s, fmu_dir).run()  # the FMU knows every key as a parameter
+    res = Master(s, fmu_dir).run()  # the FMU knows every key as a parameter
     assert res.error is None and len(res.time) == 11
 
 
 # ---- the gait's pressure references (characterise) -------------------------------------------
 
 class FakeResults:
-    """What `characterise.references` reads of a `master.Results`: time and signals by name."""
+    """What `characterise.references` reads of a `Master` run's results: time and signals by name."""
 
     def __init__(self, time, **signals):
         self.time = np.asarray(time, dtype=float)
@@ -205,7 +205,7 @@ def test_committed_gait_references_are_what_characterise_computes_now(fmu_dir, t
         assert committed[key] == pytest.approx(fresh[key], rel=1e-9), key
     # plausibility: the blocks slide on their casings, so the elongation is the spring's
     # s_a p / k less a little friction lag (SPEC 1.2, 1.3)
-    body = scenario.load(SCENARIOS / "crawler-pneumatic.toml").instances["body"].parameters
+    body = load_scenario(SCENARIOS / "crawler-pneumatic.toml").instances["body"].parameters
     stretch = ActuatorParams().s_a * fresh["p_central"] / body["k"]
     assert characterise.ELONGATION_TARGET < stretch < characterise.ELONGATION_TARGET * 1.05
     # firm contact needs the extremal pressure above the contact threshold for t_contact

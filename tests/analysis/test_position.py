@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from musclesim.analysis import linear, position as table
-from musclesim.cosim import master, scenario
-from musclesim.batch import sweep
+from musclesim.analysis import linear_sma_load, position as table
+from musclesim.batch import run_case
+from musclesim.cosim import Master, load_scenario
 from musclesim.errors import UserError
 
 from conftest import SCENARIOS
@@ -16,8 +16,8 @@ POSITION = SCENARIOS / "sma-position-control.toml"
 
 
 def run(fmu_dir, sets, stop_time=3.0):
-    s = scenario.load(POSITION, sets, stop_time)
-    res = master.Master(s, fmu_dir).run()
+    s = load_scenario(POSITION, sets, stop_time)
+    res = Master(s, fmu_dir).run()
     assert res.error is None, res.error
     return res
 
@@ -34,14 +34,14 @@ def test_each_kind_of_the_matrix_runs_and_tracks(fmu_dir, kind):
 
 
 def test_the_tables_strain_is_the_lasers_contraction_over_the_wires_length(fmu_dir):
-    s = scenario.load(POSITION, (), 2.0)
+    s = load_scenario(POSITION, (), 2.0)
     length = table.wire_length(s, fmu_dir)
     assert length == 58.42e-3  # the SmaWire's own (SPEC 2.1)
-    res = master.Master(s, fmu_dir).run()
+    res = Master(s, fmu_dir).run()
     laser_strain = res["laser.s_meas"] / length  # laser effects off
     assert np.max(res["wire.strain"]) > 0.004
     np.testing.assert_allclose(laser_strain, res["wire.strain"], rtol=0, atol=1e-12)
-    longer = scenario.load(POSITION, ["wire.length=0.2"], 2.0)
+    longer = load_scenario(POSITION, ["wire.length=0.2"], 2.0)
     assert table.wire_length(longer, fmu_dir) == 0.2
 
 
@@ -53,14 +53,14 @@ def test_stress_ignored_inverse_does_not_follow_the_stress(fmu_dir):
 
 
 def test_stress_loop_is_designed_on_the_identified_load_path(fmu_dir):
-    report = linear.sma_load(fmu_dir)
+    report = linear_sma_load.sma_load(fmu_dir)
     K, tau = report["identified"]["K"], report["identified"]["tau"]
     assert K == pytest.approx(2.0 * 12.0 / 24.0, rel=1e-6)  # k_f V / R of the Electromagnet
     assert tau == pytest.approx(0.05 / 24.0, rel=1e-6)  # L / R
     assert report["Kp"] > 0 and report["Ki"] > 0
     assert report["sampled_pole_radius"] < 1 and report["phase_margin_deg"] > 45
     gains = (SCENARIOS / "params" / "sma-load-gains.toml").read_text()
-    assert linear.load_gains_toml(report) == gains  # the scenario uses this design
+    assert linear_sma_load.load_gains_toml(report) == gains  # the scenario uses this design
 
 
 def test_table_of_a_fixed_small_run(tmp_path):
@@ -72,6 +72,9 @@ def test_table_of_a_fixed_small_run(tmp_path):
                header="time,strain.eps_ref,laser.s_meas", comments="")
     time, col = table.read_case(csv, ("strain.eps_ref", "laser.s_meas"))
     np.testing.assert_array_equal(time, t)
+    csv.write_text("# musclesim run 0123\n" + csv.read_text())  # a run's id line is skipped
+    np.testing.assert_array_equal(table.read_case(csv, ("laser.s_meas",))[1]["laser.s_meas"],
+                                  col["laser.s_meas"])
     rmse, percent = table.strain_error(col, 0.1)
     assert rmse == pytest.approx(math.sqrt((1 + 1 + 4) / 5) * 1e-3)
     assert percent == pytest.approx(100 * rmse / 0.04)
@@ -116,11 +119,11 @@ def test_tables_are_written_from_the_finished_cases(tmp_path, fmu_dir):
     out = tmp_path / "matrix"
     first, second, third = table.cases()["stress-ignored"][:3]
     for r, c, cid, sets in (first, second):
-        summary = sweep.run_case(str(POSITION), str(out / "cases" / cid), str(fmu_dir), sets, 0.4)
+        summary = run_case(str(POSITION), str(out / "cases" / cid), str(fmu_dir), sets, 0.4)
         assert summary["completed"] is True
     # a case that fails (no SP IX) is reported as failed, not as a case still to run
-    summary = sweep.run_case(str(POSITION), str(out / "cases" / third[2]), str(fmu_dir),
-                             [*third[3], "strain.profile=9.0"], 0.4)
+    summary = run_case(str(POSITION), str(out / "cases" / third[2]), str(fmu_dir),
+                       [*third[3], "strain.profile=9.0"], 0.4)
     assert summary["completed"] is False
     report = table.sma_position(out, POSITION, fmu_dir, 0.4, only=["stress-ignored"], run=False)
     _, col = table.read_case(out / "cases" / first[2] / "results.csv")

@@ -1,4 +1,4 @@
-"""Tests of musclesim.sweep: grid parsing, sweep files, one result per case, resume, failures."""
+"""Tests of musclesim.batch.sweep: grid parsing, sweep files, one result per case, resume, failures."""
 import csv
 import json
 import math
@@ -6,8 +6,8 @@ import math
 import pytest
 
 from musclesim import cli
-from musclesim.cosim import scenario
 from musclesim.batch import sweep
+from musclesim.cosim import load_scenario
 from musclesim.errors import UserError
 
 from conftest import SCENARIOS
@@ -53,8 +53,8 @@ def test_parse_axis_refuses_bad_syntax(text):
 
 
 def test_case_ids_do_not_depend_on_axis_order():
-    a = sweep.cases({"x.a": (1.0, 2.0), "y.b": (0.5,)})
-    b = sweep.cases({"y.b": (0.5,), "x.a": (2.0, 1.0)})
+    a = sweep.grid_cases({"x.a": (1.0, 2.0), "y.b": (0.5,)})
+    b = sweep.grid_cases({"y.b": (0.5,), "x.a": (2.0, 1.0)})
     assert sorted(cid for cid, _ in a) == sorted(cid for cid, _ in b)
     assert a[0][0] == "x.a=1,y.b=0.5"
 
@@ -70,7 +70,7 @@ def test_sweep_files_load():
     assert len(freq.axes["inputs.f_f"]) == 10 and "body.k" in freq.axes  # ... and adds its own
     assert freq.plot == {"kind": "heatmap", "x": "inputs.f_f", "y": "inputs.f_u",
                          "metrics": ["x1_final"]}
-    scenario.load(freq.scenario)
+    load_scenario(freq.scenario)
 
 
 def test_sweep_file_errors_name_the_file(tmp_path):

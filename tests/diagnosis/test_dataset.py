@@ -1,5 +1,5 @@
-"""Measured data sets (musclesim.dataset): the format loads, and every kind of mistake is reported,
-all at once, naming the file and where in it."""
+"""Measured data sets (musclesim.diagnosis.dataset): the format loads, and every kind of mistake
+is reported, all at once, naming the file and where in it."""
 import math
 
 import numpy as np

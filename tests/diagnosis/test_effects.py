@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 from fmpy import read_model_description
 
-from musclesim.diagnosis import effects
-from musclesim.cosim import master, scenario
 from musclesim.components import CATALOGUE
+from musclesim.cosim import Master, load_scenario
+from musclesim.diagnosis import effects
 
 from conftest import SCENARIOS
 
@@ -53,8 +53,8 @@ def test_off_values_are_the_fmu_defaults(fmu_dir, effect):
 
 
 def _run(fmu_dir, name, overrides):
-    s = scenario.load(SCENARIOS / f"{name}.toml", overrides, stop_time=2.0)
-    res = master.Master(s, fmu_dir).run()
+    s = load_scenario(SCENARIOS / f"{name}.toml", overrides, stop_time=2.0)
+    res = Master(s, fmu_dir).run()
     assert res.error is None, res.error
     return res.data
 

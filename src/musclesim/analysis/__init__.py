@@ -1,1 +1,33 @@
-"""(being written)"""
+"""The study's analyses: linear analysis and controller design with python-control, the
+crawler's characterisation and the position-control study's tables.
+
+- `linear_crawler`: the crawler body's controllability (SPEC 1.2);
+- `linear_sma_thermal`: the SMA wire's thermal models and the gain-scheduled temperature PI
+  (SPEC 2.5);
+- `linear_sma_load`: the SMA bench's load path identified on its FMUs and the stress loop's PI
+  (SPEC 2.1, 2.4);
+- `linear_pneumatic`: the crawler's pressure loops identified on its FMUs and their PIs
+  (SPEC 1.1, 1.5);
+- `design`: the PI designs and margins the linear analyses share;
+- `characterise`: the gait's pressure references from the characterisation run (SPEC 1.5);
+- `position`: the position-control matrix (SPEC 2.4) run as case folders (``musclesim.batch``)
+  and written as tables.
+
+Each linear analysis gives a report (a dict), its text (``format_*``) and, for the controllers,
+the TOML of the gains a scenario reads (``*_toml``).
+"""
+from musclesim.analysis.characterise import ELONGATION_TARGET
+from musclesim.analysis.characterise import references as gait_references
+from musclesim.analysis.characterise import references_toml as gait_references_toml
+from musclesim.analysis.linear_crawler import crawler, format_crawler
+from musclesim.analysis.linear_pneumatic import format_pneumatic, pneumatic, pneumatic_gains_toml
+from musclesim.analysis.linear_sma_load import format_sma_load, load_gains_toml, sma_load
+from musclesim.analysis.linear_sma_thermal import format_sma_thermal, gain_table_toml, sma_thermal
+from musclesim.analysis.position import sma_position
+
+__all__ = ["crawler", "format_crawler",
+           "sma_thermal", "format_sma_thermal", "gain_table_toml",
+           "sma_load", "format_sma_load", "load_gains_toml",
+           "pneumatic", "format_pneumatic", "pneumatic_gains_toml",
+           "gait_references", "gait_references_toml", "ELONGATION_TARGET",
+           "sma_position"]

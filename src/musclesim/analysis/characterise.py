@@ -25,10 +25,11 @@ CENTRAL_RAMP_END = 20.0  # s, end of the central ramp in the characterisation sc
 
 
 def references(res, elongation_target=ELONGATION_TARGET):
-    """Gait references from the characterisation's results (a `musclesim.master.Results`).
+    """Gait references from the characterisation's results (of a `musclesim.cosim.Master` run).
 
     Returns ``{"p_central", "p_anchor1", "p_anchor2"}`` in Pa, plus the firm-contact pressures
-    ``p_firm1``, ``p_firm2`` [Pa] and the elongation reached at the end of the central ramp [m]; raises UserError naming what the run did not reach.
+    ``p_firm1``, ``p_firm2`` [Pa] and the elongation reached at the end of the central ramp [m];
+    raises UserError naming what the run did not reach.
     """
     rising = res.time <= CENTRAL_RAMP_END
     elongation = (res["body.flange2.s"] - res["body.flange1.s"])[rising]

@@ -9,10 +9,10 @@ Three tables, each cell one run of scenarios/sma-position-control.toml with ``--
 
 A cell is the strain RMSE between the reference and the laser's strain (contraction / wire
 length) and that RMSE as a percentage of the maximum reference strain. Runs go to Dask (the
-sweep machinery: a local cluster or ``--scheduler``), one folder per case, resumable; each table
-is written as CSV and Markdown with the mean and standard deviation of its cells (a case that
-failed is a ``failed`` cell, counted in neither), and every case gets a figure (reference vs
-measured strain, stress, temperature).
+case folders of ``musclesim.batch``: a local cluster or ``--scheduler``), one folder per case,
+resumable; each table is written as CSV and Markdown with the mean and standard deviation of its
+cells (a case that failed is a ``failed`` cell, counted in neither), and every case gets a figure
+(reference vs measured strain, stress, temperature).
 """
 import csv
 import json
@@ -55,10 +55,14 @@ SIGNALS = ("strain.eps_ref", "laser.s_meas", "loading.sigma_ref", "wire.stress",
 
 def read_case(results_csv, names=SIGNALS):
     """(time, {name: values}) of the named columns of a run's results.csv (the master's own
-    output: plain numbers, so numpy's parser reads it; a missing column is the user's error)."""
+    output: plain numbers, so numpy's parser reads it; a missing column is the user's error).
+    Lines starting with ``#`` before the header (the run's id) are skipped."""
     try:
         with open(results_csv, encoding="utf-8") as f:
-            header = [h.strip() for h in f.readline().split(",")]
+            skip, line = 1, f.readline()
+            while line.startswith("#"):
+                skip, line = skip + 1, f.readline()
+            header = [h.strip() for h in line.split(",")]
     except OSError as exc:
         raise UserError(f"{results_csv} cannot be read: {exc}") from None
     missing = [n for n in names if n not in header]
@@ -66,7 +70,7 @@ def read_case(results_csv, names=SIGNALS):
         raise UserError(f"{results_csv} has no column {', '.join(missing) or 'time'} "
                         f"(the scenario must record {', '.join(names)})")
     try:
-        data = np.loadtxt(results_csv, delimiter=",", skiprows=1, ndmin=2,
+        data = np.loadtxt(results_csv, delimiter=",", skiprows=skip, ndmin=2,
                           usecols=[0] + [header.index(n) for n in names])
     except ValueError as exc:
         raise UserError(f"{results_csv} is not a run's results: {exc}") from None
@@ -76,7 +80,7 @@ def read_case(results_csv, names=SIGNALS):
 def wire_length(s, fmu_dir):
     """The length [m] of the scenario's `wire`: its parameter if the scenario sets it, else the
     start value in the SmaWire FMU (the laser's contraction over it is the measured strain)."""
-    from musclesim.cosim.host import read_fmu
+    from musclesim.cosim import read_fmu
 
     inst = s.instances["wire"]
     if "length" in inst.parameters:
@@ -180,30 +184,30 @@ def sma_position(out, scenario_path, fmu_dir="fmus", stop_time=None, scheduler=N
     write the tables of the cases finished; return their stats, with ``failed`` ({case id:
     error}) for each table. `out` keeps the cases of one scenario file, stop time and build of the
     FMUs: another one is refused (its cells would not be comparable)."""
-    from musclesim.cosim import build, scenario
-    from musclesim.batch import sweep
+    from musclesim.batch import case_summary, claim, finished, run_cases
+    from musclesim.cosim import check_fresh, load_scenario
 
     out, scenario_path = Path(out).resolve(), Path(scenario_path).resolve()
-    s = scenario.load(scenario_path, (), stop_time)  # checked once, not in every case
-    build.check_fresh(fmu_dir)
+    s = load_scenario(scenario_path, (), stop_time)  # checked once, not in every case
+    check_fresh(fmu_dir)
     length = wire_length(s, fmu_dir)
-    sweep._claim(out, scenario_path, table="sma-position", stop_time=s.stop_time)
+    claim(out, scenario_path, table="sma-position", stop_time=s.stop_time)
     matrix = {k: v for k, v in cases().items() if not only or k in only}
     todo = [(cid, sets) for rows in matrix.values() for _, _, cid, sets in rows
-            if sweep._finished(out / "cases" / cid) is None]
+            if finished(out / "cases" / cid) is None]
     if todo and run:
-        sweep._compute(todo, lambda cid, sets: (str(scenario_path), str(out / "cases" / cid),
-                                                str(fmu_dir), sets, stop_time),
-                       scheduler, workers, lambda cid, sets, summary: None)
+        run_cases(todo, lambda cid, sets: (str(scenario_path), str(out / "cases" / cid),
+                                           str(fmu_dir), sets, stop_time),
+                  scheduler, workers, lambda cid, sets, summary: None)
     report = {}
     for name, rows in matrix.items():
         cells, failed, failed_cells = {}, {}, set()
         for r, c, cid, _ in rows:
             case_dir = out / "cases" / cid
-            summary = sweep._summary(case_dir)
-            if summary is None or summary.get("completed") is not True:  # as sweep._finished
+            if finished(case_dir) is None:
                 cells[(r, c)] = None
-                if summary is not None:
+                summary = case_summary(case_dir)
+                if summary is not None:  # it ran, and failed
                     failed[cid] = summary.get("error") or "the case did not complete"
                     failed_cells.add((r, c))
                 continue

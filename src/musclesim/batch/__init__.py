@@ -1,1 +1,23 @@
-"""(being written)"""
+"""Many runs: the Dask cluster and maps, case folders, parameter sweeps.
+
+The layer above a single co-simulation run (``musclesim.cosim``) and below the studies that need
+many of them (``musclesim.analysis``, ``musclesim.hysteresis``, ``musclesim.diagnosis``):
+
+- `cluster`: the one place for Dask: `dask_client` (a local cluster or a running scheduler),
+  `dask_map` (a ``pmap(fn, items)`` over it) and `serial_map` (the same, in this process);
+- `cases`: case folders, one run per folder, resumable: `claim` an output folder for one set of
+  settings, `run_cases` on Dask (each a `run_case`), read back a `case_summary`, skip the
+  `finished` ones;
+- `sweep`: `musclesim sweep`: sweep files (`load_sweep`), grid axes (`parse_axis`,
+  `grid_cases`), `run_sweep` with its CSV and plot.
+"""
+from musclesim.batch.cases import (case_summary, claim, finished, run_case, run_cases,
+                                   write_failure)
+from musclesim.batch.cluster import dask_client, dask_map, serial_map
+from musclesim.batch.sweep import Sweep, grid_cases, parse_axis
+from musclesim.batch.sweep import load as load_sweep
+from musclesim.batch.sweep import run as run_sweep
+
+__all__ = ["dask_client", "dask_map", "serial_map",
+           "claim", "case_summary", "finished", "write_failure", "run_case", "run_cases",
+           "Sweep", "load_sweep", "parse_axis", "grid_cases", "run_sweep"]

@@ -1,12 +1,12 @@
-"""`musclesim sweep`: run a scenario over a parameter grid on Dask, resumable, with a plot."""
-import contextlib
+"""`musclesim sweep`: run a scenario over a parameter grid on Dask, resumable, with a plot.
+
+A sweep file (`load`) names a scenario, its grid axes (`parse_axis`) and the plot; `run` checks
+the scenario once, runs every case of the grid (`grid_cases`) not finished yet in its case folder
+(`musclesim.batch.cases`), and writes sweep.csv and sweep.png.
+"""
 import csv
-import hashlib
 import itertools
-import json
-import logging
 import math
-import os
 import time
 import tomllib
 from dataclasses import dataclass, field
@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from musclesim.batch.cases import claim, finished, run_cases
 from musclesim.errors import UserError
 
 _SWEEP_KEYS = {"scenario", "grid", "description", "plot"}
@@ -152,10 +153,15 @@ def load(path, grid=()):
     return Sweep(sweep.scenario, axes, sweep.plot, sweep.title)
 
 
-def cases(axes):
+def grid_cases(axes):
     """Every point of the Cartesian grid as ``(case id, {axis: value})``, in grid order.
 
     The id names the values (axes sorted by name), so it does not change between runs.
+
+    Examples
+    --------
+    >>> grid_cases({"b.y": (0.5,), "a.x": (1.0, 2.0)})[0]
+    ('a.x=1,b.y=0.5', {'b.y': 0.5, 'a.x': 1.0})
     """
     points = [dict(zip(axes, values)) for values in itertools.product(*axes.values())]
     return [(",".join(f"{n}={p[n]:.12g}" for n in sorted(p)), p) for p in points]
@@ -165,125 +171,17 @@ def _sets(point):
     return [f"{name}={value!r}" for name, value in point.items()]
 
 
-def _write_failure(case_dir, error):
-    summary = {"completed": False, "error": error}
-    Path(case_dir).mkdir(parents=True, exist_ok=True)
-    (Path(case_dir) / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
-    return summary
-
-
-def run_case(scenario_path, case_dir, fmu_dir, overrides, stop_time):
-    """Run one case into `case_dir` (on a Dask worker); return its summary, failed or not."""
-    from musclesim.cosim import run_scenario
-
-    try:
-        # no per-case plot: drawing it costs about a third of a 60 s case; sweep.png summarises
-        summary, _ = run_scenario(scenario_path, case_dir, fmu_dir, overrides, stop_time,
-                                  with_plot=False)
-    except UserError as exc:
-        return _write_failure(case_dir, str(exc))
-    except Exception as exc:  # whatever breaks one case is recorded; the sweep goes on
-        return _write_failure(case_dir, f"{type(exc).__name__}: {exc}")
-    return summary
-
-
-def _summary(case_dir):
-    """The summary of a case that ran (completed or failed), else None."""
-    try:
-        summary = json.loads((case_dir / "summary.json").read_text())
-    except (OSError, ValueError):
-        return None
-    return summary if isinstance(summary, dict) else None
-
-
-def _finished(case_dir):
-    """The summary of a case that completed, else None."""
-    summary = _summary(case_dir)
-    return summary if summary is not None and summary.get("completed") is True else None
-
-
-def _claim(out, scenario_path, **settings):
-    """Record in out/sweep.json what the cases come from (the scenario file and its hash, the
-    FMUs' sources, `settings`), refusing a folder whose cases came from something else."""
-    from musclesim.cosim import build
-
-    config = {"scenario": str(scenario_path),
-              "scenario_sha256": hashlib.sha256(Path(scenario_path).read_bytes()).hexdigest(),
-              **settings, "fmu_sources": build.source_digest()}
-    path = out / "sweep.json"
-    if path.is_file():
-        try:
-            old = json.loads(path.read_text())
-        except ValueError:
-            old = {}
-        differ = [k for k in config if not isinstance(old, dict) or old.get(k) != config[k]]
-        if differ:
-            raise UserError(f"{out} holds the cases of a run with other settings "
-                            f"({', '.join(differ)}); choose another --out or delete that folder")
-    out.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(config, indent=2) + "\n")
-
-
-@contextlib.contextmanager
-def dask_client(scheduler=None, workers=None, tasks=None):
-    """A Dask client on `scheduler`, else on a LocalCluster of `workers` processes (default: the
-    cores, at most `tasks`), closed on exit. Sweeps and the diagnosis's fits run on it."""
-    from distributed import Client, LocalCluster
-
-    from musclesim.cosim.host import forget_fmu_resource_paths
-
-    forget_fmu_resource_paths()  # workers inherit sys.path: no FMU's copy of musclesim in it
-    cluster = None
-    try:
-        if scheduler is None:
-            # one thread per worker process, since the Python FMUs hold the GIL; the cluster's
-            # log noise (heartbeats cut at shutdown) stays quiet, as task errors are recorded
-            n = workers or os.cpu_count() or 1
-            cluster = LocalCluster(n_workers=max(1, min(n, tasks or n)), threads_per_worker=1,
-                                   processes=True, dashboard_address=None,
-                                   silence_logs=logging.CRITICAL)
-        client = Client(scheduler or cluster)
-    except (OSError, TimeoutError) as exc:
-        if cluster is not None:
-            cluster.close()
-        raise UserError(f"cannot start or reach the Dask scheduler {scheduler or ''}: "
-                        f"{exc}") from None
-    try:
-        yield client
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
-
-
-def _compute(todo, submit, scheduler, workers, record):
-    """Submit `todo` on Dask (a LocalCluster unless `scheduler` is given), record as they finish."""
-    from distributed import as_completed
-    from tqdm import tqdm
-
-    with dask_client(scheduler, workers, len(todo)) as client:
-        futures = {client.submit(run_case, *submit(cid, point), pure=False): (cid, point)
-                   for cid, point in todo}
-        for fut in tqdm(as_completed(futures), total=len(futures), desc="sweep", unit="case"):
-            cid, point = futures.pop(fut)
-            try:
-                summary = fut.result()
-            except Exception as exc:  # the worker itself died (e.g. KilledWorker)
-                summary = _write_failure(submit(cid, point)[1], f"{type(exc).__name__}: {exc}")
-            record(cid, point, summary)
-
-
 def _check(sweep, path, fmu_dir, overrides, stop_time):
     """Check the scenario, axes and plot once, rather than fail every case the same way.
 
     Returns the scenario of the first case, the metrics' units and the plot to draw.
     """
-    from musclesim.cosim import build, master, results, scenario
+    from musclesim.cosim import Master, check_fresh, load_scenario, metric_unit, signal_units
 
-    s = scenario.load(sweep.scenario, overrides, stop_time)
-    build.check_fresh(fmu_dir)
-    sig_units = results.signal_units(master.Master(s, fmu_dir))
-    units = {n: results.metric_unit(sig_units[m.signal], m.op) for n, m in s.metrics.items()}
+    s = load_scenario(sweep.scenario, overrides, stop_time)
+    check_fresh(fmu_dir)
+    sig_units = signal_units(Master(s, fmu_dir))
+    units = {n: metric_unit(sig_units[m.signal], m.op) for n, m in s.metrics.items()}
     plot_spec = sweep.plot or _default_plot(sweep.axes, s.metrics)
     unknown = [x for x in plot_spec.get("metrics", []) if x not in s.metrics]
     if unknown:
@@ -331,13 +229,13 @@ def run(scenario_path, grid, out, fmu_dir="fmus", scheduler=None, workers=None, 
     if workers is not None and workers < 1:
         raise UserError(f"--workers must be at least 1 (got {workers})")
     out, fmu_dir, scen_path = Path(out).resolve(), Path(fmu_dir).resolve(), sweep.scenario.resolve()
-    all_cases = cases(sweep.axes)
+    all_cases = grid_cases(sweep.axes)
     s, units, plot_spec = _check(sweep, scenario_path, fmu_dir,
                                  [*overrides, *_sets(all_cases[0][1])], stop_time)
-    _claim(out, scen_path, overrides=list(overrides), stop_time=stop_time)
+    claim(out, scen_path, overrides=list(overrides), stop_time=stop_time)
 
     columns = ["case", *sweep.axes, "completed", *s.metrics, "error"]
-    done = {cid: _finished(out / "cases" / cid) for cid, _ in all_cases}
+    done = {cid: finished(out / "cases" / cid) for cid, _ in all_cases}
     todo = [(cid, p) for cid, p in all_cases if done[cid] is None]
     failed = {}
     csv_path = out / "sweep.csv"
@@ -360,7 +258,7 @@ def run(scenario_path, grid, out, fmu_dir="fmus", scheduler=None, workers=None, 
                 [*overrides, *_sets(point)], stop_time)
 
     if todo:
-        _compute(todo, submit, scheduler, workers, record)
+        run_cases(todo, submit, scheduler, workers, record)
     png = out / "sweep.png"
     drawn = _plot(csv_path, png, plot_spec, sweep.axes, units,
                   sweep.title or f"{s.name}, {s.stop_time:g} s")

@@ -35,8 +35,14 @@ from pathlib import Path
 
 import numpy as np
 
-from musclesim.diagnosis import dataset, pipeline as diagnose
-from musclesim.cosim import master, scenario as scenario_mod
+from musclesim.batch import serial_map
+from musclesim.cosim import Instance, Master, load_scenario
+from musclesim.diagnosis.dataset import DATA, MANIFEST
+from musclesim.diagnosis.dataset import load as load_dataset
+from musclesim.diagnosis.pipeline import diagnose
+from musclesim.diagnosis.problem import Problem
+from musclesim.diagnosis.simulate import Failed, residuals, simulate, with_values
+from musclesim.diagnosis.stats import gap
 from musclesim.errors import UserError
 
 # the benches: scenario, replayed inputs, observed outputs, the effects that can hide in them
@@ -180,19 +186,18 @@ def record(case, scenarios_dir, fmu_dir):
     """Run the virtual hardware of `case`: (time, {column: values}) as the bench records them."""
     name, inputs, outputs, _ = BENCHES[case["bench"]]
     sets = [f"{k}={v!r}" for k, v in case["values"].items()]
-    s = scenario_mod.load(_scenario_path(case["bench"], scenarios_dir), sets,
-                          STOP_TIME.get(case["bench"]))
-    # the nuisances on the sensors this bench has (_with_values skips the others)
-    s = diagnose._with_values(s, {(inst, par): v for inst, noise, quantum, modulus in NUISANCES
-                                  for par, v in (("noise_std", noise), ("quantum", quantum),
-                                                 ("seed", case["seed"] % modulus))})
+    s = load_scenario(_scenario_path(case["bench"], scenarios_dir), sets,
+                      STOP_TIME.get(case["bench"]))
+    # the nuisances on the sensors this bench has (with_values skips the others)
+    s = with_values(s, {(inst, par): v for inst, noise, quantum, modulus in NUISANCES
+                        for par, v in (("noise_std", noise), ("quantum", quantum),
+                                       ("seed", case["seed"] % modulus))})
     s = replace(s, record=tuple(inputs + outputs), metrics={}, plots=())
     if case.get("ambient_K"):  # the air around the wire is warmer than the model's 20 C
-        ambient = scenario_mod.Instance("ambient", "SignalSource",
-                                        {"offset": 293.15 + case["ambient_K"]})
+        ambient = Instance("ambient", "SignalSource", {"offset": 293.15 + case["ambient_K"]})
         s = replace(s, instances={**s.instances, "ambient": ambient},
                     connections=s.connections + (("ambient.y", "wire.T_amb"),))
-    res = master.Master(s, fmu_dir).run()
+    res = Master(s, fmu_dir).run()
     if res.error:
         raise UserError(f"{case['case']}: the virtual hardware failed: {res.error}")
     rng = np.random.default_rng(case["seed"])
@@ -218,12 +223,12 @@ def write_data_set(path, time, cols, inputs, outputs, scenario_ref, description=
     path = Path(path)
     path.mkdir(parents=True, exist_ok=True)
     names = inputs + outputs
-    np.savetxt(path / dataset.DATA, np.column_stack([time] + [cols[c] for c in names]),
+    np.savetxt(path / DATA, np.column_stack([time] + [cols[c] for c in names]),
                delimiter=",", header=",".join(["time", *names]), comments="", fmt="%.9g")
     lines = [f"description = {json.dumps(description)}", f"scenario = {json.dumps(scenario_ref)}",
              f"inputs = {json.dumps(inputs)}", f"outputs = {json.dumps(outputs)}", "",
              "[split]", f"held_out_fraction = {HELD_OUT_FRACTION}", ""]
-    (path / dataset.MANIFEST).write_text("\n".join(lines))
+    (path / MANIFEST).write_text("\n".join(lines))
 
 
 def _make(args):
@@ -239,7 +244,7 @@ def _make(args):
 def _diagnose(args):
     case_dir, fmu_dir = args
     try:
-        report = diagnose.diagnose(dataset.load(case_dir), fmu_dir)
+        report = diagnose(load_dataset(case_dir), fmu_dir)
     except UserError as exc:
         report = {"verdict": "error", "error": str(exc)}
     (Path(case_dir) / "report.json").write_text(json.dumps(report, indent=1, default=float) + "\n")
@@ -251,15 +256,15 @@ def _oracle(args):
     nominal and with our selected effects' values, as the report has them, and with the true
     values (the oracle), simulated here."""
     case, case_dir, report, fmu_dir = args
-    problem = diagnose.Problem(dataset.load(case_dir), fmu_dir)
+    problem = Problem(load_dataset(case_dir), fmu_dir)
     whole = problem.replayed()
 
     def heldout(values):
         try:
-            sims = diagnose.simulate(whole, values, fmu_dir)
-        except diagnose.Failed:
+            sims = simulate(whole, values, fmu_dir)
+        except Failed:
             return math.inf
-        return diagnose.gap(whole, diagnose.residuals(whole, sims), 1)
+        return gap(whole, residuals(whole, sims), 1)
 
     truth = {tuple(k.split(".", 1)): v for k, v in case["values"].items()}
     ours = report.get("shrinkage", {}).get("all")
@@ -269,7 +274,7 @@ def _oracle(args):
 
 def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, progress=None):
     """Make `count` cases from `seed` into `out`, diagnose them blind, score; return the scores."""
-    pmap = pmap or diagnose._serial
+    pmap = pmap or serial_map
     say = progress or (lambda text: None)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

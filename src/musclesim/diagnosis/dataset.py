@@ -34,8 +34,8 @@ from pathlib import Path
 
 import numpy as np
 
+from musclesim.cosim import Master, load_scenario, metric_unit, read_time_series
 from musclesim.errors import UserError
-from musclesim.cosim.timeseries import read_time_series
 
 MANIFEST = "manifest.toml"
 DATA = "data.csv"
@@ -456,8 +456,6 @@ def _split(raw, experiments, time, has_data, problems):
 
 def _check_model(ds, fmu_dir, problems):
     """Check columns, metrics and units against the scenarios and their FMUs."""
-    from musclesim.cosim import master, results, scenario
-
     refs = {(e.scenario, e.stop_time): e.scenario_path for e in ds.experiments.values()}
     metric_names = {}
     for e in ds.experiments.values():
@@ -468,8 +466,8 @@ def _check_model(ds, fmu_dir, problems):
                             "the manifest, or a name in the scenarios folder)")
             continue
         try:
-            s = scenario.load(spath, (), stop_time)
-            m = master.Master(s, fmu_dir)
+            s = load_scenario(spath, (), stop_time)
+            m = Master(s, fmu_dir)
         except UserError as exc:
             problems.append(f"{MANIFEST}: scenario {ref!r} cannot be checked: {exc}")
             continue
@@ -505,7 +503,7 @@ def _check_model(ds, fmu_dir, problems):
                 v = m.instances.get(inst) and m.instances[inst].vars.get(var)
                 if v is None:
                     continue  # the scenario itself is at fault, and Master reported it
-                unit = results.metric_unit(v.unit, sm.op)
+                unit = metric_unit(v.unit, sm.op)
                 if not _same_unit(mm.unit, unit):
                     problems.append(f"{MANIFEST}, experiment {e.name!r}: metric {name!r} is in "
                                     f"{mm.unit!r} but the model's is {unit!r}")

@@ -9,6 +9,12 @@ component.
 `CALIBRATION` lists, per component, the nominal parameters a fair competitor may recalibrate:
 an effect with k parameters only counts if it beats the nominal model with k of these refitted
 (so that "raise h" cannot pose as "latent heat").
+
+The rest of the per-component knowledge the diagnosis uses is declared here too, so that its
+generic code names no component: which measured variables define regimes by their name
+(`STRAIN_VARIABLES`, `FORCE_VARIABLES`, `SWITCHING_INDICATORS`; `musclesim.diagnosis.regimes`)
+and which measured ports stay coupled when every measured signal is replayed (`COUPLED_PORTS`;
+`musclesim.diagnosis.problem`).
 """
 from dataclasses import dataclass
 
@@ -23,8 +29,8 @@ class Parameter:
     upper: float
 
 
-# Operating regimes an effect's gain should concentrate in; musclesim.diagnose computes them from
-# the measured signals (temperatures [K], strains, loads [N], positions [m], indicators).
+# Operating regimes an effect's gain should concentrate in; musclesim.diagnosis.regimes computes
+# them from the measured signals (temperatures [K], strains, loads [N], positions [m], indicators).
 REGIMES = {
     "all": "every sample",
     "changing": "the temperature changes faster than its median rate",
@@ -42,6 +48,22 @@ REGIMES = {
     "pressure_changing": "a measured pressure changes faster than its median rate",
     "pressurised": "a measured pressure is above its median",
 }
+
+# Measured signals that define regimes by their variable's name (the others are found by their
+# unit: the first temperature in K, the first load in N or Pa, the first pressure in Pa, every
+# position in m). A column whose variable is named here, on any instance:
+STRAIN_VARIABLES = ("strain",)  # SmaWire's strain: "transformation" where it changes
+# an actuation force (FrictionSwitchingInputs', SoftActuator's f_a): the load of
+# "stress_extremes", "high_force" and "load_changing" when no column in N or Pa is measured
+FORCE_VARIABLES = ("f_a",)
+# {component: its friction indicators}: "switching" is the 0.5 s after one of these changes, when
+# the data set replays them as inputs (SPEC 1.4's ideal actuation; not its force f_a)
+SWITCHING_INDICATORS = {"FrictionSwitchingInputs": ("u1", "u2")}
+# Prefixes of physical port variables (half of a two-way mechanical coupling, such as the crawler
+# body's flange position into its central actuator): a measured port stays coupled in the model
+# with every measured signal replayed, since the element it drives would differentiate the
+# measurement's noise and quantisation.
+COUPLED_PORTS = ("flange",)
 
 
 @dataclass(frozen=True)

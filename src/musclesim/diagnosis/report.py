@@ -33,16 +33,23 @@ def write(out, report, traces=None):
 
 
 def markdown(report, plots=()):
-    """The report as Markdown."""
+    """The report as Markdown (with `plots`, file names of images in the same folder)."""
     L = [f"# Diagnosis of {report['data_set']}", "",
          f"Scenario: {report['scenario']}. Training part: {', '.join(report['parts']['train'])}; "
          f"held out: {', '.join(report['parts']['held_out'])}.", "",
          f"## Verdict: **{report['verdict']}**", "", report.get("explanation", "") + ".", ""]
+    L += _md_gap(report) + _md_where(report) + _md_which(report) + _md_shrinkage(report)
+    L += [""] + [f"![{p}]({p})" for p in plots]
+    return "\n".join(L) + "\n"
+
+
+def _md_gap(report):
+    """Section 1: the whole model's gap, per signal (or metric)."""
     g = report["gap"]
-    L += ["## 1. The gap (whole model, inputs replayed)", "",
-          f"Pooled held-out gap {_num(g['heldout_gap'])} (normalised by each signal's range); "
-          f"noise floor {_num(g['noise_floor'])}; "
-          f"{'deviates' if g['deviates'] else 'within the noise'}.", ""]
+    L = ["## 1. The gap (whole model, inputs replayed)", "",
+         f"Pooled held-out gap {_num(g['heldout_gap'])} (normalised by each signal's range); "
+         f"noise floor {_num(g['noise_floor'])}; "
+         f"{'deviates' if g['deviates'] else 'within the noise'}.", ""]
     if report.get("scalar_only"):
         L += ["| metric | relative error per experiment |", "|---|---|"]
         L += [f"| {c} | {', '.join(_num(x) for x in e['relative_error'])} |"
@@ -54,65 +61,80 @@ def markdown(report, plots=()):
               f"{'' if e['unit'] == '1' else ' ' + e['unit']} | {_num(e.get('lag'))} | "
               f"{_num(e['noise'])} |"
               for c, e in g["signals"].items()]
-    L += ["", "## 2. Where", ""]
+    return L
+
+
+def _md_where(report):
+    """Section 2: the isolation units, the located instances, the regimes, the worst windows."""
+    L = ["", "## 2. Where", ""]
     if report.get("units"):
         L += ["Isolation units (each re-simulated with the measured signals feeding it replayed):",
-              "", "| unit | observed | held-out gap | noise floor | deviates |", "|---|---|---|---|---|"]
+              "", "| unit | observed | held-out gap | noise floor | deviates |",
+              "|---|---|---|---|---|"]
         L += [f"| {' + '.join(u['instances'])} | {', '.join(u['observed'])} | "
               f"{_num(u['heldout_gap'])} | {_num(u['noise_floor'])} | {u['deviates']} |"
               for u in report["units"]]
         L += ["", "| instance | component | isolated gap | located | exonerated |",
               "|---|---|---|---|---|"]
-        L += [f"| {r['instance']} | {r['component']} | {_num(r['isolated_gap'])} | {r['located']} "
-              f"| {r['exonerated']} |" for r in report["located"]]
+        L += [f"| {r['instance']} | {r['component']} | {_num(r['isolated_gap'])} | "
+              f"{r['located']} | {r['exonerated']} |" for r in report["located"]]
     else:
         L += ["No component can be isolated (scalar-only data or no measured internal signal)."]
     reg = report.get("regimes", {})
     if reg.get("by_regime"):
-        L += ["", "Nominal gap by regime:", "", "| regime | share of samples | gap |", "|---|---|---|"]
+        L += ["", "Nominal gap by regime:", "", "| regime | share of samples | gap |",
+              "|---|---|---|"]
         L += [f"| {k} ({v['description']}) | {_num(v['fraction'], '.2f')} | {_num(v['gap'])} |"
               for k, v in reg["by_regime"].items()]
     if reg.get("worst_windows"):
         L += ["", "Worst windows: " + "; ".join(
             f"{w['experiment']} {w['t0']:.2f}-{w['t1']:.2f} s (gap {_num(w['gap'])})"
             for w in reg["worst_windows"]) + "."]
-    L += ["", "## 3. Which effect", ""]
-    if report.get("effects"):
-        fu = report.get("fit_unit", {})
-        L += [f"Fitted in {' + '.join(fu.get('instances', []))} on the training part, scored on "
-              "the held-out part. An effect counts if it shrinks the held-out gap enough, beats "
-              "the nominal model recalibrated with as many parameters and gains most in its "
-              "regime.", "",
-              "| rank | effect | instances | fitted values [95 % interval] | held-out gap before -> "
-              "after | shrinkage [95 %] | recalibrated gap | regime gain ratio | counts | margin |",
-              "|---|---|---|---|---|---|---|---|---|---|"]
-        for i, e in enumerate(report["effects"], 1):
-            vals = "; ".join(f"{n} = {_num(p['value'], '.4g')} {_iv(p['interval'], '.3g')}"
-                             for n, p in e["parameters"].items())
-            sig = e["signature"]
-            L.append(f"| {i} | {e['name']} | {', '.join(e['instances'])} | {vals} | "
-                     f"{_num(e['heldout_gap_before'])} -> {_num(e['heldout_gap_after'])} | "
-                     f"{_num(e['shrinkage'], '.2f')} {_iv(e['interval'], '.2f')} | "
-                     f"{_num(e['recalibrated_gap'])} | {sig['regime']}: "
-                     f"{_num(sig['gain_ratio'], '.2f')} | {e['counts']} | "
-                     f"{_num(e.get('margin'), '.2f')} |")
-        if report.get("recalibrated"):
-            L += ["", "Nominal model recalibrated: " + "; ".join(
-                ", ".join(f"{k} = {_num(v, '.4g')}" for k, v in r["parameters"].items())
-                + f" (held-out gap {_num(r['heldout_gap'])})" for r in report["recalibrated"]) + "."]
-    else:
-        L += ["No candidate was fitted."]
-    L += ["", "## 4. How far it shrinks (held-out part, every measured signal replayed)", "",
-          f"Selected: {', '.join(report.get('selected') or ['nothing'])}.", "",
-          "| signal | before [95 %] | after [95 %] |", "|---|---|---|"]
+    return L
+
+
+def _md_which(report):
+    """Section 3: the candidate effects ranked, the recalibrated nominal fits."""
+    L = ["", "## 3. Which effect", ""]
+    if not report.get("effects"):
+        return L + ["No candidate was fitted."]
+    fu = report.get("fit_unit", {})
+    L += [f"Fitted in {' + '.join(fu.get('instances', []))} on the training part, scored on "
+          "the held-out part. An effect counts if it shrinks the held-out gap enough, beats "
+          "the nominal model recalibrated with as many parameters and gains most in its "
+          "regime.", "",
+          "| rank | effect | instances | fitted values [95 % interval] | held-out gap before -> "
+          "after | shrinkage [95 %] | recalibrated gap | regime gain ratio | counts | margin |",
+          "|---|---|---|---|---|---|---|---|---|---|"]
+    for i, e in enumerate(report["effects"], 1):
+        vals = "; ".join(f"{n} = {_num(p['value'], '.4g')} {_iv(p['interval'], '.3g')}"
+                         for n, p in e["parameters"].items())
+        sig = e["signature"]
+        L.append(f"| {i} | {e['name']} | {', '.join(e['instances'])} | {vals} | "
+                 f"{_num(e['heldout_gap_before'])} -> {_num(e['heldout_gap_after'])} | "
+                 f"{_num(e['shrinkage'], '.2f')} {_iv(e['interval'], '.2f')} | "
+                 f"{_num(e['recalibrated_gap'])} | {sig['regime']}: "
+                 f"{_num(sig['gain_ratio'], '.2f')} | {e['counts']} | "
+                 f"{_num(e.get('margin'), '.2f')} |")
+    if report.get("recalibrated"):
+        L += ["", "Nominal model recalibrated: " + "; ".join(
+            ", ".join(f"{k} = {_num(v, '.4g')}" for k, v in r["parameters"].items())
+            + f" (held-out gap {_num(r['heldout_gap'])})" for r in report["recalibrated"]) + "."]
+    return L
+
+
+def _md_shrinkage(report):
+    """Section 4: the held-out gap per signal before and after, the latency found."""
+    L = ["", "## 4. How far it shrinks (held-out part, every measured signal replayed)", "",
+         f"Selected: {', '.join(report.get('selected') or ['nothing'])}.", "",
+         "| signal | before [95 %] | after [95 %] |", "|---|---|---|"]
     L += [f"| {c} | {_num(s['before'])} {_iv(s['interval_before'])} | {_num(s['after'])} "
           f"{_iv(s['interval_after'])} |" for c, s in report.get("shrinkage", {}).items()]
     shifted = {c: n for c, n in report.get("aligned_samples", {}).items() if n}
     if shifted:
         L += ["", "Sensor channels compared allowing for acquisition latency: " + ", ".join(
             f"{c} {n} sample(s) behind" for c, n in shifted.items()) + "."]
-    L += [""] + [f"![{p}]({p})" for p in plots]
-    return "\n".join(L) + "\n"
+    return L
 
 
 def _plt():

@@ -7,9 +7,11 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from musclesim.diagnosis import blind, dataset, pipeline as diagnose, report as diagreport
-from musclesim.cosim import master, results, scenario
 from musclesim.cli import main
+from musclesim.cosim import Master, compute_metrics, load_scenario
+from musclesim.diagnosis import blind, dataset, diagnose, write_report
+from musclesim.diagnosis.problem import Problem
+from musclesim.diagnosis.thresholds import WINDOWS
 
 from conftest import SCENARIOS
 
@@ -23,7 +25,7 @@ def lag_case(fmu_dir, tmp_path_factory):
             "strain_gain": 1.0}
     blind._make((case, out, SCENARIOS, fmu_dir))
     traces = {}
-    report = diagnose.diagnose(dataset.load(out / "cases" / "lag"), fmu_dir, traces=traces)
+    report = diagnose(dataset.load(out / "cases" / "lag"), fmu_dir, traces=traces)
     return report, traces, out
 
 
@@ -50,7 +52,7 @@ def test_the_lag_is_located_named_fitted_and_shrinks_the_held_out_gap(lag_case):
 
 def test_report_json_keeps_its_documented_shape(lag_case, tmp_path):
     report, traces, _ = lag_case
-    paths = diagreport.write(tmp_path, report, traces)
+    paths = write_report(tmp_path, report, traces)
     assert {p.name for p in paths} == {"report.json", "report.md", "signals.png", "effects.png"}
     saved = json.loads((tmp_path / "report.json").read_text())
     assert {"gap", "located", "regimes", "effects", "verdict", "shrinkage"} <= set(saved)
@@ -59,7 +61,7 @@ def test_report_json_keeps_its_documented_shape(lag_case, tmp_path):
         assert key in saved["effects"][0], key
     assert {"nrmse", "bias", "lag"} <= set(saved["gap"]["signals"]["thermocouple.T_meas"])
     assert {"changing", "cooling", "hot", "transformation"} <= set(saved["regimes"]["by_regime"])
-    assert len(saved["regimes"]["worst_windows"]) == diagnose.WINDOWS
+    assert len(saved["regimes"]["worst_windows"]) == WINDOWS
     md = (tmp_path / "report.md").read_text()
     assert "## Verdict: **thermocouple lag**" in md and "![signals.png](signals.png)" in md
 
@@ -68,7 +70,7 @@ def test_the_model_matching_its_data_has_no_gap(fmu_dir, tmp_path):
     case = {"case": "null", "kind": "none", "bench": "tracking", "effect": None, "values": {},
             "latency_samples": 0, "seed": 3, "strain_gain": 1.0}
     blind._make((case, tmp_path, SCENARIOS, fmu_dir))
-    report = diagnose.diagnose(dataset.load(tmp_path / "cases" / "null"), fmu_dir)
+    report = diagnose(dataset.load(tmp_path / "cases" / "null"), fmu_dir)
     assert report["verdict"] == "none" and report["effects"] == []
     assert not report["gap"]["deviates"]
 
@@ -144,9 +146,9 @@ def test_scalar_only_data_are_diagnosed_from_metrics(fmu_dir, tmp_path):
     for name, amplitude in (("low", 0.4), ("high", 0.5)):
         path = tmp_path / f"bench-{name}.toml"
         path.write_text(text.replace("amplitude = 0.5,", f"amplitude = {amplitude},"))
-        s = scenario.load(path, ["thermocouple.bias=3.0"])
-        res = master.Master(s, fmu_dir).run()
-        measured[name] = results.compute_metrics(res, s.metrics)
+        s = load_scenario(path, ["thermocouple.bias=3.0"])
+        res = Master(s, fmu_dir).run()
+        measured[name] = compute_metrics(res, s.metrics)
     d = tmp_path / "metrics"
     d.mkdir()
     (d / "manifest.toml").write_text("".join(
@@ -154,7 +156,7 @@ def test_scalar_only_data_are_diagnosed_from_metrics(fmu_dir, tmp_path):
         f'metrics.T_max = {{ value = {m["T_max"]!r}, unit = "K", uncertainty = 0.2 }}\n'
         f'metrics.strain_peak_to_peak = {{ value = {m["strain_peak_to_peak"]!r}, '
         f'uncertainty = 2e-4 }}\n' for n, m in measured.items()) + '[split]\nheld_out = ["high"]\n')
-    report = diagnose.diagnose(dataset.load(d), fmu_dir)
+    report = diagnose(dataset.load(d), fmu_dir)
     assert report["scalar_only"] and report["units"] == []
     assert report["gap"]["signals"]["T_max"]["relative_error"][0] == pytest.approx(
         -3.0 / measured["low"]["T_max"], rel=0.05)
@@ -195,7 +197,7 @@ def test_crawler_bench_hides_one_draw_in_every_actuator(fmu_dir, tmp_path):
     assert np.max(np.abs(leak - p)) > 20 * blind.PRESSURE_NOISE
     # section 4's model keeps the body's measured positions coupled to its actuator (video
     # replayed there would be differentiated): the true leakage closes the gap there
-    replayed = diagnose.Problem(recorded["leak"], fmu_dir).replayed()
+    replayed = Problem(recorded["leak"], fmu_dir).replayed()
     assert not any("flange" in dst for dst in replayed.runs[0].inputs)
     gaps = blind._oracle((case, tmp_path / "cases" / "leak", {}, fmu_dir))
     assert gaps["oracle"] < 0.5 * gaps["before"]

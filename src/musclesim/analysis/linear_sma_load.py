@@ -1,0 +1,88 @@
+"""The load path of the SMA position-control bench (SPEC 2.1, 2.4): the duty -> load-cell force
+model identified on the Electromagnet and LoadCell FMUs, and the stress loop's PI placed on it."""
+import control as ct
+import numpy as np
+
+from musclesim.analysis.design import design_pi, pi_margins
+
+LOAD_DESIGN = {
+    "omega_n": 300.0,  # rad/s (48 Hz): far above the loading profiles (<= 1/17 Hz), far below
+                       # the 2.5 kHz sampling, and above 1 / (2 zeta tau) (~270 rad/s for the
+                       # coil's ~2 ms), below which the placed Kp turns negative
+    "zeta": 0.9,
+    "duty": (0.2, 0.7),  # the identification step of the PWM duty
+    "step": 4e-4,  # s, the stress loop's 2.5 kHz (SPEC 2.1)
+    "duration": 0.05,  # s, recorded after the step
+}
+
+
+def identify_load_path(fmu_dir="fmus", d=None):
+    """First-order model duty -> load-cell force, identified from a duty step of the FMUs.
+
+    The Electromagnet and LoadCell FMUs (as a scenario uses them, wire held still) are run with
+    the duty replayed as a step; K [N per unit duty] and tau [s] are fitted by least squares to
+    the recorded force. Returns (python-control system, K, tau, RMS fit residual [N]).
+    """
+    from scipy import optimize
+
+    from musclesim.cosim import Instance, Master, Scenario
+
+    d = {**LOAD_DESIGN, **(d or {})}
+    s = Scenario("load-path identification", None,
+                 {"magnet": Instance("magnet", "Electromagnet"),
+                  "loadcell": Instance("loadcell", "LoadCell")},
+                 (("magnet.flange.f", "loadcell.f"),), d["step"], d["duration"],
+                 algorithm="jacobi", record=("loadcell.f_meas",))
+    n = s.n_steps + 1
+    lo, hi = d["duty"]
+    # settle at the low duty, then step: the first 5 % of the record before the step
+    k0 = n // 20
+    duty = np.where(np.arange(n) < k0, lo, hi)
+    res = Master(s, fmu_dir, {"magnet.duty": duty}).run()
+    t, f = res.time[k0:] - res.time[k0], res["loadcell.f_meas"][k0:]
+
+    def model(p):
+        K, tau, f0 = p
+        return f0 + K * (hi - lo) * (1 - np.exp(-t / tau))
+
+    fit = optimize.least_squares(lambda p: model(p) - f, [1.0, 0.01, f[0]],
+                                 bounds=([0, 1e-6, -np.inf], [np.inf, 10.0, np.inf]))
+    K, tau, _ = fit.x
+    plant = ct.ss([[-1 / tau]], [[K / tau]], [[1.0]], [[0.0]], inputs=["duty"], outputs=["f"])
+    return plant, float(K), float(tau), float(np.sqrt(np.mean(fit.fun ** 2)))
+
+
+def sma_load(fmu_dir="fmus", design=None):
+    """The stress loop: identified load path and the PI placed on it (python-control).
+
+    Returns a dict with the identified K [N], tau [s] and fit residual, the gains Kp [1/N],
+    Ki [1/(N s)], the loop's margins and the sampled closed loop's largest pole radius.
+    """
+    d = {**LOAD_DESIGN, **(design or {})}
+    plant, K, tau, rms = identify_load_path(fmu_dir, d)
+    Kp, Ki = design_pi(plant, d["omega_n"], d["zeta"])
+    return {"system": "sma-load", "spec": "SPEC.md 2.1, 2.4", "design": d,
+            "identified": {"K": K, "tau": tau, "fit_rms": rms},
+            "Kp": Kp, "Ki": Ki, **pi_margins(plant, Kp, Ki, d["step"])}
+
+
+def format_sma_load(report):
+    """Human-readable summary of an `sma_load` report."""
+    i, d = report["identified"], report["design"]
+    return (f"SMA load path (SPEC 2.1, 2.4): duty -> load-cell force identified from a duty step "
+            f"{d['duty'][0]:g} -> {d['duty'][1]:g}: K = {i['K']:.4g} N, tau = {i['tau'] * 1e3:.3g} "
+            f"ms (fit RMS {i['fit_rms']:.2g} N)\n"
+            f"PI with closed-loop poles at omega_n = {d['omega_n']:g} rad/s, zeta = {d['zeta']:g}: "
+            f"Kp = {report['Kp']:.4g} 1/N, Ki = {report['Ki']:.4g} 1/(N s); phase margin "
+            f"{report['phase_margin_deg']:.1f} deg at {report['crossover']:.1f} rad/s; sampled at "
+            f"{d['step'] * 1e3:g} ms the closed loop's largest pole radius is "
+            f"{report['sampled_pole_radius']:.4f}")
+
+
+def load_gains_toml(report):
+    """The PID parameters of an `sma_load` report, as the TOML a scenario's instance reads."""
+    return "\n".join([
+        "# PID gains of the SMA bench's stress loop (SPEC 2.4), written by",
+        "# `musclesim linear sma-load --write FILE`: do not edit, rerun the design.",
+        f"Kp = {report['Kp']!r}  # duty per N", f"Ki = {report['Ki']!r}  # duty per N s",
+        "Kd = 0.0", "u_min = 0.0  # PWM duty", "u_max = 1.0", ""])

@@ -1,0 +1,71 @@
+"""The one place for Dask: the client (a local cluster or a running scheduler) and the maps.
+
+A map is ``pmap(fn, items) -> [fn(item) for item in items]`` (results in the items' order): the
+diagnosis fits its candidates with the one it is given, `serial_map` by default, `dask_map`'s on
+the command line; sweeps and tables submit their cases on `dask_client` (`cases.run_cases`).
+"""
+import contextlib
+import logging
+import os
+
+from musclesim.errors import UserError
+
+
+@contextlib.contextmanager
+def dask_client(scheduler=None, workers=None, tasks=None):
+    """A Dask client on `scheduler`, else on a LocalCluster of `workers` processes (default: the
+    cores, at most `tasks`), closed on exit. Sweeps and the diagnosis's fits run on it.
+
+    Raises
+    ------
+    UserError
+        When the local cluster cannot start or the scheduler cannot be reached.
+    """
+    from distributed import Client, LocalCluster
+
+    from musclesim.cosim import forget_fmu_resource_paths
+
+    forget_fmu_resource_paths()  # workers inherit sys.path: no FMU's copy of musclesim in it
+    cluster = None
+    try:
+        if scheduler is None:
+            # one thread per worker process, since the Python FMUs hold the GIL; the cluster's
+            # log noise (heartbeats cut at shutdown) stays quiet, as task errors are recorded
+            n = workers or os.cpu_count() or 1
+            cluster = LocalCluster(n_workers=max(1, min(n, tasks or n)), threads_per_worker=1,
+                                   processes=True, dashboard_address=None,
+                                   silence_logs=logging.CRITICAL)
+        client = Client(scheduler or cluster)
+    except (OSError, TimeoutError) as exc:
+        if cluster is not None:
+            cluster.close()
+        raise UserError(f"cannot start or reach the Dask scheduler {scheduler or ''}: "
+                        f"{exc}") from None
+    try:
+        yield client
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def dask_map(client):
+    """`pmap` over a Dask client: ``pmap(fn, items)`` returns the tasks' results in order (fewer
+    than two items run here, without a round trip to the cluster)."""
+    def pmap(fn, items):
+        items = list(items)
+        if len(items) < 2:
+            return [fn(x) for x in items]
+        return client.gather(client.map(fn, items, pure=False))
+    return pmap
+
+
+def serial_map(fn, items):
+    """`pmap` one item after the other, in this process: ``[fn(x) for x in items]``.
+
+    Examples
+    --------
+    >>> serial_map(abs, [-1, 2.5])
+    [1, 2.5]
+    """
+    return [fn(x) for x in items]

@@ -1,0 +1,234 @@
+"""The diagnosis problem: the data set's runs of the scenario, the units simulated, their replays.
+
+A `Problem` holds a measured data set with its scenarios and FMU variables. Its `Unit` objects are
+sets of instances simulated together against the data: the whole model with the data set's inputs
+replayed, one *isolation unit* per component (the component plus the upstream instances whose
+outputs were not measured, every measured signal feeding it replayed), and the model with every
+measured signal replayed (`Problem.replayed`). Which measured ports stay coupled instead of being
+replayed is declared in `musclesim.diagnosis.effects` (`COUPLED_PORTS`).
+"""
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from musclesim.cosim import load_scenario, read_fmu, split_signal
+from musclesim.diagnosis.effects import COUPLED_PORTS
+from musclesim.diagnosis.stats import noise_estimate
+from musclesim.diagnosis.thresholds import METRIC_FLOOR, NOISE_FLOOR
+from musclesim.errors import UserError
+
+
+@dataclass
+class Run:
+    """One experiment of the data set: a scenario to run and the data to compare it with."""
+
+    experiment: str
+    scenario: object  # musclesim.cosim.Scenario, reduced to the unit and the span
+    inputs: dict  # replayed input -> values per communication point
+    time: np.ndarray = None  # data times relative to t0, the span's start (time series)
+    measured: dict = field(default_factory=dict)  # observed column (or metric) -> values
+    part: np.ndarray = None  # per data row (per run if scalar-only): 0 train, 1 held-out
+    t0: float = 0.0
+
+
+@dataclass
+class Unit:
+    """Instances simulated together, the observed columns they produce, how they are run."""
+
+    name: str
+    instances: tuple
+    observed: tuple
+    runs: list
+    scale: dict  # observed column -> normalising range
+    noise: dict  # observed column -> noise std, normalised
+    components: dict  # instance -> component
+    alignable: tuple = ()  # columns compared allowing up to MAX_ALIGN samples of latency
+    subjects: tuple = ()  # isolation units: the instances whose own closure this unit is
+
+
+def _span_scenario(s, duration):
+    n = max(1, int(round(duration / s.step)))
+    return replace(s, start_time=0.0, stop_time=n * s.step)
+
+
+def _variables(s, fmu_dir):
+    out = {}
+    for name, inst in s.instances.items():
+        md = read_fmu(f"{fmu_dir}/{inst.component}.fmu")
+        out[name] = {v.name: v for v in md.modelVariables}
+    return out
+
+
+def _closure(s, start, measured):
+    """`start` plus the instances upstream of it whose signals are not `measured`."""
+    unit, changed = set(start), True
+    while changed:
+        changed = False
+        for src, dst in s.connections:
+            a, b = split_signal(src)[0], split_signal(dst)[0]
+            if b in unit and a not in unit and src not in measured and dst not in measured:
+                unit.add(a)
+                changed = True
+    return unit
+
+
+def _reduce(s, keep, replay_from, record):
+    """The scenario restricted to `keep`, inputs fed by `replay_from` ({dst: column}) dropped."""
+    conns = tuple((a, b) for a, b in s.connections if split_signal(a)[0] in keep
+                  and split_signal(b)[0] in keep and b not in replay_from)
+    return replace(s, instances={n: i for n, i in s.instances.items() if n in keep},
+                   connections=conns, record=tuple(record), metrics={}, plots=())
+
+
+def _replays(s, keep, columns, input_columns, cut_all=False):
+    """{input of a kept instance: the measured column replayed into it}.
+
+    Measured inputs are replayed as such; a connection carrying a measured output is cut and
+    replayed when its source is not kept, or with `cut_all` when it is a signal: a measured
+    physical port (a variable starting with one of `effects.COUPLED_PORTS`, half of a two-way
+    mechanical coupling such as the crawler body's flange position into its central actuator)
+    stays coupled, since the coupled element would differentiate the measurement's noise and
+    quantisation.
+    """
+    out = {}
+    for src, dst in s.connections:
+        if split_signal(dst)[0] not in keep:
+            continue
+        source, variable = split_signal(src)
+        if dst in columns:
+            out[dst] = dst
+        elif src in columns and (source not in keep or (
+                cut_all and not variable.startswith(COUPLED_PORTS))):
+            out[dst] = src
+    out.update({c: c for c in input_columns if split_signal(c)[0] in keep})
+    return out
+
+
+def _inputs_of(s, keep):
+    return {dst for _, dst in s.connections if split_signal(dst)[0] in keep}
+
+
+class Problem:
+    """A data set prepared for diagnosis: the full model, the isolation units, the regimes."""
+
+    def __init__(self, ds, fmu_dir="fmus"):
+        self.ds, self.fmu_dir = ds, str(fmu_dir)
+        missing = {e.scenario for e in ds.experiments.values() if e.scenario_path is None}
+        if missing:
+            raise UserError(f"data set {ds.path}: scenario {sorted(missing)[0]!r} not found (a "
+                            ".toml path relative to the manifest, or a name in the scenarios "
+                            "folder)")
+        self.scenarios = {name: load_scenario(e.scenario_path, (), e.stop_time)
+                          for name, e in ds.experiments.items()}
+        first = next(iter(self.scenarios.values()))
+        self.vars = _variables(first, fmu_dir)
+        self.components = {n: i.component for n, i in first.instances.items()}
+        self.units_of = {}
+        for col in ds.columns:
+            inst, var = split_signal(col)
+            v = self.vars.get(inst, {}).get(var)
+            if v is None:
+                raise UserError(f"data set {ds.path}: column {col!r} is not a variable of scenario "
+                                f"{first.name!r} (instances: {', '.join(self.vars)})")
+            self.units_of[col] = v.unit or "1"
+        self.input_columns = {c for c in ds.columns if self.vars[split_signal(c)[0]][
+            split_signal(c)[1]].causality == "input"}
+        for e in ds.experiments.values():
+            self.units_of.update({m: mm.unit for m, mm in e.metrics.items()})
+        self.scalar_only = ds.scalar_only
+        self.part_names = ds.parts()
+        fed = {src for src, _ in first.connections} | {dst for _, dst in first.connections}
+        # sensor channels no instance reads: compared allowing an acquisition latency
+        self.alignable = {c for c in ds.outputs if c not in fed}
+
+    # -- units --------------------------------------------------------------------------------
+    def unit(self, name, instances=None, cut_all=False):
+        """The `Unit` of `instances` (None: the whole model with the data set's inputs replayed);
+        `cut_all` replays every measured signal, even between two of `instances`."""
+        ds = self.ds
+        if self.scalar_only:
+            return self._metric_unit()
+        replayed_cols = set(ds.inputs) if instances is None else set(ds.columns)
+        runs, observed = [], None
+        for ename, e in ds.experiments.items():
+            s = self.scenarios[ename]
+            if instances is None:
+                # everything the observed columns depend on, minus what is replayed
+                keep = _closure(s, {split_signal(c)[0] for c in ds.outputs}, replayed_cols)
+            else:
+                keep = set(instances)
+            replay = _replays(s, keep, replayed_cols, self.input_columns & replayed_cols,
+                              cut_all=cut_all)
+            obs = tuple(c for c in ds.outputs if split_signal(c)[0] in keep and c not in replay)
+            observed = obs if observed is None else observed
+            t, cols = ds.experiment(ename)
+            t0 = t[0]
+            red = _span_scenario(_reduce(s, keep, replay, obs), t[-1] - t0)
+            grid = t0 + np.arange(red.n_steps + 1) * red.step
+            inputs = {dst: np.interp(grid, t, cols[col]) for dst, col in replay.items()}
+            part = self._parts(ename, t)
+            runs.append(Run(ename, red, inputs, t - t0, {c: cols[c] for c in obs}, part, t0))
+        scale, noise = {}, {}
+        for c in observed:
+            y = np.concatenate([r.measured[c] for r in runs])
+            scale[c] = float(np.ptp(y)) or 1.0
+            noise[c] = max(np.median([noise_estimate(r.measured[c]) for r in runs]) / scale[c],
+                           NOISE_FLOOR)
+        keep_all = tuple(sorted(set().union(*(r.scenario.instances for r in runs))))
+        return Unit(name, keep_all, observed, runs, scale, noise,
+                    {n: self.components[n] for n in keep_all},
+                    tuple(c for c in observed if c in self.alignable))
+
+    def _parts(self, ename, t):
+        train, held = self.part_names
+        part = np.zeros(len(t), dtype=np.int8)
+        if self.ds.split.fraction is not None:
+            part[np.isin(t, self.ds.experiment(f"{ename}/held_out")[0])] = 1
+        elif ename in held:
+            part[:] = 1
+        return part
+
+    def _metric_unit(self):
+        ds, runs = self.ds, []
+        held = set(self.part_names[1])
+        names = tuple(dict.fromkeys(m for e in ds.experiments.values() for m in e.metrics))
+        for ename, e in ds.experiments.items():
+            # a metric an experiment lacks is an empty comparison
+            measured = {m: np.array([e.metrics[m].value if m in e.metrics else math.nan])
+                        for m in names}
+            runs.append(Run(ename, self.scenarios[ename], {}, measured=measured,
+                            part=np.array([int(ename in held)], dtype=np.int8)))
+        scale = {m: float(np.nanmax([abs(r.measured[m][0]) for r in runs])) or 1.0
+                 for m in names}
+        unc = {m: max((mm.uncertainty or 0.0) for e in ds.experiments.values()
+                      for k, mm in e.metrics.items() if k == m) for m in names}
+        noise = {m: unc[m] / scale[m] if unc[m] > 0 else METRIC_FLOOR for m in names}
+        first = next(iter(self.scenarios.values()))
+        return Unit("model", tuple(first.instances), names, runs, scale, noise,
+                    dict(self.components))
+
+    def replayed(self):
+        """Every instance, every measured signal replayed where it feeds one (loops cut open at
+        the measurements; measured physical ports stay coupled, `_replays`): the model in which
+        section 4 compares before and after, so that a closed loop's oscillation phase does not
+        hide what an effect explains."""
+        if self.scalar_only:
+            return self._metric_unit()
+        return self.unit("all measured signals replayed", sorted(self.components), cut_all=True)
+
+    def isolation_units(self):
+        """One unit per distinct isolation closure that observes something, smallest first."""
+        if self.scalar_only:
+            return []
+        ds = self.ds
+        s = next(iter(self.scenarios.values()))
+        measured = set(ds.columns)
+        subjects = {}
+        for inst in s.instances:
+            subjects.setdefault(frozenset(_closure(s, {inst}, measured)), []).append(inst)
+        out = sorted((k for k in subjects if any(
+            split_signal(c)[0] in k and c not in _inputs_of(s, k) for c in ds.outputs)),
+            key=lambda k: (len(k), sorted(k)))
+        return [replace(self.unit(" + ".join(sorted(k)), sorted(k)), subjects=tuple(subjects[k]))
+                for k in out]

@@ -1,0 +1,93 @@
+"""Simulating a unit against its data: parameter values applied, the runs, residuals, the gap table.
+
+`simulate` runs every experiment of a `musclesim.diagnosis.problem.Unit` with the master (its
+measured signals replayed) and samples the model at the data's times; `residuals` compares it
+with the data, normalised by each signal's range; `signal_gap` is the report's section 1.
+"""
+import math
+from dataclasses import replace
+
+import numpy as np
+
+from musclesim.cosim import Master, compute_metrics
+from musclesim.diagnosis.stats import advance, gap, lag
+from musclesim.diagnosis.thresholds import MAX_ALIGN
+
+
+class Failed(Exception):
+    """A simulation of candidate values failed (reported, not raised to the user)."""
+
+
+def with_values(s, values):
+    """Scenario `s` with ``{(instance, parameter): value}`` applied (instances not in `s`
+    skipped)."""
+    instances = dict(s.instances)
+    for (inst, par), v in values.items():
+        if inst in instances:
+            old = instances[inst]
+            instances[inst] = replace(old, parameters={**old.parameters, par: float(v)})
+    return replace(s, instances=instances)
+
+
+def simulate(unit, values, fmu_dir):
+    """Model values of every run of `unit` with parameter `values`: [{column: array}] per run.
+
+    Raises `Failed` when a run fails (the effect's values are then not viable).
+    """
+    out = []
+    for run in unit.runs:
+        s = with_values(run.scenario, values)
+        res = Master(s, fmu_dir, run.inputs).run()
+        if res.error:
+            raise Failed(res.error)
+        if run.time is None:  # scalar-only: the scenario's metrics
+            metrics = compute_metrics(res, s.metrics)
+            out.append({m: np.array([metrics[m]]) for m in unit.observed})
+        else:
+            out.append({c: np.interp(run.time, res.time, res[c]) for c in unit.observed})
+    return out
+
+
+def residuals(unit, sims, shifts=None):
+    """Normalised residuals (model - measured) / range: ``{column: [array per run]}``.
+
+    An alignable column (a sensor channel nothing in the model reads) is compared shifted back
+    by the whole number of samples, 0..MAX_ALIGN, that fits the training part best: its
+    acquisition latency, a nuisance. `shifts`, a dict, receives the samples chosen.
+    """
+    out = {}
+    for c in unit.observed:
+        best = None
+        for d in range(MAX_ALIGN + 1 if c in unit.alignable else 1):
+            res = [(sim[c] - advance(run.measured[c], d)) / unit.scale[c]
+                   for run, sim in zip(unit.runs, sims)]
+            cost = sum(float(np.nansum(np.square(r[run.part == 0])))
+                       for r, run in zip(res, unit.runs))
+            if best is None or cost < best[0]:
+                best = (cost, d, res)
+        out[c] = best[2]
+        if shifts is not None and c in unit.alignable:
+            shifts[c] = best[1]
+    return out
+
+
+def signal_gap(problem, unit, sims):
+    """Per observed signal: NRMSE (all, held-out), bias and lag of the model against the data."""
+    out = {}
+    res = residuals(unit, sims)
+    for c in unit.observed:
+        meas = np.concatenate([r.measured[c] for r in unit.runs])
+        model = np.concatenate([s[c] for s in sims])
+        entry = {"nrmse": float(np.sqrt(np.nanmean(np.square(np.concatenate(res[c]))))),
+                 "nrmse_heldout": gap(unit, res, 1, [c]),
+                 "bias": float(np.nanmean(meas - model)),
+                 "unit": problem.units_of.get(c, "1"), "range": unit.scale[c],
+                 "noise": unit.noise[c]}
+        if not problem.scalar_only:
+            entry["lag"] = lag(unit.runs[0].time, unit.runs[0].measured[c], sims[0][c])
+        else:
+            entry["relative_error"] = [float((s[c][0] - r.measured[c][0]) / r.measured[c][0])
+                                       if r.measured[c][0] else math.nan
+                                       for r, s in zip(unit.runs, sims)]
+        out[c] = entry
+    return out

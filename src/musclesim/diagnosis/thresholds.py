@@ -1,0 +1,72 @@
+"""Every threshold of the sim-to-real diagnosis, in one place: what it decides and why its value.
+
+Gaps and noise floors are normalised by each signal's measured range (0.01 = 1 % of the range).
+A "noise floor" is a signal's estimated white-noise std
+(`musclesim.diagnosis.stats.noise_estimate`), never below `NOISE_FLOOR`. The reports quoted in
+README.md ("Diagnosis": the worked examples, the blind benchmark's scores) depend on these
+values; changing one changes them.
+"""
+
+# -- where: does a unit deviate? ------------------------------------------------------------------
+# A unit deviates when the held-out gap of one of its observed signals exceeds this many times that
+# signal's own noise floor. Three standard deviations: white measurement noise alone stays below
+# it, so a unit that matches its data within the noise is not blamed.
+DEVIATES = 3.0
+
+# The smallest noise floor, as a fraction of a signal's range. Noise-free or quantised data would
+# otherwise give a floor of zero and call every numerical difference a deviation; 0.2 % of the
+# range is below what a bench sensor resolves.
+NOISE_FLOOR = 2e-3
+
+# The relative noise floor of a scalar metric given without `uncertainty`: 2 % of its value (of the
+# largest magnitude measured). A metric has no second differences to estimate its noise from, so
+# a modest repeatability is assumed; a data set that knows better gives `uncertainty`.
+METRIC_FLOOR = 0.02
+
+# Samples of acquisition latency allowed for a sensor channel nothing in the model reads (a strain
+# gauge logged by another device): the shift 0..MAX_ALIGN that fits the training part best is
+# taken. A small number on purpose: a larger shift would start to absorb a real lag, which is an
+# effect to diagnose (the library's thermocouple lag), not a nuisance.
+MAX_ALIGN = 2
+
+# -- which effect: does a candidate count? --------------------------------------------------------
+# An effect must shrink the held-out gap of the nominal model by at least this fraction (30 %); a
+# second effect is added greedily only when it shrinks the remaining gap by this fraction again.
+MIN_SHRINKAGE = 0.3
+
+# ... and leave at most this fraction (85 %) of the held-out gap of the nominal model with as many
+# nominal parameters recalibrated (`effects.CALIBRATION`): an effect must beat a fair rival with
+# the same number of free parameters by a clear margin, so that "raise h" cannot pose as
+# "latent heat".
+BEAT_RECALIBRATED = 0.85
+
+# ... and its gain per held-out sample inside the regime it predicts (its signature) must be at
+# least this share of its gain per sample overall. Below 1 on purpose: effects acting through the
+# hysteresis's memory spread their gain beyond the regime that triggers them.
+SIGNATURE_MIN = 0.75
+
+# -- verdict: is what is left explained? ----------------------------------------------------------
+# A gap left after the selected effects is unstructured (the effect explains the data) when it is
+# within STRUCTURED noise floors (the same three standard deviations as DEVIATES) ...
+STRUCTURED = 3.0
+
+# ... or at most this share (10 %) of the gap before: on clean data the noise floor can be far
+# below a remaining gap that is still negligible next to what the effect explained.
+RESIDUAL_SHARE = 0.1
+
+# An effect that leaves a structured gap is still named (``complete`` false) when it explains at
+# least this share of the gap before: more than half of the difference is its doing, the rest is
+# a further difference outside the library.
+MOST = 0.5
+
+# -- statistics -----------------------------------------------------------------------------------
+# Block-bootstrap resamples behind every 95 % interval: enough for stable 2.5 / 97.5 percentiles
+# at the cost of cheap sums (no simulation is repeated).
+BOOTSTRAP = 400
+
+# Contiguous blocks per held-out part for the block bootstrap: blocks keep the residuals'
+# autocorrelation within them; 20 blocks still give distinct resamples.
+BLOCKS = 20
+
+# The worst time windows (5 % of an experiment each) listed in the report's regimes section.
+WINDOWS = 3
