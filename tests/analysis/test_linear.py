@@ -59,10 +59,10 @@ def test_sma_thermal_plants_and_designed_poles(sma_report):
 
 def test_shipped_gain_table_is_the_design_output(sma_report):
     """The scenario's gains come from the design step, not typed in: rerun it to change them."""
-    from conftest import SCENARIOS
+    from conftest import SCENARIOS, assert_same_toml
 
-    assert (SCENARIOS / "params" / "sma-thermal-gains.toml").read_text() \
-        == linear_sma_thermal.gain_table_toml(sma_report)
+    assert_same_toml((SCENARIOS / "params" / "sma-thermal-gains.toml").read_text(),
+                     linear_sma_thermal.gain_table_toml(sma_report))
 
 
 def test_cli_sma_thermal_writes_the_table(tmp_path, capsys):

@@ -201,8 +201,13 @@ def test_committed_gait_references_are_what_characterise_computes_now(fmu_dir, t
     fresh = tomllib.loads(out.read_text())
     committed = tomllib.loads((PARAMS / "crawler-gait-references.toml").read_text())
     assert set(fresh) == set(committed) == {"p_central", "p_anchor1", "p_anchor2"}
+    # The characterisation is a stick-slip run: the body's matrix products go through BLAS, whose
+    # kernel (chosen per CPU) rounds in the last digits, and a stick or slip decided one step
+    # earlier moves the result. Measured on one machine with OPENBLAS_CORETYPE forced: p_central
+    # 8589.3 (Haswell, Zen: the committed file), 8568.7 (SkylakeX), 8481.7 Pa (Sandybridge), a
+    # spread of 1.3 %; typed-in references would have to fall within it by chance.
     for key in fresh:
-        assert committed[key] == pytest.approx(fresh[key], rel=1e-9), key
+        assert committed[key] == pytest.approx(fresh[key], rel=0.02), key
     # plausibility: the blocks slide on their casings, so the elongation is the spring's
     # s_a p / k less a little friction lag (SPEC 1.2, 1.3)
     body = load_scenario(SCENARIOS / "crawler-pneumatic.toml").instances["body"].parameters
