@@ -19,6 +19,9 @@ import math
 import numpy as np
 
 HEADER = ("stress_Pa", "a_C", "b_C", "F")
+# physical bounds of each column: stress up to 10 GPa, temperatures from absolute zero to 1000 C,
+# strain increments within +-100 % (the study's wire transforms by about 4 %, SPEC 2.3)
+_RANGES = ((0.0, 1e10), (-273.15, 1000.0), (-273.15, 1000.0), (-1.0, 1.0))
 _PREAMBLE = ("# musclesim FORC data set: F(a, b; stress) = strain increment of the first-order "
              "reversal curve heated from the lower saturation temperature to a, cooled to b "
              "(SPEC 2.2)",
@@ -123,4 +126,8 @@ def _numbers(path, line, fields):
                          f"({','.join(HEADER)}), got {','.join(fields)!r}")
     if not all(math.isfinite(v) for v in values):
         raise ValueError(f"{path} line {line}: {','.join(fields)!r} is not finite")
+    for name, v, (lo, hi) in zip(HEADER, values, _RANGES):
+        if not lo <= v <= hi:
+            raise ValueError(f"{path} line {line}: {name} = {v:g} lies outside {lo:g} to {hi:g}, "
+                             "which no SMA wire's FORC data leaves")
     return values

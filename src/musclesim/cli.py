@@ -35,7 +35,7 @@ def _cmd_run(args):
     for name, unit in summary["units"].items():
         print(f"{name} = {summary[name]:.6g} {unit}")
     print(f"wrote {out / 'results.csv'}, {out / 'summary.json'} and {out / 'results.png'}")
-    for warning in res.warnings:
+    for warning in summary["warnings"]:
         print(f"musclesim: warning from {warning}", file=sys.stderr)
     if res.error:
         print(f"musclesim: run stopped: {res.error} (results up to then are kept)", file=sys.stderr)
@@ -66,7 +66,7 @@ def _cmd_linear(args):
     from musclesim.analysis import (crawler, format_crawler, format_pneumatic, format_sma_load,
                                     format_sma_thermal, gain_table_toml, load_gains_toml,
                                     pneumatic, pneumatic_gains_toml, sma_load, sma_thermal)
-    from musclesim.cosim import check_fresh
+    from musclesim.cosim import check_fresh, replace_file
 
     if args.system == "crawler":
         report, text, toml = crawler(), format_crawler, None
@@ -85,10 +85,10 @@ def _cmd_linear(args):
         Path(args.write).mkdir(parents=True, exist_ok=True)
         for actuator in report["loops"]:
             written.append(Path(args.write) / f"pneumatic-{actuator}-pid.toml")
-            written[-1].write_text(toml(report, actuator))
+            replace_file(written[-1], toml(report, actuator))
     elif args.write:
         written.append(Path(args.write))
-        written[-1].write_text(toml(report))
+        replace_file(written[-1], toml(report))
     print(json.dumps(report, indent=2) if args.json else text(report))
     for path in written:
         print(f"wrote the gains to {path}", file=sys.stderr)
@@ -97,7 +97,7 @@ def _cmd_linear(args):
 
 def _cmd_characterise(args):
     from musclesim.analysis import ELONGATION_TARGET, gait_references, gait_references_toml
-    from musclesim.cosim import run_scenario
+    from musclesim.cosim import replace_file, run_scenario
 
     summary, res = run_scenario(args.scenario, args.out, args.fmus, args.set)
     if res.error:
@@ -110,7 +110,7 @@ def _cmd_characterise(args):
               f"reference {refs[f'p_anchor{i}']:.1f} Pa")
     print(f"wrote the run to {args.out}")
     if args.write:
-        Path(args.write).write_text(gait_references_toml(refs, args.scenario))
+        replace_file(args.write, gait_references_toml(refs, args.scenario))
         print(f"wrote the gait references to {args.write}", file=sys.stderr)
     return 0
 
@@ -241,7 +241,7 @@ def _parser():
                    help="a grid axis (repeatable)")
     q.add_argument("--out", required=True, help="output folder (one result per case)")
     q.add_argument("--scheduler", help="address of an existing Dask scheduler")
-    q.add_argument("--workers", type=int, help="workers of the local cluster")
+    q.add_argument("--workers", type=_positive, help="workers of the local cluster")
     q.set_defaults(func=_cmd_sweep)
 
     q = sub.add_parser("loops", help="steady strain loops of cycled temperature bands (SMA wire)")
@@ -275,7 +275,8 @@ def _parser():
     def dask_args(q):
         q.add_argument("--scheduler", help="address of a running Dask scheduler (default: a "
                        "local cluster)")
-        q.add_argument("--workers", type=int, help="local worker processes (default: cores)")
+        q.add_argument("--workers", type=_positive,
+                       help="local worker processes (default: cores)")
 
     q = sub.add_parser("diagnose", help="sim-to-real gap diagnosis of a measured data set")
     q.add_argument("dataset", help="data set folder (manifest.toml + data.csv)")
@@ -289,7 +290,7 @@ def _parser():
 
     q = sub.add_parser("benchmark-diagnosis",
                        help="blind check of the diagnosis on virtual hardware with hidden effects")
-    q.add_argument("--cases", type=int, default=40, help="number of cases (default 40)")
+    q.add_argument("--cases", type=_positive, default=40, help="number of cases (default 40)")
     q.add_argument("--seed", type=int, default=1, help="seed of the hidden truths (default 1)")
     q.add_argument("--out", required=True, help="folder for the cases, key and scores.json")
     q.add_argument("--scenarios", default="scenarios", help="folder of the bench scenarios")
@@ -342,14 +343,57 @@ def _parser():
     return p
 
 
+def _positive(text):
+    """argparse type: an integer of at least 1."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text} must be at least 1")
+    return value
+
+
+# every command's outputs, checked before the command does any work: (option, folder or file)
+_OUTPUTS = {"build": [("fmus", "dir")], "run": [("out", "dir")], "export": [("ssp", "file")],
+            "sweep": [("out", "dir")], "loops": [("plot", "file")], "identify": [("out", "file")],
+            "diagnose": [("out", "dir")], "benchmark-diagnosis": [("out", "dir")],
+            "table": [("out", "dir")], "characterise": [("out", "dir"), ("write", "file")],
+            "linear": [("write", "file")]}
+
+
+def _check_outputs(args):
+    from musclesim.cosim import check_output_dir, check_output_file
+
+    for option, kind in _OUTPUTS.get(args.command, ()):
+        path = getattr(args, option)
+        if path is None:
+            continue
+        if kind == "dir" or (args.command == "linear" and args.system == "pneumatic"):
+            check_output_dir(path, f"--{option}")
+        else:
+            check_output_file(path, f"--{option}")
+
+
 def main(argv=None):
-    """Entry point of the `musclesim` console script."""
+    """Entry point of the `musclesim` console script.
+
+    Exit status: 0 done, 1 a run or case failed (its results kept), 2 a mistake in the input,
+    130 / 143 stopped by SIGINT / SIGTERM (what was written so far is kept).
+    """
+    from musclesim.cosim import Interrupted, interruptible
+
     args = _parser().parse_args(argv)
     try:
-        return args.func(args)
+        with interruptible():
+            _check_outputs(args)
+            return args.func(args)
     except UserError as exc:
         print(f"musclesim: {exc}", file=sys.stderr)
         return 2
+    except Interrupted as exc:
+        print(f"musclesim: {exc}; what was written so far is kept", file=sys.stderr)
+        return exc.exit_code
 
 
 if __name__ == "__main__":

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from musclesim.components.sma import profiles
+from musclesim.cosim import replace_file, save_figure
 from musclesim.errors import UserError
 
 STRESSES = (105e6, 115e6, 125e6, 135e6, 145e6)  # Pa (SPEC 2.4)
@@ -137,7 +138,7 @@ def write_table(out, name, rows, columns, cells, failed=()):
     if failed:
         lines[-1:-1] = [f"{len(failed)} failed: their errors are in summary.json in their case "
                         "folders."]
-    (out / f"{name}.md").write_text("\n".join(lines))
+    replace_file(out / f"{name}.md", "\n".join(lines))
     return stats
 
 
@@ -174,7 +175,7 @@ def figure(path, t, col, length, title):
     axes[-1].set_xlabel("time [s]")
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=90)
+    save_figure(fig, path, dpi=90)
     plt.close(fig)
 
 
@@ -218,5 +219,5 @@ def sma_position(out, scenario_path, fmu_dir="fmus", stop_time=None, scheduler=N
         col_names = list(dict.fromkeys(c for _, c, _, _ in rows))
         report[name] = {**write_table(out, name, row_names, col_names, cells, failed_cells),
                         "failed": failed}
-    (out / "tables.json").write_text(json.dumps(report, indent=2) + "\n")
+    replace_file(out / "tables.json", json.dumps(report, indent=2) + "\n")
     return report

@@ -11,6 +11,7 @@ import json
 from pathlib import Path
 
 from musclesim.batch.cluster import dask_client
+from musclesim.cosim import replace_file
 from musclesim.errors import UserError
 
 
@@ -18,7 +19,7 @@ def write_failure(case_dir, error):
     """Record in case_dir/summary.json that the case failed with `error`; return that summary."""
     summary = {"completed": False, "error": error}
     Path(case_dir).mkdir(parents=True, exist_ok=True)
-    (Path(case_dir) / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+    replace_file(Path(case_dir) / "summary.json", json.dumps(summary, indent=2) + "\n")
     return summary
 
 
@@ -80,7 +81,7 @@ def claim(out, scenario_path, **settings):
             raise UserError(f"{out} holds the cases of a run with other settings "
                             f"({', '.join(differ)}); choose another --out or delete that folder")
     out.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(config, indent=2) + "\n")
+    replace_file(path, json.dumps(config, indent=2) + "\n")
 
 
 def run_cases(todo, submit, scheduler, workers, record):

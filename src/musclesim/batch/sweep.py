@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from musclesim.batch.cases import claim, finished, run_cases
+from musclesim.cosim import save_figure
 from musclesim.errors import UserError
 
 _SWEEP_KEYS = {"scenario", "grid", "description", "plot"}
@@ -171,14 +172,21 @@ def _sets(point):
     return [f"{name}={value!r}" for name, value in point.items()]
 
 
-def _check(sweep, path, fmu_dir, overrides, stop_time):
+def _check(sweep, path, fmu_dir, overrides, point, stop_time):
     """Check the scenario, axes and plot once, rather than fail every case the same way.
 
-    Returns the scenario of the first case, the metrics' units and the plot to draw.
+    `overrides` are the user's (``--set``), `point` the first case's grid values. Returns the
+    scenario of the first case, the metrics' units and the plot to draw.
     """
-    from musclesim.cosim import Master, check_fresh, load_scenario, metric_unit, signal_units
+    from musclesim.cosim import (Master, check_fresh, load_scenario, metric_unit, signal_units,
+                                 split_signal)
 
-    s = load_scenario(sweep.scenario, overrides, stop_time)
+    instances = load_scenario(sweep.scenario, overrides, stop_time).instances
+    for axis in sweep.axes:
+        if split_signal(axis)[0] not in instances:
+            raise UserError(f"grid axis {axis!r}: no instance {split_signal(axis)[0]!r} in "
+                            f"{sweep.scenario} (instances: {', '.join(instances)})")
+    s = load_scenario(sweep.scenario, [*overrides, *point], stop_time)
     check_fresh(fmu_dir)
     sig_units = signal_units(Master(s, fmu_dir))
     units = {n: metric_unit(sig_units[m.signal], m.op) for n, m in s.metrics.items()}
@@ -230,8 +238,8 @@ def run(scenario_path, grid, out, fmu_dir="fmus", scheduler=None, workers=None, 
         raise UserError(f"--workers must be at least 1 (got {workers})")
     out, fmu_dir, scen_path = Path(out).resolve(), Path(fmu_dir).resolve(), sweep.scenario.resolve()
     all_cases = grid_cases(sweep.axes)
-    s, units, plot_spec = _check(sweep, scenario_path, fmu_dir,
-                                 [*overrides, *_sets(all_cases[0][1])], stop_time)
+    s, units, plot_spec = _check(sweep, scenario_path, fmu_dir, overrides,
+                                 _sets(all_cases[0][1]), stop_time)
     claim(out, scen_path, overrides=list(overrides), stop_time=stop_time)
 
     columns = ["case", *sweep.axes, "completed", *s.metrics, "error"]
@@ -313,6 +321,6 @@ def _plot(csv_path, png, spec, axes, units, title):
             ax.set_ylabel(used[1])
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    fig.savefig(png, dpi=110)
+    save_figure(fig, png, dpi=110)
     plt.close(fig)
     return True

@@ -3,11 +3,18 @@ file, step it with the master algorithm, write its results, export it as SSP, re
 
 The data path of a run is ``load_scenario`` -> ``Master(...).run()`` -> ``write_results``;
 ``run_scenario`` does all three (with the freshness check of the FMUs) for the command line and
-for every case of a sweep.
+for every case of a sweep, writing the rows as the run goes. What every layer's outputs rely on
+lives here too: output paths checked before the work (``check_output_dir``,
+``check_output_file``), files replaced whole (``replace_file``, ``save_figure``), and stopping on
+SIGINT or SIGTERM at the next step with what was written kept (``interruptible``, raising
+``Interrupted``).
 """
 from musclesim.cosim.build import build_all, check_fresh, source_digest
 from musclesim.cosim.host import forget_fmu_resource_paths, read_fmu
+from musclesim.cosim.interrupt import Interrupted, interruptible
 from musclesim.cosim.master import Master
+from musclesim.cosim.outputs import (check_output_dir, check_output_file, replace_file,
+                                     save_figure)
 from musclesim.cosim.results import compute_metrics, metric_unit, signal_units
 from musclesim.cosim.results import write_all as write_results
 from musclesim.cosim.run import run_scenario
@@ -19,4 +26,5 @@ from musclesim.cosim.timeseries import read_time_series
 __all__ = ["build_all", "check_fresh", "source_digest", "forget_fmu_resource_paths", "read_fmu",
            "Master", "compute_metrics", "metric_unit", "signal_units", "write_results",
            "run_scenario", "Instance", "Scenario", "split_signal", "load_scenario", "export_ssp",
-           "read_time_series"]
+           "read_time_series", "Interrupted", "interruptible", "check_output_dir",
+           "check_output_file", "replace_file", "save_figure"]

@@ -91,9 +91,27 @@ def build_all(dest="fmus", names=None):
             built.append(FmuBuilder.build_FMU(
                 script, dest=dest, project_files=[stage / "musclesim"],
                 canGetAndSetFMUstate=True, needsExecutionTool=True))
+    sources, fmus = source_digest(), {}
+    if names:  # a partial build keeps the digests of the FMUs built before from the same sources
+        old = _stamp(dest)
+        fmus = old.get("fmus", {}) if old.get("sources") == sources else {}
+    fmus.update({Path(b).name: _file_digest(b) for b in built})
     (dest / "BUILD.json").write_text(json.dumps(
-        {"musclesim": musclesim.__version__, "sources": source_digest()}, indent=2) + "\n")
+        {"musclesim": musclesim.__version__, "sources": sources, "fmus": fmus}, indent=2) + "\n")
     return built
+
+
+def _file_digest(path):
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def _stamp(fmu_dir):
+    """BUILD.json's content as a dict ({} when absent or unreadable)."""
+    try:
+        stamp = json.loads((Path(fmu_dir) / "BUILD.json").read_text())
+    except (OSError, ValueError):
+        return {}
+    return stamp if isinstance(stamp, dict) else {}
 
 
 def check_fresh(fmu_dir):
@@ -101,14 +119,17 @@ def check_fresh(fmu_dir):
 
     In the runner's process the FMUs' slaves import the installed musclesim modules, so a stale
     FMU would run code that differs from the one it ships; rebuilding keeps the two the same.
+    An FMU that BUILD.json lists but whose file is not the one built (replaced or edited) is
+    refused the same way; an FMU it does not list is foreign and left to the master's checks.
     """
-    stamp = Path(fmu_dir) / "BUILD.json"
-    if not stamp.is_file():
+    if not (Path(fmu_dir) / "BUILD.json").is_file():
         return  # foreign or missing FMUs: the master reports what is missing
-    try:
-        built = json.loads(stamp.read_text()).get("sources")
-    except (ValueError, AttributeError):
-        built = None
-    if built != source_digest():
+    stamp = _stamp(fmu_dir)
+    if stamp.get("sources") != source_digest() or not isinstance(stamp.get("fmus"), dict):
         raise UserError(f"the FMUs in {fmu_dir} were built from other sources than this musclesim; "
                         "run `musclesim build` to rebuild them")
+    for name, digest in sorted(stamp["fmus"].items()):
+        path = Path(fmu_dir) / Path(str(name)).name  # a name, never a path out of the folder
+        if path.is_file() and _file_digest(path) != digest:
+            raise UserError(f"{path} is not the FMU `musclesim build` made (its digest differs "
+                            "from BUILD.json's); run `musclesim build` to rebuild it")

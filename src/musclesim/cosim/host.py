@@ -2,13 +2,18 @@
 
 Process-wide concerns of loading FMUs with fmpy, kept apart from the master algorithm: one log
 callback for the whole process, the fixes for pythonfmu 0.7's exit-time use-after-free and its
-``sys.path`` entries, and reading model descriptions without entity expansion.
+``sys.path`` entries, and reading untrusted archives: the model description read with a size cap
+and without entity expansion, extraction entry by entry (no absolute path, no ``..``, no link,
+a cap on the total size).
 """
 import atexit
 import ctypes
+import io
+import shutil
+import stat
 import sys
 import zipfile
-from pathlib import Path
+from pathlib import Path, PurePosixPath
 
 from fmpy import read_model_description
 from fmpy.fmi2 import (calloc, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
@@ -85,20 +90,91 @@ def forget_fmu_resource_paths():
     sys.path[:] = [p for p in sys.path if not (Path(p) / "slavemodule.txt").is_file()]
 
 
+MAX_DESCRIPTION = 16 * 2**20  # bytes of modelDescription.xml read at most (ours: ~30 kB)
+MAX_EXTRACTED = 512 * 2**20  # bytes an FMU may unpack to (ours: ~0.2 MB each)
+MAX_ENTRIES = 10_000  # files in one FMU
+
+
+def _read_capped(zf, name, cap, where):
+    """The bytes of entry `name`, read in chunks and refused past `cap` (sizes can lie)."""
+    with zf.open(name) as f:
+        data = f.read(cap + 1)
+    if len(data) > cap:
+        raise UserError(f"{where}: {name} is larger than {cap // 2**20} MiB, refused")
+    return data
+
+
 def read_fmu(path):
-    """Read an FMU's model description, refusing XML with a DTD (no entity expansion)."""
+    """Read an FMU's model description, refusing XML with a DTD (no entity expansion) and a
+    description larger than `MAX_DESCRIPTION` before parsing it."""
     path = Path(path)
     try:
         with zipfile.ZipFile(path) as zf:
-            xml = zf.read("modelDescription.xml")
-    except (OSError, KeyError, zipfile.BadZipFile) as exc:
+            xml = _read_capped(zf, "modelDescription.xml", MAX_DESCRIPTION, path)
+    except (OSError, KeyError, zipfile.BadZipFile, EOFError) as exc:
         raise UserError(f"{path} is not a readable FMU: {exc}") from None
     if b"<!DOCTYPE" in xml or b"<!ENTITY" in xml:
         raise UserError(f"{path}: modelDescription.xml declares a DTD or entities, refused")
+    only = io.BytesIO()  # fmpy parses a zip: hand it one holding just the capped description
+    with zipfile.ZipFile(only, "w") as zf:
+        zf.writestr("modelDescription.xml", xml)
     try:
-        md = read_model_description(str(path), validate=False)
+        md = read_model_description(only, validate=False)
     except Exception as exc:  # fmpy raises bare Exceptions for malformed descriptions
         raise UserError(f"{path}: cannot read modelDescription.xml: {exc}") from None
     if md.coSimulation is None:
         raise UserError(f"{path} is not a co-simulation FMU")
     return md
+
+
+def _entry_problem(info):
+    name = info.filename
+    parts = PurePosixPath(name.replace("\\", "/")).parts
+    if name.startswith(("/", "\\")) or (parts and ":" in parts[0]):
+        return "has an absolute path"
+    if ".." in parts:
+        return "leaves the archive's folder ('..')"
+    if stat.S_ISLNK(info.external_attr >> 16):
+        return "is a link"
+    return None
+
+
+def extract_fmu(path, dest):
+    """Extract the FMU at `path` into the new folder `dest`, checking every entry first.
+
+    Refuses, in one sentence naming the archive and the entry, an absolute path, a ``..``, a
+    link, more than `MAX_ENTRIES` entries or more than `MAX_EXTRACTED` bytes unpacked (counted
+    as they are written, not as the archive declares them). Returns `dest` as a string.
+    """
+    path, dest = Path(path), Path(dest)
+    try:
+        with zipfile.ZipFile(path) as zf:
+            infos = zf.infolist()
+            if len(infos) > MAX_ENTRIES:
+                raise UserError(f"FMU {path} holds {len(infos)} entries, more than {MAX_ENTRIES}")
+            for info in infos:
+                problem = _entry_problem(info)
+                if problem:
+                    raise UserError(f"FMU {path}: entry {info.filename!r} {problem}, refused")
+            total = 0
+            for info in infos:
+                target = dest / info.filename
+                if info.is_dir():
+                    target.mkdir(parents=True, exist_ok=True)
+                    continue
+                target.parent.mkdir(parents=True, exist_ok=True)
+                with zf.open(info) as src, open(target, "wb") as out:
+                    while chunk := src.read(2**20):
+                        total += len(chunk)
+                        if total > MAX_EXTRACTED:
+                            raise UserError(f"FMU {path}: entry {info.filename!r} takes the "
+                                            f"archive past {MAX_EXTRACTED // 2**20} MiB "
+                                            "unpacked, refused")
+                        out.write(chunk)
+    except (OSError, zipfile.BadZipFile, EOFError) as exc:
+        shutil.rmtree(dest, ignore_errors=True)
+        raise UserError(f"FMU {path} cannot be extracted: {exc}") from None
+    except UserError:
+        shutil.rmtree(dest, ignore_errors=True)
+        raise
+    return str(dest)

@@ -18,20 +18,26 @@ fmi2GetReal / fmi2SetReal per instance and phase, no Python allocation per step.
 """
 import ctypes
 import math
+import os
 import re
 import shutil
 import tempfile
+import time as clock
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from fmpy import extract
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave
 
-from musclesim.errors import UserError
-from musclesim.cosim.host import LOG_SINKS, callbacks, forget_fmu_resource_paths, read_fmu
+from musclesim.cosim import interrupt
+from musclesim.cosim.host import (LOG_SINKS, callbacks, extract_fmu, forget_fmu_resource_paths,
+                                  read_fmu)
 from musclesim.cosim.scenario import split_signal
+from musclesim.errors import UserError
+
+MAX_VALUES = 100_000_000  # recorded values a run keeps in memory (800 MB): rows x columns
+FLUSH_SECONDS = 2.0  # wall time between two hand-overs of new rows to a run's `on_rows`
 
 
 @dataclass
@@ -51,6 +57,21 @@ class Results:
 
     def __getitem__(self, name):
         return self.data[:, self.names.index(name)]
+
+
+def _remove_orphans():
+    """Remove the temporary folders of runs whose process is gone (killed with SIGKILL, which no
+    ``finally`` survives): the next run cleans up after them."""
+    for folder in Path(tempfile.gettempdir()).glob("musclesim_run_*_*"):
+        pid = folder.name.split("_")[2]
+        if not pid.isdigit():
+            continue
+        try:
+            os.kill(int(pid), 0)
+        except ProcessLookupError:
+            shutil.rmtree(folder, ignore_errors=True)
+        except OSError:  # alive, another user's
+            continue
 
 
 def _topological(nodes, edges, pick_in_cycle):
@@ -150,6 +171,12 @@ class Master:
         self._plan(problems)
         if problems:
             raise UserError(f"scenario {scenario.path}: " + "; ".join(problems))
+        values = (scenario.n_steps + 1) * (len(self.columns) + 1)
+        if values > MAX_VALUES:
+            raise UserError(f"scenario {scenario.path}: {scenario.n_steps + 1} rows of "
+                            f"{len(self.columns)} recorded signals are {values:.3g} values, more "
+                            f"than the {MAX_VALUES:,} a run keeps; record fewer signals, take a "
+                            "longer step or a shorter stop time")
 
     # ---- checks --------------------------------------------------------------------------------
     def _variable(self, signal, problems, what):
@@ -292,22 +319,34 @@ class Master:
         return (f"instance {inst.name!r} ({inst.component}) failed {self.phase} "
                 f"at t = {t:.6g} s: {cause}")
 
-    def run(self):
-        """Run the scenario; return `Results` (with ``error`` set if an instance failed)."""
+    def run(self, on_rows=None):
+        """Run the scenario; return `Results` (with ``error`` set if an instance failed).
+
+        `on_rows(time, data)`, if given, receives the rows recorded since its last call about
+        every `FLUSH_SECONDS` of wall time and once at the end, so that a caller can write them
+        as the run goes. A signal caught by `interrupt.interruptible` stops the run at its next
+        step: `interrupt.Interrupted` is raised with the `Results` so far (rows handed over too).
+        """
         s = self.scenario
         time = np.empty(s.n_steps + 1)
         data = np.empty((s.n_steps + 1, len(self.columns)))
+        self.on_rows, self.flushed = on_rows, 0
         self.callbacks = callbacks(id(self))
         LOG_SINKS[id(self)] = self.instances
         self.current, self.phase, self.row, self.t = None, "while loading", 0, s.start_time
-        failed, error = None, None
-        tmp = Path(tempfile.mkdtemp(prefix="musclesim_run_"))
+        failed, error, stopped = None, None, None
+        _remove_orphans()
+        tmp = Path(tempfile.mkdtemp(prefix=f"musclesim_run_{os.getpid()}_"))
         try:
-            self._instantiate(tmp)
-            self.phase = "during initialization"
-            self._initialize()
-            self.phase = "in a step"
-            error = self._loop(time, data)
+            with interrupt.polled():
+                self._instantiate(tmp)
+                if interrupt.requested() is None:
+                    self.phase = "during initialization"
+                    self._initialize()
+                if interrupt.requested() is None:
+                    self.phase = "in a step"
+                    error = self._loop(time, data)
+                stopped = interrupt.requested()
         except FMICallException:
             failed = self.current
             error = self._failure(failed, self.t)
@@ -323,8 +362,20 @@ class Master:
             del LOG_SINKS[id(self)]
         warnings = [f"{i.name}: {msg}" for i in self.instances.values()
                     for status, msg in i.log if status == 1]  # fmi2Warning
-        return Results(time[:self.row].copy(), list(self.columns), data[:self.row].copy(), error,
-                       warnings)
+        self._flush(time, data)
+        if stopped is not None:
+            error = f"{interrupt.Interrupted(stopped)} at t = {self.t:.6g} s"
+        res = Results(time[:self.row].copy(), list(self.columns), data[:self.row].copy(), error,
+                      warnings)
+        if stopped is not None:
+            raise interrupt.Interrupted(stopped, res)
+        return res
+
+    def _flush(self, time, data):
+        """Hand the rows recorded since the last call to `on_rows`."""
+        if self.on_rows is not None and self.row > self.flushed:
+            self.on_rows(time[self.flushed:self.row], data[self.flushed:self.row])
+            self.flushed = self.row
 
     def _instantiate(self, tmp):
         s = self.scenario
@@ -332,8 +383,8 @@ class Master:
         for inst in self.instances.values():
             self.current = inst
             if inst.component not in unzipped:
-                unzipped[inst.component] = extract(self.fmu_dir / f"{inst.component}.fmu",
-                                                   tmp / inst.component)
+                unzipped[inst.component] = extract_fmu(self.fmu_dir / f"{inst.component}.fmu",
+                                                       tmp / inst.component)
             inst.slave = FMU2Slave(guid=inst.md.guid, unzipDirectory=unzipped[inst.component],
                                    modelIdentifier=inst.md.coSimulation.modelIdentifier,
                                    instanceName=inst.name)
@@ -368,6 +419,7 @@ class Master:
         gauss_seidel = s.algorithm == "gauss-seidel"
         order = [self.instances[x] for x in self.step_order]
         take, rec = self.values.take, self.record_slots
+        state, due = interrupt.STATE, clock.monotonic() + FLUSH_SECONDS
         try:
             while True:
                 time[row] = t
@@ -376,8 +428,12 @@ class Master:
                 if not np.isfinite(data[row - 1]).all():
                     col = next(j for j, x in enumerate(data[row - 1]) if not math.isfinite(x))
                     return f"signal {self.columns[col]} became {data[row - 1, col]} at t = {t:.6g} s"
-                if row > n:
+                if row > n or state["signum"] is not None:
                     return None
+                if not row & 1023 and self.on_rows is not None and clock.monotonic() > due:
+                    self.row = row
+                    self._flush(time, data)
+                    due = clock.monotonic() + FLUSH_SECONDS
                 for inst in order:
                     self.current = inst
                     self._set(inst, inst.set_all if gauss_seidel else inst.set_late)

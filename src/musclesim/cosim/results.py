@@ -1,11 +1,25 @@
-"""Run outputs: results.csv, summary.json (metrics) and a plot, written into one folder."""
+"""Run outputs: results.csv, summary.json (metrics) and a plot, written into one folder.
+
+A run's outputs are written as it goes and always belong together (`RunWriter`): the previous
+run's files are removed first (summary first), then summary.json says ``completed: false`` with a
+new run id, results.csv (its first line ``# musclesim run <id>``, the same id) grows by whole rows
+as the master hands them over, and only at the end do results.png and the final summary.json
+appear, each written under a temporary name and renamed in place. A run killed at any moment
+leaves either the previous run or this run's rows so far, never one run's results beside another
+run's summary; a killed write may cut the last row, which then has no line end.
+"""
+import io
 import json
 import math
+import uuid
 from pathlib import Path
 
 import numpy as np
 
+from musclesim.cosim.outputs import replace_file, save_figure
 from musclesim.cosim.scenario import split_signal
+
+RUN_ID_PREFIX = "# musclesim run "
 
 def _rate(t, y):
     return (y[-1] - y[0]) / (t[-1] - t[0]) if t[-1] > t[0] else math.nan
@@ -45,11 +59,11 @@ def compute_metrics(results, metrics):
     return out
 
 
-def write_csv(path, results):
-    """Write ``time`` then one column per signal, full double precision."""
-    header = ",".join(["time", *results.names])
-    np.savetxt(path, np.column_stack([results.time, results.data]), delimiter=",",
-               header=header, comments="", fmt="%.17g")
+def csv_rows(time, data):
+    """Rows ``time,<values>`` at full double precision, each ending in a line end."""
+    buf = io.StringIO()
+    np.savetxt(buf, np.column_stack([time, data]), delimiter=",", fmt="%.17g")
+    return buf.getvalue()
 
 
 def plot(path, results, panels, units, title=""):
@@ -71,45 +85,80 @@ def plot(path, results, panels, units, title=""):
     axes[-1, 0].set_xlabel("time [s]")
     fig.suptitle(title, fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 
-def write_all(out_dir, scenario, results, units, with_plot=True):
-    """Write results.csv, summary.json and (unless not `with_plot`) results.png into `out_dir`.
+class RunWriter:
+    """One run's outputs in `out_dir`, written as the run goes (see the module docstring).
 
-    Returns the summary dict.
-
-    `units` maps each recorded signal to its unit. The summary holds the metrics at top level
-    (with their units under ``"units"``), and the run's scenario, algorithm, step, times and error.
+    `start` before the run, `rows` as the master hands rows over (`Master.run`'s ``on_rows``),
+    `finish` with the run's `Results`. `units` maps each recorded signal to its unit.
     """
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    write_csv(out / "results.csv", results)
-    metrics = compute_metrics(results, scenario.metrics)
-    summary = {
-        **metrics,
-        "units": {name: metric_unit(units.get(m.signal), m.op)
-                  for name, m in scenario.metrics.items()},
-        "scenario": scenario.name,
-        "description": scenario.description,
-        "scenario_file": str(scenario.path),
-        "spec": scenario.spec,
-        "algorithm": scenario.algorithm,
-        "step": scenario.step,
-        "start_time": scenario.start_time,
-        "stop_time": scenario.stop_time,
-        "parameters": {n: i.parameters for n, i in scenario.instances.items()},
-        "completed": results.error is None,
-        "error": results.error,
-        "warnings": results.warnings,
-        "end_time": float(results.time[-1]) if len(results.time) else None,
-    }
-    (out / "summary.json").write_text(json.dumps(summary, indent=2, allow_nan=True) + "\n")
-    if with_plot and len(results.time) > 1:
-        plot(out / "results.png", results, scenario.plots, units,
-             title=f"{scenario.name} ({scenario.spec})" if scenario.spec else scenario.name)
-    return summary
+
+    def __init__(self, out_dir, scenario, columns, units, with_plot=True):
+        self.out, self.scenario, self.columns = Path(out_dir), scenario, list(columns)
+        self.units, self.with_plot = units, with_plot
+        self.run_id = uuid.uuid4().hex
+        self.csv = None
+
+    def start(self):
+        """Remove the previous run's outputs and open this run's (``completed: false``)."""
+        self.out.mkdir(parents=True, exist_ok=True)
+        for name in ("summary.json", "results.csv", "results.png"):
+            (self.out / name).unlink(missing_ok=True)
+        self._summary({"completed": False, "error": None, "status": "running"})
+        header = f"{RUN_ID_PREFIX}{self.run_id}\n" + ",".join(["time", *self.columns]) + "\n"
+        replace_file(self.out / "results.csv", header)
+        self.csv = open(self.out / "results.csv", "ab", buffering=0)
+
+    def rows(self, time, data):
+        """Append whole rows to results.csv (one write)."""
+        if len(time):
+            self.csv.write(csv_rows(time, data).encode())
+
+    def finish(self, results):
+        """Close results.csv, draw the plot, write the final summary; return the summary."""
+        if self.csv is not None:
+            self.csv.close()
+            self.csv = None
+        metrics = compute_metrics(results, self.scenario.metrics)
+        warnings = list(results.warnings) + [
+            f"metric {name}: no sample in its window ({m.start:g} to {m.stop:g} s) of a run "
+            f"ending at {results.time[-1] if len(results.time) else self.scenario.start_time:g} s"
+            for name, m in self.scenario.metrics.items() if math.isnan(metrics[name])]
+        if self.with_plot and len(results.time) > 1:
+            s = self.scenario
+            plot(self.out / "results.png", results, s.plots, self.units,
+                 title=f"{s.name} ({s.spec})" if s.spec else s.name)
+        return self._summary({
+            **metrics,
+            "units": {name: metric_unit(self.units.get(m.signal), m.op)
+                      for name, m in self.scenario.metrics.items()},
+            "completed": results.error is None, "error": results.error,
+            "status": "completed" if results.error is None else "stopped",
+            "warnings": warnings,
+            "end_time": float(results.time[-1]) if len(results.time) else None})
+
+    def _summary(self, state):
+        s = self.scenario
+        summary = {**state, "run_id": self.run_id, "scenario": s.name,
+                   "description": s.description, "scenario_file": str(s.path), "spec": s.spec,
+                   "algorithm": s.algorithm, "step": s.step, "start_time": s.start_time,
+                   "stop_time": s.stop_time,
+                   "parameters": {n: i.parameters for n, i in s.instances.items()}}
+        replace_file(self.out / "summary.json", json.dumps(summary, indent=2, allow_nan=True) + "\n")
+        return summary
+
+
+def write_all(out_dir, scenario, results, units, with_plot=True):
+    """Write results.csv, summary.json and (unless not `with_plot`) results.png of a finished
+    run into `out_dir`; return the summary dict (metrics at top level, their units under
+    ``"units"``, the run's id, scenario, algorithm, step, times, parameters and error)."""
+    writer = RunWriter(out_dir, scenario, results.names, units, with_plot)
+    writer.start()
+    writer.rows(results.time, results.data)
+    return writer.finish(results)
 
 
 def signal_units(master):

@@ -1,12 +1,26 @@
-"""One scenario run from file to folder: load, check the FMUs are fresh, run, write."""
-from musclesim.cosim import build, master, results, scenario
+"""One scenario run from file to folder: load, check the FMUs are fresh, run, write as it goes."""
+import numpy as np
+
+from musclesim.cosim import build, interrupt, master, results, scenario
 
 
 def run_scenario(path, out, fmu_dir="fmus", overrides=(), stop_time=None, with_plot=True):
-    """Load, run and write one scenario (the plot only `with_plot`); return (summary, results)."""
+    """Load, run and write one scenario (the plot only `with_plot`); return (summary, results).
+
+    The rows reach `out`/results.csv as the run goes (`results.RunWriter`). When a signal stops
+    the run, its rows so far are kept, the summary says ``completed: false`` with the signal and
+    time, and `interrupt.Interrupted` is raised again for the caller to exit with.
+    """
     s = scenario.load(path, overrides, stop_time)
     build.check_fresh(fmu_dir)
     m = master.Master(s, fmu_dir)
-    res = m.run()
-    summary = results.write_all(out, s, res, results.signal_units(m), with_plot)
-    return summary, res
+    writer = results.RunWriter(out, s, m.columns, results.signal_units(m), with_plot)
+    writer.start()
+    try:
+        res = m.run(on_rows=writer.rows)
+    except interrupt.Interrupted as stop:
+        writer.finish(stop.results or master.Results(
+            np.empty(0), list(m.columns), np.empty((0, len(m.columns))), f"{stop} before the "
+            "first step"))
+        raise
+    return writer.finish(res), res

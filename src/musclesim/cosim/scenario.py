@@ -1,15 +1,20 @@
 """Scenario files: parse and check the TOML that wires FMU instances into an experiment.
 
-A scenario names instances (component + parameter values, inline or from a TOML file given as
-``parameters_file`` relative to the scenario, inline values winning), connections ``"a.y" -> "b.u"``, the
-communication step, start and stop time, the master algorithm, the signals to record, the metrics
-to compute and the plot panels. A file may ``extends = "other.toml"`` (relative to it): its
-tables merge key by key onto the other's, its connections, recorded signals and plots are added
-to the other's, its other values replace them, so that variants of an experiment state only what
-differs. Checks collect every problem and raise once with the whole
-list.
+A scenario names instances (a component: the name of an FMU in the FMU folder, and parameter
+values, inline or from a TOML file given as ``parameters_file`` relative to the scenario and
+inside its folder, inline values winning), connections ``"a.y" -> "b.u"``, the communication
+step, start and stop time, the master algorithm, the signals to record, the metrics to compute
+and the plot panels. A file may ``extends = "other.toml"`` (relative to it): its tables merge key
+by key onto the other's, its connections, recorded signals and plots are added to the other's, its
+other values replace them, so that variants of an experiment state only what differs. Checks
+collect every problem and raise once with the whole list. No message repeats a value read from a
+parameters file (it may hold what is not ours to print), only its key.
+
+Limits: a step of at least `MIN_STEP`, at most `MAX_STEPS` communication steps, times of at most
+`MAX_TIME` in magnitude.
 """
 import math
+import re
 import tomllib
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -22,6 +27,10 @@ METRIC_OPS = ("final", "initial", "mean", "min", "max", "max_abs", "rms", "rate"
               "per_period")
 _TOP_KEYS = {"name", "description", "spec", "step", "start_time", "stop_time", "algorithm",
              "connections", "record", "instances", "metrics", "plots"}
+MIN_STEP = 1e-7  # s: a communication step shorter than any physics here needs
+MAX_STEPS = 100_000_000  # communication steps of one run (hours of compute at the fastest)
+MAX_TIME = 1e9  # s: start and stop times (about 30 years)
+_COMPONENT = re.compile(r"[A-Za-z_][A-Za-z0-9_-]*")  # an FMU's file name, never a path
 
 
 class Metric(NamedTuple):
@@ -99,6 +108,8 @@ def load(path, overrides=(), stop_time=None):
         Naming the file and every problem found.
     """
     path = Path(path)
+    if path.is_dir():
+        raise UserError(f"scenario {path} is a folder, not a scenario file")
     if not path.is_file():
         raise UserError(f"scenario file {path} does not exist")
     data = _read(path, ())
@@ -107,7 +118,11 @@ def load(path, overrides=(), stop_time=None):
     if scenario is not None:
         scenario = apply_overrides(scenario, overrides, problems)
         if stop_time is not None:
-            scenario = replace(scenario, stop_time=float(stop_time))
+            stop_time = float(stop_time)
+            if not math.isfinite(stop_time):
+                problems.append(f"--stop-time {stop_time!r} is not a finite number")
+            else:
+                scenario = replace(scenario, stop_time=stop_time)
         _check_times(scenario, problems)
     if problems:
         raise UserError(f"scenario {path} has {len(problems)} problem(s): " + "; ".join(problems))
@@ -163,6 +178,10 @@ def _parse(data, path, problems):
             continue
         if "." in name:
             problems.append(f"instance name {name!r} must not contain '.'")
+        if not _COMPONENT.fullmatch(spec["component"]):
+            problems.append(f"instance {name!r}: component {spec['component']!r} must be the name "
+                            "of an FMU in the FMU folder (letters, digits, '_', '-'), not a path")
+            continue
         params = {**_parameters_file(path, name, spec.get("parameters_file"), problems),
                   **spec.get("parameters", {})}
         for key in sorted(set(spec) - {"component", "parameters", "parameters_file"}):
@@ -170,7 +189,8 @@ def _parse(data, path, problems):
                             "(known: component, parameters, parameters_file)")
         bad = [k for k, v in params.items() if not _number(v)]
         for k in bad:
-            problems.append(f"parameter {name}.{k} = {params[k]!r} is not a finite number")
+            problems.append(f"parameter {name}.{k} is not a finite number (a "
+                            f"{type(params[k]).__name__})")
         instances[name] = Instance(name, spec["component"],
                                    {k: float(v) for k, v in params.items() if k not in bad})
 
@@ -225,18 +245,32 @@ def _parse(data, path, problems):
 
 
 def _parameters_file(scenario_path, instance, name, problems):
-    """Parameter values from an instance's ``parameters_file`` (relative to the scenario)."""
+    """Parameter values from an instance's ``parameters_file`` (relative to the scenario, inside
+    its folder tree); a problem names the file and the key, never a value read from it."""
     if name is None:
         return {}
-    path = scenario_path.parent / str(name)
+    folder = scenario_path.parent.resolve()
+    path = (folder / str(name)).resolve()
+    if not path.is_relative_to(folder):
+        problems.append(f"instance {instance!r}: parameters_file {name!r} lies outside the "
+                        f"scenario's folder {folder}")
+        return {}
     try:
         values = tomllib.loads(path.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError) as exc:
-        problems.append(f"instance {instance!r}: parameters_file {path} cannot be read: {exc}")
+    except OSError as exc:
+        problems.append(f"instance {instance!r}: parameters_file {path} cannot be read "
+                        f"({exc.strerror or type(exc).__name__})")
+        return {}
+    except UnicodeDecodeError:
+        problems.append(f"instance {instance!r}: parameters_file {path} is not UTF-8 text")
+        return {}
+    except tomllib.TOMLDecodeError as exc:  # its message gives the position, not the text
+        problems.append(f"instance {instance!r}: parameters_file {path} is not valid TOML: {exc}")
         return {}
     bad = [k for k, v in values.items() if not _number(v)]
     for k in bad:
-        problems.append(f"instance {instance!r}: {path} sets {k} = {values[k]!r}, not a number")
+        problems.append(f"instance {instance!r}: {path} sets {k} to something that is not a "
+                        "finite number")
     return {k: v for k, v in values.items() if k not in bad}
 
 
@@ -268,6 +302,14 @@ def apply_overrides(scenario, overrides, problems):
 def _check_times(s, problems):
     if not s.step > 0:
         problems.append(f"step must be positive (got {s.step!r})")
+    elif s.step < MIN_STEP:
+        problems.append(f"step {s.step!r} s is shorter than the smallest allowed, {MIN_STEP:g} s")
+    elif max(abs(s.start_time), abs(s.stop_time)) > MAX_TIME:
+        problems.append(f"start and stop time must lie within +-{MAX_TIME:g} s")
+    elif (s.stop_time - s.start_time) / s.step > MAX_STEPS:
+        problems.append(f"{s.stop_time - s.start_time:g} s in steps of {s.step:g} s are "
+                        f"{(s.stop_time - s.start_time) / s.step:.3g} steps, more than the "
+                        f"{MAX_STEPS:,} a run may take")
     elif not s.stop_time > s.start_time:
         problems.append(f"stop_time {s.stop_time!r} must be after start_time {s.start_time!r}")
     elif abs(s.n_steps * s.step - (s.stop_time - s.start_time)) > 1e-9 * max(1.0, s.stop_time):

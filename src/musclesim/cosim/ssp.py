@@ -1,4 +1,5 @@
 """SSP export: a scenario and its FMUs as an SSP 1.0 archive (SystemStructure.ssd + resources/)."""
+import os
 import zipfile
 from pathlib import Path
 from xml.etree import ElementTree as ET
@@ -172,13 +173,15 @@ def export(scenario, fmu_dir, ssp_path):
     root = system_structure(scenario, Master(scenario, fmu_dir))
     ET.indent(root)
     ssp_path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = ssp_path.with_name(f".{ssp_path.name}.tmp")
     try:
-        with zipfile.ZipFile(ssp_path, "w", zipfile.ZIP_DEFLATED) as zf:
+        with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
             zf.writestr("SystemStructure.ssd",
                         ET.tostring(root, encoding="UTF-8", xml_declaration=True))
             for comp in sorted({i.component for i in scenario.instances.values()}):
                 zf.write(fmu_dir / f"{comp}.fmu", f"resources/{comp}.fmu")
     except BaseException:
-        ssp_path.unlink(missing_ok=True)  # no half-written archive
+        tmp.unlink(missing_ok=True)  # no half-written archive
         raise
+    os.replace(tmp, ssp_path)
     return ssp_path

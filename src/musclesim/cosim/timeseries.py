@@ -1,13 +1,17 @@
 """Reading time-series CSV files in the format of results.csv, with every problem located.
 
 The format: a header ``time,<instance>.<variable>,...`` and one row per sample of comma-separated
-numbers; time increases strictly and every value is finite.
+numbers; time increases strictly and every value is finite and at most `MAX_MAGNITUDE` in size.
+Lines starting with ``#`` before the header are comments (a run's results.csv names its run id in
+one).
 """
 import csv
 import math
 from pathlib import Path
 
 import numpy as np
+
+MAX_MAGNITUDE = 1e12  # SI values beyond this are a unit or file error, not a bench's quantity
 
 
 def read_time_series(path, problems, where=None):
@@ -21,6 +25,8 @@ def read_time_series(path, problems, where=None):
         with open(path, newline="", encoding="utf-8-sig") as f:
             reader = csv.reader(f)
             header = next(reader, None)
+            while header and header[0].startswith("#"):
+                header = next(reader, None)
             if header is None:
                 problems.append(f"{where} is empty")
                 return None
@@ -70,6 +76,14 @@ def read_time_series(path, problems, where=None):
                             f"{float(array[first, j])!r} is not finite"
                             + (f" ({int(bad.sum())} NaN/inf values in the column)"
                                if bad.sum() > 1 else ""))
+        col = array[:, j]
+        huge = np.isfinite(col) & (np.abs(col) > MAX_MAGNITUDE)
+        if huge.any():
+            first = int(np.argmax(huge))
+            problems.append(f"{where} line {lines[first]}, column {name!r}: "
+                            f"{float(array[first, j]):g} is larger than {MAX_MAGNITUDE:g} in size, "
+                            "no quantity of these benches in SI units"
+                            + (f" ({int(huge.sum())} such values)" if huge.sum() > 1 else ""))
     if header and header[0] == "time":
         t = array[:, 0]
         dt = np.diff(t)

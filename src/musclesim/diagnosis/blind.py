@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from musclesim.batch import serial_map
-from musclesim.cosim import Instance, Master, load_scenario
+from musclesim.cosim import Instance, Master, load_scenario, replace_file
 from musclesim.diagnosis.dataset import DATA, MANIFEST
 from musclesim.diagnosis.dataset import load as load_dataset
 from musclesim.diagnosis.pipeline import diagnose
@@ -291,7 +291,7 @@ def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, 
     say("scoring against the key and the oracle")
     gaps = pmap(_oracle, [(c, d, r, fmu_dir) for c, d, r in zip(cases, dirs, reports)])
     scores = score(cases, reports, gaps)
-    (out / "scores.json").write_text(json.dumps(scores, indent=1) + "\n")
+    replace_file(out / "scores.json", json.dumps(scores, indent=1) + "\n")
     return scores
 
 

@@ -6,6 +6,8 @@ from pathlib import Path
 
 import numpy as np
 
+from musclesim.cosim import replace_file, save_figure
+
 
 def _num(x, fmt=".3g"):
     if x is None or (isinstance(x, float) and not math.isfinite(x)):
@@ -18,17 +20,23 @@ def _iv(pair, fmt=".3g"):
 
 
 def write(out, report, traces=None):
-    """Write report.json, report.md and (with `traces`) the plots into `out`; return the paths."""
+    """Write report.json, report.md and (with `traces`) the plots into `out`; return the paths.
+
+    The previous report.json goes first and the new one comes last, every file written under a
+    temporary name and renamed in place: a folder holding report.json holds that report's files,
+    whenever the writing is stopped.
+    """
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     paths = [out / "report.json", out / "report.md"]
-    paths[0].write_text(json.dumps(report, indent=1, default=float) + "\n")
+    paths[0].unlink(missing_ok=True)
     plots = []
     if traces and traces.get("unit") is not None and not report.get("scalar_only"):
         plots.append(_plot_signals(out / "signals.png", report, traces))
     if report.get("effects"):
         plots.append(_plot_effects(out / "effects.png", report))
-    paths[1].write_text(markdown(report, [p.name for p in plots]))
+    replace_file(paths[1], markdown(report, [p.name for p in plots]))
+    replace_file(paths[0], json.dumps(report, indent=1, default=float) + "\n")
     return paths + plots
 
 
@@ -173,7 +181,7 @@ def _plot_signals(path, report, traces):
     axes[-1, 0].set_xlabel("time [s]")
     fig.suptitle(f"verdict: {report['verdict']}", fontsize=10)
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, dpi=100)
     plt.close(fig)
     return path
 
@@ -193,6 +201,6 @@ def _plot_effects(path, report):
     ax.set_xlabel("held-out gap with the fitted effect (green: counts)")
     ax.legend(fontsize=7)
     fig.tight_layout()
-    fig.savefig(path, dpi=100)
+    save_figure(fig, path, dpi=100)
     plt.close(fig)
     return path

@@ -25,6 +25,7 @@ one stress, and identified values that break the monotonicity of a FORC surface.
 Validation on the virtual bench (SPEC 2.3) lives in `musclesim.hysteresis.validation`.
 """
 import json
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -307,9 +308,11 @@ def identify(paths, out_path=None, columns=COLUMNS):
     if out_path is not None:
         out_path = Path(out_path)
         out_path.parent.mkdir(parents=True, exist_ok=True)
-        forcfile.write(out_path, temps, stresses, table, comments=[
+        tmp = out_path.with_name(f".{out_path.name}.tmp")  # renamed in place: never half-written
+        forcfile.write(tmp, temps, stresses, table, comments=[
             "identified by `musclesim identify` from the FORC experiments (SPEC 2.3) in",
             *(f"  {levels[s][0]} ({s:g} Pa)" for s in stresses)])
+        os.replace(tmp, out_path)
     return surface
 
 

@@ -13,6 +13,7 @@ import numpy as np
 
 from musclesim.components.sma.preisach import Hypersurface, PreisachModel, RangeWarning
 from musclesim.components.sma.wire import DEFAULT_PARAMS, ReferenceWire
+from musclesim.cosim import save_figure
 from musclesim.errors import UserError
 
 
@@ -119,7 +120,7 @@ def plot_loops(results, path, title=""):
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 

@@ -1,0 +1,58 @@
+"""Output paths checked before the work, and files replaced whole (never left half-written)."""
+import os
+import tempfile
+from pathlib import Path
+
+from musclesim.errors import UserError
+
+
+def _writable_ancestor(path, what):
+    """Raise unless the nearest existing ancestor of `path` is a folder we can create files in."""
+    parent = path.parent
+    while not parent.exists() and parent != parent.parent:
+        parent = parent.parent
+    if not parent.is_dir():
+        raise UserError(f"{what} {path} cannot be written: {parent} is a file, not a folder")
+    try:  # a real probe: permissions, read-only file systems and root alike
+        fd, probe = tempfile.mkstemp(prefix=".musclesim-probe-", dir=parent)
+    except OSError as exc:
+        raise UserError(f"{what} {path} cannot be written: {parent} is not writable "
+                        f"({exc.strerror or type(exc).__name__})") from None
+    os.close(fd)
+    os.unlink(probe)
+
+
+def check_output_dir(path, what="--out"):
+    """Refuse, before any work, an output folder that exists as a file or cannot be made."""
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise UserError(f"{what} {path} is a file, not a folder")
+    _writable_ancestor(path / "x" if path.is_dir() else path, what)
+
+
+def check_output_file(path, what="--out"):
+    """Refuse, before any work, an output file that is a folder or whose folder cannot hold it."""
+    path = Path(path)
+    if path.is_dir():
+        raise UserError(f"{what} {path} is a folder, not a file")
+    _writable_ancestor(path, what)
+
+
+def replace_file(path, data):
+    """Write `data` (str or bytes) to `path` under a temporary name, then rename it in place, so
+    that a reader sees the old file or the new one, never a part."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.tmp")
+    if isinstance(data, str):
+        tmp.write_text(data, encoding="utf-8")
+    else:
+        tmp.write_bytes(data)
+    os.replace(tmp, path)
+
+
+def save_figure(fig, path, **options):
+    """Save a matplotlib figure the way `replace_file` writes a file (``savefig`` `options`)."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.stem}.tmp{path.suffix}")  # the suffix names the format
+    fig.savefig(tmp, **options)
+    os.replace(tmp, path)
