@@ -107,5 +107,24 @@ def test_replayed_inputs_are_checked(fmu_dir):
                             "wire.flange.f": np.zeros(3)})
     msg = str(err.value)
     assert "replayed input wire.u is also connected (from pid.u)" in msg
-    assert "replayed input wire.T is a output, not an input" in msg
+    assert "replayed input wire.T is an output, not an input" in msg
     assert "replayed input wire.flange.f has 3 values, not one per communication point (51)" in msg
+
+
+def test_an_unconnected_input_holds_the_value_a_scenario_sets(fmu_dir, tmp_path):
+    """A bench condition (issue 20 item 1): the ambient temperature, an input nothing feeds, set
+    like a parameter. With no heating the wire relaxes from T_init to it, as the lumped thermal
+    model (SPEC 2.1) says; the same input connected or replayed cannot also be set."""
+    path = tmp_path / "wire.toml"
+    path.write_text('step = 0.01\nstop_time = 30.0\nrecord = ["wire.T"]\n'
+                    '[instances.wire]\ncomponent = "SmaWire"\n'
+                    'parameters = { T_init = 293.15, T_amb = 313.15 }\n')
+    warm = Master(scenario.load(path), fmu_dir).run()
+    assert warm.error is None
+    assert np.all(np.diff(warm["wire.T"]) > 0) and warm["wire.T"][-1] == pytest.approx(313.15,
+                                                                                      abs=0.05)
+    still = Master(scenario.load(path, ["wire.T_amb=293.15"]), fmu_dir).run()
+    assert np.all(still["wire.T"] == 293.15)  # at its own ambient the wire does not move
+    replayed = {"wire.T_amb": np.full(3001, 300.0)}
+    with pytest.raises(UserError, match="wire.T_amb is an input replayed from data"):
+        Master(scenario.load(path), fmu_dir, replayed)

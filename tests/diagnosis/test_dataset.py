@@ -269,3 +269,29 @@ def test_the_same_data_against_another_model(fmu_dir):
                           models={"sideways": "crawler-ideal", "forward": "no-such-model"})
     assert "model for experiment 'sideways': the data set has no such experiment" in message
     assert "scenario 'no-such-model' not found" in message
+
+
+def test_bench_conditions_are_stated_in_the_manifest(tmp_path, fmu_dir):
+    """Known conditions of the bench (issue 20 item 1): constant values of parameters or of
+    inputs nothing feeds; the diagnosis's model runs with them."""
+    from musclesim.diagnosis.problem import Problem
+
+    manifest = _replace('[units]', '[conditions]\n"body.k" = 180.0\n"friction1.theta" = 0.1\n\n'
+                                   '[units]')
+    ds = dataset.load(write_set(tmp_path / "set", manifest), scenarios_dir=SCENARIOS,
+                      check_model=True, fmu_dir=fmu_dir)
+    assert ds.conditions == {"body.k": 180.0, "friction1.theta": 0.1}
+    assert ds.overrides() == ["body.k=180.0", "friction1.theta=0.1"]
+    problem = Problem(ds, fmu_dir)
+    assert problem.scenarios["first"].instances["body"].parameters["k"] == 180.0
+    bad = _replace('[units]', '[conditions]\n"body.k" = "stiff"\nambient = 1.0\n'
+                              '"inputs.f_a" = 2.0\n\n[units]')
+    message = problems_of(write_set(tmp_path / "bad", bad), check_model=True, fmu_dir=fmu_dir)
+    assert "[conditions] 'body.k' must be a finite number" in message
+    assert "[conditions] 'ambient' is not of the form" in message
+    assert "[conditions] 'inputs.f_a' is also a column of data.csv" in message
+    message = problems_of(write_set(tmp_path / "bad2", _replace(
+        '[units]', '[conditions]\n"body.nothing" = 1.0\n"body.flange1.s" = 0.0\n\n[units]')),
+        check_model=True, fmu_dir=fmu_dir)
+    assert "has no variable 'nothing'" in message
+    assert "body.flange1.s is an output, not a parameter or an input" in message

@@ -59,6 +59,11 @@ class Results:
         return self.data[:, self.names.index(name)]
 
 
+def _a(word):
+    """`word` with its indefinite article ("an output", "a parameter")."""
+    return ("an " if word[0] in "aeiou" else "a ") + word
+
+
 def _remove_orphans():
     """Remove the temporary folders of runs whose process is gone (killed with SIGKILL, which no
     ``finally`` survives): the next run cleans up after them."""
@@ -195,11 +200,6 @@ class Master:
 
     def _check(self, problems):
         s = self.scenario
-        for name, spec in s.instances.items():
-            for par in spec.parameters:
-                v = self._variable(f"{name}.{par}", problems, "parameter")
-                if v is not None and v.causality != "parameter":
-                    problems.append(f"{name}.{par} is a {v.causality}, not a parameter")
         targets = {}
         for src, dst in s.connections:
             vs = self._variable(src, problems, "connection source")
@@ -207,9 +207,11 @@ class Master:
             if vs is None or vd is None:
                 continue
             if vs.causality != "output":
-                problems.append(f"connection {src} -> {dst}: {src} is a {vs.causality}, not an output")
+                problems.append(f"connection {src} -> {dst}: {src} is {_a(vs.causality)}, "
+                                "not an output")
             if vd.causality != "input":
-                problems.append(f"connection {src} -> {dst}: {dst} is a {vd.causality}, not an input")
+                problems.append(f"connection {src} -> {dst}: {dst} is {_a(vd.causality)}, "
+                                "not an input")
             if vs.unit and vd.unit and vs.unit != vd.unit:  # a unitless port takes any signal
                 problems.append(f"connection {src} -> {dst} joins incompatible units "
                                 f"{vs.unit!r} and {vd.unit!r}")
@@ -219,14 +221,31 @@ class Master:
         for dst, values in self.inputs.items():
             v = self._variable(dst, problems, "replayed input")
             if v is not None and v.causality != "input":
-                problems.append(f"replayed input {dst} is a {v.causality}, not an input")
+                problems.append(f"replayed input {dst} is {_a(v.causality)}, not an input")
             if dst in targets:
                 problems.append(f"replayed input {dst} is also connected (from {targets[dst]})")
             if values.shape != (s.n_steps + 1,):
                 problems.append(f"replayed input {dst} has {values.size} values, not one per "
                                 f"communication point ({s.n_steps + 1})")
+        for name, spec in s.instances.items():
+            for par in spec.parameters:
+                self._check_value(f"{name}.{par}", targets, problems)
         for sig in _recorded(s):
             self._variable(sig, problems, "recorded signal")
+
+    def _check_value(self, signal, targets, problems):
+        """A value a scenario sets: a parameter, or an input nothing feeds (a bench condition
+        such as the ambient temperature, held constant)."""
+        v = self._variable(signal, problems, "parameter")
+        if v is None or v.causality == "parameter":
+            return
+        if v.causality != "input":
+            problems.append(f"{signal} is {_a(v.causality)}, not a parameter or an input")
+        elif signal in targets:
+            problems.append(f"{signal} is an input connected from {targets[signal]}: a value set "
+                            "on it would be overwritten at every step")
+        elif signal in self.inputs:
+            problems.append(f"{signal} is an input replayed from data: it cannot also be set")
 
     # ---- planning ------------------------------------------------------------------------------
     def _plan(self, problems):
@@ -385,10 +404,16 @@ class Master:
             if inst.component not in unzipped:
                 unzipped[inst.component] = extract_fmu(self.fmu_dir / f"{inst.component}.fmu",
                                                        tmp / inst.component)
-            inst.slave = FMU2Slave(guid=inst.md.guid, unzipDirectory=unzipped[inst.component],
-                                   modelIdentifier=inst.md.coSimulation.modelIdentifier,
-                                   instanceName=inst.name)
-            inst.slave.instantiate(callbacks=self.callbacks, loggingOn=True)
+            try:  # fmpy raises bare Exceptions for a missing or broken library, a failed instance
+                inst.slave = FMU2Slave(guid=inst.md.guid, unzipDirectory=unzipped[inst.component],
+                                       modelIdentifier=inst.md.coSimulation.modelIdentifier,
+                                       instanceName=inst.name)
+                inst.slave.instantiate(callbacks=self.callbacks, loggingOn=True)
+            except FMICallException:
+                raise
+            except Exception as exc:
+                raise UserError(f"FMU {self.fmu_dir / f'{inst.component}.fmu'} cannot be loaded "
+                                f"as instance {inst.name!r}: {exc}") from None
             functions = inst.slave._functions  # the FMU's own functions, as fmpy loaded them
             inst.c = inst.slave.component
             inst.get_real, inst.set_real, inst.do_step = (

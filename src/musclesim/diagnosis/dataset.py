@@ -2,8 +2,11 @@
 
 A measured data set is a directory holding ``manifest.toml`` and, for time series, ``data.csv``
 in the format of a run's ``results.csv``; the manifest names the scenario, the replayed input and
-observed output columns, optional units, the experiments (named time spans) and the split into
+observed output columns, optional units, known bench conditions (``[conditions]``: constant
+values of the model's parameters or of inputs nothing in the scenario feeds, such as the ambient
+temperature ``"wire.T_amb" = 298.15``), the experiments (named time spans) and the split into
 training and held-out parts; a scalar-only set has metrics per experiment instead of data.csv.
+A condition that varies is replayed as an input column instead.
 The format with examples: README.md, "Measured data sets".
 
 Validation reports every problem at once in one `musclesim.errors.UserError`, each naming its
@@ -39,8 +42,8 @@ from musclesim.errors import UserError
 
 MANIFEST = "manifest.toml"
 DATA = "data.csv"
-_TOP_KEYS = {"description", "spec", "scenario", "inputs", "outputs", "units", "experiments",
-             "split"}
+_TOP_KEYS = {"description", "spec", "scenario", "inputs", "outputs", "units", "conditions",
+             "experiments", "split"}
 _EXPERIMENT_KEYS = {"span", "scenario", "description", "metrics", "stop_time"}
 _METRIC_KEYS = {"value", "unit", "uncertainty", "description"}
 _SPLIT_KEYS = {"held_out", "train", "held_out_fraction"}
@@ -101,6 +104,7 @@ class DataSet:
     data: np.ndarray = None
     description: str = ""
     spec: str = ""
+    conditions: dict = field(default_factory=dict)  # "instance.variable" -> known constant value
 
     @property
     def scalar_only(self):
@@ -109,6 +113,10 @@ class DataSet:
 
     def __getitem__(self, column):
         return self.data[:, self.columns.index(column)]
+
+    def overrides(self):
+        """The bench conditions as scenario overrides (``"instance.variable=value"``)."""
+        return [f"{name}={value!r}" for name, value in self.conditions.items()]
 
     def parts(self):
         """Names of the training and the held-out parts: two tuples of names for `experiment`."""
@@ -303,6 +311,7 @@ def _build(path, m, table, has_data, scenarios_dir, problems):
     if units.get("time", "s") != "s":
         problems.append(f"{MANIFEST}: time must be in 's', not {units['time']!r}")
 
+    conditions = _conditions(m.get("conditions", {}), columns, problems)
     experiments = _experiments(m.get("experiments"), reference, path, scenarios_dir, time,
                                has_data, problems)
     split = _split(m.get("split"), experiments, time, has_data, problems)
@@ -311,7 +320,30 @@ def _build(path, m, table, has_data, scenarios_dir, problems):
     return DataSet(path=path, scenario=reference, scenario_path=scenario_path, inputs=inputs,
                    outputs=outputs, units={c: units.get(c) for c in columns},
                    experiments=experiments, split=split, time=time, columns=columns, data=data,
-                   description=str(m.get("description", "")), spec=str(m.get("spec", "")))
+                   description=str(m.get("description", "")), spec=str(m.get("spec", "")),
+                   conditions=conditions)
+
+
+def _conditions(raw, columns, problems):
+    """``{"instance.variable": value}`` of the manifest's [conditions] table."""
+    if not isinstance(raw, dict):
+        problems.append(f"{MANIFEST}: [conditions] must map \"instance.variable\" to numbers")
+        return {}
+    out = {}
+    for name, value in raw.items():
+        inst, _, var = name.partition(".")
+        if not inst or not var:
+            problems.append(f"{MANIFEST}: [conditions] {name!r} is not of the form "
+                            "\"instance.variable\"")
+        elif isinstance(value, bool) or not isinstance(value, (int, float)) \
+                or not math.isfinite(value):
+            problems.append(f"{MANIFEST}: [conditions] {name!r} must be a finite number")
+        elif name in columns:
+            problems.append(f"{MANIFEST}: [conditions] {name!r} is also a column of {DATA}: "
+                            "state it once")
+        else:
+            out[name] = float(value)
+    return out
 
 
 def _experiments(raw, reference, path, scenarios_dir, time, has_data, problems):
@@ -466,7 +498,7 @@ def _check_model(ds, fmu_dir, problems):
                             "the manifest, or a name in the scenarios folder)")
             continue
         try:
-            s = load_scenario(spath, (), stop_time)
+            s = load_scenario(spath, ds.overrides(), stop_time)
             m = Master(s, fmu_dir)
         except UserError as exc:
             problems.append(f"{MANIFEST}: scenario {ref!r} cannot be checked: {exc}")
