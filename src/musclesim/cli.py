@@ -34,7 +34,10 @@ def _cmd_run(args):
         print(summary["description"] + (f" (with --set {', '.join(args.set)})" if args.set else ""))
     for name, unit in summary["units"].items():
         print(f"{name} = {summary[name]:.6g} {unit}")
-    print(f"wrote {out / 'results.csv'}, {out / 'summary.json'} and {out / 'results.png'}")
+    if (out / "results.png").is_file():  # the previous run's plot is gone: this run's, if drawn
+        print(f"wrote {out / 'results.csv'}, {out / 'summary.json'} and {out / 'results.png'}")
+    else:  # no plot of fewer than two rows
+        print(f"wrote {out / 'results.csv'} and {out / 'summary.json'}")
     for warning in summary["warnings"]:
         print(f"musclesim: warning from {warning}", file=sys.stderr)
     if res.error:
@@ -381,16 +384,20 @@ def main(argv=None):
     Exit status: 0 done, 1 a run or case failed (its results kept), 2 a mistake in the input,
     130 / 143 stopped by SIGINT / SIGTERM (what was written so far is kept).
     """
-    from musclesim.cosim import Interrupted, interruptible
-
     args = _parser().parse_args(argv)
     try:
+        from musclesim.cosim import Interrupted, interruptible
+
         with interruptible():
             _check_outputs(args)
             return args.func(args)
     except UserError as exc:
         print(f"musclesim: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:  # Ctrl-C before the handlers were in place (while importing);
+        # first, since the name Interrupted below is unbound until that import is done
+        print("musclesim: interrupted by SIGINT before any work", file=sys.stderr)
+        return 130
     except Interrupted as exc:
         print(f"musclesim: {exc}; what was written so far is kept", file=sys.stderr)
         return exc.exit_code

@@ -106,10 +106,12 @@ def _read_capped(zf, name, cap, where):
 
 def read_fmu(path):
     """Read an FMU's model description, refusing XML with a DTD (no entity expansion) and a
-    description larger than `MAX_DESCRIPTION` before parsing it."""
+    description larger than `MAX_DESCRIPTION` before parsing it, and an archive whose entries
+    `extract_fmu` would refuse (so that a command refuses it before any work)."""
     path = Path(path)
     try:
         with zipfile.ZipFile(path) as zf:
+            _check_entries(zf, path)
             xml = _read_capped(zf, "modelDescription.xml", MAX_DESCRIPTION, path)
     except (OSError, KeyError, zipfile.BadZipFile, EOFError) as exc:
         raise UserError(f"{path} is not a readable FMU: {exc}") from None
@@ -139,6 +141,18 @@ def _entry_problem(info):
     return None
 
 
+def _check_entries(zf, path):
+    """The archive's entries; raise naming the archive and the first entry that is refused."""
+    infos = zf.infolist()
+    if len(infos) > MAX_ENTRIES:
+        raise UserError(f"FMU {path} holds {len(infos)} entries, more than {MAX_ENTRIES}")
+    for info in infos:
+        problem = _entry_problem(info)
+        if problem:
+            raise UserError(f"FMU {path}: entry {info.filename!r} {problem}, refused")
+    return infos
+
+
 def extract_fmu(path, dest):
     """Extract the FMU at `path` into the new folder `dest`, checking every entry first.
 
@@ -149,13 +163,7 @@ def extract_fmu(path, dest):
     path, dest = Path(path), Path(dest)
     try:
         with zipfile.ZipFile(path) as zf:
-            infos = zf.infolist()
-            if len(infos) > MAX_ENTRIES:
-                raise UserError(f"FMU {path} holds {len(infos)} entries, more than {MAX_ENTRIES}")
-            for info in infos:
-                problem = _entry_problem(info)
-                if problem:
-                    raise UserError(f"FMU {path}: entry {info.filename!r} {problem}, refused")
+            infos = _check_entries(zf, path)
             total = 0
             for info in infos:
                 target = dest / info.filename

@@ -68,6 +68,8 @@ def csv_rows(time, data):
 
 def plot(path, results, panels, units, title=""):
     """Save a stacked time plot, one panel per ``{"title", "signals"}`` entry."""
+    import warnings
+
     import matplotlib
 
     matplotlib.use("Agg")
@@ -76,16 +78,21 @@ def plot(path, results, panels, units, title=""):
     panels = panels or [{"title": name, "signals": [name]} for name in results.names]
     fig, axes = plt.subplots(len(panels), 1, sharex=True, squeeze=False,
                              figsize=(9, 2.2 * len(panels) + 0.8))
-    for ax, panel in zip(axes[:, 0], panels):
-        for sig in panel["signals"]:
-            ax.plot(results.time, results[sig], label=f"{sig} [{units.get(sig) or '1'}]", lw=0.8)
-        ax.set_title(panel.get("title", ""), fontsize=9)
-        ax.legend(fontsize=7, loc="best")
-        ax.grid(alpha=0.3)
-    axes[-1, 0].set_xlabel("time [s]")
-    fig.suptitle(title, fontsize=10)
-    fig.tight_layout()
-    save_figure(fig, path, dpi=110)
+    # values near the float limit (a run that failed as a signal overflowed) make matplotlib's
+    # autoscaling overflow: a RuntimeWarning on stderr beside the run's one sentence, so silenced
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        for ax, panel in zip(axes[:, 0], panels):
+            for sig in panel["signals"]:
+                ax.plot(results.time, results[sig], label=f"{sig} [{units.get(sig) or '1'}]",
+                        lw=0.8)
+            ax.set_title(panel.get("title", ""), fontsize=9)
+            ax.legend(fontsize=7, loc="best")
+            ax.grid(alpha=0.3)
+        axes[-1, 0].set_xlabel("time [s]")
+        fig.suptitle(title, fontsize=10)
+        fig.tight_layout()
+        save_figure(fig, path, dpi=110)
     plt.close(fig)
 
 
@@ -126,7 +133,8 @@ class RunWriter:
         warnings = list(results.warnings) + [
             f"metric {name}: no sample in its window ({m.start:g} to {m.stop:g} s) of a run "
             f"ending at {results.time[-1] if len(results.time) else self.scenario.start_time:g} s"
-            for name, m in self.scenario.metrics.items() if math.isnan(metrics[name])]
+            for name, m in self.scenario.metrics.items()
+            if math.isnan(metrics[name]) and results.error is None]  # a stopped run says why
         if self.with_plot and len(results.time) > 1:
             s = self.scenario
             plot(self.out / "results.png", results, s.plots, self.units,

@@ -2,6 +2,7 @@
 import numpy as np
 
 from musclesim.cosim import build, interrupt, master, results, scenario
+from musclesim.errors import UserError
 
 
 def run_scenario(path, out, fmu_dir="fmus", overrides=(), stop_time=None, with_plot=True):
@@ -9,18 +10,25 @@ def run_scenario(path, out, fmu_dir="fmus", overrides=(), stop_time=None, with_p
 
     The rows reach `out`/results.csv as the run goes (`results.RunWriter`). When a signal stops
     the run, its rows so far are kept, the summary says ``completed: false`` with the signal and
-    time, and `interrupt.Interrupted` is raised again for the caller to exit with.
+    time, and `interrupt.Interrupted` is raised again for the caller to exit with. An FMU refused
+    or not loadable as the run starts (`musclesim.errors.UserError`) ends it the same way: the
+    summary says ``completed: false`` with that sentence, never ``running``.
     """
     s = scenario.load(path, overrides, stop_time)
     build.check_fresh(fmu_dir)
     m = master.Master(s, fmu_dir)
     writer = results.RunWriter(out, s, m.columns, results.signal_units(m), with_plot)
     writer.start()
+
+    def no_rows(error):
+        return master.Results(np.empty(0), list(m.columns), np.empty((0, len(m.columns))), error)
+
     try:
         res = m.run(on_rows=writer.rows)
     except interrupt.Interrupted as stop:
-        writer.finish(stop.results or master.Results(
-            np.empty(0), list(m.columns), np.empty((0, len(m.columns))), f"{stop} before the "
-            "first step"))
+        writer.finish(stop.results or no_rows(f"{stop} before the first step"))
+        raise
+    except UserError as exc:
+        writer.finish(no_rows(str(exc)))
         raise
     return writer.finish(res), res
