@@ -706,3 +706,66 @@ def test_sigkill_leaves_one_run_and_the_next_run_replaces_it(ws, capsys):
     assert new_id == summary["run_id"] != run_id and len(rows) == 51  # 0.02 s / 0.4 ms + 1
     assert not orphans[0].exists() and run_folders() == []
     assert half_written(ws.root) == []
+
+
+def wait_for(proc, ready, what, timeout=90):
+    """Poll until `ready()` holds while `proc` runs; fail naming `what` otherwise."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and proc.poll() is None:
+        if ready():
+            return
+        time.sleep(0.1)
+    proc.kill()
+    pytest.fail(f"{what} did not happen before the process ended or timed out: "
+                f"{proc.communicate()}")
+
+
+def test_sigterm_stops_a_sweep_keeping_its_finished_cases_and_it_resumes(ws, capsys):
+    argv = ["sweep", str(IDEAL), "--grid", "inputs.phi=0:3:6", "--stop-time", "20", "--out",
+            str(ws.root / "sweep"), "--fmus", str(ws.fmus_dir), "--workers", "1"]
+    proc = subprocess.Popen([sys.executable, "-m", "musclesim.cli", *argv], cwd=ws.root,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    csv_path = ws.root / "sweep" / "sweep.csv"
+    wait_for(proc, lambda: csv_path.is_file() and len(csv_path.read_text().splitlines()) > 2,
+             "two finished cases")
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 143
+    assert err.strip().splitlines()[-1] == ("musclesim: interrupted by SIGTERM; what was "
+                                            "written so far is kept")
+    assert "Traceback" not in err
+    recorded = [r for r in csv_path.read_text().splitlines()[1:] if ",True," in r]
+    # a case may finish between the signal and its line in sweep.csv: its folder counts
+    done = [c for c in (ws.root / "sweep" / "cases").iterdir()
+            if json.loads((c / "summary.json").read_text()).get("completed") is True]
+    assert 2 <= len(recorded) <= len(done) < 6
+    code, out, err = run(capsys, *argv)  # the same command resumes: only the rest runs
+    summary = json.loads(out)
+    assert code == 0 and summary["skipped"] == len(done) and summary["completed"] == 6
+    assert summary["ran"] == 6 - len(done)
+
+
+def test_ctrl_c_stops_a_diagnosis_in_one_line_workers_included(ws, fmu_dir):
+    """Ctrl-C reaches the whole process group, the local Dask cluster's workers too: only the
+    command acts on it (one line, exit 130), the workers print nothing, and no report is left."""
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "musclesim.cli", "diagnose", str(MEASURED), "--out",
+         str(ws.root / "diag"), "--fmus", str(fmu_dir), "--workers", "2"],
+        cwd=ws.root, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        start_new_session=True)
+    err_lines = []
+
+    def fitting():
+        line = proc.stderr.readline()
+        err_lines.append(line)
+        return line.startswith("musclesim: fitting")
+
+    wait_for(proc, fitting, "the fitting stage")
+    os.killpg(proc.pid, signal.SIGINT)  # what a terminal's Ctrl-C does
+    _, rest = proc.communicate(timeout=60)
+    err = "".join(err_lines) + rest
+    assert proc.returncode == 130, err
+    assert err.strip().splitlines()[-1] == ("musclesim: interrupted by SIGINT; what was written "
+                                            "so far is kept")
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err
+    assert not (ws.root / "diag" / "report.json").exists()

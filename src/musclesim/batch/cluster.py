@@ -7,6 +7,8 @@ the command line; sweeps and tables submit their cases on `dask_client` (`cases.
 import contextlib
 import logging
 import os
+import signal
+import threading
 
 from musclesim.errors import UserError
 
@@ -32,9 +34,10 @@ def dask_client(scheduler=None, workers=None, tasks=None):
             # one thread per worker process, since the Python FMUs hold the GIL; the cluster's
             # log noise (heartbeats cut at shutdown) stays quiet, as task errors are recorded
             n = workers or os.cpu_count() or 1
-            cluster = LocalCluster(n_workers=max(1, min(n, tasks or n)), threads_per_worker=1,
-                                   processes=True, dashboard_address=None,
-                                   silence_logs=logging.CRITICAL)
+            with _workers_ignore_sigint():
+                cluster = LocalCluster(n_workers=max(1, min(n, tasks or n)), threads_per_worker=1,
+                                       processes=True, dashboard_address=None,
+                                       silence_logs=logging.CRITICAL)
         client = Client(scheduler or cluster)
     except (OSError, TimeoutError) as exc:
         if cluster is not None:
@@ -47,6 +50,22 @@ def dask_client(scheduler=None, workers=None, tasks=None):
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+@contextlib.contextmanager
+def _workers_ignore_sigint():
+    """Start worker processes with SIGINT ignored (a disposition they inherit, and under which
+    Python installs no KeyboardInterrupt): Ctrl-C reaches the whole process group, and only this
+    process should act on it, by closing the cluster, rather than every worker dying with a
+    traceback."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def dask_map(client):
