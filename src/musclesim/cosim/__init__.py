@@ -10,7 +10,7 @@ SIGINT or SIGTERM at the next step with what was written kept (``interruptible``
 ``Interrupted``).
 """
 from musclesim.cosim.build import build_all, check_fresh, source_digest
-from musclesim.cosim.host import forget_fmu_resource_paths, read_fmu
+from musclesim.cosim.host import forget_fmu_resource_paths, read_fmu, reuse_fmus
 from musclesim.cosim.interrupt import Interrupted, interruptible
 from musclesim.cosim.master import Master
 from musclesim.cosim.outputs import (check_output_dir, check_output_file, replace_file,
@@ -24,6 +24,7 @@ from musclesim.cosim.ssp import export as export_ssp
 from musclesim.cosim.timeseries import read_time_series
 
 __all__ = ["build_all", "check_fresh", "source_digest", "forget_fmu_resource_paths", "read_fmu",
+           "reuse_fmus",
            "Master", "compute_metrics", "metric_unit", "signal_units", "write_results",
            "run_scenario", "Instance", "Scenario", "split_signal", "load_scenario", "export_ssp",
            "read_time_series", "Interrupted", "interruptible", "check_output_dir",

@@ -31,8 +31,8 @@ from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave
 
 from musclesim.cosim import interrupt
-from musclesim.cosim.host import (LOG_SINKS, callbacks, extract_fmu, forget_fmu_resource_paths,
-                                  read_fmu)
+from musclesim.cosim.host import (LOG_SINKS, callbacks, extract_fmu, extracted_fmu,
+                                  forget_fmu_resource_paths, read_fmu)
 from musclesim.cosim.scenario import split_signal
 from musclesim.errors import UserError
 
@@ -402,8 +402,9 @@ class Master:
         for inst in self.instances.values():
             self.current = inst
             if inst.component not in unzipped:
-                unzipped[inst.component] = extract_fmu(self.fmu_dir / f"{inst.component}.fmu",
-                                                       tmp / inst.component)
+                path = self.fmu_dir / f"{inst.component}.fmu"
+                unzipped[inst.component] = extracted_fmu(path) or extract_fmu(
+                    path, tmp / inst.component)
             try:  # fmpy raises bare Exceptions for a missing or broken library, a failed instance
                 inst.slave = FMU2Slave(guid=inst.md.guid, unzipDirectory=unzipped[inst.component],
                                        modelIdentifier=inst.md.coSimulation.modelIdentifier,

@@ -11,6 +11,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import optimize
 
+from musclesim.cosim import reuse_fmus
+
 from musclesim.diagnosis.simulate import Failed, residuals, simulate
 from musclesim.diagnosis.stats import gap, part_rows, part_vector
 
@@ -80,8 +82,10 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None):
 
 
 def fit_task(args):
-    """One fit, as a Dask task: (unit, free, fmu_dir, fixed, x0) -> fit()."""
-    return fit(*args)
+    """One fit, as a Dask task: (unit, free, fmu_dir, fixed, x0) -> fit(), its FMUs read and
+    unpacked once for all its runs."""
+    with reuse_fmus():
+        return fit(*args)
 
 
 def _train_size(unit):

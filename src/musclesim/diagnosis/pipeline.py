@@ -42,6 +42,7 @@ above in `musclesim.diagnosis.thresholds`, the units in `.problem`, simulation a
 selection and verdict in `.selection`.
 """
 from musclesim.batch import serial_map
+from musclesim.cosim import reuse_fmus
 from musclesim.diagnosis.fitting import fit_task
 from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.regimes import regime_table, regimes
@@ -59,8 +60,12 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
     what runs; a dict given as `traces` receives the runs of `Problem.replayed`, nominal and with
     the selected effects, for plots.
     """
-    pmap = pmap or serial_map
-    say = progress or (lambda text: None)
+    with reuse_fmus():  # some hundred runs of the same FMUs: each read and unpacked once
+        return _diagnose(ds, fmu_dir, pmap or serial_map, progress or (lambda text: None),
+                         traces)
+
+
+def _diagnose(ds, fmu_dir, pmap, say, traces):
     problem = Problem(ds, fmu_dir)
     whole = problem.unit("model")
     say("nominal model")
