@@ -9,6 +9,7 @@ exits with status 1 after writing the results it reached.
 """
 import argparse
 import json
+import math
 import sys
 from pathlib import Path
 
@@ -186,7 +187,8 @@ def _cmd_benchmark_diagnosis(args):
     with dask_client(args.scheduler, args.workers) as client:
         scores = run_blind_benchmark(args.cases, args.seed, args.out, args.fmus, args.scenarios,
                                      dask_map(client),
-                                     lambda text: print(f"musclesim: {text}", file=sys.stderr))
+                                     lambda text: print(f"musclesim: {text}", file=sys.stderr),
+                                     bench=args.bench, duration=args.duration)
     print(json.dumps({k: v for k, v in scores.items() if k != "per_case"}, indent=2))
     print(f"wrote {Path(args.out) / 'scores.json'} (per-case table inside)")
     return 0
@@ -297,6 +299,12 @@ def _parser():
     q.add_argument("--seed", type=int, default=1, help="seed of the hidden truths (default 1)")
     q.add_argument("--out", required=True, help="folder for the cases, key and scores.json")
     q.add_argument("--scenarios", default="scenarios", help="folder of the bench scenarios")
+    q.add_argument("--bench", choices=["own", "independent"], default="own",
+                   help="own: the library's FMUs with hidden effects (default); independent: "
+                        "an SMA bench written apart from the library (scores under "
+                        "'independent' in scores.json)")
+    q.add_argument("--duration", type=_duration, default=None,
+                   help="independent bench: seconds recorded per case (default 120)")
     dask_args(q)
     common(q)
     q.set_defaults(func=_cmd_benchmark_diagnosis)
@@ -354,6 +362,19 @@ def _positive(text):
         raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
     if value < 1:
         raise argparse.ArgumentTypeError(f"{text} must be at least 1")
+    return value
+
+
+def _duration(text):
+    """argparse type: seconds recorded per independent bench case, at least one reference
+    period (10 s)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from None
+    if not math.isfinite(value) or value < 10:
+        raise argparse.ArgumentTypeError(f"{text} s is shorter than one period of the bench's "
+                                         "reference (10 s)")
     return value
 
 

@@ -454,6 +454,9 @@ def test_refused_before_any_work(case, ws, capsys):
 ARGPARSE = {
     "benchmark-diagnosis-cases-0": (["benchmark-diagnosis", "--cases", "0", "--out", "bench"],
                                     "argument --cases: 0 must be at least 1"),
+    "benchmark-diagnosis-duration-short": (
+        ["benchmark-diagnosis", "--bench", "independent", "--duration", "5", "--out", "bench"],
+        "argument --duration: 5 s is shorter than one period of the bench's reference (10 s)"),
     "diagnose-workers-0": (["diagnose", str(MEASURED), "--out", "diag", "--workers", "0"],
                            "argument --workers: 0 must be at least 1"),
     "sweep-workers-0": (["sweep", str(IDEAL), "--out", "sw", "--workers", "0"],

@@ -25,6 +25,11 @@ written to key.json after. Scores (scores.json): top-1 accuracy over effect and 
 the median ratio of our held-out shrinkage (the model with every measured signal replayed) to the
 oracle's (the true effect at its true values), the false-alarm rate over ``none`` cases (a
 verdict naming an effect) and the ``unexplained`` rate over ``outside`` cases.
+
+With ``bench="independent"`` the cases run instead on an SMA bench written apart from the library
+(`musclesim.diagnosis.independent`, cases from `musclesim.diagnosis.independent_plan`), whose
+conditions are drawn around the model's; its scores go under "independent" in scores.json, next
+to the own bench's (see `score` for what counts there).
 """
 import hashlib
 import json
@@ -37,6 +42,7 @@ import numpy as np
 
 from musclesim.batch import serial_map
 from musclesim.cosim import Instance, Master, load_scenario, replace_file
+from musclesim.diagnosis import independent_plan
 from musclesim.diagnosis.dataset import DATA, MANIFEST
 from musclesim.diagnosis.dataset import load as load_dataset
 from musclesim.diagnosis.pipeline import diagnose
@@ -218,8 +224,10 @@ def record(case, scenarios_dir, fmu_dir):
     return res.time, cols
 
 
-def write_data_set(path, time, cols, inputs, outputs, scenario_ref, description=""):
-    """Write a measured data set (data.csv + manifest.toml) blocked in time for held-out."""
+def write_data_set(path, time, cols, inputs, outputs, scenario_ref, description="",
+                   conditions=None):
+    """Write a measured data set (data.csv + manifest.toml) blocked in time for held-out;
+    `conditions` ({"instance.variable": value}) become its ``[conditions]`` table."""
     path = Path(path)
     path.mkdir(parents=True, exist_ok=True)
     names = inputs + outputs
@@ -228,6 +236,9 @@ def write_data_set(path, time, cols, inputs, outputs, scenario_ref, description=
     lines = [f"description = {json.dumps(description)}", f"scenario = {json.dumps(scenario_ref)}",
              f"inputs = {json.dumps(inputs)}", f"outputs = {json.dumps(outputs)}", "",
              "[split]", f"held_out_fraction = {HELD_OUT_FRACTION}", ""]
+    if conditions:
+        lines += ["[conditions]"] + [f"{json.dumps(k)} = {float(v)!r}"
+                                     for k, v in conditions.items()] + [""]
     (path / MANIFEST).write_text("\n".join(lines))
 
 
@@ -272,15 +283,44 @@ def _oracle(args):
     return {"before": before, "oracle": heldout(truth), "ours": ours["after"] if ours else before}
 
 
-def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, progress=None):
-    """Make `count` cases from `seed` into `out`, diagnose them blind, score; return the scores."""
+def _make_independent(args):
+    case, out, scenarios_dir = args
+    time, cols, stated = independent_plan.record(case)
+    ref = str((Path(scenarios_dir) / f"{independent_plan.SCENARIO}.toml").resolve())
+    write_data_set(Path(out) / "cases" / case["case"], time, cols, independent_plan.INPUTS,
+                   independent_plan.OUTPUTS, ref, f"blind case {case['case']} on the independent "
+                   "SMA bench", stated)
+    return case["case"]
+
+
+def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, progress=None,
+        bench="own", duration=None):
+    """Make `count` cases from `seed` into `out`, diagnose them blind, score; return the scores.
+
+    `bench` "own" records on the library's FMUs with hidden effects switched on (cases in
+    ``out/cases``, scores at the top of ``out/scores.json``); "independent" on
+    `musclesim.diagnosis.independent`'s bench, `duration` seconds each (default
+    `independent_plan.DURATION`; cases, key in ``out/independent``, scores under the key
+    "independent" of ``out/scores.json``). Each keeps the other's scores in the file.
+    """
+    if bench not in ("own", "independent"):
+        raise UserError(f"no bench {bench!r} for the blind benchmark (own or independent)")
     pmap = pmap or serial_map
     say = progress or (lambda text: None)
-    out = Path(out)
+    top = Path(out)
+    out = top / "independent" if bench == "independent" else top
     out.mkdir(parents=True, exist_ok=True)
-    cases = plan(count, seed)
-    say(f"recording {count} cases on the virtual hardware")
-    pmap(_make, [(c, out, scenarios_dir, fmu_dir) for c in cases])
+    if bench == "own":
+        cases = plan(count, seed)
+        jobs = (_make, [(c, out, scenarios_dir, fmu_dir) for c in cases])
+        oracle = _oracle
+    else:
+        cases = independent_plan.plan(count, seed, DECOYS,
+                                      duration or independent_plan.DURATION)
+        jobs = (_make_independent, [(c, out, scenarios_dir) for c in cases])
+        oracle = independent_plan.oracle
+    say(f"recording {count} cases on the {bench} virtual hardware")
+    pmap(*jobs)
     key = json.dumps({"seed": seed, "cases": cases}, indent=1, sort_keys=True) + "\n"
     # sealed: `sha256sum -c key.sha256` checks key.json once it is written, after the diagnosis
     (out / "key.sha256").write_text(hashlib.sha256(key.encode()).hexdigest() + "  key.json\n")
@@ -289,29 +329,60 @@ def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, 
     reports = pmap(_diagnose, [(d, fmu_dir) for d in dirs])
     (out / "key.json").write_text(key)
     say("scoring against the key and the oracle")
-    gaps = pmap(_oracle, [(c, d, r, fmu_dir) for c, d, r in zip(cases, dirs, reports)])
-    scores = score(cases, reports, gaps)
-    replace_file(out / "scores.json", json.dumps(scores, indent=1) + "\n")
+    gaps = pmap(oracle, [(c, d, r, fmu_dir) for c, d, r in zip(cases, dirs, reports)])
+    scores = score(cases, reports, gaps, independent=bench == "independent")
+    _write_scores(top / "scores.json", scores, bench)
     return scores
 
 
-def score(cases, reports, gaps):
-    """The benchmark's scores and per-case table from the key, the reports and the gaps."""
+def _write_scores(path, scores, bench):
+    """scores.json: the own bench's scores at the top, the independent bench's under
+    "independent"; a run replaces its own part and keeps the other's."""
+    try:
+        old = json.loads(path.read_text())
+    except (OSError, ValueError):
+        old = {}
+    if bench == "own":
+        new = {**scores, **({"independent": old["independent"]} if "independent" in old else {})}
+    else:
+        new = {**{k: v for k, v in old.items() if k != "independent"},
+               "independent": {"bench": "independent", **scores}}
+    replace_file(path, json.dumps(new, indent=1) + "\n")
+
+
+def score(cases, reports, gaps, independent=False):
+    """The benchmark's scores and per-case table from the key, the reports and the gaps.
+
+    On the own bench a ``none`` case is a false alarm unless the verdict is ``none`` or
+    ``unexplained``, an ``outside`` case counts when called ``unexplained``. On the
+    `independent` bench, whose conditions are drawn around the model's, a ``recalibration`` is
+    no false alarm (a parameter is off; no effect is named), and an ``outside`` case also counts
+    when the verdict is marked incomplete (``complete`` false) or, hiding two library effects,
+    when both are selected.
+    """
+    quiet = ("none", "unexplained") + (("recalibration",) if independent else ())
     table = []
     for c, r, g in zip(cases, reports, gaps):
         row = {"case": c["case"], "kind": c["kind"], "bench": c["bench"], "truth": c["effect"],
                "values": c["values"], "verdict": r.get("verdict"), "selected": r.get("selected"),
                "gap_before": g["before"], "gap_oracle": g["oracle"], "gap_ours": g["ours"]}
+        if independent:
+            row["complete"] = r.get("complete")
         if c["kind"] in ("effect", "decoy"):
             row["correct"] = r.get("verdict") == c["effect"]
+            if g["oracle"] is None:  # the oracle's fit failed
+                table.append(row)
+                continue
             oracle = 1 - g["oracle"] / g["before"]
             ours = 1 - g["ours"] / g["before"]
             row["shrinkage_oracle"], row["shrinkage_ours"] = oracle, ours
             row["shrinkage_vs_oracle"] = ours / oracle if oracle > 0 else None
         elif c["kind"] == "none":
-            row["false_alarm"] = r.get("verdict") not in ("none", "unexplained")
+            row["false_alarm"] = r.get("verdict") not in quiet
         else:
-            row["unexplained"] = r.get("verdict") == "unexplained"
+            row["unexplained"] = r.get("verdict") == "unexplained" or independent and (
+                r.get("complete") is False and r.get("verdict") not in quiet
+                or bool(c.get("pair")) and set(c["pair"]) <= set(r.get("selected") or ()))
         table.append(row)
 
     def rate(kinds, key):
