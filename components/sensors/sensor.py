@@ -29,11 +29,22 @@ class SensorParams:
             raise ValueError(f"seed must be a non-negative whole number (got {self.seed!r})")
 
 
-def lag(x, u, dt, tau):
-    """Exact first-order lag update over dt for input u held constant."""
+def lag_weights(dt, tau):
+    """(a, b) of the exact first-order lag over dt for an input linear between two samples:
+    y1 = a y0 + (1 - a - b) u0 + b u1, with a = exp(-dt/tau), b = 1 - tau (1 - a) / dt.
+
+    Continuous in tau: at tau = 0 the reading is the signal itself (a = 0, b = 1), and a lag
+    much shorter than the step is a small delay, not a whole step of it (as a held input gives).
+
+    >>> lag_weights(0.02, 0.0)
+    (0.0, 1.0)
+    >>> a, b = lag_weights(0.02, 1e-9); round(a, 12), round(b, 6)
+    (0.0, 1.0)
+    """
     if tau <= 0:
-        return u
-    return u + (x - u) * math.exp(-dt / tau)
+        return 0.0, 1.0
+    a = math.exp(-dt / tau)
+    return a, 1.0 - tau * (-math.expm1(-dt / tau)) / dt
 
 
 def noise_sample(p, rng):

@@ -28,18 +28,25 @@ class _ScalarSensor(Slave):
     def setup(self):
         self.params = self.core_params(sensor.SensorParams)  # not self.p: PressureSensor reads "p"
         self.rng = sensor.make_rng(self.params)
-        self.x = getattr(self, self.signal)
+        self.held, self.weight = 0.0, 1.0  # the element settled on the signal
         self.noise = sensor.noise_sample(self.params, self.rng)
 
     def initialize(self):
-        self.x = getattr(self, self.signal)  # the sensing element starts settled on the signal
+        self.held, self.weight = 0.0, 1.0  # the sensing element starts settled on the signal
+
+    def _element(self):
+        """The sensing element's value now: what the past steps left plus the present signal's
+        share (`sensor.lag_weights`, the signal taken linear over a step)."""
+        u = getattr(self, self.signal)
+        return u if self.weight == 1.0 and self.held == 0.0 else self.held + self.weight * u
 
     def evaluate(self):
-        x = getattr(self, self.signal) if self.params.tau <= 0 else self.x
-        setattr(self, self.measured, sensor.reading(x, self.params, self.noise))
+        setattr(self, self.measured, sensor.reading(self._element(), self.params, self.noise))
 
     def advance(self, t, dt):
-        self.x = sensor.lag(self.x, getattr(self, self.signal), dt, self.params.tau)
+        y0, u0 = self._element(), getattr(self, self.signal)
+        a, b = sensor.lag_weights(dt, self.params.tau)
+        self.held, self.weight = a * y0 + (1.0 - a - b) * u0, b
         self.noise = sensor.noise_sample(self.params, self.rng)  # one sample per communication step
 
 

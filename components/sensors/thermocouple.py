@@ -4,6 +4,6 @@ The junction follows the wire with time constant tau (contact and coat, SPEC 2.1
 thermocouple gave 6-8 C RMS error); the reading adds a bias and Gaussian noise and is rounded to
 the quantisation step. The generic scalar-sensor core in `sensor` does it; kept under this name.
 """
-from musclesim.components.sensors.sensor import SensorParams, lag, make_rng, noise_sample, reading
+from musclesim.components.sensors.sensor import SensorParams, lag_weights, make_rng, noise_sample, reading
 
-__all__ = ["SensorParams", "lag", "make_rng", "noise_sample", "reading"]
+__all__ = ["SensorParams", "lag_weights", "make_rng", "noise_sample", "reading"]

@@ -8,12 +8,17 @@ from fmpy import simulate_fmu
 from musclesim.components.sensors import thermocouple as tc
 
 
-def test_lag_is_exact_first_order_step_response():
-    x, dt, tau = 300.0, 1e-3, 0.05
-    for _ in range(100):
-        x = tc.lag(x, 400.0, dt, tau)
-    assert x == pytest.approx(400.0 - 100.0 * math.exp(-0.1 / tau), rel=1e-12)
-    assert tc.lag(300.0, 400.0, dt, 0.0) == 400.0
+def test_lag_is_exact_for_a_ramp_and_continuous_at_zero():
+    # y' = (u - y) / tau with u = r t from y = 0: y = r (t - tau (1 - exp(-t / tau)))
+    dt, tau, r, y = 0.02, 0.05, 3.0, 0.0
+    a, b = tc.lag_weights(dt, tau)
+    for k in range(100):
+        y = a * y + (1 - a - b) * r * k * dt + b * r * (k + 1) * dt
+    assert y == pytest.approx(r * (2.0 - tau * (1 - math.exp(-2.0 / tau))), rel=1e-12)
+    assert tc.lag_weights(dt, 0.0) == (0.0, 1.0)  # no lag: the reading is the signal
+    for tiny in (1e-6, 1e-9):  # a lag far below the step is nearly no lag, not a step's delay
+        a, b = tc.lag_weights(dt, tiny)
+        assert a < 1e-12 and b == pytest.approx(1.0, abs=1e-4)
 
 
 def test_reading_bias_and_quantisation():
