@@ -76,6 +76,11 @@ class SmaWire(Slave):
                        "Training/fatigue drift: e-folding number of cycles (SPEC 2.6)")
         self.parameter("drift_cycles_start", 0.0, "1",
                        "Training/fatigue drift: transformation cycles done before the run")
+        self.parameter("hysteresis_shift", 0.0, "K", "Static shift of the transformation "
+                       "temperatures: the hysteresis sees T - shift (calibration: composition, "
+                       "heat treatment, a core hotter than the mean; SPEC 2.2, 4, 5)")
+        self.parameter("strain_scale", 1.0, "1", "Factor on the transformation strain "
+                       "(calibration: the wire's recoverable strain, its gauge length; SPEC 2.3, 5)")
         self.input("u", 0.0, "1", "Electrical input: voltage across the wire [V], or current "
                    "through it [A] when drive_current = 1")
         self.input("T_amb", 293.15, "K", "Ambient air temperature")
@@ -100,6 +105,9 @@ class SmaWire(Slave):
             raise ValueError(f"T_init must be positive in K (got {self.T_init!r})")
         if not 0 <= self.stress_blend <= 1:
             raise ValueError(f"stress_blend must be within [0, 1] (got {self.stress_blend!r})")
+        if not self.strain_scale > 0 or not math.isfinite(self.hysteresis_shift):
+            raise ValueError(f"strain_scale must be positive and hysteresis_shift finite (got "
+                             f"{self.strain_scale!r}, {self.hysteresis_shift!r})")
         if not self.drift_cycles_start >= 0:
             raise ValueError(f"drift_cycles_start must be non-negative "
                              f"(got {self.drift_cycles_start!r})")
@@ -136,7 +144,7 @@ class SmaWire(Slave):
         sigma = self._stress(self.time)
         eps = self.model.reset(self._seen(self.T_C), sigma, self.time)
         self.xi = thermal.martensite_fraction(eps, self._eps_max(sigma))
-        self.eps = drift.strain_scale(self.cycles, self.dp) * eps
+        self.eps = self.strain_scale * drift.strain_scale(self.cycles, self.dp) * eps
         self.stress_held = self.flange_f / self.area
         self.P_held = thermal.joule_power(self.u, self.xi, self.p)
 
@@ -165,15 +173,16 @@ class SmaWire(Slave):
             T_new = thermal.step_coupled(self.T_C, inputs, dt, p, xi_at)[0]
         eps = model.step(self._seen(T_new, shift), sigma, t + dt)
         xi_new = thermal.martensite_fraction(eps, eps_max)
-        self.eps = drift.strain_scale(self.cycles, self.dp) * eps
+        self.eps = self.strain_scale * drift.strain_scale(self.cycles, self.dp) * eps
         self.cycles = drift.count_cycles(self.cycles, self.xi, xi_new)
         self.stress_held = self.flange_f / self.area
         self.P_held = thermal.joule_power(self.u, self.xi, p)
         self.T_C, self.xi = T_new, xi_new
 
     def _seen(self, T, shift=0.0):
-        """Temperature [C] the hysteresis sees: drift-shifted, saturated at the grid's ends."""
-        return min(max(T - shift, self.surface.t_lo), self.surface.t_hi)
+        """Temperature [C] the hysteresis sees: shifted (drift, calibration), saturated at the
+        grid's ends."""
+        return min(max(T - shift - self.hysteresis_shift, self.surface.t_lo), self.surface.t_hi)
 
     def _stress(self, t):
         """Stress [Pa] for the hysteresis: clamped to the data set's stresses, warned once."""

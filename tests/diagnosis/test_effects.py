@@ -73,11 +73,26 @@ def test_off_is_nominal_exactly_and_on_changes_the_run(fmu_dir, effect):
     assert not np.allclose(nominal, on, rtol=1e-6, atol=1e-9)
 
 
-def test_calibration_parameters_are_nominal_parameters_of_their_component(fmu_dir):
-    for component, params in effects.CALIBRATION.items():
-        md = read_model_description(str(fmu_dir / f"{component}.fmu"))
-        variables = {v.name: v for v in md.modelVariables}
-        effect_params = {p.name for e in effects.by_component(component) for p in e.parameters}
-        for p in params:
-            assert variables[p.name].causality == "parameter" and p.name not in effect_params
-            assert p.lower < 1.0 < p.upper  # factors around the scenario's value
+def test_calibration_parameters_are_nominal_values_of_their_component(fmu_dir):
+    """Every calibration parameter is a parameter (or the SmaWire's ambient input) of its
+    component, owned by no effect, with bounds around its nominal value and a SPEC section."""
+    assert {c.name for c in effects.calibration_of("SmaWire")} >= {
+        "T_amb", "h", "specific_heat", "rho_austenite", "rho_martensite", "hysteresis_shift",
+        "strain_scale"}
+    for c in effects.CALIBRATION:
+        md = read_model_description(str(fmu_dir / f"{c.component}.fmu"))
+        v = {v.name: v for v in md.modelVariables}[c.name]
+        effect_params = {p.name for e in effects.by_component(c.component) for p in e.parameters}
+        assert v.causality in ("parameter", "input") and c.name not in effect_params
+        lo, hi = c.bounds(float(v.start))
+        assert lo < float(v.start) < hi and c.spec.startswith("SPEC") and c.why
+
+
+@pytest.mark.parametrize("name, value", [("hysteresis_shift", 5.0), ("strain_scale", 1.1)])
+def test_wire_calibration_parameters_are_exact_at_nominal_and_act_when_set(fmu_dir, name, value):
+    nominal = _run(fmu_dir, "sma-temperature-tracking", [])
+    default = {"hysteresis_shift": 0.0, "strain_scale": 1.0}[name]
+    assert np.array_equal(nominal, _run(fmu_dir, "sma-temperature-tracking",
+                                        [f"wire.{name}={default!r}"]))
+    assert not np.allclose(nominal, _run(fmu_dir, "sma-temperature-tracking",
+                                         [f"wire.{name}={value!r}"]), rtol=1e-6, atol=1e-9)
