@@ -15,6 +15,7 @@ from musclesim.cosim import reuse_fmus
 
 from musclesim.diagnosis.simulate import Failed, residuals, simulate
 from musclesim.diagnosis.stats import gap, part_rows, part_vector
+from musclesim.diagnosis.thresholds import LATENCY_PASSES, MAX_ITERATIONS, SIMULATIONS
 
 
 @dataclass(frozen=True)
@@ -33,27 +34,48 @@ def values_of(free, x):
     return {(inst, f.name): v for f, v in zip(free, x) for inst in f.instances}
 
 
-def fit(unit, free, fmu_dir, fixed=None, x0=None):
+def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency=None):
     """Fit `free` on the training part; return a dict with values, intervals and residuals.
 
-    A coarse scan of the box (5 points per parameter, or the start and the corners' midpoints)
-    picks the start of a bounded trust-region least-squares fit in box coordinates [0, 1].
+    A coarse scan of the first `scan` parameters (default all; `_axis` points each, one
+    parameter at a time, then the best of each together), the others held at `x0` (default
+    their nominal values), picks the start of a bounded trust-region least-squares fit of all of
+    them in box coordinates [0, 1]. With ``scan=0`` the fit starts at `x0` (a calibration, or a
+    refinement from it); when no scanned point changes the cost at all, the start is the fit
+    (an effect that does not apply here, such as stress dependence in a model that keeps it).
+
+    The Jacobian is by forward differences; `known` ({index of a parameter: its column}, box
+    coordinates) reuses columns computed before (the calibration's, when an effect is fitted
+    together with it: a quasi-Newton step, every step still checked on the true cost). The
+    result's ``jac`` is the final Jacobian. The sensor channels' latencies (`residuals`) are
+    held during each least-squares pass: the given `latency` ({column: samples}, a
+    calibration's), else chosen again between passes; the result's ``latency`` is the one held
+    last. A latency trades against a lag effect on its channel (up to MAX_ALIGN samples of it):
+    holding the calibration's while an effect is fitted keeps that trade the same for every
+    candidate.
     """
     fixed = dict(fixed or {})
     lo = np.array([f.lower for f in free])
     span = np.array([f.upper - f.lower for f in free])
-    cache = {}
+    cache, align = {}, {}  # align: the sensor latencies held during least squares
 
-    def run(z):
+    def run(z, free_choice=False):
         key = tuple(np.round(z, 12))
         if key not in cache:
             x = lo + span * np.clip(z, 0, 1)
             try:
-                sims = simulate(unit, {**fixed, **values_of(free, x)}, fmu_dir)
-                cache[key] = residuals(unit, sims)
+                cache[key] = simulate(unit, {**fixed, **values_of(free, x)}, fmu_dir)
             except Failed:
                 cache[key] = None
-        return cache[key]
+        sims = cache[key]
+        return None if sims is None else residuals(unit, sims,
+                                                   align=None if free_choice else align)
+
+    def latencies(z):
+        chosen = {}
+        if run(z, True) is not None:
+            residuals(unit, cache[tuple(np.round(z, 12))], chosen)
+        return chosen
 
     def train_vector(z):
         res = run(z)
@@ -61,29 +83,101 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None):
             return np.full(_train_size(unit), 1e3)
         return part_vector(unit, res, 0)
 
-    starts = [np.clip((np.array([f.start for f in free]) - lo) / span, 0, 1)]
-    if x0 is not None:
-        starts.append(np.clip((np.asarray(x0) - lo) / span, 0, 1))
-    grid = np.linspace(0, 1, 5) if len(free) == 1 else np.array([0.1, 0.5, 0.9])
-    starts += [np.array(p) for p in itertools.product(grid, repeat=len(free))]
-    costs = [float(np.sum(np.square(train_vector(z)))) for z in starts]
-    z0 = starts[int(np.argmin(costs))]
-    opt = optimize.least_squares(train_vector, z0, bounds=(0, 1), x_scale=1.0,
-                                 diff_step=1e-3, max_nfev=12 * len(free) + 8, method="trf")
-    z = opt.x  # trust-region steps never end above their start's cost
+    def cost(z):  # each point at its best latencies
+        res = run(z, True)
+        return 1e6 if res is None else float(np.sum(np.square(part_vector(unit, res, 0))))
+
+    def jac(z):
+        f0, known_ = train_vector(z), known or {}
+        steps = [(i, _step(z[i])) for i in range(len(z)) if i not in known_]
+        points = [z + np.eye(len(z))[i] * h for i, h in steps]
+        J = np.empty((f0.size, len(z)))
+        for i, col in known_.items():
+            J[:, i] = col
+        for (i, h), p in zip(steps, points):
+            J[:, i] = (train_vector(p) - f0) / h
+        return J
+
+    scan = len(free) if scan is None else scan
+    base = np.clip((np.array(x0 if x0 is not None else [f.start for f in free]) - lo) / span,
+                   0, 1)
+    z0, applicable = base, True
+    if scan:
+        z0, applicable = _scan(base, scan, cost)
+    z, interval, J = z0, [(float(a), float(a + w)) for a, w in zip(lo, span)], None
+    # least squares with the sensor latencies held (the residuals then move smoothly with the
+    # parameters): the given `latency`, else chosen again after each pass until they stay (each
+    # pass lowers the cost)
+    for _ in range(0 if not applicable else 1 if latency is not None else LATENCY_PASSES):
+        align.clear()
+        align.update(latencies(z) if latency is None else latency)
+        opt = optimize.least_squares(train_vector, z, jac=lambda z: jac(z), bounds=(0, 1),
+                                     x_scale=1.0, ftol=1e-4, xtol=1e-4, method="trf",
+                                     max_nfev=max(MAX_ITERATIONS, SIMULATIONS // (
+                                         1 + len(free) - len(known or {}))))
+        z, interval, J = opt.x, _interval(opt, lo, span), opt.jac  # never above the start
+        if latency is not None or latencies(z) == align:
+            break
     x = lo + span * z
-    interval = _interval(opt, lo, span)
-    res = run(z)
-    applicable = len({round(c, 12) for c in costs}) > 1
+    res = run(z, True)
     return {"x": [float(v) for v in x], "interval": interval, "residuals": res,
             "train_gap": gap(unit, res, 0) if res else math.inf,
             "heldout_gap": gap(unit, res, 1) if res else math.inf,
-            "applicable": applicable, "evaluations": len(cache)}
+            "applicable": applicable, "evaluations": len(cache), "jac": J,
+            "latency": dict(align) if align else latencies(z)}
+
+
+def known_columns(jac, k):
+    """A calibration's Jacobian `jac` as `fit`'s ``known`` for a fit whose first `k` parameters
+    are effects' and the rest that calibration's (None: nothing known)."""
+    return None if jac is None else {k + i: jac[:, i] for i in range(jac.shape[1])}
+
+
+def _step(z):
+    """Forward-difference step in box coordinates, toward the box's inside."""
+    return 1e-3 if z <= 0.5 else -1e-3
+
+
+def _scan(base, scan, cost):
+    """(start, applicable) from a scan of the first `scan` coordinates around `base`: each
+    along its `_axis` alone, then the best of each together. ``applicable``: the cost changes
+    at all."""
+    c0 = cost(base)
+    best, costs = base.copy(), [c0]
+    for i in range(scan):
+        pts = [p for p in _axis(base[i]) if p != base[i]]
+        cs = []
+        for p in pts:
+            z = base.copy()
+            z[i] = p
+            cs.append(cost(z))
+        costs += cs
+        if cs and min(cs) < c0:
+            best[i] = pts[int(np.argmin(cs))]
+    candidates = [(c0, base)]
+    if scan > 1 and not np.array_equal(best, base):
+        candidates.append((cost(best), best))
+    for i in range(scan):  # each axis's best alone
+        z = base.copy()
+        z[i] = best[i]
+        if z[i] != base[i]:
+            candidates.append((cost(z), z))
+    return min(candidates, key=lambda t: t[0])[1], len({round(v, 12) for v in costs}) > 1
+
+
+def _axis(z0):
+    """Scan points of one parameter in box coordinates: from its start `z0` (an effect's off
+    value) toward each bound at 1/8, 1/2 and all of the way: effects are mostly small next to
+    their bounds, so the points crowd near off, where a narrow optimum (a 0.2 s lag in [0, 2] s)
+    would fall between even steps."""
+    fractions = (0.125, 0.5, 1.0)
+    points = {z0} | {z0 + f * (1 - z0) for f in fractions} | {z0 - f * z0 for f in fractions}
+    return sorted(points)
 
 
 def fit_task(args):
-    """One fit, as a Dask task: (unit, free, fmu_dir, fixed, x0) -> fit(), its FMUs read and
-    unpacked once for all its runs."""
+    """One fit, as a Dask task: (unit, free, fmu_dir, fixed, x0, scan, known, latency) ->
+    fit(), its FMUs read and unpacked once for all its runs."""
     with reuse_fmus():
         return fit(*args)
 

@@ -26,6 +26,7 @@ from musclesim.diagnosis.effects import find
 from musclesim.diagnosis.fitting import Free, fit, values_of
 from musclesim.diagnosis.independent import LENGTH, STRESS, Bench, run
 from musclesim.diagnosis.problem import Problem
+from musclesim.diagnosis.selection import calibration
 from musclesim.diagnosis.simulate import Failed, residuals, simulate
 from musclesim.diagnosis.stats import gap
 
@@ -142,10 +143,12 @@ def record(case):
 
 
 def oracle(args):
-    """Held-out gaps of the model with every measured signal replayed (the report's section 4):
-    nominal and with our selected effects (from the report), and the oracle's: the key's library
-    effect fitted on the training part like any candidate (the bench's truth has no values in
-    the library's terms). The oracle is None for a case without a library key."""
+    """Held-out gaps of the model with every measured signal replayed (the report's section 5):
+    nominal and with our calibration and selected effects (from the report), and the oracle's:
+    the key's library effect fitted on the training part together with the calibration
+    parameters, from the report's calibrated values (the bench's truth has no values in the
+    library's terms, and its conditions differ from the model's). The oracle is None for a case
+    without a library key."""
     case, case_dir, report, fmu_dir = args
     ours = report.get("shrinkage", {}).get("all")
     keyed = case["kind"] in ("effect", "decoy")
@@ -153,7 +156,7 @@ def oracle(args):
         return {"before": ours["before"], "oracle": None, "ours": ours["after"]}
     problem = Problem(load_dataset(case_dir), fmu_dir)
     unit = problem.replayed()
-    if ours is None:  # no report section 4: the case failed, our model is the nominal one
+    if ours is None:  # no report section 5: the case failed, our model is the nominal one
         try:
             before = gap(unit, residuals(unit, simulate(unit, {}, fmu_dir)), 1)
         except Failed:
@@ -164,19 +167,24 @@ def oracle(args):
         effect = find(case["effect"])
         insts = tuple(n for n, c in problem.components.items() if c == effect.component)
         free = [Free(insts, p.name, p.lower, p.upper, p.off) for p in effect.parameters]
-        best = fit(unit, free, fmu_dir, x0=_scan(unit, free, fmu_dir))["heldout_gap"]
+        calib = calibration(problem, unit)
+        table = report.get("calibration", {}).get("parameters", {})
+        x_cal = [table.get(f"{','.join(fr.instances)}.{fr.name}", {}).get("value", fr.start)
+                 for fr in calib]
+        start = _scan(unit, free, fmu_dir, values_of(calib, x_cal))
+        best = fit(unit, free + calib, fmu_dir, x0=start + x_cal, scan=0)["heldout_gap"]
     return {"before": ours["before"], "oracle": best, "ours": ours["after"]}
 
 
-def _scan(unit, free, fmu_dir):
+def _scan(unit, free, fmu_dir, fixed):
     """The best training point of a fine grid over `free`'s box (21 points for one parameter, 7
-    per parameter else): the oracle's start. The fit's own coarse scan (5 points) can miss a
-    narrow optimum, such as a 0.2 s thermocouple lag in [0, 2] s, and an oracle should not."""
+    per parameter else), the calibration held at `fixed`: the oracle's start. The fit's own
+    coarse scan can miss a narrow optimum, and an oracle should not."""
     axes = [np.linspace(f.lower, f.upper, 21 if len(free) == 1 else 7) for f in free]
     best, start = math.inf, [f.start for f in free]
     for x in itertools.product(*axes):
         try:
-            res = residuals(unit, simulate(unit, values_of(free, x), fmu_dir))
+            res = residuals(unit, simulate(unit, {**fixed, **values_of(free, x)}, fmu_dir))
         except Failed:
             continue
         cost = gap(unit, res, 0)

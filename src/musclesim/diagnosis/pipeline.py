@@ -2,36 +2,44 @@
 far the gap shrinks once that effect is added, judged on held-out data (DESIGN.md, "Sim-to-real
 gap diagnosis").
 
-The steps, on a measured data set (`musclesim.diagnosis.dataset`):
+The steps, on a measured data set (`musclesim.diagnosis.dataset`), each printed as it starts:
 
 1. Gap. The scenario runs with the data set's inputs replayed (`Master` ``inputs``) and every
    observed signal is compared: NRMSE by the measured range, bias (measured - model), lag (the
    shift of the model that best matches the data); scalar metrics by relative error. A sensor
    channel nothing in the model reads is compared allowing an acquisition latency of up to
-   `MAX_ALIGN` samples, chosen on the training part in every comparison (`residuals`).
-2. Where. Each component is re-simulated in its *isolation unit*: the component plus the upstream
-   instances whose outputs were not measured, with every measured signal feeding the unit
-   replayed. A unit deviates when the held-out gap of one of its signals exceeds `DEVIATES` times
-   that signal's noise (estimated from the data's second differences, at least `NOISE_FLOOR` of
-   the range; for a metric its uncertainty, else `METRIC_FLOOR`). Components of deviating units
-   are located unless a unit that did not deviate isolates them (they are exonerated). The
-   nominal residual is also split by regime and the worst windows are listed.
-3. Which effect. Every effect of a located component (`musclesim.diagnosis.effects`) is fitted on
-   the training part (bounded least squares after a coarse scan) and scored on the held-out part.
-   It counts only if it shrinks the held-out gap by at least `MIN_SHRINKAGE`, leaves at most
-   `BEAT_RECALIBRATED` of the gap of the nominal model with as many nominal parameters
-   recalibrated (`effects.CALIBRATION`), and its gain per sample in the regime the effect
-   predicts is at least `SIGNATURE_MIN` of its average (signature). Greedy forward selection
-   adds a second effect when it shrinks the remaining gap by `MIN_SHRINKAGE` again.
-4. How far it shrinks: held-out gap per signal before and after, with block-bootstrap intervals,
-   in the model with every measured signal replayed (`Problem.replayed`).
+   `MAX_ALIGN` samples, chosen on the training part in every comparison (`residuals`). Nothing
+   deviating beyond the noise anywhere: verdict ``none``.
+2. Calibration. A real bench differs from the model in nominal values no effect library lists
+   (its ambient, h, material data, the hysteresis's temperature shift and strain scale, ...):
+   every calibration parameter its components declare (`effects.CALIBRATION`; a value the data
+   set states in ``[conditions]`` stays fixed) is fitted on the training part, from the nominal
+   values; the report gives them with 95 % intervals and the gap before and after.
+3. Where. Each component is re-simulated, calibrated, in its *isolation unit*: the component
+   plus the upstream instances whose outputs were not measured, with every measured signal
+   feeding the unit replayed. A unit deviates when the held-out gap of one of its signals
+   exceeds `DEVIATES` times that signal's noise (estimated from the data's second differences,
+   at least `NOISE_FLOOR` of the range; for a metric its uncertainty, else `METRIC_FLOOR`).
+   Components of deviating units are located unless a unit that did not deviate isolates them.
+   The calibrated residual is also split by regime and the worst windows are listed.
+4. Which effect. Every effect of a located component is fitted on the training part together
+   with the fit unit's calibration parameters (from their calibrated values; a scan of the
+   effect's box first) and judged against calibration alone on the held-out part, on the
+   observed signals it can change (`problem.affected`: a sensor's effect on its channel, the
+   wire's on everything downstream), so that one channel's unrelated mismatch cannot drown a
+   clear fix of another (`selection.judge`: material, `MIN_SHRINKAGE`, bootstrap interval above
+   zero, signature in its regime). Greedy forward selection may add a second effect. Signals
+   that share an upstream state (the thermocouple and the strain, both on the wire's
+   temperature) place the gap in a sensor or in the plant (`selection.cross_signal`).
+5. How far it shrinks: held-out gap per signal nominal, calibrated and with the selected effects
+   (calibration refitted with them), with block-bootstrap intervals, in the model with every
+   measured signal replayed (`Problem.replayed`).
 
-Verdict: ``none`` when no signal deviates beyond the noise; the best effect's name when the gap
-left after it is unstructured (within `STRUCTURED` noise floors or `RESIDUAL_SHARE` of the gap
-before), and also when it explains at least `MOST` of the gap but leaves a structured rest
-(``complete`` false: a further difference outside the library); ``recalibration`` when no effect
-counts but a recalibrated nominal parameter leaves an unstructured gap (a parameter is off, no
-effect is missing); ``unexplained`` otherwise.
+Verdict (`selection.verdict`): ``none`` when no signal deviates beyond the noise; the best
+counting effect's name, ``complete`` when the gap left is unstructured (within `STRUCTURED`
+noise floors or `RESIDUAL_SHARE` of the nominal gap), else false with its share (a further
+difference outside the library); ``recalibration`` when no effect counts and calibration closes
+at least `MOST` of the nominal gap (naming the parameters it moved); ``unexplained`` otherwise.
 
 The fits are independent tasks: `diagnose` maps them with the ``pmap`` it is given (the CLI passes
 Dask's, the same local cluster or scheduler as sweeps).
@@ -43,11 +51,11 @@ selection and verdict in `.selection`.
 """
 from musclesim.batch import serial_map
 from musclesim.cosim import reuse_fmus
-from musclesim.diagnosis.fitting import fit_task
+from musclesim.diagnosis.fitting import fit_task, known_columns, values_of
 from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.regimes import regime_table, regimes
-from musclesim.diagnosis.selection import (candidates, complete, rank, recalibrated, select,
-                                           selected_values, verdict)
+from musclesim.diagnosis.selection import (calibration, calibration_table, candidates,
+                                           cross_signal, rank, select, verdict)
 from musclesim.diagnosis.simulate import Failed, residuals, signal_gap, simulate
 from musclesim.diagnosis.stats import before_after, deviates, gap, noise_floor
 from musclesim.errors import UserError
@@ -57,8 +65,8 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
     """Diagnose measured data set `ds` (a `musclesim.diagnosis.DataSet`); return the report dict.
 
     `pmap(fn, items)` maps the fits (default: one after the other); `progress(text)` is told
-    what runs; a dict given as `traces` receives the runs of `Problem.replayed`, nominal and with
-    the selected effects, for plots.
+    what runs; a dict given as `traces` receives the runs of `Problem.replayed`, nominal,
+    calibrated and with the selected effects, for plots.
     """
     with reuse_fmus():  # some hundred runs of the same FMUs: each read and unpacked once
         return _diagnose(ds, fmu_dir, pmap or serial_map, progress or (lambda text: None),
@@ -68,31 +76,45 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
 def _diagnose(ds, fmu_dir, pmap, say, traces):
     problem = Problem(ds, fmu_dir)
     whole = problem.unit("model")
-    say("nominal model")
+    say("1/5 the gap: nominal model")
     try:
         sims = simulate(whole, {}, fmu_dir)
     except Failed as exc:
         raise UserError(f"data set {ds.path}: the nominal scenario fails: {exc}") from None
     res_whole = residuals(whole, sims)
     report = _gap_section(problem, whole, sims, res_whole)
-    say("isolating components")
-    isolated = _isolate(problem)
+    units = _nominal_units(problem)
+    if not report["gap"]["deviates"] and not any(u["deviates"] for u in units):
+        floor = report["gap"]["noise_floor"]
+        none, explanation, _ = verdict([], None, {}, floor, {}, deviates=False)
+        report.update(calibration={"parameters": {}}, effects=[], selected=[], verdict=none,
+                      explanation=explanation, noise_floor=floor, complete=True)
+        _shrinkage(problem, report, {}, {}, traces)
+        return report
+    say(f"2/5 calibrating the model and {len(units)} isolation unit(s) on the training part")
+    cal, isolated = _calibrate(problem, report, (whole, res_whole), units, pmap)
+    say("3/5 isolating components (each unit calibrated)")
     suspects = _where(problem, report, isolated)
     masks = regimes(problem, whole)
-    report["regimes"] = regime_table(whole, res_whole, masks)
-    if not report["gap"]["deviates"] and not any(u["deviates"] for u in isolated):
-        floor = report["gap"]["noise_floor"]
-        none, explanation = verdict([], None, {}, [], floor, deviates=False)
-        report.update(effects=[], recalibrated=[], selected=[], verdict=none,
-                      explanation=explanation, noise_floor=floor, complete=True)
-        _shrinkage(problem, report, {}, traces)
-        return report
-    fit_unit, res_nom, suspects = _fit_unit(whole, res_whole, isolated, suspects)
-    report["fit_unit"] = {"instances": list(fit_unit.instances),
-                          "observed": list(fit_unit.observed)}
-    _which_effect(problem, report, (fit_unit, res_nom, suspects, masks), pmap, say)
-    _shrinkage(problem, report, selected_values(report["effects"], report["selected"]),
-               traces)
+    report["regimes"] = regime_table(whole, cal["residuals"], masks)
+    values = {}
+    if not deviates(whole, cal["residuals"]) and not any(u["deviates"] for u in isolated):
+        floor = noise_floor(whole)
+        report.update(effects=[], selected=[], verdict="recalibration", complete=True,
+                      noise_floor=floor, explanation=(
+                          f"calibration alone takes the held-out gap from "
+                          f"{report['calibration']['heldout_gap_before']:.3g} to "
+                          f"{report['calibration']['heldout_gap_after']:.3g}, within the noise "
+                          f"(floor {floor:.3g}): no unmodelled effect is needed"))
+    else:
+        fitting = _fit_unit((whole, cal), isolated, suspects)
+        report["fit_unit"] = {"instances": list(fitting[0].instances),
+                              "observed": list(fitting[0].observed),
+                              "latency": fitting[1]["latency"]}
+        say("4/5 which effect: candidates fitted with the calibration parameters")
+        values = _which_effect(problem, report, fitting + (masks,), pmap, say)
+    say("5/5 how far the gap shrinks")
+    _shrinkage(problem, report, cal["values"], values, traces)
     return report
 
 
@@ -109,17 +131,67 @@ def _gap_section(problem, whole, sims, res_whole):
     }
 
 
-def _isolate(problem):
-    """Every isolation unit simulated nominally (one whose simulation fails is left out)."""
-    isolated = []
+def _same(unit, whole):
+    """Whether isolation `unit` simulates exactly what `whole` does."""
+    return (unit.instances == whole.instances and unit.observed == whole.observed
+            and all(a.inputs.keys() == b.inputs.keys() for a, b in zip(unit.runs, whole.runs)))
+
+
+def _nominal_units(problem):
+    """Every isolation unit simulated nominally: [{"unit", "nominal" (residuals),
+    "deviates"}] (one whose simulation fails is left out)."""
+    out = []
     for u in problem.isolation_units():
         try:
             r = residuals(u, simulate(u, {}, problem.fmu_dir))
         except Failed:
             continue
-        isolated.append({"unit": u, "gap": gap(u, r, 1), "floor": noise_floor(u),
-                         "deviates": deviates(u, r), "res": r})
-    return isolated
+        out.append({"unit": u, "nominal": r, "deviates": deviates(u, r)})
+    return out
+
+
+def _calibrate(problem, report, whole, units, pmap):
+    """Section 2 into `report` (``calibration``): the calibration parameters of the whole model
+    and, separately, of every isolation unit fitted on the training part from the nominal values
+    (one mapped task each): a unit is judged on its own calibration, so that calibrating the
+    whole model around a sensor's fault cannot make the plant's unit deviate. Return the whole
+    model's calibration ({"free", "values", "residuals", "jac"}) and the isolation results
+    [{"unit", "gap", "floor", "deviates", "res", "calibration"}] (calibrated)."""
+    whole, res_whole = whole
+    jobs = [(u, calibration(problem, u)) for u in [whole] + [i["unit"] for i in units]]
+    # a unit that is the whole model again (the same instances, signals and replays) is
+    # calibrated once
+    same = [i for i, (u, _) in enumerate(jobs) if i and _same(u, whole)]
+    fits = pmap(fit_task, [(u, free, problem.fmu_dir, None, None, 0, None, None)
+                           for i, (u, free) in enumerate(jobs) if free and i not in same])
+    fits = iter(fits)
+    cals = []
+    for i, ((u, free), nominal) in enumerate(zip(jobs, [res_whole]
+                                                  + [i["nominal"] for i in units])):
+        f = cals[0]["fit"] if i in same else next(fits) if free else None
+        if f is None or f["residuals"] is None:
+            latency = {}
+            residuals(u, simulate(u, {}, problem.fmu_dir), latency)
+            cals.append({"free": [], "values": {}, "residuals": nominal, "jac": None,
+                         "table": {}, "fit": None, "latency": latency})
+        else:
+            cals.append({"free": free, "values": values_of(free, f["x"]), "jac": f["jac"],
+                         "residuals": f["residuals"], "table": calibration_table(free, f),
+                         "fit": f, "latency": f["latency"]})
+    cal = cals[0]
+    report["calibration"] = {
+        "parameters": cal["table"], "latency": cal["latency"],
+        "heldout_gap_before": gap(whole, res_whole, 1),
+        "heldout_gap_after": gap(whole, cal["residuals"], 1),
+        "signals": {c: before_after(whole, res_whole, cal["residuals"], [c])
+                    for c in whole.observed}}
+    isolated = []
+    for i, c in zip(units, cals[1:]):
+        u = i["unit"]
+        isolated.append({"unit": u, "gap": gap(u, c["residuals"], 1), "floor": noise_floor(u),
+                         "deviates": deviates(u, c["residuals"]), "res": c["residuals"],
+                         "nominal_gap": gap(u, i["nominal"], 1), "calibration": c})
+    return cal, isolated
 
 
 def _where(problem, report, isolated):
@@ -127,7 +199,8 @@ def _where(problem, report, isolated):
     suspects, located = _locate(problem, isolated)
     report["located"] = located
     report["units"] = [{"instances": list(u["unit"].instances),
-                        "observed": list(u["unit"].observed), "heldout_gap": u["gap"],
+                        "observed": list(u["unit"].observed),
+                        "heldout_gap_nominal": u["nominal_gap"], "heldout_gap": u["gap"],
                         "noise_floor": u["floor"], "deviates": u["deviates"]} for u in isolated]
     return suspects
 
@@ -158,57 +231,75 @@ def _locate(problem, isolated):
     return suspects, table
 
 
-def _fit_unit(whole, res_whole, isolated, suspects):
-    """The unit the candidates are fitted in, its nominal residuals and the suspects: the
-    smallest deviating isolation unit holding every suspect, else the whole model (whose every
-    instance is a suspect when none was located)."""
+def _fit_unit(whole, isolated, suspects):
+    """(unit, its calibration, suspects): the unit the candidates are fitted in, the smallest
+    deviating isolation unit holding every suspect, else the whole model (whose every instance
+    is a suspect when none was located). `whole`: (the whole model, its calibration)."""
+    whole, cal = whole
     if not suspects:
-        return whole, res_whole, set(whole.instances)
+        return whole, cal, set(whole.instances)
     holders = [u for u in isolated if u["deviates"] and suspects <= set(u["unit"].instances)]
     if holders:
-        return holders[0]["unit"], holders[0]["res"], suspects
-    return whole, res_whole, suspects
+        return holders[0]["unit"], holders[0]["calibration"], suspects
+    return whole, cal, suspects
 
 
 def _which_effect(problem, report, fitting, pmap, say):
-    """Section 3 into `report`: the candidates and their recalibrated rivals fitted in the fit
-    unit, ranked and selected; the verdict. `fitting`: (unit, nominal residuals, suspects,
-    regime masks)."""
-    unit, res_nom, suspects, masks = fitting
+    """Section 4 into `report`: every candidate effect of the suspects fitted together with the
+    fit unit's calibration parameters (from its calibrated values), judged against that
+    calibration alone, ranked and selected; the verdict. `fitting`: (unit, its calibration,
+    suspects, regime masks). Return the selected values {(instance, parameter): value},
+    calibration refitted with the effects included."""
+    unit, cal, suspects, masks = fitting
     fmu_dir = problem.fmu_dir
-    cands, calib = candidates(problem, unit, suspects)
-    say(f"fitting {len(cands)} candidate effect(s) and {len(calib)} recalibration(s)")
-    fits = pmap(fit_task, [(unit, c.free, fmu_dir, None, None) for c in cands]
-                + [(unit, [f], fmu_dir, None, None) for f in calib])
-    recal, recal_table = recalibrated(unit, res_nom, calib, fits[len(cands):],
-                                      max((len(c.free) for c in cands), default=1), fmu_dir)
-    report["recalibrated"] = recal_table
+    calib, jac = cal["free"], cal["jac"]
+    x_cal = [cal["values"][(fr.instances[0], fr.name)] for fr in calib]
+    base = {"residuals": cal["residuals"], "heldout_gap": gap(unit, cal["residuals"], 1)}
+    cands = candidates(problem, unit, suspects)
+    say(f"fitting {len(cands)} candidate effect(s), each with {len(calib)} calibration "
+        "parameter(s)")
+    jobs = [(unit, c.free + calib, fmu_dir, None, [fr.start for fr in c.free] + x_cal,
+             len(c.free), known_columns(jac, len(c.free)), cal["latency"]) for c in cands]
+    fits = pmap(fit_task, jobs)
     floor = noise_floor(unit)
-    entries, counting = rank(unit, res_nom, cands, fits[:len(cands)], recal, masks)
-    selected, final = select(unit, counting, floor, masks, pmap, fmu_dir, say)
+    entries, counting = rank(unit, base, cands, fits, masks, calib)
+    selected, final, free = select(unit, counting, (calib, jac, cal["latency"]), floor, masks,
+                                   pmap, fmu_dir, say)
     report["effects"] = entries
     report["selected"] = [e["name"] for e in selected]
-    report["verdict"], report["explanation"] = verdict(selected, final, recal, recal_table, floor)
-    report["complete"] = complete(selected, final, floor)
+    report["consistency"] = cross_signal(unit, entries, selected)
+    nominal = report["gap"]["heldout_gap"] if unit.name == "model" else next(
+        u["heldout_gap_nominal"] for u in report["units"]
+        if u["instances"] == list(unit.instances))
+    gaps = {"nominal": nominal, "calibrated": base["heldout_gap"]}
+    report["verdict"], report["explanation"], report["complete"] = verdict(
+        selected, final, gaps, floor, report["calibration"]["parameters"])
     report["noise_floor"] = floor
+    return values_of(free, final["x"]) if selected else {}
 
 
-def _shrinkage(problem, report, values, traces):
+def _shrinkage(problem, report, calibrated, values, traces):
     """report["shrinkage"]: the held-out gap per signal of the model with every measured signal
-    replayed (`Problem.replayed`), nominal and with `values`; the traces for the plots."""
+    replayed (`Problem.replayed`), nominal (``before``), calibrated and with the selected
+    effects (``after``, calibration refitted with them); the traces for the plots."""
     unit = problem.replayed()
     nominal = simulate(unit, {}, problem.fmu_dir)
-    after = nominal
-    if values:
-        try:
-            after = simulate(unit, values, problem.fmu_dir)
-        except Failed:
-            pass
+    runs = {"calibrated": nominal, "after": nominal}
+    for key, v in (("calibrated", calibrated), ("after", {**calibrated, **values})):
+        if v:
+            try:
+                runs[key] = simulate(unit, v, problem.fmu_dir)
+            except Failed:
+                runs[key] = runs["calibrated"]
     shifts = {}
-    before_res, after_res = residuals(unit, nominal), residuals(unit, after, shifts)
-    report["shrinkage"] = {c: before_after(unit, before_res, after_res, [c])
+    before_res, cal_res = residuals(unit, nominal), residuals(unit, runs["calibrated"])
+    after_res = residuals(unit, runs["after"], shifts)
+    report["shrinkage"] = {c: {**before_after(unit, before_res, after_res, [c]),
+                               "calibrated": gap(unit, cal_res, 1, [c])}
                            for c in unit.observed}
-    report["shrinkage"]["all"] = before_after(unit, before_res, after_res)
+    report["shrinkage"]["all"] = {**before_after(unit, before_res, after_res),
+                                  "calibrated": gap(unit, cal_res, 1)}
     report["aligned_samples"] = shifts
     if traces is not None:
-        traces.update(unit=unit, nominal=nominal, selected=after)
+        traces.update(unit=unit, nominal=nominal, calibrated=runs["calibrated"],
+                      selected=runs["after"])

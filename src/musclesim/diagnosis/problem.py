@@ -138,9 +138,6 @@ class Problem:
             self.units_of.update({m: mm.unit for m, mm in e.metrics.items()})
         self.scalar_only = ds.scalar_only
         self.part_names = ds.parts()
-        fed = {src for src, _ in first.connections} | {dst for _, dst in first.connections}
-        # sensor channels no instance reads: compared allowing an acquisition latency
-        self.alignable = {c for c in ds.outputs if c not in fed}
 
     # -- units --------------------------------------------------------------------------------
     def unit(self, name, instances=None, cut_all=False):
@@ -176,9 +173,12 @@ class Problem:
             noise[c] = max(np.median([noise_estimate(r.measured[c]) for r in runs]) / scale[c],
                            NOISE_FLOOR)
         keep_all = tuple(sorted(set().union(*(r.scenario.instances for r in runs))))
+        # sensor channels nothing simulated in the unit reads (a reader's input is replayed, or
+        # the reader is not in the unit): compared allowing an acquisition latency
+        read = {src for r in runs for src, _ in r.scenario.connections}
         return Unit(name, keep_all, observed, runs, scale, noise,
                     {n: self.components[n] for n in keep_all},
-                    tuple(c for c in observed if c in self.alignable))
+                    tuple(c for c in observed if c not in read))
 
     def _parts(self, ename, t):
         train, held = self.part_names
@@ -232,3 +232,27 @@ class Problem:
             key=lambda k: (len(k), sorted(k)))
         return [replace(self.unit(" + ".join(sorted(k)), sorted(k)), subjects=tuple(subjects[k]))
                 for k in out]
+
+
+def downstream(unit, instances):
+    """`instances` and every instance they feed within `unit` (connections replayed from data
+    cut)."""
+    reach, changed = set(instances), True
+    while changed:
+        changed = False
+        for src, dst in unit.runs[0].scenario.connections:
+            a, b = split_signal(src)[0], split_signal(dst)[0]
+            if a in reach and b not in reach:
+                reach.add(b)
+                changed = True
+    return reach
+
+
+def affected(unit, instances):
+    """The observed columns of `unit` that `instances` can change: their own outputs and those of
+    every instance they feed (`downstream`). A sensor's effect changes its channel; the wire's,
+    everything downstream of it. Every metric of a scalar-only unit."""
+    if unit.runs[0].time is None:
+        return tuple(unit.observed)
+    reach = downstream(unit, instances)
+    return tuple(c for c in unit.observed if split_signal(c)[0] in reach)

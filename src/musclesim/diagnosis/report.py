@@ -45,8 +45,11 @@ def markdown(report, plots=()):
     L = [f"# Diagnosis of {report['data_set']}", "",
          f"Scenario: {report['scenario']}. Training part: {', '.join(report['parts']['train'])}; "
          f"held out: {', '.join(report['parts']['held_out'])}.", "",
-         f"## Verdict: **{report['verdict']}**", "", report.get("explanation", "") + ".", ""]
-    L += _md_gap(report) + _md_where(report) + _md_which(report) + _md_shrinkage(report)
+         f"## Verdict: **{report['verdict']}**"
+         + ("" if report.get("complete", True) else " (incomplete)"), "",
+         report.get("explanation", "") + ".", ""]
+    L += (_md_gap(report) + _md_calibration(report) + _md_where(report) + _md_which(report)
+          + _md_shrinkage(report))
     L += [""] + [f"![{p}]({p})" for p in plots]
     return "\n".join(L) + "\n"
 
@@ -72,9 +75,27 @@ def _md_gap(report):
     return L
 
 
+def _md_calibration(report):
+    """Section 2: the calibrated nominal values with their intervals, the gap before and after."""
+    c = report.get("calibration") or {}
+    L = ["", "## 2. Calibration (training part; everything below is judged against it)", ""]
+    if not c.get("parameters"):
+        return L + ["Nothing calibrated (no gap, or no calibration parameter in the model)."]
+    L += [f"Held-out gap {_num(c['heldout_gap_before'])} nominal, "
+          f"{_num(c['heldout_gap_after'])} calibrated.", "",
+          "| parameter | nominal | calibrated [95 % interval] | bounds |", "|---|---|---|---|"]
+    L += [f"| {k} | {_num(v['nominal'], '.4g')} | {_num(v['value'], '.4g')} "
+          f"{_iv(v['interval'], '.4g')} | {_iv([v['lower'], v['upper']], '.4g')} |"
+          for k, v in c["parameters"].items()]
+    L += ["", "| signal | held-out gap nominal | calibrated |", "|---|---|---|"]
+    L += [f"| {k} | {_num(v['before'])} | {_num(v['after'])} |"
+          for k, v in c.get("signals", {}).items()]
+    return L
+
+
 def _md_where(report):
-    """Section 2: the isolation units, the located instances, the regimes, the worst windows."""
-    L = ["", "## 2. Where", ""]
+    """Section 3: the isolation units, the located instances, the regimes, the worst windows."""
+    L = ["", "## 3. Where (calibrated)", ""]
     if report.get("units"):
         L += ["Isolation units (each re-simulated with the measured signals feeding it replayed):",
               "", "| unit | observed | held-out gap | noise floor | deviates |",
@@ -102,42 +123,51 @@ def _md_where(report):
 
 
 def _md_which(report):
-    """Section 3: the candidate effects ranked, the recalibrated nominal fits."""
-    L = ["", "## 3. Which effect", ""]
+    """Section 4: the candidate effects ranked, judged on the signals each can change."""
+    L = ["", "## 4. Which effect", ""]
     if not report.get("effects"):
         return L + ["No candidate was fitted."]
     fu = report.get("fit_unit", {})
-    L += [f"Fitted in {' + '.join(fu.get('instances', []))} on the training part, scored on "
-          "the held-out part. An effect counts if it shrinks the held-out gap enough, beats "
-          "the nominal model recalibrated with as many parameters and gains most in its "
-          "regime.", "",
-          "| rank | effect | instances | fitted values [95 % interval] | held-out gap before -> "
-          "after | shrinkage [95 %] | recalibrated gap | regime gain ratio | counts | margin |",
-          "|---|---|---|---|---|---|---|---|---|---|"]
+    L += [f"Fitted in {' + '.join(fu.get('instances', []))} on the training part together with "
+          "the calibration parameters, scored on the held-out part against calibration alone, "
+          "on the signals each effect can change. An effect counts if the gap there is "
+          "material (beyond the noise), its gain is large enough with a bootstrap interval "
+          "above zero, and it gains most in its regime.", "",
+          "| rank | effect | fitted values [95 % interval] | judged on | gap there: calibrated "
+          "-> with effect | gain [95 %] | pooled gap | regime gain ratio | counts |",
+          "|---|---|---|---|---|---|---|---|---|"]
     for i, e in enumerate(report["effects"], 1):
         vals = "; ".join(f"{n} = {_num(p['value'], '.4g')} {_iv(p['interval'], '.3g')}"
                          for n, p in e["parameters"].items())
+        j = e.get("judged") or {}
         sig = e["signature"]
-        L.append(f"| {i} | {e['name']} | {', '.join(e['instances'])} | {vals} | "
+        L.append(f"| {i} | {e['label']} | {vals} | {', '.join(j.get('signals', []))} | "
+                 f"{_num(j.get('before'))} -> {_num(j.get('after'))} | "
+                 f"{_num(j.get('gain'), '.2f')} {_iv(j.get('interval'), '.2f')} | "
                  f"{_num(e['heldout_gap_before'])} -> {_num(e['heldout_gap_after'])} | "
-                 f"{_num(e['shrinkage'], '.2f')} {_iv(e['interval'], '.2f')} | "
-                 f"{_num(e['recalibrated_gap'])} | {sig['regime']}: "
-                 f"{_num(sig['gain_ratio'], '.2f')} | {e['counts']} | "
-                 f"{_num(e.get('margin'), '.2f')} |")
-    if report.get("recalibrated"):
-        L += ["", "Nominal model recalibrated: " + "; ".join(
-            ", ".join(f"{k} = {_num(v, '.4g')}" for k, v in r["parameters"].items())
-            + f" (held-out gap {_num(r['heldout_gap'])})" for r in report["recalibrated"]) + "."]
+                 f"{sig['regime']}: {_num(sig['gain_ratio'], '.2f')} | {e['counts']} |")
+    L += ["", "Per signal, held-out gap calibrated -> with the effect:", "",
+          "| effect | " + " | ".join(report["fit_unit"].get("observed", [])) + " |",
+          "|---|" + "---|" * len(report["fit_unit"].get("observed", []))]
+    for e in report["effects"]:
+        ps = e.get("per_signal", {})
+        L.append(f"| {e['label']} | " + " | ".join(
+            f"{_num(ps[c]['before'])} -> {_num(ps[c]['after'])}" if c in ps else "-"
+            for c in report["fit_unit"].get("observed", [])) + " |")
+    if report.get("consistency"):
+        L += ["", "Cross-signal evidence: " + report["consistency"]]
     return L
 
 
 def _md_shrinkage(report):
-    """Section 4: the held-out gap per signal before and after, the latency found."""
-    L = ["", "## 4. How far it shrinks (held-out part, every measured signal replayed)", "",
+    """Section 5: the held-out gap per signal nominal, calibrated, with the selected effects."""
+    L = ["", "## 5. How far it shrinks (held-out part, every measured signal replayed)", "",
          f"Selected: {', '.join(report.get('selected') or ['nothing'])}.", "",
-         "| signal | before [95 %] | after [95 %] |", "|---|---|---|"]
-    L += [f"| {c} | {_num(s['before'])} {_iv(s['interval_before'])} | {_num(s['after'])} "
-          f"{_iv(s['interval_after'])} |" for c, s in report.get("shrinkage", {}).items()]
+         "| signal | nominal [95 %] | calibrated | with the selected effects [95 %] |",
+         "|---|---|---|---|"]
+    L += [f"| {c} | {_num(s['before'])} {_iv(s['interval_before'])} | "
+          f"{_num(s.get('calibrated'))} | {_num(s['after'])} {_iv(s['interval_after'])} |"
+          for c, s in report.get("shrinkage", {}).items()]
     shifted = {c: n for c, n in report.get("aligned_samples", {}).items() if n}
     if shifted:
         L += ["", "Sensor channels compared allowing for acquisition latency: " + ", ".join(
@@ -167,6 +197,9 @@ def _plot_signals(path, report, traces):
             ax.plot(t, run.measured[c], color="0.3", lw=0.8, label="measured" if first else None)
             ax.plot(t, traces["nominal"][i][c], color="tab:red", lw=0.8,
                     label="nominal model" if first else None)
+            if traces.get("calibrated") is not None:
+                ax.plot(t, traces["calibrated"][i][c], color="tab:orange", lw=0.8,
+                        label="calibrated" if first else None)
             if report.get("selected"):
                 ax.plot(t, traces["selected"][i][c], color="tab:green", lw=0.8, ls="--",
                         label=" + ".join(report["selected"]) if first else None)
@@ -193,12 +226,12 @@ def _plot_effects(path, report):
     y = np.arange(len(es))[::-1]
     ax.barh(y, [e["heldout_gap_after"] for e in es],
             color=["tab:green" if e["counts"] else "0.6" for e in es])
-    ax.axvline(es[0]["heldout_gap_before"], color="tab:red", lw=1, label="nominal")
-    recal = min(e["recalibrated_gap"] for e in es)
-    ax.axvline(recal, color="tab:orange", lw=1, ls="--", label="recalibrated nominal")
+    ax.axvline(report["gap"]["heldout_gap"], color="tab:red", lw=1, label="nominal")
+    ax.axvline(es[0]["heldout_gap_before"], color="tab:orange", lw=1, ls="--",
+               label="calibrated")
     ax.axvline(report.get("noise_floor", 0), color="0.3", lw=1, ls=":", label="noise floor")
     ax.set_yticks(y, [e["label"] for e in es], fontsize=8)
-    ax.set_xlabel("held-out gap with the fitted effect (green: counts)")
+    ax.set_xlabel("pooled held-out gap with the effect and calibration (green: counts)")
     ax.legend(fontsize=7)
     fig.tight_layout()
     save_figure(fig, path, dpi=100)

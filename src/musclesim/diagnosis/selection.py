@@ -1,8 +1,11 @@
-"""Choosing the effect: candidates, their recalibrated rivals, scores, the signature, the verdict.
+"""Choosing the effect: calibration, candidates fitted with it, per-signal scores, the verdict.
 
-An effect counts when it shrinks the held-out gap by `MIN_SHRINKAGE`, leaves at most
-`BEAT_RECALIBRATED` of the gap of the nominal model with as many nominal parameters recalibrated,
-and gains at least `SIGNATURE_MIN` of its average per sample in the regime it predicts
+The nominal values a real bench has differently (`effects.CALIBRATION`) are calibrated first;
+every candidate effect is then fitted together with them (`calibration` gives their `Free`
+parameters) and judged against calibration alone on the observed signals it can change
+(`musclesim.diagnosis.problem.affected`): it counts when its held-out gain there is at least
+`MIN_SHRINKAGE`, its block-bootstrap interval excludes zero, and it gains at least
+`SIGNATURE_MIN` of its average per sample in the regime it predicts
 (`musclesim.diagnosis.thresholds`). The best counting effect is selected; a second one is added
 greedily when it shrinks the remaining gap by `MIN_SHRINKAGE` again. `verdict` names the outcome.
 
@@ -17,12 +20,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from musclesim.diagnosis.effects import CALIBRATION, by_component
-from musclesim.diagnosis.fitting import Free, fit, fit_task
+from musclesim.diagnosis.effects import by_component, calibration_of
+from musclesim.diagnosis.fitting import Free, fit_task, known_columns
+from musclesim.diagnosis.problem import affected, downstream
 from musclesim.diagnosis.stats import (before_after, bootstrap, gap, interval95, part_rows,
                                        row_squares)
-from musclesim.diagnosis.thresholds import (BEAT_RECALIBRATED, MIN_SHRINKAGE, MOST,
-                                            RESIDUAL_SHARE, SIGNATURE_MIN, STRUCTURED)
+from musclesim.diagnosis.thresholds import (DEVIATES, MIN_SHRINKAGE, MIN_VALUES_PER_PARAMETER,
+                                            MOST, RESIDUAL_SHARE, SIGNATURE_MIN, STRUCTURED)
 
 NO_GAP = ("the model matches the data within the noise on the held-out part: there is no gap to "
           "explain")
@@ -49,48 +53,55 @@ def _nominal(problem, unit, inst, name):
     return float(problem.vars[inst][name].start)
 
 
-def candidates(problem, unit, suspects):
-    """The `Candidate` effects of the `suspects`' components and the nominal parameters they may
-    recalibrate (`Free`, absolute bounds from `effects.CALIBRATION`'s factors): (candidates,
-    calibration)."""
-    out = []
-    by_comp = {}
-    for inst in suspects:
+def _by_component(unit, instances):
+    out = {}
+    for inst in sorted(instances):
         if inst in unit.components:
-            by_comp.setdefault(unit.components[inst], []).append(inst)
-    for comp, insts in by_comp.items():
+            out.setdefault(unit.components[inst], []).append(inst)
+    return out
+
+
+def calibration(problem, unit, instances=None):
+    """The calibration parameters (`Free`, absolute bounds) of the components of `instances`
+    (default: all of `unit`'s), one per component and parameter for all its instances together.
+    A value the data set states as a bench condition (``[conditions]``) is fixed, not
+    calibrated, and so is an input the scenario connects or the data set replays. Nothing is
+    calibrated when the training part holds fewer than MIN_VALUES_PER_PARAMETER values per
+    parameter (scalar metrics)."""
+    rows = sum(int(np.count_nonzero(m)) for m in part_rows(unit, 0)) * len(unit.observed)
+    s = unit.runs[0].scenario
+    taken = set(problem.ds.conditions) | {dst for _, dst in s.connections}
+    taken |= set().union(*(run.inputs for run in unit.runs))
+    out = []
+    for comp, insts in _by_component(unit, instances or unit.instances).items():
+        for c in calibration_of(comp):
+            free = tuple(i for i in insts if f"{i}.{c.name}" not in taken)
+            if free:
+                nominal = _nominal(problem, unit, free[0], c.name)
+                out.append(Free(free, c.name, *c.bounds(nominal), nominal))
+    # a handful of metrics cannot pin several nominal values: too few training values, none
+    return out if rows >= MIN_VALUES_PER_PARAMETER * len(out) else []
+
+
+def candidates(problem, unit, suspects):
+    """The `Candidate` effects of the `suspects`' components in `unit`."""
+    out = []
+    for comp, insts in _by_component(unit, suspects).items():
         for e in by_component(comp):
             groups = [(i,) for i in insts] if e.per_instance else [tuple(insts)]
             for g in groups:
                 free = [Free(g, p.name, p.lower, p.upper, _nominal(problem, unit, g[0], p.name))
                         for p in e.parameters]
                 out.append(Candidate(e, g, free))
-    calib = []
-    for comp, insts in by_comp.items():
-        for p in CALIBRATION.get(comp, ()):
-            nom = _nominal(problem, unit, insts[0], p.name)
-            calib.append(Free(tuple(insts), p.name, p.lower * nom, p.upper * nom, nom))
-    return out, calib
+    return out
 
 
-def recalibrated(unit, res_nom, calib, calib_fits, k_max, fmu_dir):
-    """The nominal model's competitors: {k: held-out gap with k nominal parameters refitted} and
-    their table. k = 1 is the best single parameter on held-out data (the strictest rival);
-    k = 2 refits the two best on training data together."""
-    recal, table = {0: gap(unit, res_nom, 1)}, []
-    if not calib_fits:
-        return recal, table
-    recal[1] = min(f["heldout_gap"] for f in calib_fits)
-    table = [{"parameters": {f"{','.join(c.instances)}.{c.name}": f["x"][0]},
-              "heldout_gap": f["heldout_gap"]} for c, f in zip(calib, calib_fits)]
-    if len(calib) > 1 and k_max > 1:
-        pair = [calib[i] for i in np.argsort([f["train_gap"] for f in calib_fits])[:2]]
-        f2 = fit(unit, pair, fmu_dir)
-        recal[2] = f2["heldout_gap"]
-        table.append({"parameters": {f"{','.join(c.instances)}.{c.name}": x
-                                     for c, x in zip(pair, f2["x"])},
-                      "heldout_gap": f2["heldout_gap"]})
-    return recal, table
+def calibration_table(free, f):
+    """The report's calibrated values: {instance(s).parameter: value, 95 % interval, nominal,
+    bounds} of `free` fitted as `f`."""
+    return {f"{','.join(fr.instances)}.{fr.name}": {
+        "value": x, "interval": list(iv), "nominal": fr.start, "lower": fr.lower,
+        "upper": fr.upper} for fr, x, iv in zip(free, f["x"], f["interval"])}
 
 
 def gain_signature(gain, mask):
@@ -105,52 +116,75 @@ def gain_signature(gain, mask):
     return ratio, ratio >= SIGNATURE_MIN
 
 
-def signature(unit, res_nominal, res_effect, regime_masks):
-    """Gain of an effect per held-out sample in its regime vs overall: (ratio, consistent)."""
+def signature(unit, res_before, res_after, regime_masks, columns=None):
+    """Gain per held-out sample (of `columns`) in the effect's regime vs overall: (ratio,
+    consistent)."""
     rows = part_rows(unit, 1)
-    gain = np.concatenate([a - b for a, b in zip(row_squares(unit, res_nominal, 1),
-                                                 row_squares(unit, res_effect, 1))])
+    gain = np.concatenate([a - b for a, b in zip(row_squares(unit, res_before, 1, columns),
+                                                 row_squares(unit, res_after, 1, columns))])
     mask = None if regime_masks is None else \
         np.concatenate([m[r] for m, r in zip(regime_masks, rows)])
     return gain_signature(gain, mask)
 
 
-def score(unit, res_nom, cand, f, recal, masks):
-    """The report's entry of candidate `cand` fitted as `f` (a `fit` result) in `unit`: held-out
-    gaps, shrinkage, its rival ``recal[k]`` (k its free parameters), signature, ``counts``."""
-    before = gap(unit, res_nom, 1)
-    after = f["heldout_gap"]
+def judge(unit, res_before, res_after, columns, regime, masks):
+    """An effect's held-out gain over `res_before` on the signals it can change (`columns`): the
+    gap there before and after, the gain 1 - after / before with its 95 % block-bootstrap
+    interval, its signature in `regime`, and whether it counts: the gap there is material (one
+    of those signals deviates, above DEVIATES times its own noise), the gain is at least
+    MIN_SHRINKAGE,
+    its interval lies above zero and it shows in the regime."""
+    before, after = gap(unit, res_before, 1, columns), gap(unit, res_after, 1, columns)
+    boot = bootstrap(unit, [res_before, res_after], columns)
+    interval = interval95(1 - boot[:, 1] / boot[:, 0])
+    ratio, consistent = signature(unit, res_before, res_after,
+                                  masks.get(regime) if regime != "all" else None, columns)
+    gain = 1 - after / before if before else 0.0
+    material = any(gap(unit, res_before, 1, [c]) > DEVIATES * unit.noise[c] for c in columns)
+    return {"signals": list(columns), "before": before, "after": after, "gain": gain,
+            "interval": interval, "significant": bool(interval[0] > 0),
+            "material": bool(material),
+            "signature": {"regime": regime, "gain_ratio": ratio, "consistent": bool(consistent)},
+            "counts": bool(material and gain >= MIN_SHRINKAGE and interval[0] > 0
+                           and consistent)}
+
+
+def score(unit, base, cand, f, masks, calib=()):
+    """The report's entry of candidate `cand` fitted with the calibration parameters as `f` (a
+    `fit` result, the effect's parameters first) in `unit`, against calibration alone `base`:
+    its values, the pooled held-out gaps, the per-signal before/after and the judgement on the
+    signals it can change (`judge`), ``counts``."""
+    k = len(cand.free)
     res = f["residuals"]
-    recal_gap = recal.get(len(cand.free), recal.get(max(recal)))
-    regime = cand.effect.regime
-    ratio, consistent = (None, False) if res is None else \
-        signature(unit, res_nom, res, masks.get(regime) if regime != "all" else None)
     entry = {"name": cand.effect.name, "label": cand.label, "component": cand.effect.component,
              "instances": list(cand.instances), "spec": cand.effect.spec,
              "parameters": {fr.name: {"value": x, "interval": list(iv), "lower": fr.lower,
                                       "upper": fr.upper, "off": fr.start}
-                            for fr, x, iv in zip(cand.free, f["x"], f["interval"])},
-             "applicable": f["applicable"], "heldout_gap_before": before,
-             "heldout_gap_after": after, "shrinkage": 1 - after / before if before else 0.0,
-             "recalibrated_gap": recal_gap,
-             "beats_recalibrated": bool(after <= BEAT_RECALIBRATED * recal_gap),
-             "signature": {"regime": regime, "gain_ratio": ratio, "consistent": bool(consistent)}}
-    if res is not None:
-        boot = bootstrap(unit, [res_nom, res])
-        entry["interval"] = interval95(1 - boot[:, 1] / boot[:, 0])
-        entry["per_signal"] = {c: before_after(unit, res_nom, res, [c]) for c in unit.observed}
-    else:
-        entry["interval"] = [0.0, 0.0]
-    entry["counts"] = bool(f["applicable"] and res is not None
-                           and entry["shrinkage"] >= MIN_SHRINKAGE
-                           and entry["beats_recalibrated"] and consistent)
+                            for fr, x, iv in zip(cand.free, f["x"][:k], f["interval"][:k])},
+             "calibration": {f"{','.join(fr.instances)}.{fr.name}": x
+                             for fr, x in zip(calib, f["x"][k:])},
+             "applicable": f["applicable"], "heldout_gap_before": base["heldout_gap"],
+             "heldout_gap_after": f["heldout_gap"]}
+    entry["shrinkage"] = 1 - entry["heldout_gap_after"] / entry["heldout_gap_before"] \
+        if entry["heldout_gap_before"] else 0.0
+    if res is None:
+        entry.update(judged=None, per_signal={}, interval=[0.0, 0.0], counts=False,
+                     signature={"regime": cand.effect.regime, "gain_ratio": None,
+                                "consistent": False})
+        return entry
+    j = judge(unit, base["residuals"], res, affected(unit, cand.instances), cand.effect.regime,
+              masks)
+    entry.update(judged=j, interval=j["interval"], signature=j["signature"],
+                 per_signal={c: before_after(unit, base["residuals"], res, [c])
+                             for c in unit.observed},
+                 counts=bool(f["applicable"] and j["counts"]))
     return entry
 
 
-def rank(unit, res_nom, cands, fits, recal, masks):
-    """Score and rank the candidates (counting ones first, then by held-out gap after), each
-    entry's ``margin`` to the next: (entries, [(entry, candidate, fit) that count])."""
-    scored = sorted(((score(unit, res_nom, c, f, recal, masks), c, f)
+def rank(unit, base, cands, fits, masks, calib=()):
+    """Score and rank the candidates (counting ones first, then by pooled held-out gap after),
+    each entry's ``margin`` to the next: (entries, [(entry, candidate, fit) that count])."""
+    scored = sorted(((score(unit, base, c, f, masks, calib), c, f)
                      for c, f in zip(cands, fits)),
                     key=lambda t: (not t[0]["counts"], t[0]["heldout_gap_after"]))
     entries = [e for e, _, _ in scored]
@@ -160,30 +194,35 @@ def rank(unit, res_nom, cands, fits, recal, masks):
     return entries, [t for t in scored if t[0]["counts"]]
 
 
-def select(unit, counting, floor, masks, pmap, fmu_dir, say):
-    """The selected entries and the final fit: the best counting effect, and greedily a second
-    one (of the next three, refitted jointly) when the first leaves a structured gap and the pair
-    shrinks it by MIN_SHRINKAGE again, with the second's signature."""
+def select(unit, counting, calibrated, floor, masks, pmap, fmu_dir, say):
+    """(selected entries, final fit, its free parameters): the best counting effect, and
+    greedily a second one (of the next three, each fitted with the first and the calibration
+    parameters; `calibrated`: their `Free` list, the calibration's Jacobian or None and its
+    sensor latencies) when the first leaves a structured gap and the second gains
+    MIN_SHRINKAGE more, significantly and in its regime, on the signals it can change."""
     if not counting:
-        return [], None
+        return [], None, []
+    calib, jac, latency = calibrated
     e1, c1, f1 = counting[0]
-    selected, final = [e1], f1
+    selected, final, free = [e1], f1, c1.free + calib
     if explained(f1["heldout_gap"], e1["heldout_gap_before"], floor) or len(counting) < 2:
-        return selected, final
+        return selected, final, free
     say("greedy: a second effect")
     pairs = counting[1:4]
-    pair_fits = pmap(fit_task, [(unit, c1.free + c.free, fmu_dir, None,
-                                 f1["x"] + [fr.start for fr in c.free])
-                                for _, c, _ in pairs])
+    jobs = [(unit, c.free + c1.free + calib, fmu_dir, None, [fr.start for fr in c.free]
+             + f1["x"], len(c.free), known_columns(jac, len(c.free) + len(c1.free)), latency)
+            for _, c, _ in pairs]
+    pair_fits = pmap(fit_task, jobs)
     (e2, c2, _), f12 = min(zip(pairs, pair_fits), key=lambda t: t[1]["heldout_gap"])
-    regime = c2.effect.regime
-    _, ok = signature(unit, f1["residuals"], f12["residuals"],
-                      None if regime == "all" else masks.get(regime))
-    if ok and f12["heldout_gap"] <= (1 - MIN_SHRINKAGE) * f1["heldout_gap"]:
+    if f12["residuals"] is None:
+        return selected, final, free
+    j = judge(unit, f1["residuals"], f12["residuals"], affected(unit, c2.instances),
+              c2.effect.regime, masks)
+    if j["counts"]:
         selected.append(e2)
-        e2["joint_values"] = dict(zip([f"{fr.name}" for fr in c1.free + c2.free], f12["x"]))
-        final = f12
-    return selected, final
+        e2["second"] = j
+        final, free = f12, c2.free + c1.free + calib
+    return selected, final, free
 
 
 def explained(after, before, floor):
@@ -192,52 +231,88 @@ def explained(after, before, floor):
     return after <= STRUCTURED * floor or after <= RESIDUAL_SHARE * before
 
 
-def complete(selected, final, floor):
-    """Whether the selected effects leave an unstructured gap (the report's ``complete``)."""
-    return bool(selected) and explained(final["heldout_gap"], selected[0]["heldout_gap_before"],
-                                        floor)
+def moved(table):
+    """The calibrated parameters whose 95 % interval excludes their nominal value, farthest
+    (relative to their bounds) first."""
+    out = [(abs(v["value"] - v["nominal"]) / (v["upper"] - v["lower"]), k)
+           for k, v in table.items() if not v["interval"][0] <= v["nominal"] <= v["interval"][1]]
+    return [k for _, k in sorted(out, reverse=True)]
 
 
-def verdict(selected, final, recal, recal_table, floor, deviates=True):
-    """(verdict, explanation): ``none`` when nothing `deviates`; else from the selected effects
-    (entries of `score`), the final fit and the recalibrated rivals (`recalibrated`)."""
+def verdict(selected, final, gaps, floor, calibrated, deviates=True):
+    """(verdict, explanation, complete) from the selected effects (entries of `score`), their
+    final fit, the held-out `gaps` ({"nominal", "calibrated"} pooled in the fit unit), the noise
+    `floor` and the `calibrated` table (`calibration_table`). ``none`` when nothing `deviates`;
+    the first selected effect's name (complete when the gap left is unstructured, `explained`);
+    ``recalibration`` when no effect counts but calibration closes at least MOST of the nominal
+    gap; ``unexplained`` otherwise."""
     if not deviates:
-        return "none", NO_GAP
-    best_recal = min(recal_table, key=lambda r: r["heldout_gap"], default=None)
-    if not selected and best_recal and explained(best_recal["heldout_gap"], recal[0], floor):
-        values = ", ".join(f"{k} = {v:.4g}" for k, v in best_recal["parameters"].items())
-        return "recalibration", (f"no unmodelled effect is needed: the nominal model with {values} "
-                                 f"recalibrated leaves a held-out gap of "
-                                 f"{best_recal['heldout_gap']:.3g} (noise floor {floor:.3g})")
-    if not selected:
-        return "unexplained", ("no candidate effect of the located component(s) shrinks the "
-                               "held-out gap enough, beats the recalibrated nominal model and "
-                               "shows in its regime")
-    first, labels = selected[0], " + ".join(e["label"] for e in selected)
-    before, after = first["heldout_gap_before"], final["heldout_gap"]
-    if explained(after, before, floor):
-        return first["name"], (f"{labels} shrinks the held-out gap from {before:.3g} to "
-                               f"{after:.3g} (noise floor {floor:.3g})")
-    if after <= (1 - MOST) * before:
-        return first["name"], (f"{labels} explains {1 - after / before:.0%} of the held-out gap "
-                               f"({before:.3g} -> {after:.3g}); the rest, {after / floor:.1f} "
-                               "noise floors, stays structured: a further difference the "
-                               "library does not hold")
-    return "unexplained", (f"the best candidate ({labels}) leaves a structured held-out gap of "
-                           f"{after:.3g}, {after / floor:.1f} noise floors, of {before:.3g}")
+        return "none", NO_GAP, True
+    nominal, cal = gaps["nominal"], gaps["calibrated"]
+    names = moved(calibrated)
+    if selected:
+        first, labels = selected[0], " + ".join(e["label"] for e in selected)
+        j, after = first["judged"], final["heldout_gap"]
+        done = explained(after, nominal, floor)
+        text = (f"{labels} explains {j['gain']:.0%} [{j['interval'][0]:.0%}, "
+                f"{j['interval'][1]:.0%}] of the calibrated model's held-out gap on "
+                f"{', '.join(j['signals'])} ({j['before']:.3g} -> {j['after']:.3g}); pooled "
+                f"{nominal:.3g} nominal, {cal:.3g} calibrated, {after:.3g} with the effect")
+        if not done:
+            text += (f"; the rest, {after / floor:.1f} noise floors, stays structured: a further "
+                     "difference the library does not hold")
+        return first["name"], text, done
+    if cal <= (1 - MOST) * nominal:
+        listed = ", ".join(names) or "none beyond its interval"
+        done = explained(cal, nominal, floor)
+        text = (f"no unmodelled effect adds held-out explanation beyond calibration, which takes "
+                f"the held-out gap from {nominal:.3g} to {cal:.3g} (noise floor {floor:.3g}); "
+                f"recalibrated: {listed}")
+        if not done:
+            text += "; a structured rest remains"
+        return "recalibration", text, done
+    return "unexplained", (f"calibration takes the held-out gap only from {nominal:.3g} to "
+                           f"{cal:.3g} and no candidate effect adds a significant, material "
+                           "held-out gain on the signals it can change"), False
 
 
-def selected_values(entries, selected):
-    """``{(instance, parameter): value}`` of the selected effects (joint values when refitted)."""
-    out = {}
-    for e in entries:
-        if e["name"] in selected:
-            for name, spec in e["parameters"].items():
-                out.update({(inst, name): spec["value"] for inst in e["instances"]})
-    joint = next((e.get("joint_values") for e in entries if e.get("joint_values")), None)
-    if joint:
-        for e in entries:
-            if e["name"] in selected:
-                out.update({(inst, name): joint[name] for name in e["parameters"] if name in joint
-                            for inst in e["instances"]})
-    return out
+def cross_signal(unit, entries, selected):
+    """Where the gap lies, from the observed signals' consistency: the report's
+    ``consistency`` sentence, or None when no two observed signals share an upstream state.
+
+    Signals that depend on one unobserved state (the thermocouple and the strain on the wire's
+    temperature) locate a difference: an effect that changes only its sensor's channel, the
+    other signals agreeing with the calibrated plant, places the gap in the sensor; an effect of
+    the plant must improve every signal downstream of it together.
+    """
+    shared = {inst: affected(unit, (inst,)) for inst in unit.instances}
+    shared = {i: cols for i, cols in shared.items() if len(cols) > 1}
+    if not shared or not entries:
+        return None
+    # the nearest common source: of those feeding the most signals, the one feeding fewest
+    # instances (the wire, not the load that pulls on it)
+    most = max(len(cols) for cols in shared.values())
+    source = min((i for i in shared if len(shared[i]) == most),
+                 key=lambda i: len(downstream(unit, (i,))))
+    e = selected[0] if selected else entries[0]
+    j = e.get("judged")
+    if not j:
+        return None
+    ps = e.get("per_signal", {})
+
+    def change(cols):
+        return ", ".join(f"{c} {ps[c]['before']:.3g} -> {ps[c]['after']:.3g}" for c in cols
+                         if c in ps)
+
+    others = [c for c in shared[source] if c not in j["signals"]]
+    what = "the selected" if selected else "the best-ranked (not counting)"
+    if others:
+        return (f"{', '.join(shared[source])} all depend on the state of {source}. {what} "
+                f"{e['label']} can change only {', '.join(j['signals'])} ({change(j['signals'])}); "
+                f"{', '.join(others)} ({change(others)}) must then agree with the calibrated "
+                f"{source}: the gap is placed in the sensor, not in {source}"
+                + ("" if e["counts"] else " (it does not count, so nothing is placed)") + ".")
+    return (f"{', '.join(shared[source])} all depend on the state of {source}; {what} "
+            f"{e['label']} acts on it and changes them together ({change(j['signals'])}): the gap "
+            f"is placed in {source}, where the signals agree, not in one sensor"
+            + ("" if e["counts"] else " (it does not count, so nothing is placed)") + ".")

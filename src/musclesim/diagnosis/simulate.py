@@ -48,17 +48,19 @@ def simulate(unit, values, fmu_dir):
     return out
 
 
-def residuals(unit, sims, shifts=None):
+def residuals(unit, sims, shifts=None, align=None):
     """Normalised residuals (model - measured) / range: ``{column: [array per run]}``.
 
-    An alignable column (a sensor channel nothing in the model reads) is compared shifted back
-    by the whole number of samples, 0..MAX_ALIGN, that fits the training part best: its
-    acquisition latency, a nuisance. `shifts`, a dict, receives the samples chosen.
+    An alignable column (a sensor channel nothing simulated in the unit reads) is compared
+    shifted back by the whole number of samples, 0..MAX_ALIGN, that fits the training part
+    best: its acquisition latency, a nuisance; `align` ({column: samples}) imposes the shifts
+    instead. `shifts`, a dict, receives the samples chosen.
     """
     out = {}
     for c in unit.observed:
         best = None
-        for d in range(MAX_ALIGN + 1 if c in unit.alignable else 1):
+        choices = range(MAX_ALIGN + 1 if c in unit.alignable else 1)
+        for d in ([align[c]] if align and c in align else choices):
             res = [(sim[c] - advance(run.measured[c], d)) / unit.scale[c]
                    for run, sim in zip(unit.runs, sims)]
             cost = sum(float(np.nansum(np.square(r[run.part == 0])))

@@ -131,15 +131,17 @@ def deviates(unit, res):
     return any(gap(unit, res, 1, [c]) > DEVIATES * unit.noise[c] for c in unit.observed)
 
 
-def noise_floor(unit):
-    """Pooled noise floor of the unit's observed columns (normalised)."""
-    return pooled([unit.noise[c] for c in unit.observed])
+def noise_floor(unit, columns=None):
+    """Pooled noise floor of the unit's observed columns (of `columns`, default all;
+    normalised)."""
+    return pooled([unit.noise[c] for c in columns or unit.observed])
 
 
-def row_squares(unit, res, part):
-    """Per run, per row of `part`: the sum over observed columns of the squared residuals."""
+def row_squares(unit, res, part, columns=None):
+    """Per run, per row of `part`: the sum over observed columns (of `columns`, default all) of
+    the squared residuals."""
     rows = part_rows(unit, part)
-    return [np.nansum([np.square(res[c][i][m]) for c in unit.observed], axis=0)
+    return [np.nansum([np.square(res[c][i][m]) for c in columns or unit.observed], axis=0)
             for i, m in enumerate(rows)]
 
 

@@ -29,16 +29,21 @@ METRIC_FLOOR = 0.02
 # effect to diagnose (the library's thermocouple lag), not a nuisance.
 MAX_ALIGN = 2
 
-# -- which effect: does a candidate count? --------------------------------------------------------
-# An effect must shrink the held-out gap of the nominal model by at least this fraction (30 %); a
-# second effect is added greedily only when it shrinks the remaining gap by this fraction again.
-MIN_SHRINKAGE = 0.3
+# -- calibration ----------------------------------------------------------------------------------
+# Training values needed per calibration parameter: below it (a few scalar metrics) nothing is
+# calibrated, since a fit of more nominal values than the data can pin would absorb any effect.
+# Ten values per parameter is a common rule of thumb for a least-squares fit.
+MIN_VALUES_PER_PARAMETER = 10
 
-# ... and leave at most this fraction (85 %) of the held-out gap of the nominal model with as many
-# nominal parameters recalibrated (`effects.CALIBRATION`): an effect must beat a fair rival with
-# the same number of free parameters by a clear margin, so that "raise h" cannot pose as
-# "latent heat".
-BEAT_RECALIBRATED = 0.85
+# -- which effect: does a candidate count? --------------------------------------------------------
+# Every effect is fitted together with the calibration parameters and judged against calibration
+# alone on the signals it can change. The gap there must be material (one of those signals
+# deviates, beyond DEVIATES times its noise: a fix of what already matches within the noise is no
+# explanation), and the
+# effect must shrink it by at least this fraction (30 %) with a 95 % block-bootstrap interval
+# above zero; a second effect is added greedily only when it shrinks the remaining gap of its
+# signals by this fraction again, under the same rules.
+MIN_SHRINKAGE = 0.3
 
 # ... and its gain per held-out sample inside the regime it predicts (its signature) must be at
 # least this share of its gain per sample overall. Below 1 on purpose: effects acting through the
@@ -54,10 +59,26 @@ STRUCTURED = 3.0
 # below a remaining gap that is still negligible next to what the effect explained.
 RESIDUAL_SHARE = 0.1
 
-# An effect that leaves a structured gap is still named (``complete`` false) when it explains at
-# least this share of the gap before: more than half of the difference is its doing, the rest is
-# a further difference outside the library.
+# When no effect counts, calibration alone is the verdict ("recalibration", naming the parameters
+# that moved beyond their interval) if it closes at least this share of the nominal gap; else the
+# data are "unexplained". More than half of the difference is then a matter of nominal values.
 MOST = 0.5
+
+# -- fitting --------------------------------------------------------------------------------------
+# Cost evaluations of a fit's trust-region least squares: at least MAX_ITERATIONS, and as many
+# as SIMULATIONS runs allow when each step also takes a Jacobian (one run per parameter whose
+# column is not known): a one-parameter effect gets 30 steps, a seven-parameter calibration 8.
+# Calibration and effects start near their optimum (the nominal or calibrated values, the best
+# point of a scan), and the held-out gaps are reported to three digits: a handful of steps reach
+# them (relative tolerances 1e-4).
+SIMULATIONS = 60
+MAX_ITERATIONS = 8
+
+# Least-squares passes of a fit, the sensor channels' latencies (MAX_ALIGN) chosen again between
+# passes and held within each (a latency switching inside a pass makes the residuals jump, and
+# the trust region stalls next to the jump). Each pass lowers the cost; three end it in practice
+# (a lag trades at most MAX_ALIGN samples against the latency).
+LATENCY_PASSES = 3
 
 # -- statistics -----------------------------------------------------------------------------------
 # Block-bootstrap resamples behind every 95 % interval: enough for stable 2.5 / 97.5 percentiles
