@@ -2,7 +2,8 @@
 the virtual SMA benches with one effect hidden, plus the benches' nuisances (thermocouple noise
 and quantisation, strain-gauge noise, quantisation and a one-sample latency).
 
-    .venv/bin/python scenarios/data/make_examples.py      (from the repository's root)
+    .venv/bin/python scenarios/data/make_examples.py [NAME ...]   (from the repository's root;
+                                                                  no NAME: all of them)
 
 - sma-tracking-thermocouple-lag: the tracking bench, thermocouple with a 0.25 s lag;
 - sma-stress-ignored: the stress bench, whose model ignores stress, on a wire that follows it;
@@ -10,6 +11,10 @@ and quantisation, strain-gauge noise, quantisation and a one-sample latency).
   inverse, SP IV under LP I, LP II and LP V, 60 s each, logged at 50 Hz (RMS voltage and mean
   tension of each 20 ms, the thermocouple and the laser sampled, both with noise); LP I trains,
   the other loading profiles are held out. Its model is scenarios/sma-position-wire.toml.
+- sma-independent-thermocouple-lag: 120 s of the independent bench (physics written apart from
+  the library, src/musclesim/diagnosis/independent.py) with its conditions drawn around the
+  model's (ambient not stated) and a thermocouple whose coat makes it lag; the model is
+  scenarios/sma-bench-tracking.toml, the voltage replayed.
 """
 from pathlib import Path
 
@@ -18,6 +23,7 @@ import numpy as np
 from musclesim.components.sma import profiles
 from musclesim.cosim import Master, load_scenario
 from musclesim.diagnosis import write_data_set
+from musclesim.diagnosis import independent_plan
 from musclesim.diagnosis.blind import BENCHES, record
 
 HERE = Path(__file__).parent
@@ -75,12 +81,35 @@ def position_stress_ignored(path, duration=60.0, seed=7):
     (path / "manifest.toml").write_text("\n".join(lines))
 
 
+def independent_lag(path, seed=20):
+    """A case of the independent bench: conditions drawn from `seed`, a lagging thermocouple."""
+    rng = np.random.default_rng(seed)
+    base = independent_plan.conditions(rng)
+    case = {"conditions": base, "duration": independent_plan.DURATION, "ambient_known": False,
+            "ambient_read": base["ambient"],
+            "values": independent_plan.hidden("thermocouple lag", rng, base,
+                                              independent_plan.DURATION)}
+    time, cols, stated = independent_plan.record(case)
+    write_data_set(path, time, cols, independent_plan.INPUTS, independent_plan.OUTPUTS,
+                   independent_plan.SCENARIO, "SMA tracking bench written apart from the "
+                   "library (its ambient, h, resistivity, sensors differ from the model's); the "
+                   "thermocouple lags behind a thick coat", stated)
+
+
 if __name__ == "__main__":
+    import sys
+
+    wanted = set(sys.argv[1:])
     for i, (name, (truth, description)) in enumerate(EXAMPLES.items()):
-        case = {"case": name, "latency_samples": 1, "seed": 100 + i, "strain_gain": 1.0, **truth}
+        if wanted and name not in wanted:
+            continue
+        case = {"case": name, "latency_samples": 1, "seed": 100 + i, **truth}
         time, cols = record(case, HERE.parent, HERE.parent.parent / "fmus")
         bench, inputs, outputs, _ = BENCHES[case["bench"]]
         write_data_set(HERE / name, time, cols, inputs, outputs, bench, description)
         print(f"wrote {HERE / name}")
-    position_stress_ignored(HERE / "sma-position-stress-ignored")
-    print(f"wrote {HERE / 'sma-position-stress-ignored'}")
+    for name, make in (("sma-position-stress-ignored", position_stress_ignored),
+                       ("sma-independent-thermocouple-lag", independent_lag)):
+        if not wanted or name in wanted:
+            make(HERE / name)
+            print(f"wrote {HERE / name}")
