@@ -90,6 +90,7 @@ class BendingActuator(Slave):
             offset=self.offset, length=self.wire_length, pretension=self.pretension,
             modulus_martensite=self.modulus_martensite, modulus_austenite=self.modulus_austenite,
             series_resistance=self.series_resistance, max_substep=self.max_substep)
+        layout.check()
         if not self.T_init > 0 or not self.z_tip >= 0:
             raise ValueError(f"T_init must be positive in K and z_tip non-negative (got "
                              f"T_init = {self.T_init!r}, z_tip = {self.z_tip!r})")

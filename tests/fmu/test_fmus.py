@@ -36,12 +36,16 @@ STATEFUL = {
     "ForcReference": {"period": 0.01},  # run 2 (5 K above T_low) spans the test steps
     # hot in the transformation, so the hysteresis memory moves; latent heat and drift state too
     "SmaWire": {"T_init": 350.0, "latent_heat": 20e3, "drift_shift": 3.0, "drift_amplitude": -0.1},
+    # wires in their transformation, so the hysteresis memories and the first mode move
+    "BendingActuator": {"T_init": 340.0},
+    "LegSequencer": {"frequency": 100.0, "duty": 0.5},  # 5 ms pulses: outputs change in the test
 }
 # outputs that may repeat over five steps with one input: square waves, a memoryless spring, an
 # inverse whose random strain references are clamped to the data set's range
 MEMORYLESS = {"FrictionSwitchingInputs", "BiasSpring", "PreisachInverse"}
 # added to the random inputs in [-1, 1] so that they stay physical: K, N (~116 MPa on the wire), Pa
 INPUT_OFFSETS = {"SmaWire": {"T_amb": 293.15, "flange.f": 1.47},
+                 "BendingActuator": {"T_amb": 293.15, "wireA.u": 3.0, "wireB.u": 3.0},
                  "PreisachInverse": {"sigma_ref": 125e6}}
 
 

@@ -85,16 +85,18 @@ def cold_stiffness(beam_p, layout, area):
 
 def follow_ratio(sys, f, duty):
     """Swing of the tip's first harmonic (peak to peak) over its mean deflection under a pulse
-    train of frequency f [Hz] and duty: 4 sin(pi d) |G(j 2 pi f)| / (pi d G(0))."""
-    gain = abs(complex(sys(2j * math.pi * f)))
-    return 4 * math.sin(math.pi * duty) * gain / (math.pi * duty * float(ct.dcgain(sys)))
+    train of frequency f [Hz] (a number or an array) and duty:
+    4 sin(pi d) |G(j 2 pi f)| / (pi d G(0))."""
+    gain = np.abs(np.asarray(sys(2j * math.pi * np.asarray(f, dtype=float)))).ravel()
+    ratio = 4 * math.sin(math.pi * duty) * gain / (math.pi * duty * float(ct.dcgain(sys)))
+    return float(ratio[0]) if np.ndim(f) == 0 else ratio
 
 
 def follow_frequency(sys, duty, ratio, f_max=1e4):
     """Lowest pulse frequency [Hz] at which `follow_ratio` falls to `ratio` (None: not below
     f_max)."""
     grid = np.logspace(-3, math.log10(f_max), 2000)
-    values = [follow_ratio(sys, f, duty) - ratio for f in grid]
+    values = follow_ratio(sys, grid, duty) - ratio
     for k in range(1, len(grid)):
         if values[k - 1] > 0 >= values[k]:
             return float(brentq(lambda f: follow_ratio(sys, f, duty) - ratio,
