@@ -99,10 +99,13 @@ class Quadruped:
 
     Examples
     --------
-    >>> q = Quadruped(QuadrupedParams())
-    >>> q.step(1e-3, [1e-5] * 4, [0.0] * 4)  # all legs forward at once: the feet slide or hold
-    >>> q.x == 0.0 or abs(q.x) < 1e-5
-    True
+    Legs bent 0.1 mm forward at once: the feet break loose and slide forward, easily.
+
+    >>> p = QuadrupedParams()
+    >>> q = Quadruped(p)
+    >>> q.step(p.max_substep, [1e-4] * 4, [0.0] * 4)
+    >>> [round(f / normal_force(p), 3) for f in q.forces], q.feet_x[0] > 0
+    ([-0.15, -0.15, -0.15, -0.15], True)
     """
 
     def __init__(self, p):

@@ -156,3 +156,11 @@ def test_fmu_runs_in_a_venv_without_musclesim(fmu_dir, tmp_path):
     """)
     for T_wire, strain in wires:
         assert T_wire > 373.15 and strain > 0.03  # heated past the transformation: contracted
+    # the bending actuator reads the 127 um wire's hysteresis file from its own resources
+    tip = run(f"""
+        simulate_fmu({str(fmu_dir / 'CrawlerBody.fmu')!r}, stop_time=0.01, output_interval=1e-3)
+        r = simulate_fmu({str(fmu_dir / 'BendingActuator.fmu')!r}, stop_time=0.5,
+                         output_interval=5e-4, start_values={{"wireA.u": 1.5}}, output=["tip.s"])
+        print(json.dumps(float(r["tip.s"][-1])))
+    """)
+    assert tip > 1e-6  # wire A warmed into its transformation: bent toward A
