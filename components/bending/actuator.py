@@ -125,9 +125,11 @@ class WireLayout:
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
-        require(self, positive=("offset", "length", "modulus_martensite", "modulus_austenite",
-                                "max_substep"),
-                non_negative=("pretension", "series_resistance"))
+        # a pretension is needed: the hysteresis is taken at its stress, and a wire detwins
+        # (elongates, SPEC 2.3) only under stress
+        require(self, positive=("offset", "length", "pretension", "modulus_martensite",
+                                "modulus_austenite", "max_substep"),
+                non_negative=("series_resistance",))
 
 
 def modulus(xi, layout):
