@@ -1,6 +1,6 @@
 """The quadruped (SPEC 3.2 b) at the level of its cores: four bending-actuator legs pulsed by the
 leg sequencer move the body only when the feet's friction depends on direction, and the way the
-hooks point; the sequencer's pulses. About 0.5 s of wall time per simulated second."""
+hooks point; the sequencer's pulses; the FMUs against their cores. About 0.5 s of wall time per simulated second."""
 import math
 
 import pytest
@@ -8,6 +8,8 @@ import pytest
 from musclesim.components.bending import actuator, beam
 from musclesim.components.quadruped import body, sequencer
 from musclesim.components.sma.wire import load_params
+
+from test_bending import fmu_run
 
 DT = 5e-4  # s, the scenario's communication step
 ISOTROPIC = {"mu_s_forward": 0.5, "mu_k_forward": 0.375, "mu_s_backward": 0.5,
@@ -89,3 +91,27 @@ def test_sequencer_pulses_each_wire_at_its_phase():
     assert first[1][0] == pytest.approx(0.125) and first[3][0] == 0.0  # trot
     with pytest.raises(ValueError, match="duty"):
         sequencer.SequencerParams(duty=1.0).check()
+
+
+def test_fmus_are_the_cores_stepped_by_hand(fmu_dir, tmp_path):
+    """QuadrupedBody and LegSequencer through FMI give their cores' values bit for bit."""
+    dt, n = 5e-4, 400
+    s = [[1e-4 * math.sin(2 * math.pi * 4 * k * dt + i) for i in range(4)] for k in range(n)]
+    v = [[4e-4 * math.pi * math.cos(2 * math.pi * 4 * k * dt + i) for i in range(4)]
+         for k in range(n)]
+    inputs = [{**{f"leg{i + 1}.s": s[k][i] for i in range(4)},
+               **{f"leg{i + 1}.v": v[k][i] for i in range(4)}} for k in range(n)]
+    rows = fmu_run(fmu_dir, tmp_path, "QuadrupedBody", inputs, ["x", "foot1.s", "foot2.f"], dt)
+    q = body.Quadruped(body.QuadrupedParams())
+    expected = [(q.x, q.feet_x[0], q.forces[1])]
+    for k in range(n):
+        q.step(dt, s[k], v[k])
+        expected.append((q.x, q.feet_x[0], q.forces[1]))
+    assert [tuple(r) for r in rows] == expected
+    assert len({r[0] for r in rows}) > n / 2  # the body moved
+
+    names = [f"leg{i}.u{w}" for i in range(1, 5) for w in "AB"]
+    rows = fmu_run(fmu_dir, tmp_path / "seq", "LegSequencer", [{}] * n, names, dt)
+    p = sequencer.SequencerParams()
+    assert [list(r) for r in rows] == [[u for leg in sequencer.voltages(k * dt, p) for u in leg]
+                                       for k in range(n + 1)]
