@@ -26,4 +26,7 @@ CATALOGUE = {
     "ForcReference": "musclesim.components.sources.slaves:ForcReference",
     "StrainProfile": "musclesim.components.sources.slaves:StrainProfile",
     "LoadingProfile": "musclesim.components.sources.slaves:LoadingProfile",
+    "BendingActuator": "musclesim.components.bending.slaves:BendingActuator",
+    "QuadrupedBody": "musclesim.components.quadruped.slaves:QuadrupedBody",
+    "LegSequencer": "musclesim.components.quadruped.slaves:LegSequencer",
 }

@@ -67,13 +67,16 @@ def _cmd_sweep(args):
 
 
 def _cmd_linear(args):
-    from musclesim.analysis import (crawler, format_crawler, format_pneumatic, format_sma_load,
-                                    format_sma_thermal, gain_table_toml, load_gains_toml,
-                                    pneumatic, pneumatic_gains_toml, sma_load, sma_thermal)
+    from musclesim.analysis import (bending, crawler, format_bending, format_crawler,
+                                    format_pneumatic, format_sma_load, format_sma_thermal,
+                                    gain_table_toml, load_gains_toml, pneumatic,
+                                    pneumatic_gains_toml, sma_load, sma_thermal)
     from musclesim.cosim import check_fresh, replace_file
 
     if args.system == "crawler":
         report, text, toml = crawler(), format_crawler, None
+    elif args.system == "bending":
+        report, text, toml = bending(), format_bending, None
     elif args.system == "sma-thermal":
         report, text, toml = sma_thermal(), format_sma_thermal, gain_table_toml
     elif args.system == "sma-load":
@@ -343,7 +346,8 @@ def _parser():
     q.set_defaults(func=_cmd_characterise)
 
     q = sub.add_parser("linear", help="linear analysis with python-control")
-    q.add_argument("system", choices=["crawler", "sma-thermal", "sma-load", "pneumatic"],
+    q.add_argument("system", choices=["crawler", "sma-thermal", "sma-load", "pneumatic",
+                                      "bending"],
                    help="the system to analyse")
     q.add_argument("--json", action="store_true", help="print JSON instead of text")
     q.add_argument("--write", metavar="FILE", help="sma-thermal, sma-load: write the controller "

@@ -36,12 +36,16 @@ STATEFUL = {
     "ForcReference": {"period": 0.01},  # run 2 (5 K above T_low) spans the test steps
     # hot in the transformation, so the hysteresis memory moves; latent heat and drift state too
     "SmaWire": {"T_init": 350.0, "latent_heat": 20e3, "drift_shift": 3.0, "drift_amplitude": -0.1},
+    # wires in their transformation, so the hysteresis memories and the first mode move
+    "BendingActuator": {"T_init": 340.0},
+    "LegSequencer": {"frequency": 100.0, "duty": 0.5},  # 5 ms pulses: outputs change in the test
 }
 # outputs that may repeat over five steps with one input: square waves, a memoryless spring, an
 # inverse whose random strain references are clamped to the data set's range
 MEMORYLESS = {"FrictionSwitchingInputs", "BiasSpring", "PreisachInverse"}
 # added to the random inputs in [-1, 1] so that they stay physical: K, N (~116 MPa on the wire), Pa
 INPUT_OFFSETS = {"SmaWire": {"T_amb": 293.15, "flange.f": 1.47},
+                 "BendingActuator": {"T_amb": 293.15, "wireA.u": 3.0, "wireB.u": 3.0},
                  "PreisachInverse": {"sigma_ref": 125e6}}
 
 
@@ -152,3 +156,11 @@ def test_fmu_runs_in_a_venv_without_musclesim(fmu_dir, tmp_path):
     """)
     for T_wire, strain in wires:
         assert T_wire > 373.15 and strain > 0.03  # heated past the transformation: contracted
+    # the bending actuator reads the 127 um wire's hysteresis file from its own resources
+    tip = run(f"""
+        simulate_fmu({str(fmu_dir / 'CrawlerBody.fmu')!r}, stop_time=0.01, output_interval=1e-3)
+        r = simulate_fmu({str(fmu_dir / 'BendingActuator.fmu')!r}, stop_time=0.5,
+                         output_interval=5e-4, start_values={{"wireA.u": 1.5}}, output=["tip.s"])
+        print(json.dumps(float(r["tip.s"][-1])))
+    """)
+    assert tip > 1e-6  # wire A warmed into its transformation: bent toward A

@@ -8,6 +8,8 @@ crawler's characterisation and the position-control study's tables.
   (SPEC 2.1, 2.4);
 - `linear_pneumatic`: the crawler's pressure loops identified on its FMUs and their PIs
   (SPEC 1.1, 1.5);
+- `linear_bending`: the bending actuator's linearised thermal and beam model, its first
+  resonance and the pulse frequency the tip still follows (SPEC 3.2);
 - `design`: the PI designs and margins the linear analyses share;
 - `characterise`: the gait's pressure references from the characterisation run (SPEC 1.5);
 - `position`: the position-control matrix (SPEC 2.4) run as case folders (``musclesim.batch``)
@@ -19,6 +21,7 @@ the TOML of the gains a scenario reads (``*_toml``).
 from musclesim.analysis.characterise import ELONGATION_TARGET
 from musclesim.analysis.characterise import references as gait_references
 from musclesim.analysis.characterise import references_toml as gait_references_toml
+from musclesim.analysis.linear_bending import bending, format_bending
 from musclesim.analysis.linear_crawler import crawler, format_crawler
 from musclesim.analysis.linear_pneumatic import format_pneumatic, pneumatic, pneumatic_gains_toml
 from musclesim.analysis.linear_sma_load import format_sma_load, load_gains_toml, sma_load
@@ -30,4 +33,4 @@ __all__ = ["crawler", "format_crawler",
            "sma_load", "format_sma_load", "load_gains_toml",
            "pneumatic", "format_pneumatic", "pneumatic_gains_toml",
            "gait_references", "gait_references_toml", "ELONGATION_TARGET",
-           "sma_position"]
+           "sma_position", "bending", "format_bending"]

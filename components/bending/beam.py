@@ -1,0 +1,130 @@
+"""The bending actuator's carbon-fibre beam pair as a leaf spring with its first bending mode
+(SPEC 3.2 a): Euler-Bernoulli beams clamped in the base cap, loaded at the top cap by the wires'
+eccentric tension, i.e. by an end moment M.
+
+Under a pure end moment the beams bend with uniform curvature M / EI, so the top cap (rigid, at
+height L) turns by theta = M L / EI and every point of the actuator deflects as
+
+    w(z) = theta z^2 / (2 L)            for z <= L (the beams)
+    w(z) = theta (z - L / 2)            for z >= L (the rigid cap and the foot above it)
+
+The first bending mode is taken with this shape (Rayleigh): one coordinate theta with rotational
+stiffness K = EI / L (plus what the wires add), modal inertia J = m_tip (z_tip - L / 2)^2 +
+m_beams L^2 / 20 (the cap and foot as a point mass), viscous damping c = 2 zeta sqrt(K J). Lengths in m, angles in rad.
+"""
+import math
+from dataclasses import dataclass
+
+from musclesim.components.checks import require
+
+
+@dataclass(frozen=True)
+class BeamParams:
+    """Beam pair, caps and foot (SPEC 3.2 leaves all but the cap spacing open: defaults and their
+    reasons in components/bending/README.md)."""
+
+    length: float = 10e-3  # m, free length between the caps (SPEC 3.2: caps 10 mm apart)
+    n_beams: float = 2.0  # two coplanar beams (SPEC 3.2)
+    width: float = 1.0e-3  # m, each beam (open)
+    thickness: float = 0.2e-3  # m, each beam, in the bending direction (open)
+    modulus: float = 120e9  # Pa, unidirectional carbon fibre along the fibres (open)
+    density: float = 1600.0  # kg/m^3, carbon-fibre composite (open)
+    tip_mass: float = 0.2e-3  # kg, top FR4 cap and foot (open)
+    tip_height: float = 13e-3  # m, their centre of mass above the base (open)
+    damping_ratio: float = 0.03  # first mode's damping ratio with the wires cold (open)
+
+    def check(self):
+        """Raise ValueError naming the first parameter outside its valid range."""
+        require(self, positive=("length", "n_beams", "width", "thickness", "modulus",
+                                "density", "tip_mass"),
+                non_negative=("tip_height", "damping_ratio"))
+
+
+def bending_stiffness(p):
+    """EI of the beam pair [N m^2]: n E b t^3 / 12.
+
+    Examples
+    --------
+    >>> round(bending_stiffness(BeamParams(n_beams=1, width=1e-3, thickness=1e-3, modulus=12e9)), 12)
+    0.001
+    """
+    return p.n_beams * p.modulus * p.width * p.thickness ** 3 / 12
+
+
+def rotational_stiffness(p):
+    """End moment per rotation of the top cap, EI / L [N m/rad]."""
+    return bending_stiffness(p) / p.length
+
+
+def deflection(theta, z, p):
+    """Lateral deflection [m] at height z [m] above the base for a cap rotation theta [rad].
+
+    Examples
+    --------
+    >>> p = BeamParams(length=0.01)
+    >>> round(deflection(0.01, 0.017, p), 9), round(deflection(0.01, 0.01, p), 9)
+    (0.00012, 5e-05)
+    """
+    L = p.length
+    if z >= L:
+        return theta * (z - L / 2)
+    return theta * z * z / (2 * L)
+
+
+def lever(z, p):
+    """d(deflection at z) / d theta [m/rad]: how far a point at height z moves per radian."""
+    return deflection(1.0, z, p)
+
+
+def beam_mass(p):
+    """Mass of the beam pair [kg]."""
+    return p.n_beams * p.width * p.thickness * p.length * p.density
+
+
+def modal_inertia(p):
+    """Inertia of the first mode in the coordinate theta [kg m^2] (module equation)."""
+    arm = lever(p.tip_height, p)
+    return p.tip_mass * arm * arm + beam_mass(p) * p.length ** 2 / 20
+
+
+def natural_frequency(K, p):
+    """Undamped first resonance [Hz] for a total rotational stiffness K [N m/rad]."""
+    return math.sqrt(K / modal_inertia(p)) / (2 * math.pi)
+
+
+def damping_coefficient(K_ref, p):
+    """Viscous damping c [N m s/rad] giving the damping ratio at stiffness K_ref."""
+    return 2 * p.damping_ratio * math.sqrt(K_ref * modal_inertia(p))
+
+
+def oscillator_step(x, v, x_eq, K, c, J, dt):
+    """Exact solution of J x'' + c x' + K (x - x_eq) = 0 after dt from (x, v): return (x, v).
+
+    Stable at any step; exact while K, c and x_eq are held.
+
+    Examples
+    --------
+    >>> x, v = oscillator_step(1.0, 0.0, 0.0, 4.0, 0.0, 1.0, math.pi)  # one period of omega = 2
+    >>> round(x, 12), round(v, 12)
+    (1.0, 0.0)
+    """
+    y = x - x_eq
+    w = math.sqrt(K / J)
+    zeta = c / (2 * math.sqrt(K * J))
+    if zeta < 1 - 1e-9:
+        wd = w * math.sqrt(1 - zeta * zeta)
+        e = math.exp(-zeta * w * dt)
+        cs, sn = math.cos(wd * dt), math.sin(wd * dt)
+        y_new = e * (y * cs + (v + zeta * w * y) / wd * sn)
+        v_new = e * (v * cs - (w * w * y + zeta * w * v) / wd * sn)
+        return x_eq + y_new, v_new
+    if zeta <= 1 + 1e-9:  # critical damping
+        e = math.exp(-w * dt)
+        b = v + w * y
+        return x_eq + e * (y + b * dt), e * (v - w * b * dt)
+    root = w * math.sqrt(zeta * zeta - 1)
+    r1, r2 = -zeta * w + root, -zeta * w - root
+    a = (v - r2 * y) / (r1 - r2)
+    b = y - a
+    e1, e2 = math.exp(r1 * dt), math.exp(r2 * dt)
+    return x_eq + a * e1 + b * e2, r1 * a * e1 + r2 * b * e2

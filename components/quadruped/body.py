@@ -1,0 +1,154 @@
+"""The quadruped's body and feet (SPEC 3.2 b): a body of mass M moving along x on four legs, each
+foot a point of the leg's modal mass m_f held by the leg's lateral stiffness k and damping c:
+
+    F_i   = k (x_b + s_i(t) - x_i) + c (v_b + s_i'(t) - v_i)     (leg force on foot i)
+    m_f x_i'' = F_i + f_i,       M x_b'' = -sum_i F_i
+
+s_i(t) is leg i's unloaded deflection at its foot (the BendingActuator FMU's tip.s, toward +x;
+held as s_i + s_i' tau over a communication step): the loaded leg deflects by superposition, its
+own dynamics (first mode, in the leg's FMU) give s_i, the foot's load adds F / k with the foot's
+own small mass m_f. The coupling is one way: the foot's load does not reach the leg's mode or its
+wires' stress (ground contact does not damp the leg's ringing; README). f_i is the crawler's stick-slip friction
+(`crawler.friction.friction_force`, SPEC 1.3) with coefficients chosen by direction: a foot
+sliding, or pushed, toward +x slides easily (hook trailing), toward -x it grips. Each foot
+carries a quarter of the weight. The body does not touch the ground.
+
+Numerics: semi-implicit Euler in sub-steps of at most ``max_substep``. A foot inside the stick
+band whose force stays below static friction stops (velocity 0), and a kinetic step that would
+reverse a foot's velocity stops it there: without these remedies (SPEC 5) a foot chatters at the
+per-step change of velocity, larger than any band narrow enough for feet moving at mm/s.
+"""
+import math
+from dataclasses import dataclass
+
+from musclesim.components.bending import actuator, beam
+from musclesim.components.checks import require
+from musclesim.components.crawler import friction
+
+G = 9.81  # m/s^2
+LEGS = 4
+FOOT_HEIGHT = 17e-3  # m, the foot point the body sees: where the study's laser reads (SPEC 3.2)
+
+
+def leg_stiffness():
+    """Lateral stiffness [N/m] of a default bending-actuator leg at FOOT_HEIGHT: its first mode's
+    stiffness with both wires cold, seen at the foot (K / lever^2)."""
+    b, layout = beam.BeamParams(), actuator.WireLayout()
+    area = math.pi * actuator.WIRE_50UM["diameter"] ** 2 / 4
+    K = beam.rotational_stiffness(b) + actuator.moment_terms(0.0, (0.0, 0.0), (1.0, 1.0), area,
+                                                             layout)[1]
+    arm = beam.lever(FOOT_HEIGHT, b)
+    return K / arm ** 2
+
+
+LEG_STIFFNESS = leg_stiffness()
+
+
+@dataclass(frozen=True)
+class QuadrupedParams:
+    """Body, legs and feet (SPEC 3.2 b leaves them open: defaults and reasons in
+    components/quadruped/README.md)."""
+
+    body_mass: float = 5e-3  # kg, FR4 frame and four actuators (open)
+    foot_mass: float = 1e-5  # kg, the foot's tip and hook (open): its mode on the leg's
+    #   stiffness (~900 Hz) stays well above the leg's own (~300 Hz), which the leg's FMU has
+    leg_stiffness: float = LEG_STIFFNESS  # N/m, a default leg's stiffness at its foot
+    leg_damping_ratio: float = 0.03  # as the bending actuator's first mode (open)
+    mu_s_forward: float = 0.2  # foot sliding toward +x, hook trailing, static (open)
+    mu_k_forward: float = 0.15  # kinetic = 0.75 static, as SPEC 1.3
+    mu_s_backward: float = 0.8  # foot sliding toward -x, hook gripping, static (open)
+    mu_k_backward: float = 0.6  # kinetic = 0.75 static, as SPEC 1.3
+    v_s: float = 1e-5  # m/s, stick band: far below the feet's mm/s (open)
+    max_substep: float = 2e-5  # s, ~1/8 of a radian of the foot's mode
+
+    def check(self):
+        """Raise ValueError naming the first parameter outside its valid range."""
+        require(self, positive=("body_mass", "foot_mass", "leg_stiffness", "v_s", "max_substep"),
+                non_negative=("leg_damping_ratio", "mu_s_forward", "mu_k_forward",
+                              "mu_s_backward", "mu_k_backward"))
+
+
+def normal_force(p):
+    """Normal force on each foot [N]: a quarter of the weight of body and feet."""
+    return (p.body_mass + LEGS * p.foot_mass) * G / LEGS
+
+
+def leg_damping(p):
+    """Damping c [N s/m] of a leg at its foot from its damping ratio."""
+    return 2 * p.leg_damping_ratio * math.sqrt(p.leg_stiffness * p.foot_mass)
+
+
+def coefficients(v, f_n, p):
+    """(mu_s, mu_k) of a foot moving at v [m/s] under the net force f_n [N]: by the direction of
+    sliding, or of the force that would start it (+x: forward, easy; -x: backward, grip).
+
+    Examples
+    --------
+    >>> p = QuadrupedParams()
+    >>> coefficients(0.01, -1.0, p), coefficients(0.0, -1.0, p)
+    ((0.2, 0.15), (0.8, 0.6))
+    """
+    direction = v if abs(v) > p.v_s else f_n
+    if direction > 0:
+        return p.mu_s_forward, p.mu_k_forward
+    return p.mu_s_backward, p.mu_k_backward
+
+
+class Quadruped:
+    """Body and feet stepped together (module equation); state in plain floats and lists.
+
+    Examples
+    --------
+    Legs bent 0.1 mm forward at once: the feet break loose and slide forward, easily.
+
+    >>> p = QuadrupedParams()
+    >>> q = Quadruped(p)
+    >>> q.step(p.max_substep, [1e-4] * 4, [0.0] * 4)
+    >>> [round(f / normal_force(p), 3) for f in q.forces], q.feet_x[0] > 0
+    ([-0.15, -0.15, -0.15, -0.15], True)
+    """
+
+    def __init__(self, p):
+        p.check()
+        self.p = p
+        self.N = normal_force(p)
+        self.c = leg_damping(p)
+        self.reset()
+
+    def reset(self):
+        """Body and feet at rest at x = 0, legs straight."""
+        self.x = self.v = 0.0
+        self.feet_x = [0.0] * LEGS
+        self.feet_v = [0.0] * LEGS
+        self.forces = [0.0] * LEGS  # friction on each foot [N]
+        self.s_held = [0.0] * LEGS
+
+    def step(self, dt, s, s_dot):
+        """Advance by dt [s] with the legs' deflections s [m] and their rates s_dot [m/s] at the
+        start of the step, each leg held as s + s_dot tau over it."""
+        p, N, k, c = self.p, self.N, self.p.leg_stiffness, self.c
+        n = max(1, math.ceil(dt / p.max_substep - 1e-9))
+        h = dt / n
+        xf, vf, fr = self.feet_x, self.feet_v, self.forces
+        for j in range(n):
+            tau = j * h
+            push = 0.0
+            for i in range(LEGS):
+                F = k * (self.x + s[i] + s_dot[i] * tau - xf[i]) + c * (self.v + s_dot[i] - vf[i])
+                v = vf[i]
+                mu_s, mu_k = coefficients(v, F, p)
+                fr[i] = friction.friction_force(v, F, N, mu_s, mu_k, p.v_s)
+                if abs(v) <= p.v_s and abs(F) <= mu_s * N:
+                    vf[i] = 0.0  # stuck: holds still
+                else:
+                    v_new = v + h * (F + fr[i]) / p.foot_mass
+                    vf[i] = 0.0 if (abs(v) > p.v_s and v_new * v < 0) else v_new
+                xf[i] += h * vf[i]
+                push += F
+            self.v -= h * push / p.body_mass
+            self.x += h * self.v
+        self.s_held = [s[i] + s_dot[i] * dt for i in range(LEGS)]
+
+    def stuck(self, i):
+        """Whether foot i holds still (its velocity is 0)."""
+        return self.feet_v[i] == 0.0

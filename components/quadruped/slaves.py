@@ -1,0 +1,100 @@
+"""FMU slaves of the quadruped (SPEC 3.2 b): thin adapters over `body.Quadruped` and
+`sequencer.voltages`."""
+import math
+
+from musclesim.components.quadruped import body, sequencer
+from musclesim.fmu import Slave
+
+
+class QuadrupedBody(Slave):
+    """Quadruped body on four legs with anisotropic-friction feet, moving along x (SPEC 3.2 b).
+
+    Inputs: each leg's unloaded deflection at its foot and its rate (a BendingActuator's tip.s,
+    tip.v), held as a first-order hold over the step. Equations: components/quadruped/README.md.
+    """
+
+    description = ("Quadruped body on four bending-actuator legs, feet with direction-dependent "
+                   "stick-slip friction (SPEC 3.2, friction of SPEC 1.3)")
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        d = body.QuadrupedParams()
+        self.parameter("body_mass", d.body_mass, "kg", "Mass of the frame and the four actuators "
+                       "(open, README)")
+        self.parameter("foot_mass", d.foot_mass, "kg", "Mass of each foot's tip (open, README)")
+        self.parameter("leg_stiffness", d.leg_stiffness, "N/m", "Lateral stiffness of a leg at "
+                       "its foot (default: a default BendingActuator at 17 mm)")
+        self.parameter("leg_damping_ratio", d.leg_damping_ratio, "1",
+                       "Damping ratio of a foot on its leg's stiffness")
+        self.parameter("mu_s_forward", d.mu_s_forward, "1", "Static friction of a foot toward "
+                       "+x, hook trailing (open, README)")
+        self.parameter("mu_k_forward", d.mu_k_forward, "1", "Kinetic friction of a foot toward +x")
+        self.parameter("mu_s_backward", d.mu_s_backward, "1", "Static friction of a foot toward "
+                       "-x, hook gripping (open, README)")
+        self.parameter("mu_k_backward", d.mu_k_backward, "1", "Kinetic friction of a foot toward -x")
+        self.parameter("v_s", d.v_s, "m/s", "Stick velocity band of the feet (SPEC 1.3 form)")
+        self.parameter("max_substep", d.max_substep, "s", "Longest internal sub-step")
+        for i in range(1, body.LEGS + 1):
+            self.input(f"leg{i}.s", 0.0, "m", f"Unloaded deflection of leg {i} at its foot, +x "
+                       "forward")
+            self.input(f"leg{i}.v", 0.0, "m/s", f"Rate of leg {i}'s deflection")
+        self.output("x", "m", "Position of the body along the walking axis")
+        self.output("v", "m/s", "Velocity of the body")
+        for i in range(1, body.LEGS + 1):
+            self.output(f"foot{i}.s", "m", f"Position of foot {i}")
+            self.output(f"foot{i}.f", "N", f"Friction force on foot {i} over the last sub-step")
+            self.output(f"foot{i}.stuck", "1", f"1 while foot {i} holds still, else 0")
+
+    def setup(self):
+        self.core = body.Quadruped(self.core_params(body.QuadrupedParams))
+
+    def initialize(self):
+        self.core.reset()
+
+    def evaluate(self):
+        c = self.core
+        self.x, self.v = c.x, c.v
+        for i in range(body.LEGS):
+            setattr(self, f"foot{i + 1}_s", c.feet_x[i])
+            setattr(self, f"foot{i + 1}_f", c.forces[i])
+            setattr(self, f"foot{i + 1}_stuck", 1.0 if c.stuck(i) else 0.0)
+
+    def advance(self, t, dt):
+        s, v = [], []
+        for i in range(1, body.LEGS + 1):
+            for name, out in ((f"leg{i}.s", s), (f"leg{i}.v", v)):
+                value = getattr(self, name.replace(".", "_"))
+                if not math.isfinite(value):
+                    raise ValueError(f"input {name} is {value!r} at t = {t:g} s")
+                out.append(value)
+        self.core.step(dt, s, v)
+
+
+class LegSequencer(Slave):
+    """Pulse voltages of the quadruped's eight wires: which leg's wire is pulsed when (SPEC 3.2)."""
+
+    description = ("Leg sequencer of the quadruped: the study's heating pulses (5 V, 5 % at "
+                   "4 Hz, SPEC 3.2) per wire, phased per leg")
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        d = sequencer.SequencerParams()
+        self.parameter("frequency", d.frequency, "Hz", "Pulse frequency of every wire (SPEC 3.2)")
+        self.parameter("duty", d.duty, "1", "Share of a period a wire is heated (SPEC 3.2: 5 %)")
+        self.parameter("voltage", d.voltage, "V", "Pulse voltage (SPEC 3.2: 5 V)")
+        self.parameter("wire_delay", d.wire_delay, "1", "Periods from a leg's wire A pulse to its "
+                       "wire B pulse (SPEC 3.2: 0.5)")
+        for i, phase in enumerate(sequencer.phases(d), start=1):
+            self.parameter(f"phase{i}", phase, "1", f"Phase of leg {i}'s wire A in periods "
+                           "(open; default: a trot, legs 1 and 4 with each other)")
+        for i in range(1, sequencer.LEGS + 1):
+            self.output(f"leg{i}.uA", "V", f"Voltage on leg {i}'s wire A")
+            self.output(f"leg{i}.uB", "V", f"Voltage on leg {i}'s wire B")
+
+    def setup(self):
+        self.p = self.core_params(sequencer.SequencerParams)
+
+    def evaluate(self):
+        for i, (uA, uB) in enumerate(sequencer.voltages(self.time, self.p), start=1):
+            setattr(self, f"leg{i}_uA", uA)
+            setattr(self, f"leg{i}_uB", uB)
