@@ -1,4 +1,4 @@
-"""The `musclesim` command line: build, run, export, sweep, loops, identify, dataset, diagnose,
+"""The `musclesim` command line: build, run, export, sweep, loops, identify, drift, dataset, diagnose,
 benchmark-diagnosis, bench, linear, characterise, table.
 
 The top layer: it parses arguments, calls the public interfaces of the layers below (cosim, batch,
@@ -125,6 +125,17 @@ def _cmd_loops(args):
     out = loops_main(args.stress, args.band, model_path=args.model, as_json=args.json,
                      plot_path=args.plot)
     print(json.dumps(out, indent=2) if args.json else out)
+    return 0
+
+
+def _cmd_drift(args):
+    from musclesim.hysteresis import DriftProtocol, drift_main
+
+    protocol = DriftProtocol(rounds=args.rounds, cycles=args.cycles,
+                             samples_per_cycle=args.samples_per_cycle,
+                             compare=tuple(args.compare))
+    protocol.check()
+    print(drift_main(args.scenario, protocol, as_json=args.json))
     return 0
 
 
@@ -258,6 +269,20 @@ def _parser():
     q.add_argument("--plot", help="write the loops plot to this PNG")
     q.add_argument("--json", action="store_true", help="print JSON instead of text")
     q.set_defaults(func=_cmd_loops)
+
+    q = sub.add_parser("drift", help="the long-duration drift test (SPEC 3.3): RMSE between the "
+                                     "averaged loops of tests 1, 13 and 25 per stress")
+    q.add_argument("scenario", nargs="?", default="scenarios/sma-drift.toml",
+                   help="scenario whose instance 'wire' sets the drift (default: "
+                        "scenarios/sma-drift.toml)")
+    q.add_argument("--rounds", type=_positive, default=25, help="rounds of the five stresses")
+    q.add_argument("--cycles", type=_positive, default=20, help="cycles per test")
+    q.add_argument("--samples-per-cycle", type=_positive, default=200,
+                   help="temperature samples per 20 s cycle")
+    q.add_argument("--compare", type=_positive, nargs="+", default=[1, 13, 25],
+                   metavar="TEST", help="tests whose averaged loops are compared, in pairs")
+    q.add_argument("--json", action="store_true", help="print JSON instead of text")
+    q.set_defaults(func=_cmd_drift)
 
     q = sub.add_parser("identify", help="FORC surfaces from identification records (SMA wire)")
     q.add_argument("records", nargs="+",
