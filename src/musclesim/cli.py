@@ -199,7 +199,8 @@ def _cmd_benchmark_diagnosis(args):
         scores = run_blind_benchmark(args.cases, args.seed, args.out, args.fmus, args.scenarios,
                                      dask_map(client),
                                      lambda text: print(f"musclesim: {text}", file=sys.stderr),
-                                     bench=args.bench, duration=args.duration)
+                                     bench=args.bench, duration=args.duration,
+                                     multiplier=args.multiplier)
     print(json.dumps({k: v for k, v in scores.items() if k != "per_case"}, indent=2))
     print(f"wrote {Path(args.out) / 'scores.json'} (per-case table inside)")
     return 0
@@ -330,6 +331,9 @@ def _parser():
                         "'independent' in scores.json)")
     q.add_argument("--duration", type=_duration, default=None,
                    help="independent bench: seconds recorded per case (default 120)")
+    q.add_argument("--multiplier", type=_positive, default=0, metavar="N",
+                   help="own bench: N extra cases on the capstan multiplier's bench (SPEC 3.1; "
+                        "default none)")
     dask_args(q)
     common(q)
     q.set_defaults(func=_cmd_benchmark_diagnosis)

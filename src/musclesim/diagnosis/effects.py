@@ -156,6 +156,17 @@ EFFECTS = (
     Effect("chamber leakage", "SoftActuator", (Parameter("C_leak", 0.0, 0.0, 5e-11),),
            "pressurised", "SPEC 4",
            "air leaks from the chamber to the atmosphere"),
+    # fast actuation: the capstan multiplier (SPEC 3.1, 4); the hanging load's inertia is
+    # "load inertia" above (DeadWeight, under the multiplier as under the straight wire)
+    Effect("capstan friction", "CapstanMultiplier", (Parameter("mu_f", 0.0237, 0.0, 0.1),),
+           "transformation", "SPEC 3.1, 4",
+           "the wire's friction on the capstans differs from SPEC 3.1's 0.0237 (a worn or dirty "
+           "groove): the segments nearer the clamp carry a different tension; off = the stated "
+           "friction, the CapstanMultiplier's default"),
+    Effect("composition difference", "CapstanMultiplier",
+           (Parameter("composition_shift", 0.0, -10.0, 10.0),), "transformation", "SPEC 3.1, 4",
+           "the multiplier's wire is not the composition the hysteresis was identified on: it "
+           "transforms at temperatures shifted by a constant"),
 )
 
 
@@ -164,6 +175,9 @@ EFFECTS = (
 CALIBRATION = {
     "SmaWire": (Parameter("h", 1.0, 0.6, 1.6), Parameter("specific_heat", 1.0, 0.7, 1.3),
                 Parameter("rho_austenite", 1.0, 0.8, 1.2)),
+    # the multiplier is the same wire, folded (SPEC 3.1)
+    "CapstanMultiplier": (Parameter("h", 1.0, 0.6, 1.6), Parameter("specific_heat", 1.0, 0.7, 1.3),
+                          Parameter("rho_austenite", 1.0, 0.8, 1.2)),
     "CrawlerBody": (Parameter("k", 1.0, 0.7, 1.3), Parameter("c", 1.0, 0.5, 2.0)),
     "FrictionBlock": (Parameter("mu_k_low", 1.0, 0.7, 1.3),),
     # the valves' sonic conductances are assumptions (SPEC 1.1 names no valve; SPEC 5 the law)
