@@ -220,7 +220,8 @@ def _parse(data, path, problems):
                 or not all(_number(spec.get(k, 1.0)) for k in ("from", "to", "scale", "period")) \
                 or (spec["op"] in _PERIODIC and not spec.get("period", 0) > 0):
             problems.append(f"metric {name!r} needs signal = \"inst.var\", op in {METRIC_OPS} "
-                            f"({' and '.join(_PERIODIC)} with period = a positive time [s]) and "
+                            "(per_period with period = a positive time [s], and so "
+                            "cycle_peak_to_peak) and "
                             "optionally from / to = the window's start / end time [s], scale = "
                             "a factor and over = \"inst.var\" (the ratio to the op on that signal)")
             continue
