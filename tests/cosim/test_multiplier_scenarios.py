@@ -52,12 +52,14 @@ def test_frequency_cycle_peak_to_peak_and_ratio_ops():
         "ratio": M("y", "peak_to_peak", over="half"),
         "cycles": M("pulses", "cycle_peak_to_peak", period=0.5, start=1.0),
         "flat": M("half", "frequency", start=2.9999),
+        "no_ratio": M("y", "peak_to_peak", over="half", start=2.9999),  # one sample: ptp 0
     })
     assert out["f"] == pytest.approx(2.0, rel=1e-6)
     assert out["ratio"] == pytest.approx(2.0, rel=1e-12)
     # whole periods from 1.0 s: 1.0-1.5 ... 2.5-3.0 (4), the sample at 3.0 s starts a fifth
     assert out["cycles"] == pytest.approx(np.mean([2.099, 2.599, 3.099, 3.599]), rel=1e-9)
     assert math.isnan(out["flat"])  # no crossing in its window
+    assert math.isnan(out["no_ratio"])  # over a signal whose op is 0
 
 
 def test_a_periodic_op_without_a_period_is_refused(tmp_path):

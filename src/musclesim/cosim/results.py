@@ -85,9 +85,9 @@ def compute_metrics(results, metrics):
         window = (results.time >= m.start - tol) & (results.time <= m.stop + tol)
         t, y = results.time[window], results[m.signal][window]
         value = m.scale * float(_OPS[m.op][0](t, y, m)) if len(y) else math.nan
-        if m.over is not None:  # the same op on another signal divides it
-            value = value / float(_OPS[m.op][0](t, results[m.over][window], m)) if len(y) \
-                else math.nan
+        if m.over is not None and len(y):  # the same op on another signal divides it
+            den = float(_OPS[m.op][0](t, results[m.over][window], m))
+            value = value / den if den else math.nan  # nothing to compare with: no ratio
         out[name] = value
     return out
 
