@@ -1,5 +1,7 @@
-"""FMU slaves of the controllers: thin adapters over musclesim.components.control.pid."""
-from musclesim.components.control import pid
+"""FMU slaves of the controllers: thin adapters over musclesim.components.control.pid and .relay."""
+import math
+
+from musclesim.components.control import pid, relay
 from musclesim.components.control.pid import SCHEDULE_K
 from musclesim.fmu import Slave
 
@@ -78,3 +80,52 @@ class GainScheduledPID(_PIDBase):
     def gains(self):
         """(Kp, Ki, Kd) interpolated at the current reference."""
         return pid.scheduled_gains(self.r, self.breakpoints, self.table)
+
+
+class BangBang(Slave):
+    """Relay temperature controller with hysteresis: on when the measured temperature falls to
+    T_on, off when it rises to T_off (SPEC 3.1 c: 75 C and 90 C); output u_on or u_off.
+    A thin adapter over `relay`; equations: components/control/README.md.
+    """
+
+    description = ("Bang-bang (relay) temperature controller: on when T falls to T_on, off when T "
+                   "rises to T_off; output u_on / u_off (SPEC 3.1 c)")
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        d = relay.RelayParams()
+        self.parameter("T_on", d.y_on, "K", "Switch on when the temperature falls to this "
+                       "(SPEC 3.1 c: 75 C)")
+        self.parameter("T_off", d.y_off, "K", "Switch off when the temperature rises to this "
+                       "(SPEC 3.1 c: 90 C)")
+        self.parameter("u_on", d.u_on, "1", "Output when on: the heating supply voltage [V] "
+                       "(open in SPEC 3.1 c; the scenarios set it per wire)")
+        self.parameter("u_off", d.u_off, "1", "Output when off")
+        self.parameter("initially_on", d.initially_on, "1", "State at the start when the "
+                       "temperature lies between the thresholds (1 on, 0 off)")
+        self.input("T", 293.15, "K", "Measured temperature (e.g. a thermocouple's T_meas)")
+        self.output("u", "1", "Controller output u_on or u_off", depends=["T"])
+        self.output("on", "1", "Relay state: 1 on, 0 off", depends=["T"])
+
+    def setup(self):
+        self.p = relay.RelayParams(y_on=self.T_on, y_off=self.T_off, u_on=self.u_on,
+                                   u_off=self.u_off, initially_on=self.initially_on)
+        self.p.check()
+        self.state = relay.initial_state(self.T, self.p)
+
+    def initialize(self):
+        self.state = relay.initial_state(self.T, self.p)  # the measurement is known now
+
+    def _checked(self, t):
+        if math.isnan(self.T):
+            raise ValueError(f"input T is NaN at t = {t:g} s")
+
+    def evaluate(self):
+        self._checked(self.time)
+        on = relay.switch(self.state, self.T, self.p)
+        self.u = relay.output(on, self.p)
+        self.on = 1.0 if on else 0.0
+
+    def advance(self, t, dt):
+        self._checked(t)
+        self.state = relay.switch(self.state, self.T, self.p)

@@ -1,4 +1,4 @@
-"""The `musclesim` command line: build, run, export, sweep, loops, identify, dataset, diagnose,
+"""The `musclesim` command line: build, run, export, sweep, loops, identify, drift, dataset, diagnose,
 benchmark-diagnosis, bench, linear, characterise, table.
 
 The top layer: it parses arguments, calls the public interfaces of the layers below (cosim, batch,
@@ -131,6 +131,17 @@ def _cmd_loops(args):
     return 0
 
 
+def _cmd_drift(args):
+    from musclesim.hysteresis import DriftProtocol, drift_main
+
+    protocol = DriftProtocol(rounds=args.rounds, cycles=args.cycles,
+                             samples_per_cycle=args.samples_per_cycle,
+                             compare=tuple(args.compare))
+    protocol.check()
+    print(drift_main(args.scenario, protocol, as_json=args.json))
+    return 0
+
+
 def _cmd_bench(args):
     from musclesim.hysteresis import format_preisach_timing, preisach_timing
 
@@ -191,7 +202,8 @@ def _cmd_benchmark_diagnosis(args):
         scores = run_blind_benchmark(args.cases, args.seed, args.out, args.fmus, args.scenarios,
                                      dask_map(client),
                                      lambda text: print(f"musclesim: {text}", file=sys.stderr),
-                                     bench=args.bench, duration=args.duration)
+                                     bench=args.bench, duration=args.duration,
+                                     multiplier=args.multiplier)
     print(json.dumps({k: v for k, v in scores.items() if k != "per_case"}, indent=2))
     print(f"wrote {Path(args.out) / 'scores.json'} (per-case table inside)")
     return 0
@@ -262,6 +274,20 @@ def _parser():
     q.add_argument("--json", action="store_true", help="print JSON instead of text")
     q.set_defaults(func=_cmd_loops)
 
+    q = sub.add_parser("drift", help="the long-duration drift test (SPEC 3.3): RMSE between the "
+                                     "averaged loops of tests 1, 13 and 25 per stress")
+    q.add_argument("scenario", nargs="?", default="scenarios/sma-drift.toml",
+                   help="scenario whose instance 'wire' sets the drift (default: "
+                        "scenarios/sma-drift.toml)")
+    q.add_argument("--rounds", type=_positive, default=25, help="rounds of the five stresses")
+    q.add_argument("--cycles", type=_positive, default=20, help="cycles per test")
+    q.add_argument("--samples-per-cycle", type=_positive, default=200,
+                   help="temperature samples per 20 s cycle")
+    q.add_argument("--compare", type=_positive, nargs="+", default=[1, 13, 25],
+                   metavar="TEST", help="tests whose averaged loops are compared, in pairs")
+    q.add_argument("--json", action="store_true", help="print JSON instead of text")
+    q.set_defaults(func=_cmd_drift)
+
     q = sub.add_parser("identify", help="FORC surfaces from identification records (SMA wire)")
     q.add_argument("records", nargs="+",
                    help="sweep output folder, run folders or results.csv files (one per stress)")
@@ -308,6 +334,9 @@ def _parser():
                         "'independent' in scores.json)")
     q.add_argument("--duration", type=_duration, default=None,
                    help="independent bench: seconds recorded per case (default 120)")
+    q.add_argument("--multiplier", type=_positive, default=0, metavar="N",
+                   help="own bench: N extra cases on the capstan multiplier's bench (SPEC 3.1; "
+                        "default none)")
     dask_args(q)
     common(q)
     q.set_defaults(func=_cmd_benchmark_diagnosis)

@@ -19,7 +19,8 @@ WHERE = {"CrawlerBody": ("crawler-ideal", "body"),
          "Thermocouple": ("sma-temperature-tracking", "thermocouple"),
          "DeadWeight": ("sma-dead-weight", "weight"), "LaserSensor": ("sma-dead-weight", "laser"),
          "Electromagnet": ("sma-position-control", "magnet"),
-         "LoadCell": ("sma-position-control", "loadcell")}
+         "LoadCell": ("sma-position-control", "loadcell"),
+         "CapstanMultiplier": ("sma-bench-multiplier", "mult")}
 # context that lets a slow effect show within a short run (no effect by itself when it is off)
 CONTEXT = {"training drift": ["wire.drift_cycles_start=200"],
            # a model ignoring stress (one surface at 125 MPa) of a wire loaded with 145 MPa
@@ -34,7 +35,8 @@ def test_library_covers_the_issue_list():
             "friction switching time", "pressure-dependent stiffness",
             "viscous ground drag", "load inertia", "electromagnet force nonlinearity",
             "load-cell lag", "laser noise", "valve delay", "supply-pressure drop",
-            "chamber leakage", "actuator bending on an incline", "friction decay"} <= set(IDS)
+            "chamber leakage", "actuator bending on an incline", "friction decay",
+            "capstan friction", "composition difference"} <= set(IDS)
     assert effects.find("anchoring slip").per_instance
     with pytest.raises(KeyError, match="known: stress dependence ignored"):
         effects.find("gremlins")

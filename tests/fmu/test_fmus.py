@@ -39,13 +39,19 @@ STATEFUL = {
     # wires in their transformation, so the hysteresis memories and the first mode move
     "BendingActuator": {"T_init": 340.0},
     "LegSequencer": {"frequency": 100.0, "duty": 0.5},  # 5 ms pulses: outputs change in the test
+    "CapstanMultiplier": {"T_init": 350.0, "composition_shift": 2.0},  # every segment's memory
+    # thresholds 0.2 K apart around the 355 K input: the random inputs switch the relay
+    "BangBang": {"T_on": 354.9, "T_off": 355.1},
 }
 # outputs that may repeat over five steps with one input: square waves, a memoryless spring, an
-# inverse whose random strain references are clamped to the data set's range
-MEMORYLESS = {"FrictionSwitchingInputs", "BiasSpring", "PreisachInverse"}
+# inverse whose random strain references are clamped to the data set's range, a relay that settles
+# at once under one held input
+MEMORYLESS = {"FrictionSwitchingInputs", "BiasSpring", "PreisachInverse", "BangBang"}
 # added to the random inputs in [-1, 1] so that they stay physical: K, N (~116 MPa on the wire), Pa
 INPUT_OFFSETS = {"SmaWire": {"T_amb": 293.15, "flange.f": 1.47},
                  "BendingActuator": {"T_amb": 293.15, "wireA.u": 3.0, "wireB.u": 3.0},
+                 "CapstanMultiplier": {"T_amb": 293.15, "flange.f": 1.47},
+                 "BangBang": {"T": 355.0},
                  "PreisachInverse": {"sigma_ref": 125e6}}
 
 

@@ -189,7 +189,8 @@ def _check(sweep, path, fmu_dir, overrides, point, stop_time):
     s = load_scenario(sweep.scenario, [*overrides, *point], stop_time)
     check_fresh(fmu_dir)
     sig_units = signal_units(Master(s, fmu_dir))
-    units = {n: metric_unit(sig_units[m.signal], m.op) for n, m in s.metrics.items()}
+    units = {n: metric_unit(sig_units[m.signal], m.op, m.over is not None)
+             for n, m in s.metrics.items()}
     plot_spec = sweep.plot or _default_plot(sweep.axes, s.metrics)
     unknown = [x for x in plot_spec.get("metrics", []) if x not in s.metrics]
     if unknown:

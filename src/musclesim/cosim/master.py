@@ -100,6 +100,7 @@ def _check(status, function):
 def _recorded(s):
     """The signals a scenario records, plots or computes metrics of, each once, in order."""
     return list(dict.fromkeys([*s.record, *(m.signal for m in s.metrics.values()),
+                               *(m.over for m in s.metrics.values() if m.over),
                                *(sig for panel in s.plots for sig in panel["signals"])]))
 
 

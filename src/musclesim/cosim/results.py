@@ -25,6 +25,30 @@ def _rate(t, y):
     return (y[-1] - y[0]) / (t[-1] - t[0]) if t[-1] > t[0] else math.nan
 
 
+def _frequency(t, y):
+    """Oscillation frequency [Hz]: rising crossings of the middle of the range, (count - 1) over
+    the time from the first to the last (linear between samples); NaN with fewer than two."""
+    if len(y) < 3:
+        return math.nan
+    mid = (float(np.max(y)) + float(np.min(y))) / 2
+    k = np.flatnonzero((y[:-1] < mid) & (y[1:] >= mid))
+    if len(k) < 2:
+        return math.nan
+    crossings = t[k] + (mid - y[k]) / (y[k + 1] - y[k]) * (t[k + 1] - t[k])
+    return (len(k) - 1) / (crossings[-1] - crossings[0])
+
+
+def _cycle_peak_to_peak(t, y, period):
+    """Mean over the whole periods in the window (from its first sample) of each one's
+    peak-to-peak; NaN without a whole period."""
+    if not len(t):
+        return math.nan
+    cycle = np.floor((t - t[0]) / period * (1 + 1e-12)).astype(int)
+    whole = int((t[-1] - t[0]) / period * (1 + 1e-12))
+    spans = [np.ptp(y[cycle == c]) for c in range(whole) if np.any(cycle == c)]
+    return float(np.mean(spans)) if spans else math.nan
+
+
 # op -> (function of (time, values, metric), how the unit changes)
 _OPS = {
     "final": (lambda t, y, m: y[-1], "{}"),
@@ -39,12 +63,17 @@ _OPS = {
     "rate": (lambda t, y, m: _rate(t, y), "{}/s"),
     # mean change per period, e.g. stride length from a position and the stride period
     "per_period": (lambda t, y, m: _rate(t, y) * m.period, "{}"),
+    # oscillation frequency, e.g. of a relay-heated wire's contraction
+    "frequency": (lambda t, y, m: _frequency(t, y), "Hz"),
+    # mean peak-to-peak per period, e.g. per heating pulse
+    "cycle_peak_to_peak": (lambda t, y, m: _cycle_peak_to_peak(t, y, m.period), "{}"),
 }
 
 
-def metric_unit(unit, op):
-    """Unit of a metric computed with `op` from a signal in `unit`."""
-    return _OPS[op][1].format(unit or "1")
+def metric_unit(unit, op, ratio=False):
+    """Unit of a metric computed with `op` from a signal in `unit` ("1" for a `ratio`: the same
+    op on another signal divides it, the metric's ``over``)."""
+    return "1" if ratio else _OPS[op][1].format(unit or "1")
 
 
 def compute_metrics(results, metrics):
@@ -55,7 +84,11 @@ def compute_metrics(results, metrics):
         tol = 1e-9 * max(1.0, abs(results.time[-1])) if len(results.time) else 0.0
         window = (results.time >= m.start - tol) & (results.time <= m.stop + tol)
         t, y = results.time[window], results[m.signal][window]
-        out[name] = m.scale * float(_OPS[m.op][0](t, y, m)) if len(y) else math.nan
+        value = m.scale * float(_OPS[m.op][0](t, y, m)) if len(y) else math.nan
+        if m.over is not None and len(y):  # the same op on another signal divides it
+            den = float(_OPS[m.op][0](t, results[m.over][window], m))
+            value = value / den if den else math.nan  # nothing to compare with: no ratio
+        out[name] = value
     return out
 
 
@@ -141,7 +174,7 @@ class RunWriter:
                  title=f"{s.name} ({s.spec})" if s.spec else s.name)
         return self._summary({
             **metrics,
-            "units": {name: metric_unit(self.units.get(m.signal), m.op)
+            "units": {name: metric_unit(self.units.get(m.signal), m.op, m.over is not None)
                       for name, m in self.scenario.metrics.items()},
             "completed": results.error is None, "error": results.error,
             "status": "completed" if results.error is None else "stopped",

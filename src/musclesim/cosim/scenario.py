@@ -24,7 +24,8 @@ from musclesim.errors import UserError
 
 ALGORITHMS = ("gauss-seidel", "jacobi")
 METRIC_OPS = ("final", "initial", "mean", "min", "max", "max_abs", "rms", "rate", "peak_to_peak",
-              "per_period")
+              "per_period", "frequency", "cycle_peak_to_peak")
+_PERIODIC = ("per_period", "cycle_peak_to_peak")  # ops that need a period
 _TOP_KEYS = {"name", "description", "spec", "step", "start_time", "stop_time", "algorithm",
              "connections", "record", "instances", "metrics", "plots"}
 MIN_STEP = 1e-7  # s: a communication step shorter than any physics here needs
@@ -36,7 +37,9 @@ _COMPONENT = re.compile(r"[A-Za-z_][A-Za-z0-9_-]*")  # an FMU's file name, never
 class Metric(NamedTuple):
     """A number computed from one signal: ``op`` over the samples from time ``start`` to ``stop``,
     times ``scale`` (e.g. -1 to count a backward run's distance along its direction of travel).
-    ``period`` [s] is the period of op ``per_period`` (mean change per period, e.g. per stride).
+    ``period`` [s] is the period of ops ``per_period`` (mean change per period, e.g. per stride)
+    and ``cycle_peak_to_peak`` (mean peak-to-peak per period). ``over``: another signal; the
+    metric is then the op on ``signal`` divided by the op on ``over`` (a ratio, unit 1).
     """
 
     signal: str
@@ -45,6 +48,7 @@ class Metric(NamedTuple):
     stop: float = math.inf
     scale: float = 1.0
     period: float = None
+    over: str = None
 
 
 @dataclass(frozen=True)
@@ -208,19 +212,22 @@ def _parse(data, path, problems):
 
     metrics = {}
     for name, spec in data.get("metrics", {}).items():
-        keys = {"signal", "op", "from", "to", "scale"} | ({"period"} if isinstance(spec, dict)
-                                                         and spec.get("op") == "per_period" else set())
+        keys = {"signal", "op", "from", "to", "scale", "over"} | (
+            {"period"} if isinstance(spec, dict) and spec.get("op") in _PERIODIC else set())
         if not isinstance(spec, dict) or spec.get("op") not in METRIC_OPS \
                 or not isinstance(spec.get("signal"), str) or set(spec) - keys \
+                or not isinstance(spec.get("over", ""), str) \
                 or not all(_number(spec.get(k, 1.0)) for k in ("from", "to", "scale", "period")) \
-                or (spec["op"] == "per_period" and not spec.get("period", 0) > 0):
+                or (spec["op"] in _PERIODIC and not spec.get("period", 0) > 0):
             problems.append(f"metric {name!r} needs signal = \"inst.var\", op in {METRIC_OPS} "
-                            "(per_period with period = a positive time [s]) and optionally "
-                            "from / to = the window's start / end time [s] and scale = a factor")
+                            "(per_period with period = a positive time [s], and so "
+                            "cycle_peak_to_peak) and "
+                            "optionally from / to = the window's start / end time [s], scale = "
+                            "a factor and over = \"inst.var\" (the ratio to the op on that signal)")
             continue
         metrics[name] = Metric(spec["signal"], spec["op"], float(spec.get("from", -math.inf)),
                                float(spec.get("to", math.inf)), float(spec.get("scale", 1.0)),
-                               spec.get("period"))
+                               spec.get("period"), spec.get("over"))
     plots = data.get("plots", [])
     for panel in plots:
         if not isinstance(panel, dict) or not isinstance(panel.get("signals"), list):

@@ -38,6 +38,7 @@ def _used_variables(scenario):
     """``{instance: set of variable names}`` that the scenario connects, sets or records."""
     signals = [s for pair in scenario.connections for s in pair]
     signals += [*scenario.record, *(m.signal for m in scenario.metrics.values()),
+                *(m.over for m in scenario.metrics.values() if m.over),
                 *(sig for panel in scenario.plots for sig in panel["signals"])]
     used = {name: set(inst.parameters) for name, inst in scenario.instances.items()}
     for signal in signals:

@@ -73,9 +73,15 @@ BENCHES = {
                 ["valve delay", "supply-pressure drop", "chamber leakage",
                  "pressure-dependent stiffness", "actuator bending on an incline",
                  "friction decay"]),
+    # SPEC 3.1's capstan multiplier under the 150 g weight, bang-bang heated: the relay's
+    # voltage replayed, the middle segment's thermocouple and the laser on the weight observed
+    # (only in the extra multiplier cases, `plan_multiplier`)
+    "multiplier": ("sma-bench-multiplier", ["mult.u"], ["thermocouple.T_meas", "laser.s_meas"],
+                   ["capstan friction", "composition difference", "load inertia"]),
 }
 STOP_TIME = {"crawler": 12.0,  # s: the first stride and three more (the scenario runs 30 s)
-             "weight": 6.0}  # s: two lifts, the second in the held-out part
+             "weight": 6.0,  # s: two lifts, the second in the held-out part
+             "multiplier": 6.0}  # s: the first lift and about ten relay cycles
 LOAD_SHARE = 0.25  # of the effect cases move to a load bench, magnet or weight, with one of its
                    # effects (drawn from their own stream)
 LOAD_BENCHES = ("magnet", "weight")
@@ -103,9 +109,14 @@ MAGNITUDES = {
     "pressure-dependent stiffness": [("body", "k_slope", 0.015, 0.04)],
     "actuator bending on an incline": [(("friction1", "friction2"), "bending", 1.5, 4.0)],
     "friction decay": [(("friction1", "friction2"), "mu_decay", 0.01, 0.02)],
+    # a groove worn or dirty: 2-4 times SPEC 3.1's 0.0237 +/- 0.0037
+    "capstan friction": [("mult", "mu_f", 0.05, 0.1)],
+    # transformation temperatures of NiTi move ~10 K per 0.1 at.% Ni; a few K between batches
+    "composition difference": [("mult", "composition_shift", 3.0, 8.0)],  # sign drawn too
 }
 SIGNED = {"thermocouple bias", "training drift", "electromagnet force nonlinearity",
-          "pressure-dependent stiffness"}
+          "pressure-dependent stiffness", "composition difference"}
+MULTIPLIER_NONE_SHARE = 0.2  # of the multiplier cases hide nothing (false alarms there)
 # (hidden effect, its decoy in the library): both act at high temperatures, or both make the
 # measured temperature trail the wire's model
 DECOYS = [("convection change", "clamp heat loss"), ("thermocouple lag", "latent heat"),
@@ -174,6 +185,31 @@ def plan(count, seed):
                     *OUTSIDE[name]))] for _ in range(int(rng.integers(2, 5)))]
             else:
                 case["strain_drift"] = float(rng.choice([-1, 1]) * rng.uniform(*OUTSIDE[name]))
+        cases.append(case)
+    return cases
+
+
+def plan_multiplier(count, seed):
+    """`count` extra cases on the multiplier bench, from a stream of their own (so the cases of
+    `plan` stay the same): a library effect of the bench at a random magnitude, or (a share
+    `MULTIPLIER_NONE_SHARE`) none; ids ``case-m000``, ...
+
+    Examples
+    --------
+    >>> [c["bench"] for c in plan_multiplier(2, 1)]
+    ['multiplier', 'multiplier']
+    """
+    rng = np.random.default_rng([seed, 13])
+    effects_ = BENCHES["multiplier"][3]
+    cases = []
+    for i in range(count):
+        kind = "none" if rng.random() < MULTIPLIER_NONE_SHARE else "effect"
+        case = {"case": f"case-m{i:03d}", "kind": kind, "bench": "multiplier", "effect": None,
+                "values": {}, "latency_samples": int(rng.integers(0, 2)),
+                "seed": int(rng.integers(0, 2**31))}
+        if kind == "effect":
+            effect = effects_[rng.integers(len(effects_))]
+            case.update(effect=effect, values=_draw(effect, rng))
         cases.append(case)
     return cases
 
@@ -303,8 +339,11 @@ def _make_independent(args):
 
 
 def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, progress=None,
-        bench="own", duration=None):
+        bench="own", duration=None, multiplier=0):
     """Make `count` cases from `seed` into `out`, diagnose them blind, score; return the scores.
+
+    ``multiplier``: that many extra cases on the capstan multiplier's bench (`plan_multiplier`;
+    own bench only), after the `count` cases, which stay as they are without them.
 
     `bench` "own" records on the library's FMUs with hidden effects switched on (cases in
     ``out/cases``, scores at the top of ``out/scores.json``); "independent" on
@@ -319,8 +358,10 @@ def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, 
     top = Path(out)
     out = top / "independent" if bench == "independent" else top
     out.mkdir(parents=True, exist_ok=True)
+    if multiplier and bench != "own":
+        raise UserError("multiplier cases run on the own bench only (--bench own)")
     if bench == "own":
-        cases = plan(count, seed)
+        cases = plan(count, seed) + plan_multiplier(multiplier, seed)
         jobs = (_make, [(c, out, scenarios_dir, fmu_dir) for c in cases])
         oracle = _oracle
     else:
@@ -328,7 +369,7 @@ def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, 
                                       duration or independent_plan.DURATION)
         jobs = (_make_independent, [(c, out, scenarios_dir) for c in cases])
         oracle = independent_plan.oracle
-    say(f"recording {count} cases on the {bench} virtual hardware")
+    say(f"recording {len(cases)} cases on the {bench} virtual hardware")
     pmap(*jobs)
     key = json.dumps({"seed": seed, "cases": cases}, indent=1, sort_keys=True) + "\n"
     # sealed: `sha256sum -c key.sha256` checks key.json once it is written, after the diagnosis

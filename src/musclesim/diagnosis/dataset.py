@@ -535,7 +535,7 @@ def _check_model(ds, fmu_dir, problems):
                 v = m.instances.get(inst) and m.instances[inst].vars.get(var)
                 if v is None:
                     continue  # the scenario itself is at fault, and Master reported it
-                unit = metric_unit(v.unit, sm.op)
+                unit = metric_unit(v.unit, sm.op, sm.over is not None)
                 if not _same_unit(mm.unit, unit):
                     problems.append(f"{MANIFEST}, experiment {e.name!r}: metric {name!r} is in "
                                     f"{mm.unit!r} but the model's is {unit!r}")

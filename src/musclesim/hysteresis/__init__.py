@@ -1,7 +1,11 @@
 """The SMA wire's hysteresis as a study: FORC identification from the identification runs and its
 validation on the virtual wire (SPEC 2.3), the loop explorer (steady peak-to-peak strain of cycled
-temperature bands) and the timing of the Preisach core.
+temperature bands), the long-duration drift test (SPEC 2.6, 3.3) and the timing of the Preisach
+core.
 """
+from musclesim.hysteresis.drift import Protocol as DriftProtocol
+from musclesim.hysteresis.drift import drift_main
+from musclesim.hysteresis.drift import run as drift_test
 from musclesim.hysteresis.identify import identify as identify_forc
 from musclesim.hysteresis.identify import identify_main
 from musclesim.hysteresis.loops import loops as band_loops
@@ -11,4 +15,5 @@ from musclesim.hysteresis.timing import preisach as preisach_timing
 from musclesim.hysteresis.validation import report as validation_report
 
 __all__ = ["identify_forc", "identify_main", "band_loops", "loops_main", "parse_band",
-           "preisach_timing", "format_preisach_timing", "validation_report"]
+           "preisach_timing", "format_preisach_timing", "validation_report", "DriftProtocol",
+           "drift_main", "drift_test"]

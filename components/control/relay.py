@@ -1,0 +1,86 @@
+"""Relay (bang-bang) controller with hysteresis, e.g. SPEC 3.1 c's heating of an SMA wire.
+
+The relay is on or off. Sampled at the communication points, with y the measurement:
+
+    off -> on   when y <= y_on    (falling through the lower threshold: SPEC 3.1 c, 75 C)
+    on  -> off  when y >= y_off   (rising through the upper threshold: SPEC 3.1 c, 90 C)
+    u = u_on when on, u_off when off
+
+Between the thresholds the relay keeps its state, so the switching has hysteresis y_off - y_on.
+The decision at a sample uses that sample's measurement (direct feedthrough), as the study's
+relay on the measured temperature does.
+"""
+import math
+from dataclasses import dataclass
+
+ZERO_C = 273.15
+
+
+@dataclass(frozen=True)
+class RelayParams:
+    """Thresholds, output levels and the initial state (defaults: SPEC 3.1 c in K; the supply
+    voltage is open: see components/control/README.md)."""
+
+    y_on: float = ZERO_C + 75.0  # K: switch on when falling to it (SPEC 3.1 c)
+    y_off: float = ZERO_C + 90.0  # K: switch off when rising to it (SPEC 3.1 c)
+    u_on: float = 1.0  # output when on (a supply voltage [V]: open in SPEC 3.1 c, set per wire)
+    u_off: float = 0.0  # output when off
+    initially_on: float = 1.0  # state at the start when y lies between the thresholds
+
+    def check(self):
+        """Raise ValueError naming the first parameter outside its valid range."""
+        for name in ("y_on", "y_off", "u_on", "u_off"):
+            if not math.isfinite(getattr(self, name)):
+                raise ValueError(f"{name} must be finite (got {getattr(self, name)!r})")
+        if not self.y_on < self.y_off:
+            raise ValueError(f"y_on ({self.y_on!r}) must lie below y_off ({self.y_off!r}): the "
+                             "relay switches on when falling to y_on and off when rising to y_off")
+        if self.initially_on not in (0.0, 1.0):
+            raise ValueError(f"initially_on must be 0 or 1 (got {self.initially_on!r})")
+
+
+def switch(on, y, p):
+    """The relay's state after seeing measurement y in state `on` (a bool).
+
+    Examples
+    --------
+    >>> p = RelayParams(y_on=75.0, y_off=90.0)
+    >>> [switch(True, y, p) for y in (80.0, 90.0)], [switch(False, y, p) for y in (80.0, 75.0)]
+    ([True, False], [False, True])
+    """
+    if math.isnan(y):
+        raise ValueError("the relay's measurement is NaN")
+    if on:
+        return not y >= p.y_off
+    return y <= p.y_on
+
+
+def initial_state(y, p):
+    """State at the start: on below y_on, off above y_off, ``initially_on`` in between."""
+    if y <= p.y_on:
+        return True
+    if y >= p.y_off:
+        return False
+    return p.initially_on == 1.0
+
+
+def output(on, p):
+    """u_on or u_off."""
+    return p.u_on if on else p.u_off
+
+
+def sequence(ys, p):
+    """States after each sample of the measurement trace `ys`, starting from `initial_state`.
+
+    Examples
+    --------
+    >>> p = RelayParams(y_on=75.0, y_off=90.0)
+    >>> sequence([70.0, 85.0, 91.0, 80.0, 74.0], p)
+    [True, True, False, False, True]
+    """
+    on = initial_state(ys[0], p)
+    states = []
+    for y in ys:
+        on = switch(on, y, p)
+        states.append(on)
+    return states

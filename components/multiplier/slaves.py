@@ -1,0 +1,145 @@
+"""FMU slave of the capstan multiplier: a thin adapter over musclesim.components.multiplier.capstan."""
+import math
+from pathlib import Path
+
+from pythonfmu.enums import Fmi2Status
+
+from musclesim.components.multiplier import capstan
+from musclesim.components.sma import datasets, thermal
+from musclesim.fmu import Slave
+
+ZERO_C = 273.15  # K; the FMU speaks K, the cores C
+LOAD_150G = 0.150 * 9.80665  # N, the 150 g weight of the multiplier tests (SPEC 3.1 b)
+N = capstan.MAX_SEGMENTS
+
+
+class CapstanMultiplier(Slave):
+    """SMA wire folded over fixed capstans into segments, each with its own temperature, stress
+    (capstan equation) and Preisach memory; one electrical element; end displacement = sum of the
+    segments' contractions (SPEC 3.1 b). Equations: components/multiplier/README.md.
+
+    Outputs depend on no input directly (like SmaWire), so loads and controllers close loops
+    around it without an algebraic loop. Per-segment outputs beyond ``n_segments`` stay 0.
+    """
+
+    description = ("Capstan multiplier: one SMA wire folded over fixed capstans into segments with "
+                   "their own temperature, stress and hysteresis memory (SPEC 3.1)")
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        t = thermal.ThermalParams()
+        self.parameter("length", capstan.LENGTH, "m", "Total wire length (SPEC 3.1 b: 214 mm)")
+        self.parameter("n_segments", 3.0, "1", f"Number of segments, 1..{N} (SPEC 3.1 b: three, "
+                       "one thermocouple each)")
+        for i in range(1, N + 1):
+            self.parameter(f"segment_length[{i}]", 0.0, "m", f"Length of segment {i} (1 at the "
+                           "clamp); 0 = an equal share of what the others leave of length")
+        for j in range(1, N):
+            self.parameter(f"wrap[{j}]", capstan.WRAP, "rad", f"Angle the wire sweeps on "
+                           f"capstan {j}, between segments {j} and {j + 1} (SPEC 3.1 b: about pi)")
+        self.parameter("mu_f", capstan.MU_F, "1", "Friction coefficient of the wire on the "
+                       "capstans (SPEC 3.1 b: 0.0237, PTFE)")
+        self.parameter("diameter", t.diameter, "m", "Wire diameter (SPEC 3.1 b: 127 um)")
+        self.parameter("density", t.density, "kg/m3", "Density of NiTi (SPEC 5)")
+        self.parameter("specific_heat", t.specific_heat, "J/(kg.K)", "Specific heat of NiTi (SPEC 5)")
+        self.parameter("rho_martensite", t.rho_martensite, "Ohm.m",
+                       "Resistivity of martensite, 80 uOhm cm (SPEC 5)")
+        self.parameter("rho_austenite", t.rho_austenite, "Ohm.m",
+                       "Resistivity of austenite, 100 uOhm cm (SPEC 5)")
+        self.parameter("h", t.h, "W/(m2.K)", "Convection coefficient at 50 K excess (SPEC 5)")
+        self.parameter("T_init", 293.15, "K", "Initial temperature of every segment; the wire "
+                       "starts fully martensitic and heated to it (SPEC 2.2 memory)")
+        self.parameter("drive_current", 0.0, "1",
+                       "Electrical input u: 0 = voltage [V] across the whole wire (default), "
+                       "1 = current [A] through it")
+        self.parameter("hysteresis", 0.0, "1", "Hysteresis data set: 0 = reference wire (1 C "
+                       "grid, 60-200 MPa); k >= 1 = FORC data set k of sma/data/forc-sets.toml")
+        self.parameter("composition_shift", 0.0, "K", "Composition difference (effect, 0 = off): "
+                       "the wire's hysteresis sees T - shift, transforming shift hotter")
+        self.input("u", 0.0, "1", "Electrical input: voltage across the wire [V], or current "
+                   "through it [A] when drive_current = 1")
+        self.input("T_amb", 293.15, "K", "Ambient air temperature")
+        self.input("flange.f", LOAD_150G, "N", "Tensile load at the wire's load end, positive "
+                   "pulling (start: a 150 g weight, SPEC 3.1 b)")
+        self.output("flange.s", "m", "End displacement: sum of the segments' contractions; "
+                    "positive = the load end moves toward the clamp")
+        self.output("strain", "1", "Mean strain flange.s / length")
+        self.output("T", "K", "Length-weighted mean temperature of the segments")
+        self.output("stress", "Pa", "Stress at the load end flange.f / cross-section over the "
+                    "last step")
+        self.output("R", "Ohm", "Series resistance of the segments (SPEC 5 per-metre values)")
+        self.output("P", "W", "Joule heating power over the last step (input held, resistances "
+                    "at its start)")
+        for i in range(1, N + 1):
+            self.output(f"segment[{i}].T", "K", f"Temperature of segment {i} (0 if unused)")
+            self.output(f"segment[{i}].strain", "1", f"Strain of segment {i}, contraction / its "
+                        "length (0 if unused)")
+            self.output(f"segment[{i}].stress", "Pa", f"Stress of segment {i}, capstan-scaled "
+                        "from the load end (0 if unused)")
+
+    def setup(self):
+        if self.drive_current not in (0.0, 1.0):
+            raise ValueError(f"drive_current must be 0 (voltage) or 1 (current), "
+                             f"got {self.drive_current!r}")
+        if not self.T_init > 0:
+            raise ValueError(f"T_init must be positive in K (got {self.T_init!r})")
+        n = self.n_segments
+        if not (n == int(n) and 1 <= n <= N):
+            raise ValueError(f"n_segments must be an integer within 1..{N} (got {n!r})")
+        n = int(n)
+        wire = thermal.ThermalParams(
+            length=self.length, diameter=self.diameter, density=self.density,
+            specific_heat=self.specific_heat, rho_martensite=self.rho_martensite,
+            rho_austenite=self.rho_austenite, h=self.h,
+            drive="current" if self.drive_current == 1 else "voltage")
+        self.p = capstan.CapstanParams(
+            length=self.length, n_segments=n,
+            segment_lengths=tuple(getattr(self, f"segment_length[{i}]") for i in range(1, n + 1)),
+            wraps=tuple(getattr(self, f"wrap[{j}]") for j in range(1, n)),
+            mu_f=self.mu_f, composition_shift=self.composition_shift, wire=wire)
+        self.p.check()
+        self.surface = datasets.surface(self.hysteresis, 0.0, _data_root(self))
+        self._start()
+
+    def initialize(self):
+        self._start()  # the inputs (ambient, load) are known now
+
+    def _start(self):
+        self.core = capstan.Multiplier(self.p, self.surface)
+        self._logged(self.core.start, self.T_init - ZERO_C, self.flange_f, self.time, self.u)
+        self.stress_held = self.flange_f / self.core.area
+
+    def evaluate(self):
+        core = self.core
+        s = core.displacement()
+        self.flange_s = s
+        self.strain = core.mean_strain()
+        self.T = core.mean_temperature() + ZERO_C
+        self.stress = self.stress_held
+        self.R = core.resistance()
+        self.P = core.power
+        for i, seg in enumerate(core.segments, start=1):
+            setattr(self, f"segment[{i}]_T", seg.T_C + ZERO_C)
+            setattr(self, f"segment[{i}]_strain", seg.eps)
+            setattr(self, f"segment[{i}]_stress", seg.sigma)
+
+    def advance(self, t, dt):
+        for name, value in (("u", self.u), ("T_amb", self.T_amb), ("flange.f", self.flange_f)):
+            if not math.isfinite(value):
+                raise ValueError(f"input {name} is {value!r} at t = {t:g} s")
+        self._logged(self.core.step, self.u, self.T_amb - ZERO_C, self.flange_f, t, dt)
+        self.stress_held = self.flange_f / self.core.area
+
+    def _logged(self, call, *args):
+        """call(*args) with the core's one-time range warnings sent to the FMU log."""
+        result, messages = capstan.caught_warnings(call, *args)
+        for message in messages:
+            self.log(message, Fmi2Status.warning)
+        return result
+
+
+def _data_root(slave):
+    """The SMA data files the FMU ships (the folder first imported from may be gone)."""
+    if slave.resources is None:
+        return datasets.PACKAGE_DIR
+    return Path(slave.resources) / "musclesim" / "components" / "sma"

@@ -1,0 +1,121 @@
+"""The fast-actuation scenarios of SPEC 3.1 c, shortened, and the metric ops they report with.
+
+Topologies::
+
+    bands:     reference --r--> pid_m --u [A]--> mult --segment[2].T--> tc_m --> pid_m (y)
+               weight_m <--flange.s/flange.f--> mult       (and the same chain for the 56 mm wire)
+    bang-bang: tc --T--> relay --u [V]--> wire --T--> tc;  weight <--> wire   (two chains)
+    pulse:     pulses --u [V]--> mult <--flange.s/flange.f--> spring
+"""
+import math
+
+import numpy as np
+import pytest
+
+from musclesim.cosim import compute_metrics, master, scenario
+from musclesim.cosim.master import Results
+from musclesim.errors import UserError
+
+from conftest import SCENARIOS
+
+NEW = ["sma-multiplier-bands", "sma-multiplier-band-50-100", "sma-multiplier-band-60-90",
+       "sma-multiplier-bang-bang", "sma-multiplier-pulse", "sma-drift"]
+
+
+def run(name, fmu_dir, stop_time, overrides=()):
+    s = scenario.load(SCENARIOS / f"{name}.toml", list(overrides), stop_time=stop_time)
+    res = master.Master(s, fmu_dir).run()
+    assert res.error is None, res.error
+    return s, res, compute_metrics(res, s.metrics)
+
+
+@pytest.mark.parametrize("name", NEW)
+def test_scenarios_load_and_name_their_spec(name):
+    s = scenario.load(SCENARIOS / f"{name}.toml")
+    assert s.spec.startswith("SPEC.md") and s.metrics
+
+
+# --- metric ops -------------------------------------------------------------------------------
+
+def _results(t, **signals):
+    return Results(time=t, names=list(signals), data=np.column_stack(list(signals.values())))
+
+
+def test_frequency_cycle_peak_to_peak_and_ratio_ops():
+    t = np.arange(3001) * 1e-3  # 0..3 s
+    y = np.sin(2 * math.pi * 2.0 * t)  # 2 Hz
+    pulses = (np.mod(t, 0.5) < 0.1) * (1.0 + t)  # 0 or 1 + t: peak-to-peak 1.099 + its start
+    res = _results(t, y=y, half=0.5 * y, pulses=pulses)
+    M = scenario.Metric
+    out = compute_metrics(res, {
+        "f": M("y", "frequency"),
+        "ratio": M("y", "peak_to_peak", over="half"),
+        "cycles": M("pulses", "cycle_peak_to_peak", period=0.5, start=1.0),
+        "flat": M("half", "frequency", start=2.9999),
+        "no_ratio": M("y", "peak_to_peak", over="half", start=2.9999),  # one sample: ptp 0
+    })
+    assert out["f"] == pytest.approx(2.0, rel=1e-6)
+    assert out["ratio"] == pytest.approx(2.0, rel=1e-12)
+    # whole periods from 1.0 s: 1.0-1.5 ... 2.5-3.0 (4), the sample at 3.0 s starts a fifth
+    assert out["cycles"] == pytest.approx(np.mean([2.099, 2.599, 3.099, 3.599]), rel=1e-9)
+    assert math.isnan(out["flat"])  # no crossing in its window
+    assert math.isnan(out["no_ratio"])  # over a signal whose op is 0
+
+
+def test_a_periodic_op_without_a_period_is_refused(tmp_path):
+    text = (SCENARIOS / "sma-multiplier-pulse.toml").read_text()
+    bad = tmp_path / "bad.toml"
+    bad.write_text(text.replace('op = "cycle_peak_to_peak", period = 0.05,',
+                                'op = "cycle_peak_to_peak",', 1))
+    with pytest.raises(UserError, match="metric 'mean_p2p' needs"):
+        scenario.load(bad)
+
+
+# --- the scenarios ----------------------------------------------------------------------------
+
+def test_without_friction_the_multiplier_moves_the_length_ratio_times_more(fmu_dir):
+    # current drive: a frictionless fold is the straight wire per unit length, so the ratio of
+    # the displacements is the ratio of the lengths, n = 214 / 56 (SPEC 3.1 b)
+    _, res, m = run("sma-multiplier-band-60-90", fmu_dir, 40.0, ["mult.mu_f=0.0"])
+    assert m["ratio"] == pytest.approx(0.214 / 0.056, rel=1e-6)
+    assert m["ratio"] == pytest.approx(m["multiplier_p2p"] / m["straight_p2p"], rel=1e-12)
+    assert m["tracking_rms_multiplier"] < 0.1  # K
+
+
+def test_with_friction_the_clamp_segments_carry_more_and_move_more(fmu_dir):
+    _, res, m = run("sma-multiplier-band-60-90", fmu_dir, 40.0)
+    ratio = math.exp(0.0237 * math.pi)
+    np.testing.assert_allclose(res["mult.segment[1].stress"], res["mult.segment[3].stress"]
+                               * ratio ** 2, rtol=1e-14)
+    # the minor loop 60-90 C grows with stress (SPEC 2.3): more than n
+    assert m["ratio"] > 0.214 / 0.056 * 1.02
+    late = res.time >= 20.0
+    assert np.ptp(res["mult.segment[1].strain"][late]) > np.ptp(res["mult.segment[3].strain"][late])
+
+
+def test_bang_bang_holds_the_measured_temperature_between_the_thresholds(fmu_dir):
+    _, res, _ = run("sma-multiplier-bang-bang", fmu_dir, 4.0)
+    late = res.time >= 1.0
+    for T, on in (("mult.segment[2].T", "relay_m.on"), ("wire.T", "relay_s.on")):
+        assert 348.15 - 0.2 < res[T][late].min() and res[T][late].max() < 363.15 + 0.2
+        switches = np.flatnonzero(np.diff(res[on][late]) > 0)
+        assert len(switches) >= 4  # the relay oscillates
+        # every switch-on follows a fall to 75 C, every switch-off a rise to 90 C
+        assert np.all(res[T][late][switches + 1] <= 348.15)
+    # the displacement's frequency is the relay's
+    on_times = res.time[late][np.flatnonzero(np.diff(res["relay_s.on"][late]) > 0) + 1]
+    f = compute_metrics(res, {"f": scenario.Metric("wire.flange.s", "frequency", start=1.0)})["f"]
+    assert f == pytest.approx(
+        (len(on_times) - 1) / (on_times[-1] - on_times[0]), rel=0.05)
+
+
+def test_pulses_are_7_5_ms_of_13_125_V_every_50_ms(fmu_dir):
+    s, res, m = run("sma-multiplier-pulse", fmu_dir, 1.0)
+    u = res["pulses.y"][:-1]  # held over each step
+    per_period = u.reshape(-1, round(0.05 / s.step))
+    # high over steps 1..30 of each period (the wave is delayed by half a step)
+    assert np.all(per_period[:, 1:31] == 13.125)
+    assert np.all(per_period[:, 31:] == 0.0) and np.all(per_period[:, 0] == 0.0)
+    assert res["mult.flange.s"][-1] > 0.005  # the first pulses contract it against the spring
+    assert res["spring.flange.f"][-1] == pytest.approx(
+        1.5834609 + 490.0 * res["mult.flange.s"][-1], rel=1e-6)
