@@ -28,11 +28,17 @@ class _ScalarSensor(Slave):
     def setup(self):
         self.params = self.core_params(sensor.SensorParams)  # not self.p: PressureSensor reads "p"
         self.rng = sensor.make_rng(self.params)
-        self.held, self.weight = 0.0, 1.0  # the element settled on the signal
+        self._settle()
         self.noise = sensor.noise_sample(self.params, self.rng)
 
     def initialize(self):
-        self.held, self.weight = 0.0, 1.0  # the sensing element starts settled on the signal
+        self._settle()
+
+    def _settle(self):
+        """The sensing element settled on the signal's present value (without a lag, the
+        reading is the signal itself)."""
+        u = getattr(self, self.signal)
+        self.held, self.weight = (0.0, 1.0) if self.params.tau <= 0 else (u, 0.0)
 
     def _element(self):
         """The sensing element's value now: what the past steps left plus the present signal's
