@@ -213,3 +213,17 @@ def test_scores_of_the_independent_bench_and_their_place_in_scores_json(tmp_path
     assert written["top1_accuracy"] == own["top1_accuracy"]
     assert written["independent"]["bench"] == "independent"
     assert written["independent"]["false_alarm_rate"] == 0.0
+
+
+def test_a_small_blind_run_on_the_independent_bench(fmu_dir, tmp_path):
+    """Seed 22's four cases (20 s each): no hidden effect, a coated thermocouple, a latent heat
+    posing as a lag, a clamp that slips. Measured scores of this diagnosis, asserted."""
+    scores = blind.run(4, 22, tmp_path, fmu_dir=fmu_dir, scenarios_dir=ROOT / "scenarios",
+                       bench="independent", duration=20.0)
+    kinds = {r["kind"]: r for r in scores["per_case"]}
+    assert set(kinds) == {"none", "effect", "decoy", "outside"}
+    assert kinds["effect"]["truth"] == "thermocouple lag"
+    assert scores["top1_accuracy"] == 1.0 and scores["false_alarm_rate"] == 0.0
+    assert scores["unexplained_rate"] == 1.0 and scores["shrinkage_vs_oracle"] > 0.9
+    saved = json.loads((tmp_path / "scores.json").read_text())
+    assert saved["independent"]["cases"] == 4

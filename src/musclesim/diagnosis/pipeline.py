@@ -50,9 +50,9 @@ above in `musclesim.diagnosis.thresholds`, the units in `.problem`, simulation a
 selection and verdict in `.selection`.
 """
 from musclesim.batch import serial_map
-from musclesim.cosim import reuse_fmus
+from musclesim.cosim import reuse_fmus, split_signal
 from musclesim.diagnosis.fitting import fit_task, known_columns, values_of
-from musclesim.diagnosis.problem import Problem
+from musclesim.diagnosis.problem import Problem, affected
 from musclesim.diagnosis.regimes import regime_table, regimes
 from musclesim.diagnosis.selection import (calibration, calibration_table, candidates,
                                            cross_signal, rank, select, verdict)
@@ -91,15 +91,19 @@ def _diagnose(ds, fmu_dir, pmap, say, traces):
                       explanation=explanation, noise_floor=floor, complete=True)
         _shrinkage(problem, report, {}, {}, traces)
         return report
+    # calibrated with the loops cut open at the measurements (every measured signal replayed):
+    # a closed loop's phase would pull nominal values anywhere to match an oscillation
+    cut = problem.replayed()
+    res_cut = res_whole if problem.scalar_only else residuals(cut, simulate(cut, {}, fmu_dir))
     say(f"2/5 calibrating the model and {len(units)} isolation unit(s) on the training part")
-    cal, isolated = _calibrate(problem, report, (whole, res_whole), units, pmap)
+    cal, isolated = _calibrate(problem, report, (cut, res_cut), units, pmap)
     say("3/5 isolating components (each unit calibrated)")
     suspects = _where(problem, report, isolated)
     masks = regimes(problem, whole)
-    report["regimes"] = regime_table(whole, cal["residuals"], masks)
+    report["regimes"] = regime_table(cut, cal["residuals"], masks)
     values = {}
-    if not deviates(whole, cal["residuals"]) and not any(u["deviates"] for u in isolated):
-        floor = noise_floor(whole)
+    if not deviates(cut, cal["residuals"]) and not any(u["deviates"] for u in isolated):
+        floor = noise_floor(cut)
         report.update(effects=[], selected=[], verdict="recalibration", complete=True,
                       noise_floor=floor, explanation=(
                           f"calibration alone takes the held-out gap from "
@@ -107,7 +111,7 @@ def _diagnose(ds, fmu_dir, pmap, say, traces):
                           f"{report['calibration']['heldout_gap_after']:.3g}, within the noise "
                           f"(floor {floor:.3g}): no unmodelled effect is needed"))
     else:
-        fitting = _fit_unit((whole, cal), isolated, suspects)
+        fitting = _fit_unit((cut, cal), isolated, suspects)
         report["fit_unit"] = {"instances": list(fitting[0].instances),
                               "observed": list(fitting[0].observed),
                               "latency": fitting[1]["latency"]}
@@ -132,9 +136,14 @@ def _gap_section(problem, whole, sims, res_whole):
 
 
 def _same(unit, whole):
-    """Whether isolation `unit` simulates exactly what `whole` does."""
-    return (unit.instances == whole.instances and unit.observed == whole.observed
-            and all(a.inputs.keys() == b.inputs.keys() for a, b in zip(unit.runs, whole.runs)))
+    """Whether isolation `unit` simulates what `whole` does: the same observed signals from the
+    same instances (those of `whole` that act on an observed signal) fed the same replays."""
+    if unit.observed != whole.observed:
+        return False
+    acting = {i for i in whole.instances if affected(whole, (i,))}
+    return acting == set(unit.instances) and all(
+        {k for k in a.inputs if split_signal(k)[0] in acting} == set(b.inputs)
+        for a, b in zip(whole.runs, unit.runs))
 
 
 def _nominal_units(problem):
@@ -151,12 +160,14 @@ def _nominal_units(problem):
 
 
 def _calibrate(problem, report, whole, units, pmap):
-    """Section 2 into `report` (``calibration``): the calibration parameters of the whole model
-    and, separately, of every isolation unit fitted on the training part from the nominal values
+    """Section 2 into `report` (``calibration``): the calibration parameters of the model with
+    every measured signal replayed (`whole`: that unit and its nominal residuals) and,
+    separately, of every isolation unit fitted on the training part from the nominal values
     (one mapped task each): a unit is judged on its own calibration, so that calibrating the
-    whole model around a sensor's fault cannot make the plant's unit deviate. Return the whole
-    model's calibration ({"free", "values", "residuals", "jac"}) and the isolation results
-    [{"unit", "gap", "floor", "deviates", "res", "calibration"}] (calibrated)."""
+    whole model around a sensor's fault cannot make the plant's unit deviate. Return the
+    model's calibration ({"free", "values", "residuals", "jac", "latency", "nominal_gap"}) and
+    the isolation results [{"unit", "gap", "floor", "deviates", "res", "calibration"}]
+    (calibrated)."""
     whole, res_whole = whole
     jobs = [(u, calibration(problem, u)) for u in [whole] + [i["unit"] for i in units]]
     # a unit that is the whole model again (the same instances, signals and replays) is
@@ -178,6 +189,8 @@ def _calibrate(problem, report, whole, units, pmap):
             cals.append({"free": free, "values": values_of(free, f["x"]), "jac": f["jac"],
                          "residuals": f["residuals"], "table": calibration_table(free, f),
                          "fit": f, "latency": f["latency"]})
+    for c, nominal, (u, _) in zip(cals, [res_whole] + [i["nominal"] for i in units], jobs):
+        c["nominal_gap"] = gap(u, nominal, 1)
     cal = cals[0]
     report["calibration"] = {
         "parameters": cal["table"], "latency": cal["latency"],
@@ -233,8 +246,9 @@ def _locate(problem, isolated):
 
 def _fit_unit(whole, isolated, suspects):
     """(unit, its calibration, suspects): the unit the candidates are fitted in, the smallest
-    deviating isolation unit holding every suspect, else the whole model (whose every instance
-    is a suspect when none was located). `whole`: (the whole model, its calibration)."""
+    deviating isolation unit holding every suspect, else the model with every measured signal
+    replayed (whose every instance is a suspect when none was located). `whole`: (that model,
+    its calibration)."""
     whole, cal = whole
     if not suspects:
         return whole, cal, set(whole.instances)
@@ -268,10 +282,7 @@ def _which_effect(problem, report, fitting, pmap, say):
     report["effects"] = entries
     report["selected"] = [e["name"] for e in selected]
     report["consistency"] = cross_signal(unit, entries, selected)
-    nominal = report["gap"]["heldout_gap"] if unit.name == "model" else next(
-        u["heldout_gap_nominal"] for u in report["units"]
-        if u["instances"] == list(unit.instances))
-    gaps = {"nominal": nominal, "calibrated": base["heldout_gap"]}
+    gaps = {"nominal": cal["nominal_gap"], "calibrated": base["heldout_gap"]}
     report["verdict"], report["explanation"], report["complete"] = verdict(
         selected, final, gaps, floor, report["calibration"]["parameters"])
     report["noise_floor"] = floor

@@ -111,7 +111,7 @@ def _md_where(report):
         L += ["No component can be isolated (scalar-only data or no measured internal signal)."]
     reg = report.get("regimes", {})
     if reg.get("by_regime"):
-        L += ["", "Nominal gap by regime:", "", "| regime | share of samples | gap |",
+        L += ["", "Calibrated gap by regime:", "", "| regime | share of samples | gap |",
               "|---|---|---|"]
         L += [f"| {k} ({v['description']}) | {_num(v['fraction'], '.2f')} | {_num(v['gap'])} |"
               for k, v in reg["by_regime"].items()]

@@ -63,7 +63,8 @@ def _by_component(unit, instances):
 
 def calibration(problem, unit, instances=None):
     """The calibration parameters (`Free`, absolute bounds) of the components of `instances`
-    (default: all of `unit`'s), one per component and parameter for all its instances together.
+    (default: all of `unit`'s) that act on an observed signal, one per component and parameter
+    for all its instances together.
     A value the data set states as a bench condition (``[conditions]``) is fixed, not
     calibrated, and so is an input the scenario connects or the data set replays. Nothing is
     calibrated when the training part holds fewer than MIN_VALUES_PER_PARAMETER values per
@@ -73,7 +74,8 @@ def calibration(problem, unit, instances=None):
     taken = set(problem.ds.conditions) | {dst for _, dst in s.connections}
     taken |= set().union(*(run.inputs for run in unit.runs))
     out = []
-    for comp, insts in _by_component(unit, instances or unit.instances).items():
+    acting = [i for i in instances or unit.instances if affected(unit, (i,))]
+    for comp, insts in _by_component(unit, acting).items():
         for c in calibration_of(comp):
             free = tuple(i for i in insts if f"{i}.{c.name}" not in taken)
             if free:
@@ -304,15 +306,19 @@ def cross_signal(unit, entries, selected):
         return ", ".join(f"{c} {ps[c]['before']:.3g} -> {ps[c]['after']:.3g}" for c in cols
                          if c in ps)
 
-    others = [c for c in shared[source] if c not in j["signals"]]
-    what = "the selected" if selected else "the best-ranked (not counting)"
+    others = [c for c in shared[source] if c not in j["signals"] and c in ps]
+    what = "The selected" if selected else "The best-ranked (not counting)"
+    unsure = "" if e["counts"] else " (it does not count, so nothing is placed)"
     if others:
+        agree = [c for c in others if ps[c]["after"] <= DEVIATES * unit.noise[c]]
+        tail = (f"with it (the calibration refitted) {', '.join(others)} agree with the model of "
+                f"{source} within the noise ({change(others)}): the gap is placed in the sensor, "
+                f"not in {source}" if len(agree) == len(others) else
+                f"{', '.join(c for c in others if c not in agree)} still deviate "
+                f"({change(others)}): {source} differs from its model too")
         return (f"{', '.join(shared[source])} all depend on the state of {source}. {what} "
-                f"{e['label']} can change only {', '.join(j['signals'])} ({change(j['signals'])}); "
-                f"{', '.join(others)} ({change(others)}) must then agree with the calibrated "
-                f"{source}: the gap is placed in the sensor, not in {source}"
-                + ("" if e["counts"] else " (it does not count, so nothing is placed)") + ".")
-    return (f"{', '.join(shared[source])} all depend on the state of {source}; {what} "
+                f"{e['label']} can change only {', '.join(j['signals'])} "
+                f"({change(j['signals'])}); {tail}{unsure}.")
+    return (f"{', '.join(shared[source])} all depend on the state of {source}; {what.lower()} "
             f"{e['label']} acts on it and changes them together ({change(j['signals'])}): the gap "
-            f"is placed in {source}, where the signals agree, not in one sensor"
-            + ("" if e["counts"] else " (it does not count, so nothing is placed)") + ".")
+            f"is placed in {source}, where the signals agree, not in one sensor{unsure}.")
