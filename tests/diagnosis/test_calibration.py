@@ -20,11 +20,12 @@ OBSERVED = ["thermocouple.T_meas", "wire.strain"]
 OFFSETS = {"wire.h": 115.0, "wire.hysteresis_shift": 2.0, "wire.strain_scale": 0.96}
 
 
-def record(path, overrides, stated=None, seed=1, stop=30.0, bench=BENCH, inputs=("pid.u",)):
+def record(path, overrides, fmus, stated=None, seed=1, stop=30.0, bench=BENCH,
+           inputs=("pid.u",)):
     """Run `bench` with `overrides` and write its data set (`inputs` replayed, thermocouple and
     strain observed, with noise and quantisation)."""
     s = load_scenario(bench, [f"{k}={v!r}" for k, v in overrides.items()], stop_time=stop)
-    res = Master(s, "fmus").run()
+    res = Master(s, fmus).run()
     assert res.error is None, res.error
     rng = np.random.default_rng(seed)
     cols = {c: res[c] for c in inputs}
@@ -42,7 +43,7 @@ def fmus(fmu_dir):
 
 def test_calibration_recovers_known_offsets(fmus, tmp_path):
     truth = {**OFFSETS, "wire.T_amb": 296.15, "wire.specific_heat": 800.0}
-    ds = record(tmp_path / "ds", truth)
+    ds = record(tmp_path / "ds", truth, fmus)
     with reuse_fmus():
         problem = Problem(ds, fmus)
         whole = problem.unit("model")
@@ -70,7 +71,7 @@ def lag_cases(fmus, tmp_path_factory):
     """The same offset bench with and without a 0.3 s thermocouple lag, diagnosed."""
     out = {}
     for name, extra in (("lag", {"thermocouple.tau": 0.3}), ("none", {})):
-        ds = record(tmp_path_factory.mktemp(name) / "ds", {**OFFSETS, **extra})
+        ds = record(tmp_path_factory.mktemp(name) / "ds", {**OFFSETS, **extra}, fmus)
         out[name] = diagnose(ds, fmus)
     return out
 
@@ -106,7 +107,7 @@ def test_a_sensor_offset_and_an_ambient_offset_are_told_apart(fmus, tmp_path):
     warmer than the model's, not stated. The strain reads the wire's true temperature through
     the hysteresis, the thermocouple does not; at rest the wire is at the stated ambient."""
     bench = {"bench": STRESS_BENCH, "inputs": ("wire.u", "wire.flange.f"), "stop": 40.0}
-    sensor = diagnose(record(tmp_path / "bias", {**ON_OFF, "thermocouple.bias": -3.0},
+    sensor = diagnose(record(tmp_path / "bias", {**ON_OFF, "thermocouple.bias": -3.0}, fmus,
                              stated={"wire.T_amb": 293.15}, **bench), fmus)
     assert sensor["verdict"] == "thermocouple bias"
     best = sensor["effects"][0]
@@ -115,7 +116,7 @@ def test_a_sensor_offset_and_an_ambient_offset_are_told_apart(fmus, tmp_path):
     assert best["parameters"]["bias"]["value"] == pytest.approx(-3.0, rel=0.2)
     assert best["judged"]["signals"] == ["thermocouple.T_meas"]
     assert "placed in the sensor" in sensor["consistency"]
-    ambient = diagnose(record(tmp_path / "ambient", {**ON_OFF, "wire.T_amb": 297.15},
+    ambient = diagnose(record(tmp_path / "ambient", {**ON_OFF, "wire.T_amb": 297.15}, fmus,
                               **bench), fmus)
     assert ambient["verdict"] in ("recalibration", "none")
     assert ambient["calibration"]["parameters"]["wire.T_amb"]["value"] == pytest.approx(
