@@ -6,7 +6,7 @@ from pathlib import Path
 
 from pythonfmu.enums import Fmi2Status
 
-from musclesim.components.sma import datasets, drift, thermal
+from musclesim.components.sma import datasets, drift, ends, thermal
 from musclesim.components.sma.inverse import InverseBases
 from musclesim.components.sma.inverse import PreisachInverse as InverseCore
 from musclesim.components.sma.preisach import PreisachModel
@@ -31,8 +31,11 @@ class SmaWire(Slave):
     power are those of the step just taken), so the wire closes loops with controllers and loads
     without an algebraic loop. Temperatures outside the data set's grid (30..130 C)
     saturate the hysteresis (SPEC 2.1); stresses outside its stresses are clamped with one warning
-    in the FMU log. Effects (latent heat, clamp loss, h(T), drift, stress ignored and partly restored) are off by
-    default. Equations: components/sma/README.md.
+    in the FMU log. Effects (latent heat, cold ends, h(T), drift, stress ignored and partly
+    restored) are off by default. With cold ends (`end_cooling` > 0, `ends`) the temperature T is
+    the core's, and each end zone has its own hysteresis memory at its own temperature; strain,
+    resistance and power are the wire's, averaged over its length. Equations:
+    components/sma/README.md.
     """
 
     description = ("SMA wire: lumped thermal model with phase-dependent resistance and modified "
@@ -64,8 +67,11 @@ class SmaWire(Slave):
                        "stress_blend (stress - sigma_surface) on the stress-aware data set")
         self.parameter("latent_heat", t.latent_heat, "J/kg",
                        "Latent heat of transformation (effect, 0 = off; 12e3-24e3 on, SPEC 5)")
-        self.parameter("clamp_conductance", t.clamp_conductance, "W/K",
-                       "Heat loss through the clamps at ambient (effect, 0 = off; ~2e-4 on)")
+        self.parameter("end_cooling", 0.0, "1", "Cold ends: share of the core's excess "
+                       "temperature lost at the clamps, G_c / (G_c + G_fin) (effect, 0 = off: "
+                       "insulating clamps; metal clamps ~0.9; SPEC 4, 5)")
+        self.parameter("conductivity", 18.0, "W/(m.K)", "Thermal conductivity of NiTi, sets "
+                       "the cold ends' fin length (SPEC 5)")
         self.parameter("h_exponent", t.h_exponent, "1", "Convection h (|T - T_amb| / 50 K)^n "
                        "(effect, 0 = off; 0.06-0.15 on, SPEC 5)")
         self.parameter("drift_amplitude", d.amplitude_change, "1", "Training/fatigue drift: "
@@ -116,8 +122,7 @@ class SmaWire(Slave):
             specific_heat=self.specific_heat, rho_martensite=self.rho_martensite,
             rho_austenite=self.rho_austenite, h=self.h,
             drive="current" if self.drive_current == 1 else "voltage",
-            latent_heat=self.latent_heat, clamp_conductance=self.clamp_conductance,
-            h_exponent=self.h_exponent)
+            latent_heat=self.latent_heat, h_exponent=self.h_exponent)
         self.p.check()
         self.dp = drift.DriftParams(amplitude_change=self.drift_amplitude, shift=self.drift_shift,
                                     cycles_to_settle=self.drift_settle_cycles)
@@ -129,6 +134,8 @@ class SmaWire(Slave):
         if self.blend:
             self.surface = datasets.surface(self.hysteresis, 0.0, root)
         self.area = thermal.cross_section(self.p)
+        self.zones = ends.zones(self.end_cooling, self.length, self.diameter, self.conductivity,
+                                self.h)
         self._warned = set()
         self._eps_max_at = (None, None)  # (stress, F(a0, b0; stress)): the last one computed
         self._start()
@@ -141,10 +148,9 @@ class SmaWire(Slave):
         self.T_C = self.T_init - ZERO_C
         self.cycles = self.drift_cycles_start
         self.model = PreisachModel(self.surface)
+        self.zone_models = [PreisachModel(self.surface) for _ in self.zones]
         sigma = self._stress(self.time)
-        eps = self.model.reset(self._seen(self.T_C), sigma, self.time)
-        self.xi = thermal.martensite_fraction(eps, self._eps_max(sigma))
-        self.eps = self.strain_scale * drift.strain_scale(self.cycles, self.dp) * eps
+        self._strains(self.T_C, lambda m, T: m.reset(T, sigma, self.time), sigma)
         self.stress_held = self.flange_f / self.area
         self.P_held = thermal.joule_power(self.u, self.xi, self.p)
 
@@ -164,20 +170,41 @@ class SmaWire(Slave):
         sigma = self._stress(t)
         eps_max = self._eps_max(sigma)
         shift = drift.temperature_shift(self.cycles, self.dp)
-        inputs = thermal.ThermalInputs(self.u, self.T_amb - ZERO_C, self.xi)
+        inputs = thermal.ThermalInputs(self._core_drive(), self.T_amb - ZERO_C, self.xi_core)
         if p.latent_heat == 0:  # the nominal path: no trial steps of the hysteresis model
             T_new = thermal.step(self.T_C, inputs, dt, p)
         else:
             def xi_at(T):
                 return thermal.martensite_fraction(model.peek(self._seen(T, shift), sigma), eps_max)
             T_new = thermal.step_coupled(self.T_C, inputs, dt, p, xi_at)[0]
-        eps = model.step(self._seen(T_new, shift), sigma, t + dt)
-        xi_new = thermal.martensite_fraction(eps, eps_max)
-        self.eps = self.strain_scale * drift.strain_scale(self.cycles, self.dp) * eps
-        self.cycles = drift.count_cycles(self.cycles, self.xi, xi_new)
+        xi_old = self.xi
+        self.P_held = thermal.joule_power(self.u, xi_old, p)
+        self._strains(T_new, lambda m, T: m.step(T, sigma, t + dt), sigma, shift)
+        self.cycles = drift.count_cycles(self.cycles, xi_old, self.xi)
         self.stress_held = self.flange_f / self.area
-        self.P_held = thermal.joule_power(self.u, self.xi, p)
-        self.T_C, self.xi = T_new, xi_new
+        self.T_C = T_new
+
+    def _strains(self, T_core, call, sigma, shift=0.0):
+        """Step (or reset) the hysteresis memories with `call(model, seen temperature)`: the
+        core's at `T_core`, each cold end zone's at its own temperature; set the strain and the
+        martensite fractions of the core (its heating) and of the wire (its resistance)."""
+        eps_max = self._eps_max(sigma)
+        eps_core = eps = call(self.model, self._seen(T_core, shift))
+        if self.zones:
+            temps = ends.zone_temperatures(T_core, self.T_amb - ZERO_C, self.zones)
+            eps = (1 - sum(w for w, _ in self.zones)) * eps_core + sum(
+                w * call(m, self._seen(T, shift))
+                for (w, _), m, T in zip(self.zones, self.zone_models, temps))
+        self.xi_core = thermal.martensite_fraction(eps_core, eps_max)
+        self.xi = thermal.martensite_fraction(eps, eps_max)
+        self.eps = self.strain_scale * drift.strain_scale(self.cycles, self.dp) * eps
+
+    def _core_drive(self):
+        """The input that heats the core as the wire's current does: under voltage drive the
+        current is set by the whole wire's resistance, the core heats at its own resistivity."""
+        if not self.zones or self.p.drive == "current":
+            return self.u
+        return self.u * thermal.resistance(self.xi_core, self.p) / thermal.resistance(self.xi, self.p)
 
     def _seen(self, T, shift=0.0):
         """Temperature [C] the hysteresis sees: shifted (drift, calibration), saturated at the

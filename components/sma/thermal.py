@@ -1,11 +1,12 @@
 """Lumped thermal model of an SMA wire (SPEC 2.1, data SPEC 5), candidate effects off by default.
 
-    m c_p dT/dt = P(u, xi) + m L xi_rate - h(T) A_s (T - T_amb) - G_clamp (T - T_clamp)
+    m c_p dT/dt = P(u, xi) + m L xi_rate - h(T) A_s (T - T_amb)
 
 P = R(xi) I^2 under current drive or V^2 / R(xi) under voltage drive, R(xi) = L (xi rho_M +
 (1 - xi) rho_A) / A with xi the martensite fraction. Effects (issue 3): latent heat L (heat
-absorbed while austenite forms, xi falling), conductive loss G_clamp to the clamps, and convection
-h(T) = h (|T - T_amb| / dT_ref)^n growing with the excess temperature. Temperatures in degrees C.
+absorbed while austenite forms, xi falling) and convection h(T) = h (|T - T_amb| / dT_ref)^n
+growing with the excess temperature; heat lost into the clamps leaves this balance of the wire's
+core unchanged and cools its ends (`ends`). Temperatures in degrees C.
 The update is exponential (Rosenbrock-Euler): exact in one step when h is constant and the inputs
 are held, sub-stepped with h(T), stable at any step.
 """
@@ -33,8 +34,6 @@ class ThermalParams:
     drive: str = "voltage"  # electrical input: "voltage" [V] or "current" [A] (SPEC 2.1)
     max_substep: float = 1e-4  # s, internal step limit (the study's loop runs at 0.4 ms, SPEC 2.1)
     latent_heat: float = 0.0  # J/kg, effect: 12e3-24e3 when on (SPEC 5); 0 = off
-    clamp_conductance: float = 0.0  # W/K, effect: conduction into the clamps (fin estimate
-    #   2 k A / sqrt(k d / 4h) ~ 2e-4 W/K for 127 um, k = 18 W/(m K), SPEC 5); 0 = off
     h_exponent: float = 0.0  # effect: n of h(T) (thin-wire correlations give 0.06-0.15); 0 = off
     h_dT_ref: float = 50.0  # K, excess temperature at which h holds (SPEC 5)
 
@@ -42,7 +41,7 @@ class ThermalParams:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("length", "diameter", "density", "specific_heat",
                                 "rho_martensite", "rho_austenite", "max_substep", "h_dT_ref"),
-                non_negative=("h", "latent_heat", "clamp_conductance", "h_exponent"))
+                non_negative=("h", "latent_heat", "h_exponent"))
         if self.drive not in DRIVES:
             raise ValueError(f"drive must be one of {DRIVES} (got {self.drive!r})")
 
@@ -54,7 +53,6 @@ class ThermalInputs(NamedTuple):
     T_amb: float  # C, ambient air
     xi: float = 1.0  # martensite fraction (1 = cold wire), sets the resistance
     xi_rate: float = 0.0  # 1/s, d xi / dt; matters only with latent heat
-    T_clamp: float | None = None  # C, clamp temperature; None = ambient
 
 
 def cross_section(p):
@@ -110,12 +108,10 @@ def martensite_fraction(eps, eps_max):
 
 def derivative(T, inputs, p):
     """dT/dt [K/s] of the lumped balance at wire temperature T [C] (module equation)."""
-    T_clamp = inputs.T_amb if inputs.T_clamp is None else inputs.T_clamp
     h = convection_coefficient(T, inputs.T_amb, p)
     heat = (joule_power(inputs.u, inputs.xi, p)
             + p.density * cross_section(p) * p.length * p.latent_heat * inputs.xi_rate
-            - h * lateral_surface(p) * (T - inputs.T_amb)
-            - p.clamp_conductance * (T - T_clamp))
+            - h * lateral_surface(p) * (T - inputs.T_amb))
     return heat / heat_capacity(p)
 
 
@@ -127,8 +123,8 @@ def _phi(x):
 def step(T, inputs, dt, p):
     """Wire temperature [C] after dt [s] with the inputs held.
 
-    Update T += dt_s f(T) phi(dt_s k / (m c_p)), phi(x) = (1 - e^-x) / x, k = (1 + n) h(T) A_s +
-    G_clamp the loss's derivative in T. With h constant (n = 0) one such update is the exact
+    Update T += dt_s f(T) phi(dt_s k / (m c_p)), phi(x) = (1 - e^-x) / x, k = (1 + n) h(T) A_s
+    the loss's derivative in T. With h constant (n = 0) one such update is the exact
     solution; with h(T) it runs in ceil(dt / max_substep) sub-steps and is second order. Either
     way it is stable at any step.
 
@@ -144,7 +140,7 @@ def step(T, inputs, dt, p):
     mc = heat_capacity(p)
     for _ in range(n):
         h = convection_coefficient(T, inputs.T_amb, p)
-        k = (1 + p.h_exponent) * h * lateral_surface(p) + p.clamp_conductance
+        k = (1 + p.h_exponent) * h * lateral_surface(p)
         T = T + dt_s * derivative(T, inputs, p) * _phi(dt_s * k / mc)
     return T
 

@@ -9,7 +9,7 @@ from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 
 from musclesim.cosim import host
-from musclesim.components.sma import datasets, drift
+from musclesim.components.sma import datasets, drift, ends
 from musclesim.components.sma.preisach import PreisachModel
 from musclesim.components.sma.slaves import LOAD_150G, SmaWire
 from musclesim.components.sma.surface import Hypersurface
@@ -162,7 +162,7 @@ def test_current_drive_contracts_in_about_a_second_at_0_3_A(wire_fmu):
 # --- effects --------------------------------------------------------------------------------
 
 def test_effects_off_are_the_nominal_model_bit_for_bit(wire_fmu):
-    off = {"latent_heat": 0.0, "clamp_conductance": 0.0, "h_exponent": 0.0, "sigma_surface": 0.0,
+    off = {"latent_heat": 0.0, "end_cooling": 0.0, "h_exponent": 0.0, "sigma_surface": 0.0,
            "drift_amplitude": 0.0, "drift_shift": 0.0, "drift_settle_cycles": 5.0,
            "drift_cycles_start": 50.0}
     nominal = simulate(wire_fmu, HEAT_COOL)
@@ -182,13 +182,31 @@ def test_latent_heat_slows_heating_through_the_transformation(wire_fmu):
     assert np.argmax(latent["xi"] < 0.05) > np.argmax(base["xi"] < 0.05) + round(0.01 / DT)
 
 
-def test_clamp_loss_lowers_the_steady_temperature(wire_fmu):
-    u, G, dt = np.full(4000, 1.0), 2e-4, 0.01  # 40 s, about 25 time constants
-    base = simulate(wire_fmu, u, dt=dt)
-    clamped = simulate(wire_fmu, u, {"clamp_conductance": G}, dt=dt)
-    assert clamped["T"][-1] < base["T"][-1] - 3
-    loss = ThermalParams().h * lateral_surface(ThermalParams()) + G
-    assert clamped["T"][-1] == pytest.approx(293.15 + clamped["P"][-1] / loss, rel=1e-9)
+def test_cold_ends_are_zones_of_the_wire_with_their_own_memory(wire_fmu):
+    # current drive: the core heats as the nominal wire does; each end zone is a hysteresis model
+    # of its own at T_amb + g (T_core - T_amb), the strain the length's average (ends.zones)
+    u, beta, T_amb = HEAT_COOL * 0.15, 0.9, 293.15
+    params = {"drive_current": 1.0}
+    base = simulate(wire_fmu, u, params)
+    cold = simulate(wire_fmu, u, {**params, "end_cooling": beta})
+    assert np.array_equal(cold["T"], base["T"])  # a long wire's core does not feel its clamps
+    p = ThermalParams()
+    table = ends.zones(beta, p.length, p.diameter, 18.0, p.h)
+    surface = datasets.surface(0.0)
+    sigma = LOAD_150G / AREA
+    core = base["strain"]
+    zone = []
+    for _, g in table:
+        model, temps = PreisachModel(surface), T_amb + g * (base["T"] - T_amb) - ZERO_C
+        seen = np.clip(temps, surface.t_lo, surface.t_hi)
+        zone.append([model.reset(seen[0], sigma)] + [model.step(T, sigma) for T in seen[1:]])
+    expected = (1 - sum(w for w, _ in table)) * core + sum(
+        w * np.array(z) for (w, _), z in zip(table, zone))
+    np.testing.assert_allclose(cold["strain"], expected, rtol=1e-12, atol=1e-15)
+    eps_max = surface.F(surface.t_hi, surface.t_lo, sigma)
+    np.testing.assert_allclose(cold["xi"], 1 - expected / eps_max, rtol=1e-12, atol=1e-15)
+    # hot, the ends nearest the clamps stay martensite: less contraction than the nominal wire
+    assert cold["strain"].max() < base["strain"].max() - table[0][0] * 0.9 * base["strain"].max()
 
 
 def test_convection_growing_with_temperature_lowers_a_hot_steady_state(wire_fmu):

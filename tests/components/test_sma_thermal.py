@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.special import expit
 
-from musclesim.components.sma import drift
+from musclesim.components.sma import drift, ends
 from musclesim.components.sma.thermal import (
     ThermalInputs, ThermalParams, derivative, heat_capacity, joule_power, lateral_surface,
     martensite_fraction, resistance, step, step_coupled, time_constant)
@@ -72,8 +72,8 @@ def test_fast_heating_at_2_5V_is_stable_at_2_5kHz():
 
 
 def test_effects_off_are_the_nominal_model_bit_for_bit():
-    inputs = ThermalInputs(u=0.7, T_amb=T_AMB, xi=0.6, xi_rate=-2.0, T_clamp=50.0)
-    off = ThermalParams(latent_heat=0.0, clamp_conductance=0.0, h_exponent=0.0, h_dT_ref=10.0)
+    inputs = ThermalInputs(u=0.7, T_amb=T_AMB, xi=0.6, xi_rate=-2.0)
+    off = ThermalParams(latent_heat=0.0, h_exponent=0.0, h_dT_ref=10.0)
     nominal_inputs = ThermalInputs(u=0.7, T_amb=T_AMB, xi=0.6)
     for T in (20.0, 65.3, 140.0):
         assert step(T, inputs, DT, off) == step(T, nominal_inputs, DT, NOMINAL)
@@ -136,14 +136,27 @@ def test_latent_heat_slows_heating_and_cooling_through_the_transformation():
     assert T["latent"] > T["base"] + 5  # exothermic martensite formation holds the wire warm
 
 
-def test_clamp_conduction_lowers_the_steady_state():
-    G = 2e-4  # W/K, the fin estimate in ThermalParams
-    p = ThermalParams(drive="current", clamp_conductance=G)
-    P = joule_power(0.15, 1.0, p)
-    T_final = run(T_AMB, ThermalInputs(u=0.15, T_amb=T_AMB), p, 60.0, dt=0.01)[-1]
-    assert T_final == pytest.approx(T_AMB + P / (p.h * lateral_surface(p) + G), rel=1e-9)
-    warm_clamps = ThermalInputs(u=0.0, T_amb=T_AMB, T_clamp=40.0)
-    assert step(40.0, warm_clamps, DT, p) > step(40.0, warm_clamps._replace(T_clamp=None), DT, p)
+def test_cold_ends_follow_the_fin_profile():
+    # 127 um in still air, k = 18 W/(m K): L_f = sqrt(k d / 4h) = 2.39 mm, G_f = 9.54e-5 W/K
+    d, k, h, length = 127e-6, 18.0, 100.0, 58.42e-3
+    assert ends.fin_length(d, k, h) == pytest.approx(math.sqrt(18 * 127e-6 / 400), rel=1e-12)
+    g_f = ends.fin_conductance(d, k, h)
+    assert g_f == pytest.approx(k * (math.pi * d ** 2 / 4) / ends.fin_length(d, k, h), rel=1e-12)
+    assert ends.end_cooling(g_f, d, k, h) == pytest.approx(0.5)  # contact = fin: half the excess
+    table = ends.zones(0.8, length, d, k, h)
+    # both ends' zones cover 2 x 4 L_f; each zone's factor is 1 - beta times exp(-x)'s mean there
+    assert sum(w for w, _ in table) == pytest.approx(8 * ends.fin_length(d, k, h) / length)
+    assert table[0][1] == pytest.approx(1 - 0.8 * (1 - math.exp(-0.5)) / 0.5)
+    assert [g for _, g in table] == sorted(g for _, g in table)  # warmer away from the clamps
+    # the excess lost in the zones is beta times the integral of exp(-x / L_f) over 4 L_f, per end
+    lost = sum(w * (1 - g) for w, g in table) * length
+    assert lost == pytest.approx(2 * 0.8 * ends.fin_length(d, k, h) * (1 - math.exp(-4)))
+    assert ends.zone_temperatures(80.0, 20.0, table) == pytest.approx([20 + 60 * g for _, g in table])
+    assert ends.zones(0.0, length, d, k, h) == []
+    with pytest.raises(ValueError, match="too short"):
+        ends.zones(0.5, 10e-3, d, k, h)
+    with pytest.raises(ValueError, match="end_cooling"):
+        ends.zones(1.5, length, d, k, h)
 
 
 def test_convection_growing_with_excess_temperature():
