@@ -104,9 +104,10 @@ EFFECTS = (
     Effect("latent heat", "SmaWire", (Parameter("latent_heat", 0.0, 0.0, 30e3),),
            "transformation", "SPEC 2.1, 5",
            "heat absorbed while austenite forms, released while martensite forms"),
-    Effect("clamp heat loss", "SmaWire", (Parameter("clamp_conductance", 0.0, 0.0, 1e-3),),
+    Effect("clamp heat loss", "SmaWire", (Parameter("end_cooling", 0.0, 0.0, 1.0),),
            "hot", "SPEC 4, 5",
-           "conduction into the clamps at ambient temperature"),
+           "the clamps conduct heat: the wire's ends stay colder than its core and transform "
+           "later, so the wire contracts less than its core temperature says"),
     Effect("convection change", "SmaWire", (Parameter("h_exponent", 0.0, 0.0, 0.5),),
            "hot", "SPEC 4, 5",
            "the convection coefficient grows with the excess temperature"),
