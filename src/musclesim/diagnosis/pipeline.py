@@ -55,7 +55,7 @@ from musclesim.diagnosis.fitting import fit_task, known_columns, values_of
 from musclesim.diagnosis.problem import Problem, affected
 from musclesim.diagnosis.regimes import regime_table, regimes
 from musclesim.diagnosis.selection import (calibration, calibration_table, candidates,
-                                           cross_signal, rank, select, verdict)
+                                           cross_signal, rank, refine, select, verdict)
 from musclesim.diagnosis.simulate import Failed, residuals, signal_gap, simulate
 from musclesim.diagnosis.stats import before_after, deviates, gap, noise_floor
 from musclesim.errors import UserError
@@ -274,7 +274,7 @@ def _which_effect(problem, report, fitting, pmap, say):
         "parameter(s)")
     jobs = [(unit, c.free + calib, fmu_dir, None, [fr.start for fr in c.free] + x_cal,
              len(c.free), known_columns(jac, len(c.free)), cal["latency"]) for c in cands]
-    fits = pmap(fit_task, jobs)
+    fits = refine(unit, cands, pmap(fit_task, jobs), calib, cal["latency"], fmu_dir, pmap)
     floor = noise_floor(unit)
     entries, counting = rank(unit, base, cands, fits, masks, calib)
     selected, final, free = select(unit, counting, (calib, jac, cal["latency"]), floor, masks,

@@ -74,6 +74,13 @@ MOST = 0.5
 SIMULATIONS = 60
 MAX_ITERATIONS = 8
 
+# Candidates refitted with a fresh Jacobian: an effect is fitted first from the calibration's
+# Jacobian columns (taken without the effect, so each fit costs a few runs), which can stop short
+# of the joint optimum (a clamp's cold ends and the strain scale trade against each other); the
+# two that fit the training part best, the ones the verdict turns on, are fitted again from
+# there with every column fresh, as calibration alone was.
+REFINED = 2
+
 # Least-squares passes of a fit, the sensor channels' latencies (MAX_ALIGN) chosen again between
 # passes and held within each (a latency switching inside a pass makes the residuals jump, and
 # the trust region stalls next to the jump). Each pass lowers the cost; three end it in practice
