@@ -1,7 +1,8 @@
-"""A scalar sensor: first-order lag, bias, seeded noise and quantisation, all off by default.
+"""A scalar sensor: first-order lag, gain, bias, seeded noise and quantisation, all off by default.
 
 The core of every sensor FMU (thermocouple, load cell, laser displacement sensor; SPEC 2.1, 4): the
-sensing element follows the measured signal with time constant tau; the reading adds a bias and
+sensing element follows the measured signal with time constant tau; the reading scales it by a
+gain about the sensor's origin (0 C for a thermocouple, 0 for the others), adds a bias and
 Gaussian noise and is rounded to the quantisation step.
 """
 import math
@@ -14,9 +15,12 @@ from musclesim.components.checks import require
 
 @dataclass(frozen=True)
 class SensorParams:
-    """Lag, bias, noise and quantisation of a scalar sensor; zeros = a perfect sensor."""
+    """Lag, gain, bias, noise and quantisation of a scalar sensor; the defaults = a perfect
+    sensor."""
 
     tau: float = 0.0  # s, first-order lag (0: none)
+    gain: float = 1.0  # reading per unit of signal, about `origin` (1: exact)
+    origin: float = 0.0  # signal value the gain leaves as it is (a thermocouple's 0 C)
     bias: float = 0.0  # same unit as the signal
     noise_std: float = 0.0  # same unit as the signal
     quantum: float = 0.0  # resolution (0: none)
@@ -24,7 +28,7 @@ class SensorParams:
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
-        require(self, non_negative=("tau", "noise_std", "quantum"))
+        require(self, positive=("gain",), non_negative=("tau", "noise_std", "quantum"))
         if self.seed != int(self.seed) or self.seed < 0:
             raise ValueError(f"seed must be a non-negative whole number (got {self.seed!r})")
 
@@ -53,13 +57,18 @@ def noise_sample(p, rng):
 
 
 def reading(x, p, noise=0.0):
-    """Sensor reading of the (lagged) signal x: bias, a noise sample, quantisation.
+    """Sensor reading of the (lagged) signal x: gain about the origin, bias, a noise sample,
+    quantisation.
 
     Examples
     --------
     >>> reading(300.26, SensorParams(bias=-1.0, quantum=0.25))
     299.25
+    >>> round(reading(373.15, SensorParams(gain=1.01, origin=273.15)), 6)  # 100 C reads 101 C
+    374.15
     """
+    if p.gain != 1.0:
+        x = p.origin + p.gain * (x - p.origin)
     y = x + p.bias + noise
     if p.quantum > 0:
         y = p.quantum * round(y / p.quantum)

@@ -4,19 +4,22 @@ from musclesim.fmu import Slave
 
 
 class _ScalarSensor(Slave):
-    """A sensor reading one signal with lag, bias, noise and quantisation, all off by default.
+    """A sensor reading one signal with lag, gain, bias, noise and quantisation, all off by
+    default.
 
     Subclasses name the measured input and the reading (`signal`, `measured`, `unit`), the input's
-    start value and what lags (`element`).
+    start value, what lags (`element`) and the signal value its gain leaves as it is (`origin`).
     """
 
     signal = measured = unit = element = signal_description = ""
-    start = 0.0
+    start = origin = 0.0
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         u = self.unit
         self.parameter("tau", 0.0, "s", f"Lag time constant of the {self.element} (effect off: 0)")
+        self.parameter("gain", 1.0, "1", f"Reading gain about {self.origin:g} {u} (calibration: "
+                       "1 = exact)")
         self.parameter("bias", 0.0, u, "Reading bias (effect off: 0)")
         self.parameter("noise_std", 0.0, u, "Standard deviation of the reading noise (off: 0)")
         self.parameter("quantum", 0.0, u, "Quantisation step of the reading (off: 0)")
@@ -26,7 +29,8 @@ class _ScalarSensor(Slave):
                     f"{self.signal_description[1:]}", depends=[self.signal])
 
     def setup(self):
-        self.params = self.core_params(sensor.SensorParams)  # not self.p: PressureSensor reads "p"
+        # not self.p: PressureSensor reads "p"; `origin` is the class's
+        self.params = self.core_params(sensor.SensorParams)
         self.rng = sensor.make_rng(self.params)
         self._settle()
         self.noise = sensor.noise_sample(self.params, self.rng)
@@ -61,6 +65,7 @@ class Thermocouple(_ScalarSensor):
 
     description = "Thermocouple: first-order lag, bias, seeded noise, quantisation (SPEC 2.1, 4)"
     signal, measured, unit, start = "T", "T_meas", "K", 293.15
+    origin = 273.15  # K: a thermocouple's gain error is a share of the reading in C
     element, signal_description = "junction", "Temperature of the wire"
 
 

@@ -25,6 +25,11 @@ def test_reading_bias_and_quantisation():
     p = tc.SensorParams(bias=0.5, quantum=0.25)
     assert tc.reading(300.2, p) == 300.75
     assert tc.reading(300.2, tc.SensorParams()) == 300.2
+    # a gain scales the signal about the origin: a thermocouple 1 % high reads 101 C at 100 C
+    assert tc.reading(373.15, tc.SensorParams(gain=1.01, origin=273.15)) == pytest.approx(374.15)
+    assert tc.reading(273.15, tc.SensorParams(gain=1.01, origin=273.15)) == 273.15
+    with pytest.raises(ValueError, match="gain"):
+        tc.SensorParams(gain=0.0).check()
 
 
 def test_noise_is_seeded_and_has_the_asked_spread():
@@ -41,6 +46,9 @@ def test_thermocouple_fmu_lags_a_step(fmu_dir):
                      output=["T_meas"])
     # the junction starts at the wire's temperature and the input is constant: reading = T + bias
     np.testing.assert_allclose(r["T_meas"], 349.0, rtol=0, atol=1e-9)
+    r = simulate_fmu(str(fmu_dir / "Thermocouple.fmu"), stop_time=0.1, output_interval=1e-3,
+                     start_values={"T": 373.15, "gain": 1.005}, output=["T_meas"])
+    np.testing.assert_allclose(r["T_meas"], 373.65, rtol=0, atol=1e-9)  # 0.5 % of 100 C
 
 
 @pytest.mark.parametrize("kind, t, expected", [

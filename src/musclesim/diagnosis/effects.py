@@ -197,8 +197,9 @@ class Calibrated:
 
 
 # Every component's calibration parameters (SPEC 5 gives h, the specific heat and the
-# resistivities within about +-30 %; SPEC 1.4 the crawler's k and c). A sensor's offset is not
-# here where an effect owns it (the thermocouple's bias): calibration must not absorb an effect.
+# resistivities within about +-30 %; SPEC 1.4 the crawler's k and c; the sensors' gains). A
+# sensor's offset is not here where an effect owns it (the thermocouple's bias): calibration must
+# not absorb an effect.
 _WIRE_THERMAL = (
     Calibrated("SmaWire", "T_amb", -8.0, 8.0, False, "SPEC 2.1, 2.5",
                "the bench's room air; stated in the data set's [conditions] when measured"),
@@ -228,6 +229,15 @@ CALIBRATION = (
     # the valves' sonic conductances are assumptions (SPEC 1.1 names no valve; SPEC 5 the law)
     Calibrated("SoftActuator", "C_in", 0.5, 2.0, True, "SPEC 1.1, 5", "inflation valve"),
     Calibrated("SoftActuator", "C_out", 0.5, 2.0, True, "SPEC 1.1, 5", "exhaust valve"),
+    # sensors' gains (their offsets: the thermocouple's is the effect "thermocouple bias"; the
+    # others are zeroed on the bench before a run)
+    Calibrated("Thermocouple", "gain", 0.9925, 1.0075, True, "SPEC 2.1",
+               "a standard thermocouple's tolerance: 0.75 % of the reading in C (IEC 60584 "
+               "class 2)"),
+    *(Calibrated(c, "gain", 0.95, 1.05, True, spec, "the sensor's and its amplifier's "
+                 "calibration") for c, spec in (("LoadCell", "SPEC 2.1"),
+                                                 ("LaserSensor", "SPEC 2.1"),
+                                                 ("PressureSensor", "SPEC 1.1"))),
 )
 
 
