@@ -23,7 +23,8 @@ representation than the library's, so that model and bench never differ by one e
   radiation at an emissivity the case draws (SPEC gives none).
 - Thermocouple: junction behind a coat, two first-order stages (tau_sheath, tau_junction) on
   one volume near the middle; gain, offset, bias, noise, quantisation. Strain sensor: a
-  first-order stage, gain, offset, noise, quantisation, an acquisition latency in samples.
+  first-order stage, gain, offset (drifting, an outside case), noise, quantisation, an
+  acquisition latency in samples.
 - Controller: a PI on the thermocouple reading at the data rate (the voltage held over each
   frame, exactly what the diagnosis replays), 0-2.5 V, conditional-integration anti-windup.
 
@@ -109,6 +110,7 @@ class Bench:
     gauge_tau: float = 0.0  # s
     gauge_gain: float = 1.0
     gauge_offset: float = 0.0
+    gauge_drift: float = 0.0  # the offset's change over the run (the bridge warming), linear
     gauge_noise: float = 0.0
     gauge_quantum: float = 0.0
     latency: int = 0  # samples the strain log trails the controller's
@@ -405,8 +407,10 @@ def run(bench, duration, substeps=SUBSTEPS):
 
 
 def _finish(bench, log, n, rng):
-    """The strain sensor's gain, offset, noise, quantisation and latency applied to its log."""
+    """The strain sensor's gain, offset (drifting), noise, quantisation and latency applied to
+    its log."""
     s = bench.gauge_gain * log.pop("gauge") + bench.gauge_offset
+    s = s + bench.gauge_drift * np.arange(n) / max(n - 1, 1)
     s = _quantise(s + bench.gauge_noise * rng.standard_normal(n), bench.gauge_quantum)
     if bench.latency:
         s = np.concatenate([np.full(bench.latency, s[0]), s[:-bench.latency]])

@@ -37,7 +37,7 @@ OUTPUTS = ["thermocouple.T_meas", "wire.strain"]
 DURATION = 120.0  # s
 LIBRARY = ("thermocouple lag", "thermocouple bias", "latent heat", "convection change",
            "clamp heat loss")
-OUTSIDE = ("clamp slip", "strain gain", "draught", "two effects")
+OUTSIDE = ("clamp slip", "gauge drift", "draught", "two effects")
 KNOWN_AMBIENT = 0.5  # share of the cases whose data set states the ambient temperature
 SHARES = {"none": 0.15, "outside": 0.15, "decoy": 0.15}  # the rest: effect (as blind.py)
 
@@ -68,9 +68,9 @@ def conditions(rng):
     }
 
 
-def hidden(effect, rng, base, duration):
-    """{Bench field: value} of `effect` (a `LIBRARY` or `OUTSIDE` name) at a random magnitude on
-    top of the conditions `base`; "two effects" also gives "pair"."""
+def hidden(effect, rng, duration):
+    """{Bench field: value} of `effect` (a `LIBRARY` or `OUTSIDE` name) at a random magnitude, on
+    top of a case's conditions; "two effects" also gives "pair"."""
     u = rng.uniform
     if effect == "thermocouple lag":  # a thick coat: a slow sheath, a slower junction
         return {"tc_tau_sheath": u(0.1, 0.5), "tc_tau_junction": u(0.02, 0.08)}
@@ -86,15 +86,16 @@ def hidden(effect, rng, base, duration):
     if effect == "clamp slip":  # the wire slides out of its clamp a few times
         times = np.sort(u(0.1, 0.95, size=int(rng.integers(2, 5)))) * duration
         return {"slips": [[float(t), float(u(2e-4, 8e-4))] for t in times]}
-    if effect == "strain gain":  # the strain sensor's calibration 5-10 % off
-        return {"gauge_gain": base["gauge_gain"] * (1 + float(rng.choice([-1, 1])) * u(0.05, 0.1))}
+    if effect == "gauge drift":  # the strain gauge's offset drifts over the run (2.5-5 % of
+        # the strain's range; a gain error would be the calibrated strain scale)
+        return {"gauge_drift": float(rng.choice([-1, 1])) * u(1e-3, 2e-3)}
     if effect == "draught":  # a fan or an open door part-way through: h steps up
         return {"draught_time": u(0.25, 0.6) * duration, "draught_factor": u(1.3, 2.0)}
     if effect == "two effects":
         pair = [str(e) for e in rng.choice(LIBRARY, size=2, replace=False)]
         out = {"pair": pair}
         for e in pair:
-            out.update(hidden(e, rng, base, duration))
+            out.update(hidden(e, rng, duration))
         return out
     raise KeyError(f"no hidden effect {effect!r}")
 
@@ -118,7 +119,7 @@ def plan(count, seed, decoys, duration=DURATION):
         pool = {"effect": LIBRARY, "decoy": [d[0] for d in decoys], "outside": OUTSIDE}.get(kind)
         if pool is not None:
             effect = str(pool[rng.integers(len(pool))])
-            values = hidden(effect, rng, base, duration)
+            values = hidden(effect, rng, duration)
             case.update(effect=effect, values=values)
             if "pair" in values:
                 case["pair"] = values.pop("pair")
