@@ -8,9 +8,10 @@ import pytest
 from musclesim.diagnosis import effects
 from musclesim.diagnosis.fitting import Free
 from musclesim.diagnosis.selection import (Candidate, cross_signal, explained, gain_signature,
-                                           judge, moved, rank, score, signature, verdict)
+                                           judge, moved, rank, refine, score, signature,
+                                           verdict)
 from musclesim.diagnosis.stats import gap
-from musclesim.diagnosis.thresholds import SIGNATURE_MIN
+from musclesim.diagnosis.thresholds import REFINED, SIGNATURE_MIN
 
 FLOOR = 0.01
 N = 400
@@ -188,3 +189,27 @@ def test_cross_signal_places_the_gap_in_the_sensor_or_in_the_plant():
                             STRAIN: {"before": 0.05, "after": 0.01}}}
     assert "placed in wire" in cross_signal(unit, [plant], [plant])
     assert cross_signal(fake_unit((TC,)), [sensor], [sensor]) is None  # one signal: nothing
+
+
+def test_refine_refits_the_best_two_from_their_values_and_keeps_only_improvements():
+    def fit(train, x, applicable=True):
+        return {"x": x, "train_gap": train, "residuals": [], "applicable": applicable}
+
+    first = [fit(0.5, [1.0]), fit(0.2, [2.0]), fit(0.1, [3.0], applicable=False),
+             fit(0.3, [4.0]), {**fit(0.05, [5.0]), "residuals": None}]  # a failed fit
+    cands = [SimpleNamespace(free=[f"effect{i}"]) for i in range(len(first))]
+    asked = []
+
+    def pmap(task, jobs):  # a refit improves the second (0.2 -> 0.15), not the fourth
+        asked.extend(jobs)
+        return [fit({2.0: 0.15, 4.0: 0.35}[job[4][0]], [job[4][0] + 0.5]) for job in jobs]
+
+    out = refine("unit", cands, first, ["calib"], {"tc": 1}, "fmus", pmap)
+    # the applicable, successful fits with the lowest training cost, from their own values,
+    # every Jacobian column fresh (known None) and the calibration's latency held
+    assert REFINED == 2 and [job[4] for job in asked] == [[2.0], [4.0]]
+    assert all(job[1] == [f"effect{i}", "calib"] and job[6] is None and job[7] == {"tc": 1}
+               for job, i in zip(asked, (1, 3)))
+    assert out[1]["train_gap"] == 0.15 and out[1]["x"] == [2.5]
+    assert out[3] is first[3] and out[0] is first[0]
+    assert refine("unit", cands, first, [], {}, "fmus", pmap) is first  # nothing calibrated
