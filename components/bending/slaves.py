@@ -1,12 +1,8 @@
 """FMU slave of the bending actuator (SPEC 3.2 a): a thin adapter over `actuator.BendingActuator`."""
 import math
-import warnings
-from pathlib import Path
-
-from pythonfmu.enums import Fmi2Status
 
 from musclesim.components.bending import actuator, beam
-from musclesim.components.sma import thermal, wire
+from musclesim.components.sma import datasets, thermal, wire
 from musclesim.fmu import Slave
 
 ZERO_C = 273.15  # K; the FMU speaks K, the cores C
@@ -99,15 +95,15 @@ class BendingActuator(Slave):
             specific_heat=self.specific_heat, rho_martensite=self.rho_martensite,
             rho_austenite=self.rho_austenite, h=self.h, drive="current")
         sigma = self.pretension / thermal.cross_section(wire_p)  # the hysteresis' stress (README)
-        surface = actuator.hysteresis_surface(wire.load_params(_sma_params(self)), sigma)
-        self.core = self._logged(actuator.BendingActuator, b, layout, wire_p, surface)
+        surface = actuator.hysteresis_surface(wire.load_params(datasets.shipped(self.resources) / datasets.WIRE_PARAMS), sigma)
+        self.core = self.logged(actuator.BendingActuator, b, layout, wire_p, surface)
         self._start()
 
     def initialize(self):
         self._start()
 
     def _start(self):
-        self._logged(self.core.reset, self.T_init - ZERO_C)
+        self.logged(self.core.reset, self.T_init - ZERO_C)
 
     def evaluate(self):
         core = self.core
@@ -126,22 +122,4 @@ class BendingActuator(Slave):
                             ("T_amb", self.T_amb)):
             if not math.isfinite(value):
                 raise ValueError(f"input {name} is {value!r} at t = {t:g} s")
-        self._logged(self.core.step, dt, (self.wireA_u, self.wireB_u), self.T_amb - ZERO_C, t)
-
-    def _logged(self, call, *args):
-        """call(*args) with the cores' warnings (e.g. an out-of-range stress) sent to the FMU log."""
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            result = call(*args)
-        for w in caught:
-            self.log(str(w.message), Fmi2Status.warning)
-        return result
-
-
-def _sma_params(slave):
-    """The 127 um wire's hysteresis parameter file the 50 um wire's is scaled from (README): the
-    copy the FMU ships (the folder the modules were first imported from may be gone)."""
-    if slave.resources is None:
-        return wire.DEFAULT_PARAMS
-    return Path(slave.resources) / "musclesim" / "components" / "sma" / "params" / \
-        wire.DEFAULT_PARAMS.name
+        self.logged(self.core.step, dt, (self.wireA_u, self.wireB_u), self.T_amb - ZERO_C, t)

@@ -19,13 +19,12 @@ segment and mu_f = 0 a step is the SmaWire FMU's step exactly. Equations and eve
 components/multiplier/README.md.
 """
 import math
-import warnings
 from dataclasses import dataclass, field
 
 from musclesim.components.checks import require
 from musclesim.components.sma import thermal
 from musclesim.components.sma.preisach import PreisachModel
-from musclesim.components.sma.surface import RangeWarning, clamp
+from musclesim.components.sma.surface import clamp
 
 MAX_SEGMENTS = 6  # variables the FMU declares per segment (SPEC 3.1 b suggests three)
 WRAP = math.pi  # rad, sweep per turning tube: a ratio 1.060-1.085 fits about pi (SPEC 3.1 b)
@@ -254,11 +253,3 @@ def _with_length(wire, length):
     fields = {name: getattr(wire, name) for name in wire.__dataclass_fields__}
     fields["length"] = length
     return thermal.ThermalParams(**fields)
-
-
-def caught_warnings(call, *args):
-    """(result of call(*args), messages of the RangeWarnings it raised): for an FMU's log."""
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", RangeWarning)
-        result = call(*args)
-    return result, [str(w.message) for w in caught]

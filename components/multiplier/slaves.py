@@ -1,8 +1,5 @@
 """FMU slave of the capstan multiplier: a thin adapter over musclesim.components.multiplier.capstan."""
 import math
-from pathlib import Path
-
-from pythonfmu.enums import Fmi2Status
 
 from musclesim.components.multiplier import capstan
 from musclesim.components.sma import datasets, thermal
@@ -98,7 +95,7 @@ class CapstanMultiplier(Slave):
             wraps=tuple(getattr(self, f"wrap[{j}]") for j in range(1, n)),
             mu_f=self.mu_f, composition_shift=self.composition_shift, wire=wire)
         self.p.check()
-        self.surface = datasets.surface(self.hysteresis, 0.0, _data_root(self))
+        self.surface = datasets.surface(self.hysteresis, 0.0, datasets.shipped(self.resources))
         self._start()
 
     def initialize(self):
@@ -106,7 +103,7 @@ class CapstanMultiplier(Slave):
 
     def _start(self):
         self.core = capstan.Multiplier(self.p, self.surface)
-        self._logged(self.core.start, self.T_init - ZERO_C, self.flange_f, self.time, self.u)
+        self.logged(self.core.start, self.T_init - ZERO_C, self.flange_f, self.time, self.u)
         self.stress_held = self.flange_f / self.core.area
 
     def evaluate(self):
@@ -127,19 +124,5 @@ class CapstanMultiplier(Slave):
         for name, value in (("u", self.u), ("T_amb", self.T_amb), ("flange.f", self.flange_f)):
             if not math.isfinite(value):
                 raise ValueError(f"input {name} is {value!r} at t = {t:g} s")
-        self._logged(self.core.step, self.u, self.T_amb - ZERO_C, self.flange_f, t, dt)
+        self.logged(self.core.step, self.u, self.T_amb - ZERO_C, self.flange_f, t, dt)
         self.stress_held = self.flange_f / self.core.area
-
-    def _logged(self, call, *args):
-        """call(*args) with the core's one-time range warnings sent to the FMU log."""
-        result, messages = capstan.caught_warnings(call, *args)
-        for message in messages:
-            self.log(message, Fmi2Status.warning)
-        return result
-
-
-def _data_root(slave):
-    """The SMA data files the FMU ships (the folder first imported from may be gone)."""
-    if slave.resources is None:
-        return datasets.PACKAGE_DIR
-    return Path(slave.resources) / "musclesim" / "components" / "sma"

@@ -31,6 +31,15 @@ REFERENCE_STRESSES = tuple(60e6 + 10e6 * k for k in range(15))
 _SURFACES = {}  # (what the surface is made from, single-surface stress or 0) -> Hypersurface
 
 
+def shipped(resources):
+    """The SMA data files' root an FMU ships below its `resources` folder (None: not in an FMU,
+    this package's): the folder the modules were first imported from may be another FMU
+    instance's, already deleted."""
+    if resources is None:
+        return PACKAGE_DIR
+    return Path(resources) / "musclesim" / "components" / "sma"
+
+
 def forc_sets(root=PACKAGE_DIR):
     """{id: (path, description)} of the FORC data sets listed in ``root/data/forc-sets.toml``.
 

@@ -1,10 +1,6 @@
 """FMU slaves of the SMA wire and of its inverse: thin adapters over the thermal, Preisach, drift
 and inverse cores."""
 import math
-import warnings
-from pathlib import Path
-
-from pythonfmu.enums import Fmi2Status
 
 from musclesim.components.sma import datasets, drift, ends, thermal
 from musclesim.components.sma.inverse import InverseBases
@@ -127,7 +123,7 @@ class SmaWire(Slave):
         self.dp = drift.DriftParams(amplitude_change=self.drift_amplitude, shift=self.drift_shift,
                                     cycles_to_settle=self.drift_settle_cycles)
         self.dp.check()
-        root = _data_root(self)
+        root = datasets.shipped(self.resources)
         # stress_blend > 0 puts back part of the stress dependence that sigma_surface removed
         self.blend = self.sigma_surface > 0 and self.stress_blend > 0
         self.surface = datasets.surface(self.hysteresis, self.sigma_surface, root)
@@ -218,11 +214,7 @@ class SmaWire(Slave):
             sigma = self.sigma_surface + self.stress_blend * (sigma - self.sigma_surface)
         s = self.surface
         if len(s.stresses) > 1 and not s.s_lo <= sigma <= s.s_hi:
-            with warnings.catch_warnings(record=True) as caught:
-                warnings.simplefilter("always")
-                sigma = clamp(self._warned, "stress", sigma, s.s_lo, s.s_hi, "Pa", t)
-            for w in caught:
-                self.log(str(w.message), Fmi2Status.warning)
+            sigma = self.logged(clamp, self._warned, "stress", sigma, s.s_lo, s.s_hi, "Pa", t)
         return sigma
 
     def _eps_max(self, sigma):
@@ -263,7 +255,7 @@ class PreisachInverse(Slave):
                     depends=["eps_ref", "sigma_ref"])
 
     def setup(self):
-        self.surface = datasets.surface(self.hysteresis, self.sigma_surface, _data_root(self))
+        self.surface = datasets.surface(self.hysteresis, self.sigma_surface, datasets.shipped(self.resources))
         key = id(self.surface)
         if key not in _BASES:  # ~0.1-0.3 s per data set: once per process
             _BASES[key] = (self.surface, InverseBases(self.surface))
@@ -276,35 +268,18 @@ class PreisachInverse(Slave):
     def _start(self):
         self.core = InverseCore(self.surface, bases=self.bases)
         self._checked(self.time)
-        self._logged(self.core.clear, self.sigma_ref, self.time)
+        self.logged(self.core.clear, self.sigma_ref, self.time)
 
     def evaluate(self):
         t = self.time
         self._checked(t)
-        self.T_ref = self._logged(self.core.peek, self.eps_ref, self.sigma_ref, t) + ZERO_C
+        self.T_ref = self.logged(self.core.peek, self.eps_ref, self.sigma_ref, t) + ZERO_C
 
     def advance(self, t, dt):
         self._checked(t)
-        self._logged(self.core.step, self.eps_ref, self.sigma_ref, t)
+        self.logged(self.core.step, self.eps_ref, self.sigma_ref, t)
 
     def _checked(self, t):
         for name, value in (("eps_ref", self.eps_ref), ("sigma_ref", self.sigma_ref)):
             if not math.isfinite(value):
                 raise ValueError(f"input {name} is {value!r} at t = {t:g} s")
-
-    def _logged(self, call, *args):
-        """call(*args) with the core's one-time range warnings sent to the FMU log."""
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always")
-            result = call(*args)
-        for w in caught:
-            self.log(str(w.message), Fmi2Status.warning)
-        return result
-
-
-def _data_root(slave):
-    """The data files the FMU ships: the folder the modules were first imported from may be
-    another instance's, already deleted."""
-    if slave.resources is None:
-        return datasets.PACKAGE_DIR
-    return Path(slave.resources) / "musclesim" / "components" / "sma"

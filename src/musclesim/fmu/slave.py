@@ -16,6 +16,7 @@ every FMU, which must run where only Python, numpy and scipy are installed.
 """
 import copy
 import math
+import warnings
 from xml.etree.ElementTree import Element, SubElement
 
 from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Real
@@ -123,6 +124,16 @@ class Slave(Fmi2Slave):
         """Declare a calculated Real output; ``depends`` names the inputs it depends on directly."""
         self._declare(name, 0.0, unit, description, Fmi2Causality.output,
                       Fmi2Variability.continuous, Fmi2Initial.calculated, tuple(depends))
+
+    def logged(self, call, *args):
+        """call(*args) with the warnings it raises (a core's one-time range warnings) sent to the
+        FMU log as warnings instead of the process's stderr."""
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            result = call(*args)
+        for w in caught:
+            self.log(str(w.message), Fmi2Status.warning)
+        return result
 
     def core_params(self, cls):
         """The core's parameter dataclass `cls` from the parameters of the same names, checked.
