@@ -11,6 +11,7 @@ from musclesim.diagnosis.blind import write_data_set
 from musclesim.diagnosis.fitting import fit
 from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.selection import calibration
+from musclesim.diagnosis.simulate import simulate
 
 from conftest import SCENARIOS
 
@@ -64,6 +65,21 @@ def test_calibration_recovers_known_offsets(fmus, tmp_path):
     assert got["wire.specific_heat"][0] == pytest.approx(800.0, rel=0.03)
     assert got["wire.rho_austenite"][0] == pytest.approx(1e-6, rel=0.03)
     assert f["heldout_gap"] < 3 * 0.002  # within the noise after calibration
+
+
+def test_a_fit_step_simulates_the_training_part_exactly(fmus, tmp_path):
+    """A fit's steps run only as far as the training part reaches: those rows are the whole
+    run's to the bit, the held-out rows NaN (never compared)."""
+    ds = record(tmp_path / "ds", OFFSETS, fmus, stop=10.0)
+    with reuse_fmus():
+        unit = Problem(ds, fmus).unit("model")
+        values = {("wire", "h"): 110.0}
+        full, train = simulate(unit, values, fmus)[0], simulate(unit, values, fmus, part=0)[0]
+    rows = unit.runs[0].part == 0
+    assert rows[:int(rows.sum())].all() and not rows.all()  # a prefix, as the split says
+    for c in OBSERVED:
+        np.testing.assert_array_equal(train[c][rows], full[c][rows])
+        assert np.isnan(train[c][~rows]).all()
 
 
 @pytest.fixture(scope="module")

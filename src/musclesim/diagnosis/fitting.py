@@ -52,7 +52,9 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     calibration's), else chosen again between passes; the result's ``latency`` is the one held
     last. A latency trades against a lag effect on its channel (up to MAX_ALIGN samples of it):
     holding the calibration's while an effect is fitted keeps that trade the same for every
-    candidate.
+    candidate. Every point of the scan and of least squares is simulated as far as the training
+    part reaches (``simulate(..., part=0)``); only the fitted values are run to the end, for the
+    held-out residuals of the result.
     """
     fixed = dict(fixed or {})
     lo = np.array([f.lower for f in free])
@@ -64,7 +66,7 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
         if key not in cache:
             x = lo + span * np.clip(z, 0, 1)
             try:
-                cache[key] = simulate(unit, {**fixed, **values_of(free, x)}, fmu_dir)
+                cache[key] = simulate(unit, {**fixed, **values_of(free, x)}, fmu_dir, part=0)
             except Failed:
                 cache[key] = None
         sims = cache[key]
@@ -119,12 +121,16 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
         if latency is not None or latencies(z) == align:
             break
     x = lo + span * z
-    res = run(z, True)
+    chosen = dict(align) if align else latencies(z)
+    try:  # the fitted values over the whole runs, held-out part included
+        res = residuals(unit, simulate(unit, {**fixed, **values_of(free, x)}, fmu_dir))
+    except Failed:
+        res = None
     return {"x": [float(v) for v in x], "interval": interval, "residuals": res,
             "train_gap": gap(unit, res, 0) if res else math.inf,
             "heldout_gap": gap(unit, res, 1) if res else math.inf,
-            "applicable": applicable, "evaluations": len(cache), "jac": J,
-            "latency": dict(align) if align else latencies(z)}
+            "applicable": applicable, "evaluations": len(cache) + 1, "jac": J,
+            "latency": chosen}
 
 
 def known_columns(jac, k):

@@ -29,22 +29,39 @@ def with_values(s, values):
     return replace(s, instances=instances)
 
 
-def simulate(unit, values, fmu_dir):
+def simulate(unit, values, fmu_dir, part=None):
     """Model values of every run of `unit` with parameter `values`: [{column: array}] per run.
 
+    ``part=0`` simulates only what the training part needs, as a fit's every step does: each
+    run up to its last training row (the model is causal, so those rows are the same to the
+    bit), the rows after it NaN; a run without training rows is not run.
     Raises `Failed` when a run fails (the effect's values are then not viable).
     """
     out = []
     for run in unit.runs:
-        s = with_values(run.scenario, values)
-        res = Master(s, fmu_dir, run.inputs).run()
+        s, inputs, rows = with_values(run.scenario, values), run.inputs, None
+        if part is not None:
+            rows = np.flatnonzero(run.part == part)
+            if not rows.size:
+                out.append({c: np.full(run.part.shape, np.nan) for c in unit.observed})
+                continue
+            if run.time is not None:
+                # a step beyond it: the sample is interpolated between the same points
+                n = min(s.n_steps, math.floor(run.time[rows[-1]] / s.step) + 2)
+                s = replace(s, stop_time=s.start_time + n * s.step)
+                inputs = {k: v[:s.n_steps + 1] for k, v in inputs.items()}
+        res = Master(s, fmu_dir, inputs).run()
         if res.error:
             raise Failed(res.error)
         if run.time is None:  # scalar-only: the scenario's metrics
             metrics = compute_metrics(res, s.metrics)
             out.append({m: np.array([metrics[m]]) for m in unit.observed})
         else:
-            out.append({c: np.interp(run.time, res.time, res[c]) for c in unit.observed})
+            sim = {c: np.interp(run.time, res.time, res[c]) for c in unit.observed}
+            if rows is not None:
+                for v in sim.values():
+                    v[rows[-1] + 1:] = np.nan
+            out.append(sim)
     return out
 
 
