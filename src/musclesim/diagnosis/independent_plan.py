@@ -185,7 +185,8 @@ def _scan(unit, free, fmu_dir, fixed):
     best, start = math.inf, [f.start for f in free]
     for x in itertools.product(*axes):
         try:
-            res = residuals(unit, simulate(unit, {**fixed, **values_of(free, x)}, fmu_dir))
+            res = residuals(unit, simulate(unit, {**fixed, **values_of(free, x)}, fmu_dir,
+                                           part=0))
         except Failed:
             continue
         cost = gap(unit, res, 0)
