@@ -86,14 +86,13 @@ LOAD_SHARE = 0.25  # of the effect cases move to a load bench, magnet or weight,
                    # effects (drawn from their own stream)
 LOAD_BENCHES = ("magnet", "weight")
 CRAWLER_SHARE = 0.25  # ... and, drawn from a third stream, to the crawler bench
-# Not in the tracking bench's pool: clamp heat loss (cold ends), the look-alike of the decoy pair
-# below; the independent bench hides it (`independent_plan`).
+# Not in the tracking bench's pool, so without a magnitude here: clamp heat loss (cold ends), the
+# look-alike of the decoy pair below; the independent bench hides it (`independent_plan`).
 # hidden magnitudes: (instance, parameter, low, high), drawn uniformly (SPEC 2.1, 2.6, 5)
 MAGNITUDES = {
     "thermocouple lag": [("thermocouple", "tau", 0.1, 0.6)],
     "thermocouple bias": [("thermocouple", "bias", 1.5, 5.0)],  # sign drawn too
     "latent heat": [("wire", "latent_heat", 12e3, 24e3)],
-    "clamp heat loss": [("wire", "end_cooling", 0.6, 0.95)],  # metal clamps (ends.py)
     "convection change": [("wire", "h_exponent", 0.06, 0.15)],
     "training drift": [("wire", "drift_amplitude", 0.1, 0.2), ("wire", "drift_shift", 5.0, 10.0)],
     "stress dependence ignored": [("wire", "stress_blend", 0.5, 1.0)],
