@@ -165,14 +165,15 @@ def step_coupled(T, inputs, dt, p, xi_at):
     def advance(T_end):
         return step(T, inputs._replace(xi_rate=(xi_end(T_end) - inputs.xi) / dt), dt, p)
 
-    # g(T) = T - advance(T) rises with T (advance falls with T), so the step without latent
-    # heat, T0, and advance(T0) bracket the root (T0 itself when the wire does not transform
-    # there): g(T0) = T0 - T1 and g(T1) = T1 - advance(T1) have opposite signs
+    # T - advance(T) rises with T, so the step without latent heat, T0, brackets the root with
+    # the step of a whole transformation on the side its own xi points to (T0 itself when the
+    # wire does not transform there)
     T0 = step(T, inputs._replace(xi_rate=0.0), dt, p)
     xi0 = xi_end(T0)
     if xi0 == inputs.xi:
         return T0, xi0
-    T1 = step(T, inputs._replace(xi_rate=(xi0 - inputs.xi) / dt), dt, p)
-    lo, hi = sorted((T0, T1))
+    end = 0.0 if xi0 < inputs.xi else 1.0
+    other = step(T, inputs._replace(xi_rate=(end - inputs.xi) / dt), dt, p)
+    lo, hi = sorted((T0, other))
     T_new = lo if hi - lo < 1e-12 else brentq(lambda x: x - advance(x), lo, hi, xtol=1e-10)
     return T_new, xi_end(T_new)
