@@ -165,9 +165,10 @@ def step_coupled(T, inputs, dt, p, xi_at):
     def advance(T_end):
         return step(T, inputs._replace(xi_rate=(xi_end(T_end) - inputs.xi) / dt), dt, p)
 
-    # T - advance(T) rises with T, so the step without latent heat, T0, brackets the root with
-    # the step of a whole transformation on the side its own xi points to (T0 itself when the
-    # wire does not transform there)
+    # g(T) = T - advance(T) changes sign between the step without latent heat, T0 (g(T0) has
+    # the sign of xi - xi_at(T0); T0 itself is the root when the wire does not transform there),
+    # and the step of a whole transformation toward that side (xi stays in [0, 1]); no
+    # monotonicity of xi_at in T is needed, which a change of stress under the memory breaks
     T0 = step(T, inputs._replace(xi_rate=0.0), dt, p)
     xi0 = xi_end(T0)
     if xi0 == inputs.xi:
