@@ -95,7 +95,8 @@ class BendingActuator(Slave):
             specific_heat=self.specific_heat, rho_martensite=self.rho_martensite,
             rho_austenite=self.rho_austenite, h=self.h, drive="current")
         sigma = self.pretension / thermal.cross_section(wire_p)  # the hysteresis' stress (README)
-        surface = actuator.hysteresis_surface(wire.load_params(datasets.shipped(self.resources) / datasets.WIRE_PARAMS), sigma)
+        params = wire.load_params(datasets.shipped(self.resources) / datasets.WIRE_PARAMS)
+        surface = actuator.hysteresis_surface(params, sigma)
         self.core = self.logged(actuator.BendingActuator, b, layout, wire_p, surface)
         self._start()
 

@@ -255,7 +255,8 @@ class PreisachInverse(Slave):
                     depends=["eps_ref", "sigma_ref"])
 
     def setup(self):
-        self.surface = datasets.surface(self.hysteresis, self.sigma_surface, datasets.shipped(self.resources))
+        self.surface = datasets.surface(self.hysteresis, self.sigma_surface,
+                                        datasets.shipped(self.resources))
         key = id(self.surface)
         if key not in _BASES:  # ~0.1-0.3 s per data set: once per process
             _BASES[key] = (self.surface, InverseBases(self.surface))
