@@ -203,7 +203,7 @@ def _cmd_benchmark_diagnosis(args):
                                      dask_map(client),
                                      lambda text: print(f"musclesim: {text}", file=sys.stderr),
                                      bench=args.bench, duration=args.duration,
-                                     multiplier=args.multiplier)
+                                     multiplier=args.multiplier, crawler=args.crawler)
     print(json.dumps({k: v for k, v in scores.items() if k != "per_case"}, indent=2))
     print(f"wrote {Path(args.out) / 'scores.json'} (per-case table inside)")
     return 0
@@ -333,10 +333,13 @@ def _parser():
                         "an SMA bench written apart from the library (scores under "
                         "'independent' in scores.json)")
     q.add_argument("--duration", type=_duration, default=None,
-                   help="independent bench: seconds recorded per case (default 120)")
+                   help="independent bench: seconds recorded per SMA case (default 120)")
     q.add_argument("--multiplier", type=_positive, default=0, metavar="N",
                    help="own bench: N extra cases on the capstan multiplier's bench (SPEC 3.1; "
                         "default none)")
+    q.add_argument("--crawler", type=_positive, default=0, metavar="N",
+                   help="independent bench: N extra cases on its pneumatic crawler, 12 s each "
+                        "(SPEC 1.5; default none; scores also per bench)")
     dask_args(q)
     common(q)
     q.set_defaults(func=_cmd_benchmark_diagnosis)

@@ -9,8 +9,9 @@ effects, and ``write_data_set`` writes a recorded data set in the format ``load_
 Modules: dataset (measured data sets), effects (the effect library and the per-component
 knowledge the diagnosis uses), thresholds (every threshold, documented), problem (the units
 simulated against the data), simulate, stats, regimes, fitting, selection (the stages'
-work), pipeline (`diagnose`), report (the files), blind (the benchmark), independent and
-independent_plan (the benchmark's SMA bench written apart from the library, and its cases).
+work), pipeline (`diagnose`), report (the files), blind (the benchmark), independent,
+independent_crawler and independent_plan (the benchmark's SMA and crawler benches written apart
+from the library, and their cases).
 """
 from musclesim.diagnosis.blind import run as run_blind_benchmark
 from musclesim.diagnosis.blind import write_data_set

@@ -331,19 +331,24 @@ def _oracle(args):
 def _make_independent(args):
     case, out, scenarios_dir = args
     time, cols, stated = independent_plan.record(case)
-    ref = str((Path(scenarios_dir) / f"{independent_plan.SCENARIO}.toml").resolve())
-    write_data_set(Path(out) / "cases" / case["case"], time, cols, independent_plan.INPUTS,
-                   independent_plan.OUTPUTS, ref, f"blind case {case['case']} on the independent "
-                   "SMA bench", stated)
+    ip = independent_plan
+    scenario, inputs, outputs, what = (
+        (ip.CRAWLER_SCENARIO, ip.CRAWLER_INPUTS, ip.CRAWLER_OUTPUTS, "crawler")
+        if case["bench"] == "independent-crawler" else (ip.SCENARIO, ip.INPUTS, ip.OUTPUTS, "SMA"))
+    ref = str((Path(scenarios_dir) / f"{scenario}.toml").resolve())
+    write_data_set(Path(out) / "cases" / case["case"], time, cols, inputs, outputs, ref,
+                   f"blind case {case['case']} on the independent {what} bench", stated)
     return case["case"]
 
 
 def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, progress=None,
-        bench="own", duration=None, multiplier=0):
+        bench="own", duration=None, multiplier=0, crawler=0):
     """Make `count` cases from `seed` into `out`, diagnose them blind, score; return the scores.
 
     ``multiplier``: that many extra cases on the capstan multiplier's bench (`plan_multiplier`;
-    own bench only), after the `count` cases, which stay as they are without them.
+    own bench only), after the `count` cases, which stay as they are without them; ``crawler``
+    likewise on the independent crawler bench (`independent_plan.plan_crawler`; independent
+    bench only). The scores then also come per bench (``by_bench``).
 
     `bench` "own" records on the library's FMUs with hidden effects switched on (cases in
     ``out/cases``, scores at the top of ``out/scores.json``); "independent" on
@@ -360,13 +365,16 @@ def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, 
     out.mkdir(parents=True, exist_ok=True)
     if multiplier and bench != "own":
         raise UserError("multiplier cases run on the own bench only (--bench own)")
+    if crawler and bench != "independent":
+        raise UserError("independent crawler cases run on the independent bench only "
+                        "(--bench independent)")
     if bench == "own":
         cases = plan(count, seed) + plan_multiplier(multiplier, seed)
         jobs = (_make, [(c, out, scenarios_dir, fmu_dir) for c in cases])
         oracle = _oracle
     else:
-        cases = independent_plan.plan(count, seed, DECOYS,
-                                      duration or independent_plan.DURATION)
+        cases = (independent_plan.plan(count, seed, DECOYS, duration or independent_plan.DURATION)
+                 + independent_plan.plan_crawler(crawler, seed))
         jobs = (_make_independent, [(c, out, scenarios_dir) for c in cases])
         oracle = independent_plan.oracle
     say(f"recording {len(cases)} cases on the {bench} virtual hardware")
@@ -436,6 +444,15 @@ def score(cases, reports, gaps, independent=False):
                 or bool(c.get("pair")) and set(c["pair"]) <= set(r.get("selected") or ()))
         table.append(row)
 
+    scores = {**_rates(table), "per_case": table}
+    benches = sorted({t["bench"] for t in table})
+    if len(benches) > 1:
+        scores["by_bench"] = {b: _rates([t for t in table if t["bench"] == b]) for b in benches}
+    return scores
+
+
+def _rates(table):
+    """The four scores and the number of cases of some rows of the per-case table."""
     def rate(kinds, key):
         rows = [t for t in table if t["kind"] in kinds]
         return sum(bool(t[key]) for t in rows) / len(rows) if rows else None
@@ -445,4 +462,4 @@ def score(cases, reports, gaps, independent=False):
             "shrinkage_vs_oracle": statistics.median(ratios) if ratios else None,
             "false_alarm_rate": rate(("none",), "false_alarm"),
             "unexplained_rate": rate(("outside",), "unexplained"),
-            "cases": len(table), "per_case": table}
+            "cases": len(table)}

@@ -14,13 +14,21 @@ sensor dynamics, gains, offsets, noise and latency) and, by kind:
 
 The bench's ambient is stated to the diagnosis (``[conditions]`` "wire.T_amb", read by a room
 thermometer to +-0.2 K) in a share `KNOWN_AMBIENT` of the cases, as a user would measure it.
-The crawler has no independent bench yet.
+The crawler's cases (`plan_crawler`, ids ``case-c000``, ...) run
+`musclesim.diagnosis.independent_crawler`'s bench up the 7.5 deg board for `CRAWLER_DURATION`,
+their conditions drawn around the model's (`crawler_conditions`: incline, masses, stiffness and
+its hardening, damping, the pressure's effective area, friction, the contact's thresholds and
+spreading, pumps, valves, the air's heat exchange, PI gains, sensor tubes, video), with the
+crawler's library effects (`CRAWLER_LIBRARY`), decoys (`CRAWLER_DECOYS`), none, and changes
+outside the library (`CRAWLER_OUTSIDE`); the model they name is `CRAWLER_SCENARIO` with the
+controllers' duties replayed.
 """
 import itertools
 import math
 
 import numpy as np
 
+from musclesim.diagnosis import independent_crawler as crawler
 from musclesim.diagnosis.dataset import load as load_dataset
 from musclesim.diagnosis.effects import find
 from musclesim.diagnosis.fitting import Free, fit, values_of
@@ -127,6 +135,101 @@ def plan(count, seed, decoys, duration=DURATION):
     return cases
 
 
+CRAWLER_SCENARIO = "crawler-gait-incline"
+CRAWLER_INPUTS = ["act1.duty", "actc.duty", "act2.duty"]
+CRAWLER_OUTPUTS = ["sensor1.p_meas", "sensorc.p_meas", "sensor2.p_meas", "body.flange1.s",
+                   "body.flange2.s"]
+CRAWLER_DURATION = 12.0  # s: the first stride and three more, as the own bench's crawler cases
+CRAWLER_LIBRARY = ("valve delay", "supply-pressure drop", "chamber leakage",
+                   "pressure-dependent stiffness", "actuator bending on an incline",
+                   "friction decay")
+# (hidden, look-alike): both lower the pressure an actuator holds; both lower the anchors' grip
+CRAWLER_DECOYS = [("supply-pressure drop", "chamber leakage"),
+                  ("friction decay", "actuator bending on an incline")]
+CRAWLER_OUTSIDE = ("sensor tube", "surface change", "camera scale", "two effects")
+
+
+def crawler_conditions(rng):
+    """The crawler bench's conditions drawn around the model's values: {Crawler field: value}."""
+    u = rng.uniform
+    back = u(6e3, 8.5e3)  # Pa: the front actuator needs more to grip (SPEC 1.5)
+    return {
+        "theta": math.radians(7.5 + u(-0.5, 0.5)), "m1": 0.2 * u(0.95, 1.05),
+        "m2": 0.2 * u(0.95, 1.05), "k": 200.0 * u(0.85, 1.15),
+        "k3": u(0.0, 0.15) / 0.04 ** 2,  # up to 15 % stiffer at 4 cm
+        "c": 1.3 * u(0.7, 1.4), "area": crawler.S_A * u(0.85, 1.0), "bulge": u(0.0, 2e-6),
+        "mu_s_high": u(0.85, 1.05), "mu_s_low": u(0.12, 0.145), "mu_ratio": u(0.7, 0.8),
+        "bristle": _log_uniform(rng, 1e4, 4e4), "p_contact_back": back,
+        "p_contact_front": u(back, min(back + 1.5e3, 9.5e3)), "contact_width": u(400.0, 1200.0),
+        "tau_contact": u(0.02, 0.1), "dv_contact": u(2e-6, 4e-6),
+        "p_supply": 40e3 * u(0.9, 1.1), "p_exhaust": -20e3 * u(0.9, 1.1),
+        "valve_area": crawler.VALVE_AREA * u(0.8, 1.25), "tau_valve": u(1e-3, 3e-3),
+        "pwm_phase": u(0.0, 1.0), "tau_wall": u(0.5, 2.0),
+        "kp_central": 1.386e-3 * u(0.8, 1.2), "ki_central": 6.93e-3 * u(0.8, 1.2),
+        "kp_extremal": 5.9e-5 * u(0.8, 1.2), "ki_extremal": 2.95e-4 * u(0.8, 1.2),
+        "ref_factor": u(0.95, 1.05), "sensor_tau": u(5e-4, 2e-3),
+        "sensor_gain": 1 + u(-0.01, 0.01), "sensor_noise": u(20.0, 40.0), "sensor_quantum": 10.0,
+        "video_scale": 1 + u(-0.005, 0.005), "video_noise": u(1e-4, 3e-4),
+        "video_quantum": 1e-4, "video_delay": u(0.0, 0.03), "seed": int(rng.integers(0, 2**31)),
+    }
+
+
+def crawler_hidden(effect, rng, duration):
+    """{Crawler field: value} of `effect` (a `CRAWLER_LIBRARY` or `CRAWLER_OUTSIDE` name) at a
+    random magnitude; "two effects" also gives "pair"."""
+    u = rng.uniform
+    if effect == "valve delay":  # SPEC 5: a few ms each way
+        return {"open_delay": u(0.005, 0.015), "close_delay": u(0.005, 0.015)}
+    if effect == "supply-pressure drop":  # a small pump: sags 25-50 % under a full valve's draw
+        return {"pump_reserve": u(1.0, 3.0)}
+    if effect == "chamber leakage":  # an extremal chamber's leak time 0.5-3 s
+        return {"leak": 8.4e-11 / u(0.5, 3.0)}
+    if effect == "pressure-dependent stiffness":
+        return {"stiffening": float(rng.choice([-1, 1])) * u(0.15, 0.35)}
+    if effect == "actuator bending on an incline":
+        return {"bending": u(0.2, 0.45)}
+    if effect == "friction decay":  # contamination that saturates within seconds
+        return {"decay": u(0.2, 0.4), "decay_time": u(3.0, 8.0)}
+    if effect == "sensor tube":  # long lines to the pressure sensors
+        return {"sensor_tau": u(0.03, 0.08)}
+    if effect == "surface change":  # onto a slicker board part-way (SPEC 1.5's transitions)
+        return {"surface_change": [u(0.3, 0.8) * duration, u(0.6, 0.8)]}
+    if effect == "camera scale":  # the camera's distance misjudged
+        return {"video_scale": 1 + float(rng.choice([-1, 1])) * u(0.04, 0.08)}
+    if effect == "two effects":
+        pair = [str(e) for e in rng.choice(CRAWLER_LIBRARY, size=2, replace=False)]
+        out = {"pair": pair}
+        for e in pair:
+            out.update(crawler_hidden(e, rng, duration))
+        return out
+    raise KeyError(f"no hidden crawler effect {effect!r}")
+
+
+def plan_crawler(count, seed, duration=CRAWLER_DURATION):
+    """The crawler cases' hidden truths on the independent bench, as `plan` (kinds in the same
+    shares, ids ``case-c000``, ...; bench "independent-crawler")."""
+    rng = np.random.default_rng([seed, 17])  # a stream apart from the SMA cases'
+    n = {k: max(1, round(share * count)) for k, share in SHARES.items()}
+    kinds = (["none"] * n["none"] + ["outside"] * n["outside"] + ["decoy"] * n["decoy"]
+             + ["effect"] * (count - sum(n.values())))[:count]
+    rng.shuffle(kinds)
+    cases = []
+    for i, kind in enumerate(kinds):
+        case = {"case": f"case-c{i:03d}", "kind": kind, "bench": "independent-crawler",
+                "effect": None, "values": {}, "conditions": crawler_conditions(rng),
+                "duration": duration}
+        pool = {"effect": CRAWLER_LIBRARY, "decoy": [d[0] for d in CRAWLER_DECOYS],
+                "outside": CRAWLER_OUTSIDE}.get(kind)
+        if pool is not None:
+            effect = str(pool[rng.integers(len(pool))])
+            values = crawler_hidden(effect, rng, duration)
+            case.update(effect=effect, values=values)
+            if "pair" in values:
+                case["pair"] = values.pop("pair")
+        cases.append(case)
+    return cases
+
+
 def bench_of(case):
     """The `Bench` of a planned case (conditions, then the hidden values over them)."""
     fields = {**case["conditions"], **case["values"]}
@@ -137,6 +240,15 @@ def bench_of(case):
 
 def record(case):
     """Run `case`'s bench: (time, {column: values}, {condition: value} for the manifest)."""
+    if case["bench"] == "independent-crawler":
+        fields = {**case["conditions"], **case["values"]}
+        if fields.get("surface_change") is not None:
+            fields["surface_change"] = tuple(fields["surface_change"])
+        out = crawler.run(crawler.Crawler(**fields), case["duration"])
+        cols = {c: out["duty"][:, i] for i, c in enumerate(CRAWLER_INPUTS)}
+        cols.update({c: out["p_meas"][:, i] for i, c in enumerate(CRAWLER_OUTPUTS[:3])})
+        cols.update({c: out["x"][:, i] for i, c in enumerate(CRAWLER_OUTPUTS[3:])})
+        return out["time"], cols, {}
     out = run(bench_of(case), case["duration"])
     cols = {"pid.u": out["u"], "thermocouple.T_meas": out["T_meas"], "wire.strain": out["strain"]}
     stated = {"wire.T_amb": round(case["ambient_read"], 2)} if case["ambient_known"] else {}

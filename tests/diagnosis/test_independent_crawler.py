@@ -1,0 +1,140 @@
+"""The independent crawler bench of the blind benchmark: its valve, chamber and friction laws
+against hand-derived cases, the gait it walks, its hidden effects, reproducibility, independence
+from the library, and data sets the diagnosis loads."""
+import ast
+import math
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from musclesim.diagnosis import blind, independent_plan, load_dataset
+from musclesim.diagnosis import independent_crawler as ic
+
+ROOT = Path(__file__).resolve().parents[2]
+NOMINAL = ic.Crawler()  # the model's values, ideal sensors
+
+
+@pytest.fixture(scope="module")
+def walk():
+    """6 s of the nominal bench: two strides."""
+    return ic.run(NOMINAL, 6.0)
+
+
+def test_nozzle_flow_choked_laminar_and_continuous():
+    kappa, R, T = ic.KAPPA, ic.R_AIR, 293.15
+    choked = 2.5e-7 * 300e3 * math.sqrt(kappa / (R * T)) * (2 / (kappa + 1)) ** (
+        (kappa + 1) / (2 * (kappa - 1)))  # the textbook choked flow
+    assert ic.nozzle_flow(300e3, 100e3, 2.5e-7, T) == pytest.approx(choked, rel=1e-12)
+    at_critical = ic.nozzle_flow(100e3, 100e3 * ic.R_CRIT, 2.5e-7, T)
+    assert ic.nozzle_flow(100e3, 100e3 * ic.R_CRIT * 1.0001, 2.5e-7, T) == pytest.approx(
+        at_critical, rel=1e-6)  # subsonic meets choked at the critical ratio
+    edge = ic.nozzle_flow(100e3, 99.9e3, 2.5e-7, T)
+    assert ic.nozzle_flow(100e3, 99.90001e3, 2.5e-7, T) == pytest.approx(edge, rel=1e-3)
+    assert ic.nozzle_flow(100e3, 99.95e3, 2.5e-7, T) == pytest.approx(edge / 2, rel=1e-9)
+    assert ic.nozzle_flow(100e3, 100e3, 2.5e-7, T) == 0.0
+    assert ic.nozzle_flow(100e3, 120e3, 2.5e-7, T) == 0.0
+
+
+def test_pwm_open_share_and_delays():
+    period = 0.02
+    for duty in (0.1, 0.37, 0.9):  # over whole periods the share is the duty, whatever the phase
+        assert ic.open_share(0.0, 0.2, duty, period, 0.3, 0.0, 0.0) == pytest.approx(duty)
+    # delays shift the window's edges: open [5, 8) ms of each period with duty 0.25, 5 and 3 ms
+    assert ic.open_share(0.0, 0.02, 0.25, period, 0.0, 0.005, 0.003) == pytest.approx(0.15)
+    assert ic.open_share(0.004, 0.005, 0.25, period, 0.0, 0.005, 0.003) == 0.0
+    assert ic.open_share(0.006, 0.007, 0.25, period, 0.0, 0.005, 0.003) == 1.0
+    assert ic.open_share(0.0, 0.02, 0.1, period, 0.0, 0.005, 0.001) == 0.0  # closes before open
+
+
+def test_a_closed_chamber_compressed_relaxes_from_adiabatic_to_isothermal():
+    bench = replace(NOMINAL, tau_wall=0.5)
+    ch = ic._Chamber(1e-5)
+    ch.step(bench, 1e-5, 0.0, 0.0, ic.P_ATM, 0.9e-5)  # a fast 10 % squeeze
+    assert ch.p == pytest.approx(ic.P_ATM * (1 / 0.9) ** ic.KAPPA, rel=2e-3)
+    for _ in range(5000):  # 5 s, ten wall time constants
+        ch.step(bench, 1e-3, 0.0, 0.0, ic.P_ATM, 0.9e-5)
+    assert ch.p == pytest.approx(ic.P_ATM / 0.9, rel=1e-4)
+    assert ch.T == pytest.approx(ic.T_ROOM, abs=1e-3)
+
+
+def test_lugre_block_sticks_below_the_static_force_and_slides_above():
+    normal, mu_s, mu_k, dt, m = 2.0, 1.0, 0.75, 2e-4, 0.2
+    # reached over 0.5 s, then held 0.5 s; between the kinetic and the static force LuGre's
+    # breakaway depends on the force's rate (Canudas de Wit et al. 1995), so not tested there
+    for push, sticks in ((1.4, True), (2.1, False)):
+        block, x, v = ic._Block(), 0.0, 0.0
+        for i in range(5000):
+            f = block.force(v, normal, mu_s, mu_k, NOMINAL, dt)
+            v += (push * min(i / 2500, 1.0) + f) / m * dt
+            x += v * dt
+        if sticks:  # presliding only: about the bristles' deflection push / sigma0
+            assert abs(x) < 2 * push / (NOMINAL.bristle * normal) and abs(v) < 1e-4
+        else:  # broken away: kinetic friction, (push - mu_k N) / m over most of the hold
+            assert v > 0.6 * (push - mu_k * normal) / m * 0.5
+
+
+def test_gait_phases():
+    assert ic.gait(0.0) == (ic.P_ANCHOR, 0.0, 0.0)
+    assert ic.gait(1.0) == (ic.P_ANCHOR, ic.P_CENTRAL, 0.0)
+    assert ic.gait(2.0) == (ic.P_ANCHOR, ic.P_CENTRAL, ic.P_ANCHOR)
+    assert ic.gait(2.9) == ic.gait(5.9) == (0.0, 0.0, ic.P_ANCHOR)
+
+
+def test_the_bench_climbs_with_its_pressures_tracking_the_gait(walk):
+    t, p, x = walk["time"], walk["p_true"], walk["x_true"]
+    i = np.searchsorted(t, 1.7)  # the end of phase 2: back and central at their references
+    assert np.allclose(p[i], [ic.P_ANCHOR, ic.P_CENTRAL, 0.0], atol=500.0)
+    assert np.max(p[np.searchsorted(t, 1.8):np.searchsorted(t, 2.4), 2]) > ic.P_ANCHOR  # anchored
+    gain = (x[-1] - x[np.searchsorted(t, 3.0)]).mean()  # one stride, climbing
+    assert 0.01 < gain < 0.04  # SPEC 1.5's real strides are 0.022-0.028 m on the flat
+    assert np.max(np.abs(walk["x"] - x)) < 1e-3  # 30 frames/s interpolated: within a mm
+    assert np.all(np.abs(walk["duty"]) <= 1.0)
+
+
+def test_hidden_effects_act_as_named(walk):
+    t = walk["time"]
+    late = ic.run(replace(NOMINAL, open_delay=0.015, close_delay=0.005), 1.0)
+    j = np.searchsorted(t, 0.1)
+    assert late["p_true"][j, 0] < walk["p_true"][j, 0]  # the back inflates later
+    leaky = ic.run(replace(NOMINAL, leak=8.4e-11), 6.0)
+    k = np.searchsorted(t, 2.3)
+    assert np.mean(np.abs(leaky["duty"][k - 500:k, 0])) > 2 * np.mean(
+        np.abs(walk["duty"][k - 500:k, 0]))  # the PI keeps feeding a leak
+    sag = ic.run(replace(NOMINAL, pump_reserve=1.0), 1.0)
+    assert sag["p_true"][j, 0] < walk["p_true"][j, 0]
+    stiff = ic.run(replace(NOMINAL, stiffening=0.35), 2.0)
+    k = np.searchsorted(t, 1.7)
+    assert np.diff(stiff["x_true"][k]) < np.diff(walk["x_true"][k])  # stretches less
+    scaled = ic.run(replace(NOMINAL, video_scale=1.05), 6.0)
+    assert np.allclose(scaled["x"], 1.05 * walk["x"], atol=1e-12)
+    for slick in (replace(NOMINAL, bending=0.45), replace(NOMINAL, decay=0.4, decay_time=3.0),
+                  replace(NOMINAL, surface_change=(0.5, 0.6))):
+        out = ic.run(slick, 6.0)  # less grip: the anchors slip, the robot climbs less
+        assert out["x_true"][-1].mean() < walk["x_true"][-1].mean() - 2e-3
+
+
+def test_crawler_plan_is_reproducible_and_its_data_load_against_the_model(fmu_dir, tmp_path):
+    cases = independent_plan.plan_crawler(12, 3)
+    assert cases == independent_plan.plan_crawler(12, 3) != independent_plan.plan_crawler(12, 4)
+    assert {c["kind"] for c in cases} == {"effect", "decoy", "none", "outside"}
+    case = {**next(c for c in cases if c["kind"] == "none"), "duration": 2.0}
+    t1, cols1, _ = independent_plan.record(case)
+    t2, cols2, _ = independent_plan.record(case)
+    assert all(np.array_equal(cols1[c], cols2[c]) for c in cols1)
+    blind._make_independent((case, tmp_path, ROOT / "scenarios"))
+    ds = load_dataset(tmp_path / "cases" / case["case"], check_model=True, fmu_dir=fmu_dir)
+    assert ds.inputs == tuple(independent_plan.CRAWLER_INPUTS)
+    assert ds.outputs == tuple(independent_plan.CRAWLER_OUTPUTS)
+    assert ds.time[-1] == pytest.approx(2.0)
+    for effect in independent_plan.CRAWLER_LIBRARY:  # each hidden effect is a library effect
+        assert independent_plan.find(effect).component in ("SoftActuator", "CrawlerBody",
+                                                           "FrictionBlock")
+
+
+def test_the_crawler_bench_imports_nothing_of_the_library():
+    tree = ast.parse((ROOT / "src/musclesim/diagnosis/independent_crawler.py").read_text())
+    modules = [a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names]
+    modules += [n.module or "" for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)]
+    assert not [m for m in modules if m.startswith("musclesim")]  # numpy only
