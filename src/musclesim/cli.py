@@ -324,7 +324,8 @@ def _parser():
 
     q = sub.add_parser("benchmark-diagnosis",
                        help="blind check of the diagnosis on virtual hardware with hidden effects")
-    q.add_argument("--cases", type=_positive, default=40, help="number of cases (default 40)")
+    q.add_argument("--cases", type=_count, default=40,
+                   help="number of cases (default 40; 0 with --crawler: crawler cases only)")
     q.add_argument("--seed", type=int, default=1, help="seed of the hidden truths (default 1)")
     q.add_argument("--out", required=True, help="folder for the cases, key and scores.json")
     q.add_argument("--scenarios", default="scenarios", help="folder of the bench scenarios")
@@ -390,12 +391,20 @@ def _parser():
     return p
 
 
-def _positive(text):
-    """argparse type: an integer of at least 1."""
+def _count(text):
+    """argparse type: an integer of at least 0."""
     try:
         value = int(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"{text} must be at least 0")
+    return value
+
+
+def _positive(text):
+    """argparse type: an integer of at least 1."""
+    value = _count(text)
     if value < 1:
         raise argparse.ArgumentTypeError(f"{text} must be at least 1")
     return value
