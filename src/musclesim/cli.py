@@ -343,7 +343,7 @@ def _parser():
                         "(SPEC 1.5; default none; scores also per bench)")
     dask_args(q)
     common(q)
-    q.set_defaults(func=_cmd_benchmark_diagnosis)
+    q.set_defaults(func=_cmd_benchmark_diagnosis, subparser=q)
 
     q = sub.add_parser("table", help="the study's tables: sma-position (SPEC 2.4 matrix on Dask)")
     q.add_argument("table", choices=["sma-position"], help="which tables")
@@ -451,6 +451,8 @@ def main(argv=None):
     130 / 143 stopped by SIGINT / SIGTERM (what was written so far is kept).
     """
     args = _parser().parse_args(argv)
+    if getattr(args, "cases", None) == 0 and not args.crawler:  # benchmark-diagnosis
+        args.subparser.error("argument --cases: 0 must be at least 1 (0 only with --crawler)")
     try:
         from musclesim.cosim import Interrupted, interruptible
 

@@ -453,7 +453,7 @@ def test_refused_before_any_work(case, ws, capsys):
 # ---- refused by argparse: exit 2, usage and one error line naming the option --------------------
 ARGPARSE = {
     "benchmark-diagnosis-cases-0": (["benchmark-diagnosis", "--cases", "0", "--out", "bench"],
-                                    "argument --cases: 0 must be at least 1"),
+                                    "argument --cases: 0 must be at least 1 (0 only with --crawler)"),
     "benchmark-diagnosis-duration-short": (
         ["benchmark-diagnosis", "--bench", "independent", "--duration", "5", "--out", "bench"],
         "argument --duration: 5 s is shorter than one period of the bench's reference (10 s)"),

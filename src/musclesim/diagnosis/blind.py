@@ -365,8 +365,6 @@ def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, 
     out.mkdir(parents=True, exist_ok=True)
     if multiplier and bench != "own":
         raise UserError("multiplier cases run on the own bench only (--bench own)")
-    if count + multiplier + crawler < 1:
-        raise UserError("no cases to run: give --cases, --multiplier or --crawler at least 1")
     if crawler and bench != "independent":
         raise UserError("independent crawler cases run on the independent bench only "
                         "(--bench independent)")
