@@ -27,7 +27,8 @@ oracle's (the true effect at its true values), the false-alarm rate over ``none`
 verdict naming an effect) and the ``unexplained`` rate over ``outside`` cases.
 
 With ``bench="independent"`` the cases run instead on an SMA bench written apart from the library
-(`musclesim.diagnosis.independent`, cases from `musclesim.diagnosis.independent_plan`), whose
+(`musclesim.diagnosis.independent`, cases from `musclesim.diagnosis.independent_plan`), and on
+request on a crawler written apart too (`musclesim.diagnosis.independent_crawler`), whose
 conditions are drawn around the model's; its scores go under "independent" in scores.json, next
 to the own bench's (see `score` for what counts there).
 """
