@@ -213,6 +213,14 @@ def test_scores_of_the_independent_bench_and_their_place_in_scores_json(tmp_path
     assert written["top1_accuracy"] == own["top1_accuracy"]
     assert written["independent"]["bench"] == "independent"
     assert written["independent"]["false_alarm_rate"] == 0.0
+    assert "by_bench" not in ind  # one bench: no breakdown
+    crawler = {"case": "c", "kind": "none", "bench": "independent-crawler", "effect": None,
+               "values": {}}
+    both = blind.score(cases + [crawler], reports + [{"verdict": "valve delay"}],
+                       gaps + [gaps[0]], independent=True)
+    assert both["false_alarm_rate"] == pytest.approx(0.5)  # pooled over the two benches
+    assert both["by_bench"]["independent-crawler"]["false_alarm_rate"] == 1.0
+    assert both["by_bench"]["independent"] == {k: v for k, v in ind.items() if k != "per_case"}
 
 
 def test_a_small_blind_run_on_the_independent_bench(fmu_dir, tmp_path):
