@@ -188,8 +188,8 @@ def crawler_hidden(effect, rng, duration):
         return {"stiffening": float(rng.choice([-1, 1])) * u(0.15, 0.35)}
     if effect == "actuator bending on an incline":
         return {"bending": u(0.2, 0.45)}
-    if effect == "friction decay":  # contamination that saturates within seconds
-        return {"decay": u(0.2, 0.4), "decay_time": u(3.0, 8.0)}
+    if effect == "friction decay":  # contamination that saturates: 7-23 % lost by 12 s
+        return {"decay": u(0.15, 0.3), "decay_time": u(8.0, 20.0)}
     if effect == "sensor tube":  # long lines to the pressure sensors
         return {"sensor_tau": u(0.03, 0.08)}
     if effect == "surface change":  # onto a slicker board part-way (SPEC 1.5's transitions)
