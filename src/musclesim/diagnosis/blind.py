@@ -359,16 +359,16 @@ def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, 
     """
     if bench not in ("own", "independent"):
         raise UserError(f"no bench {bench!r} for the blind benchmark (own or independent)")
-    pmap = pmap or serial_map
-    say = progress or (lambda text: None)
-    top = Path(out)
-    out = top / "independent" if bench == "independent" else top
-    out.mkdir(parents=True, exist_ok=True)
     if multiplier and bench != "own":
         raise UserError("multiplier cases run on the own bench only (--bench own)")
     if crawler and bench != "independent":
         raise UserError("independent crawler cases run on the independent bench only "
                         "(--bench independent)")
+    pmap = pmap or serial_map
+    say = progress or (lambda text: None)
+    top = Path(out)
+    out = top / "independent" if bench == "independent" else top
+    out.mkdir(parents=True, exist_ok=True)
     if bench == "own":
         cases = plan(count, seed) + plan_multiplier(multiplier, seed)
         jobs = (_make, [(c, out, scenarios_dir, fmu_dir) for c in cases])
