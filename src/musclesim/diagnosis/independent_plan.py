@@ -100,12 +100,38 @@ def hidden(effect, rng, duration):
     if effect == "draught":  # a fan or an open door part-way through: h steps up
         return {"draught_time": u(0.25, 0.6) * duration, "draught_factor": u(1.3, 2.0)}
     if effect == "two effects":
-        pair = [str(e) for e in rng.choice(LIBRARY, size=2, replace=False)]
-        out = {"pair": pair}
-        for e in pair:
-            out.update(hidden(e, rng, duration))
-        return out
+        return _pair(LIBRARY, hidden, rng, duration)
     raise KeyError(f"no hidden effect {effect!r}")
+
+
+def _pair(library, draw, rng, duration):
+    """Two distinct effects of `library`, each drawn by `draw`, with their names as "pair"."""
+    pair = [str(e) for e in rng.choice(library, size=2, replace=False)]
+    out = {"pair": pair}
+    for e in pair:
+        out.update(draw(e, rng, duration))
+    return out
+
+
+def _kinds(count, rng):
+    """`count` case kinds in `SHARES` (the rest effects), shuffled."""
+    n = {k: max(1, round(share * count)) for k, share in SHARES.items()}
+    kinds = (["none"] * n["none"] + ["outside"] * n["outside"] + ["decoy"] * n["decoy"]
+             + ["effect"] * (count - sum(n.values())))[:count]
+    rng.shuffle(kinds)
+    return kinds
+
+
+def _hide(case, pool, draw, rng):
+    """Draw `case`'s hidden effect from `pool` with `draw` (nothing when `pool` is None); a pair's
+    names go to ``case["pair"]``."""
+    if pool is not None:
+        effect = str(pool[rng.integers(len(pool))])
+        values = draw(effect, rng, case["duration"])
+        case.update(effect=effect, values=values)
+        if "pair" in values:
+            case["pair"] = values.pop("pair")
+    return case
 
 
 def plan(count, seed, decoys, duration=DURATION):
@@ -113,25 +139,15 @@ def plan(count, seed, decoys, duration=DURATION):
     key), values (the hidden Bench fields), conditions, ambient_known, ...). `decoys` are
     (hidden, look-alike) pairs of library names."""
     rng = np.random.default_rng([seed, 13])  # a stream apart from the own bench's plan
-    n = {k: max(1, round(share * count)) for k, share in SHARES.items()}
-    kinds = (["none"] * n["none"] + ["outside"] * n["outside"] + ["decoy"] * n["decoy"]
-             + ["effect"] * (count - sum(n.values())))[:count]
-    rng.shuffle(kinds)
     cases = []
-    for i, kind in enumerate(kinds):
+    for i, kind in enumerate(_kinds(count, rng)):
         base = conditions(rng)
         case = {"case": f"case-{i:03d}", "kind": kind, "bench": BENCH, "effect": None,
                 "values": {}, "conditions": base, "duration": duration,
                 "ambient_known": bool(rng.random() < KNOWN_AMBIENT),
                 "ambient_read": base["ambient"] + float(rng.uniform(-0.2, 0.2))}
         pool = {"effect": LIBRARY, "decoy": [d[0] for d in decoys], "outside": OUTSIDE}.get(kind)
-        if pool is not None:
-            effect = str(pool[rng.integers(len(pool))])
-            values = hidden(effect, rng, duration)
-            case.update(effect=effect, values=values)
-            if "pair" in values:
-                case["pair"] = values.pop("pair")
-        cases.append(case)
+        cases.append(_hide(case, pool, hidden, rng))
     return cases
 
 
@@ -197,11 +213,7 @@ def crawler_hidden(effect, rng, duration):
     if effect == "camera scale":  # the camera's distance misjudged
         return {"video_scale": 1 + float(rng.choice([-1, 1])) * u(0.04, 0.08)}
     if effect == "two effects":
-        pair = [str(e) for e in rng.choice(CRAWLER_LIBRARY, size=2, replace=False)]
-        out = {"pair": pair}
-        for e in pair:
-            out.update(crawler_hidden(e, rng, duration))
-        return out
+        return _pair(CRAWLER_LIBRARY, crawler_hidden, rng, duration)
     raise KeyError(f"no hidden crawler effect {effect!r}")
 
 
@@ -209,24 +221,14 @@ def plan_crawler(count, seed, duration=CRAWLER_DURATION):
     """The crawler cases' hidden truths on the independent bench, as `plan` (kinds in the same
     shares, ids ``case-c000``, ...; bench "independent-crawler")."""
     rng = np.random.default_rng([seed, 17])  # a stream apart from the SMA cases'
-    n = {k: max(1, round(share * count)) for k, share in SHARES.items()}
-    kinds = (["none"] * n["none"] + ["outside"] * n["outside"] + ["decoy"] * n["decoy"]
-             + ["effect"] * (count - sum(n.values())))[:count]
-    rng.shuffle(kinds)
     cases = []
-    for i, kind in enumerate(kinds):
+    for i, kind in enumerate(_kinds(count, rng)):
         case = {"case": f"case-c{i:03d}", "kind": kind, "bench": "independent-crawler",
                 "effect": None, "values": {}, "conditions": crawler_conditions(rng),
                 "duration": duration}
         pool = {"effect": CRAWLER_LIBRARY, "decoy": [d[0] for d in CRAWLER_DECOYS],
                 "outside": CRAWLER_OUTSIDE}.get(kind)
-        if pool is not None:
-            effect = str(pool[rng.integers(len(pool))])
-            values = crawler_hidden(effect, rng, duration)
-            case.update(effect=effect, values=values)
-            if "pair" in values:
-                case["pair"] = values.pop("pair")
-        cases.append(case)
+        cases.append(_hide(case, pool, crawler_hidden, rng))
     return cases
 
 
