@@ -47,8 +47,12 @@ def test_moved_names_parameters_whose_interval_excludes_the_nominal_value():
 
 
 def test_verdict_recalibration_when_calibration_closes_most_of_the_gap():
+    v, why, done = verdict([], None, {"nominal": 0.5, "calibrated": 0.025}, FLOOR, CALIBRATED)
+    assert v == "recalibration" and "recalibrated: wire.h" in why and done  # 2.5 floors
+    # a tenth of the nominal gap but four noise floors: a structured rest, whatever the nominal
+    # values made of the gap before
     v, why, done = verdict([], None, {"nominal": 0.5, "calibrated": 0.04}, FLOOR, CALIBRATED)
-    assert v == "recalibration" and "recalibrated: wire.h" in why and done  # a tenth of 0.5
+    assert v == "recalibration" and not done and "structured rest" in why
     v, why, done = verdict([], None, {"nominal": 0.2, "calibrated": 0.08}, FLOOR, CALIBRATED)
     assert v == "recalibration" and not done and "structured rest" in why
     v, why, done = verdict([], None, {"nominal": 0.2, "calibrated": 0.15}, FLOOR, CALIBRATED)

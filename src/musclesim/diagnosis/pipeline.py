@@ -39,7 +39,8 @@ Verdict (`selection.verdict`): ``none`` when no signal deviates beyond the noise
 counting effect's name, ``complete`` when the gap left is unstructured (within `STRUCTURED`
 noise floors or `RESIDUAL_SHARE` of the nominal gap), else false with its share (a further
 difference outside the library); ``recalibration`` when no effect counts and calibration closes
-at least `MOST` of the nominal gap (naming the parameters it moved); ``unexplained`` otherwise.
+at least `MOST` of the nominal gap (naming the parameters it moved; complete only within
+`STRUCTURED` noise floors); ``unexplained`` otherwise.
 
 The fits are independent tasks: `diagnose` maps them with the ``pmap`` it is given (the CLI passes
 Dask's, the same local cluster or scheduler as sweeps).
