@@ -7,9 +7,9 @@ import pytest
 
 from musclesim.diagnosis import effects
 from musclesim.diagnosis.fitting import Free
-from musclesim.diagnosis.selection import (Candidate, cross_signal, explained, gain_signature,
-                                           judge, moved, rank, refine, score, signature,
-                                           verdict)
+from musclesim.diagnosis.selection import (Candidate, aliasing, cross_signal, explained,
+                                           gain_signature, judge, moved, rank, refine, score,
+                                           signature, stand_ins, verdict)
 from musclesim.diagnosis.stats import gap
 from musclesim.diagnosis.thresholds import REFINED, SIGNATURE_MIN
 
@@ -57,6 +57,46 @@ def test_verdict_recalibration_when_calibration_closes_most_of_the_gap():
     assert v == "recalibration" and not done and "structured rest" in why
     v, why, done = verdict([], None, {"nominal": 0.2, "calibrated": 0.15}, FLOOR, CALIBRATED)
     assert v == "unexplained" and not done and "no candidate effect" in why
+
+
+def test_aliasing_of_an_effect_by_the_calibration_on_synthetic_sensitivities():
+    """A thermocouple's bias changes only its channel; a room warmer by as much moves the wire
+    and so both channels, the transformation temperatures shifted with it give the strain back:
+    together they make the bias exactly, unless the strain's sensitivity differs."""
+    rng = np.random.default_rng(5)
+    dstrain = rng.standard_normal(N)  # the strain's sensitivity to the wire's temperature
+    tc, strain = np.r_[np.ones(N), np.zeros(N)], np.r_[np.zeros(N), dstrain]
+    ambient, shift = tc + strain, -strain
+    jac = np.column_stack([tc, ambient, shift, rng.standard_normal(2 * N)])
+    names = ["wire.T_amb", "wire.hysteresis_shift", "wire.h"]
+    a = aliasing(jac, 1, names)
+    assert a["share"] == pytest.approx(1.0) and a["index"] > 1e3
+    assert set(a["with"]) == {"wire.T_amb", "wire.hysteresis_shift"}
+    # with the room stated (not calibrated) the ambient's column is gone: no stand-in
+    b = aliasing(np.delete(jac, 1, axis=1), 1, names[1:])
+    assert b["share"] < 0.01 and b["index"] < 1.1
+    assert aliasing(None, 1, names) is None and aliasing(jac[:, :1], 1, []) is None
+    assert aliasing(np.zeros_like(jac), 1, names) is None  # an effect that changes nothing
+    # in a scored fit, a calibration parameter that ended at its bound cannot stand in: left out
+    unit = fake_unit((TC,))
+    res = {TC: [noise(9)]}
+    base = {"residuals": res, "heldout_gap": gap(unit, res, 1)}
+    calib = [Free(("wire",), n, 0.0, 1.0, 0.5) for n in ("T_amb", "hysteresis_shift", "h")]
+    f = {**fitted(unit, res), "x": [1.0, 0.5, 0.5, 0.5], "jac": jac,
+         "interval": [(0.9, 1.1)] + [(0.4, 0.6)] * 3}
+    e = score(unit, base, candidate("thermocouple bias", "thermocouple"), f, {}, calib)
+    assert e["aliasing"]["share"] == pytest.approx(1.0)
+    f["x"][1] = 1.0  # the ambient at its upper bound
+    e = score(unit, base, candidate("thermocouple bias", "thermocouple"), f, {}, calib)
+    assert e["aliasing"]["share"] < 0.01 and "wire.T_amb" not in e["aliasing"]["with"]
+    # the verdict names a stand-in only when it does not count and is aliased enough
+    bias = {**entry("thermocouple bias"), "counts": False, "aliasing": a}
+    lag = {**entry("thermocouple lag"), "counts": False, "aliasing": b}
+    assert stand_ins([bias, lag]) == [f"thermocouple bias (like {', '.join(a['with'])})"]
+    _, why, _ = verdict([], None, {"nominal": 0.5, "calibrated": 0.02}, FLOOR, CALIBRATED,
+                        entries=[bias, lag])
+    assert "calibration makes what thermocouple bias" in why and "cannot be told apart" in why
+    assert "thermocouple lag" not in why
 
 
 def test_verdict_names_the_effect_with_its_share_complete_or_not():

@@ -285,7 +285,7 @@ def _which_effect(problem, report, fitting, pmap, say):
     report["consistency"] = cross_signal(unit, entries, selected)
     gaps = {"nominal": cal["nominal_gap"], "calibrated": base["heldout_gap"]}
     report["verdict"], report["explanation"], report["complete"] = verdict(
-        selected, final, gaps, floor, report["calibration"]["parameters"])
+        selected, final, gaps, floor, report["calibration"]["parameters"], entries=entries)
     report["noise_floor"] = floor
     return values_of(free, final["x"]) if selected else {}
 

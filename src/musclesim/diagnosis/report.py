@@ -133,9 +133,12 @@ def _md_which(report):
           "on the signals each effect can change. An effect counts if the gap there is "
           "material (beyond the noise), its gain is large enough with a bootstrap interval "
           "above zero, and it gains most in its regime.", "",
+          "The collinearity index says how far the calibration makes the effect's signature "
+          "too (1: not at all; 10 and more: they cannot be told apart on these data).", "",
           "| rank | effect | fitted values [95 % interval] | judged on | gap there: calibrated "
-          "-> with effect | gain [95 %] | pooled gap | regime gain ratio | counts |",
-          "|---|---|---|---|---|---|---|---|---|"]
+          "-> with effect | gain [95 %] | pooled gap | regime gain ratio | collinearity with "
+          "calibration | counts |",
+          "|---|---|---|---|---|---|---|---|---|---|"]
     for i, e in enumerate(report["effects"], 1):
         vals = "; ".join(f"{n} = {_num(p['value'], '.4g')} {_iv(p['interval'], '.3g')}"
                          for n, p in e["parameters"].items())
@@ -145,7 +148,8 @@ def _md_which(report):
                  f"{_num(j.get('before'))} -> {_num(j.get('after'))} | "
                  f"{_num(j.get('gain'), '.2f')} {_iv(j.get('interval'), '.2f')} | "
                  f"{_num(e['heldout_gap_before'])} -> {_num(e['heldout_gap_after'])} | "
-                 f"{sig['regime']}: {_num(sig['gain_ratio'], '.2f')} | {e['counts']} |")
+                 f"{sig['regime']}: {_num(sig['gain_ratio'], '.2f')} | {_alias(e)} | "
+                 f"{e['counts']} |")
     L += ["", "Per signal, held-out gap calibrated -> with the effect:", "",
           "| effect | " + " | ".join(report["fit_unit"].get("observed", [])) + " |",
           "|---|" + "---|" * len(report["fit_unit"].get("observed", []))]
@@ -157,6 +161,11 @@ def _md_which(report):
     if report.get("consistency"):
         L += ["", "Cross-signal evidence: " + report["consistency"]]
     return L
+
+
+def _alias(entry):
+    a = entry.get("aliasing")
+    return "-" if not a else f"{a['index']:.3g} ({', '.join(a['with'])})"
 
 
 def _md_shrinkage(report):

@@ -16,6 +16,7 @@ True
 >>> explained(0.2, 1.0, 0.01)
 False
 """
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -25,9 +26,9 @@ from musclesim.diagnosis.fitting import Free, fit_task, known_columns
 from musclesim.diagnosis.problem import affected, downstream
 from musclesim.diagnosis.stats import (before_after, bootstrap, gap, interval95, part_rows,
                                        row_squares)
-from musclesim.diagnosis.thresholds import (DEVIATES, MIN_SHRINKAGE, MIN_VALUES_PER_PARAMETER,
-                                            MOST, REFINED, RESIDUAL_SHARE, SIGNATURE_MIN,
-                                            STRUCTURED)
+from musclesim.diagnosis.thresholds import (ALIASED, DEVIATES, MIN_SHRINKAGE,
+                                            MIN_VALUES_PER_PARAMETER, MOST, REFINED,
+                                            RESIDUAL_SHARE, SIGNATURE_MIN, STRUCTURED)
 
 NO_GAP = ("the model matches the data within the noise on the held-out part: there is no gap to "
           "explain")
@@ -118,6 +119,58 @@ def refine(unit, cands, fits, calib, latency, fmu_dir, pmap):
     return out
 
 
+def aliasing(jac, k, names):
+    """How far the calibration parameters can stand in for an effect on these data, to first
+    order: {"share", "index", "with"} from a fit's Jacobian `jac` (training residuals, the
+    effect's `k` columns first, then the calibration parameters `names`), or None (no
+    Jacobian, no calibration, an effect that changes nothing).
+
+    ``share`` is the squared cosine of the largest principal angle between the effect's columns
+    and the calibration's (for one parameter: the R^2 of its column regressed on theirs): the
+    part of the effect's least aliased signature calibration makes too. ``index`` is Brun et
+    al.'s (2001) collinearity index of that direction, 1 / sqrt(1 - share); ``with`` the two
+    calibration parameters that carry most of the regression.
+
+    >>> J = np.array([[1.0, 1.0, 0.0], [1.0, 0.0, 1.0], [0.0, 0.0, 1.0]])
+    >>> a = aliasing(J, 1, ["T_amb", "shift"])  # (1, 1, 0) projects to (1, .5, .5): 1.5 of 2
+    >>> round(a["share"], 3), a["with"]
+    (0.75, ['T_amb', 'shift'])
+    >>> J[:, 0] = J[:, 1] - J[:, 2]  # a bias that an ambient and a shift make together
+    >>> round(aliasing(J, 1, ["T_amb", "shift"])["share"], 6)
+    1.0
+    """
+    if jac is None or jac.shape[1] <= k:
+        return None
+    E, C = jac[:, :k], jac[:, k:]
+    if not np.any(E):
+        return None
+
+    def basis(A):
+        u, sv, _ = np.linalg.svd(A, full_matrices=False)
+        return u[:, sv > sv[0] * 1e-9]
+
+    qe = basis(E)
+    cosines = np.linalg.svd(basis(C).T @ qe, compute_uv=False)
+    share = float(min(cosines) ** 2) if len(cosines) == qe.shape[1] else 0.0
+    beta = np.linalg.lstsq(C, E, rcond=None)[0]
+    carried = np.abs(beta).sum(axis=1) * np.linalg.norm(C, axis=0)
+    order = np.argsort(-carried)[:2]
+    return {"share": share, "index": 1 / math.sqrt(max(1 - share, 1e-12)),
+            "with": [names[i] for i in order if carried[i] > 0]}
+
+
+def _aliasing_in(f, k, calib):
+    """`aliasing` of fit `f`'s first `k` parameters by the calibration parameters `calib` that
+    ended inside their bounds: one at a bound can make only half of its column's signature (the
+    thermocouple's gain at its tolerance cannot stand in for a larger bias)."""
+    inside = [i for i, (fr, x) in enumerate(zip(calib, f["x"][k:]))
+              if fr.lower + 1e-3 * (fr.upper - fr.lower) < x
+              < fr.upper - 1e-3 * (fr.upper - fr.lower)]
+    jac = f.get("jac")
+    return aliasing(None if jac is None else jac[:, list(range(k)) + [k + i for i in inside]],
+                    k, [f"{','.join(calib[i].instances)}.{calib[i].name}" for i in inside])
+
+
 def calibration_table(free, f):
     """The report's calibrated values: {instance(s).parameter: value, 95 % interval, nominal,
     bounds} of `free` fitted as `f`."""
@@ -186,7 +239,7 @@ def score(unit, base, cand, f, masks, calib=()):
              "calibration": {f"{','.join(fr.instances)}.{fr.name}": x
                              for fr, x in zip(calib, f["x"][k:])},
              "applicable": f["applicable"], "heldout_gap_before": base["heldout_gap"],
-             "heldout_gap_after": f["heldout_gap"]}
+             "heldout_gap_after": f["heldout_gap"], "aliasing": _aliasing_in(f, k, calib)}
     entry["shrinkage"] = 1 - entry["heldout_gap_after"] / entry["heldout_gap_before"] \
         if entry["heldout_gap_before"] else 0.0
     if res is None:
@@ -261,14 +314,23 @@ def moved(table):
     return [k for _, k in sorted(out, reverse=True)]
 
 
-def verdict(selected, final, gaps, floor, calibrated, deviates=True):
+def stand_ins(entries):
+    """The candidates (entries of `score`) that do not count and whose signature calibration
+    makes too (`aliasing` index at least ALIASED), as text: ["thermocouple bias (like
+    wire.T_amb, wire.hysteresis_shift)", ...]."""
+    return [f"{e['label']} (like {', '.join(e['aliasing']['with'])})" for e in entries
+            if not e["counts"] and e.get("aliasing") and e["aliasing"]["index"] >= ALIASED]
+
+
+def verdict(selected, final, gaps, floor, calibrated, deviates=True, entries=()):
     """(verdict, explanation, complete) from the selected effects (entries of `score`), their
     final fit, the held-out `gaps` ({"nominal", "calibrated"} pooled in the fit unit), the noise
     `floor` and the `calibrated` table (`calibration_table`). ``none`` when nothing `deviates`;
     the first selected effect's name (complete when the gap left is unstructured, `explained`);
     ``recalibration`` when no effect counts but calibration closes at least MOST of the nominal
     gap (complete only when the rest is within STRUCTURED noise floors); ``unexplained``
-    otherwise."""
+    otherwise. Without a selected effect the explanation names the candidates (`entries`) the
+    calibration can stand in for on these data (`stand_ins`)."""
     if not deviates:
         return "none", NO_GAP, True
     nominal, cal = gaps["nominal"], gaps["calibrated"]
@@ -295,10 +357,21 @@ def verdict(selected, final, gaps, floor, calibrated, deviates=True):
                 f"recalibrated: {listed}")
         if not done:
             text += "; a structured rest remains"
-        return "recalibration", text, done
+        return "recalibration", text + _alias_note(entries), done
     return "unexplained", (f"calibration takes the held-out gap only from {nominal:.3g} to "
                            f"{cal:.3g} and no candidate effect adds a significant, material "
-                           "held-out gain on the signals it can change"), False
+                           "held-out gain on the signals it can change"
+                           + _alias_note(entries)), False
+
+
+def _alias_note(entries):
+    names = stand_ins(entries)
+    if not names:
+        return ""
+    return (f"; on these data the calibration makes what {'; '.join(names)} would (collinearity "
+            f"index at least {ALIASED:g}): they cannot be told apart from a recalibration here; "
+            "stating one of those values in the data set's [conditions], or an experiment that "
+            "moves them apart, would")
 
 
 def cross_signal(unit, entries, selected):

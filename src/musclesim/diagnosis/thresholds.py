@@ -62,6 +62,15 @@ STRUCTURED = 3.0
 # structure; its rest must be within STRUCTURED noise floors.
 RESIDUAL_SHARE = 0.1
 
+# An effect whose signature on the training data the calibration parameters make too, to first
+# order, cannot be told apart from a recalibration there (a thermocouple's bias from a room and
+# transformation temperatures shifted together): the verdict says so when the collinearity index
+# of the effect's least aliased direction against the calibration's columns
+# (`musclesim.diagnosis.selection.aliasing`) reaches this value. Brun, Reichert and Kuensch
+# (2001, Water Resour. Res. 37(4)) take 10 to 15 as where a parameter set stops being
+# identifiable; 10 (99 % of the signature shared: 1 - 1/10^2) is the start of that range.
+ALIASED = 10.0
+
 # When no effect counts, calibration alone is the verdict ("recalibration", naming the parameters
 # that moved beyond their interval) if it closes at least this share of the nominal gap; else the
 # data are "unexplained". More than half of the difference is then a matter of nominal values.
