@@ -418,7 +418,10 @@ def score(cases, reports, gaps, independent=False):
     is left). On the
     `independent` bench, whose conditions are drawn around the model's, a ``recalibration`` is
     no false alarm (a parameter is off; no effect is named), and an ``outside`` case hiding two
-    library effects also counts when both are selected.
+    library effects also counts when both are selected. ``named_rate`` is a weaker score beside
+    top-1: the share of effect and decoy cases whose hidden effect the verdict names or the
+    report lists among the effects the calibration stands in for on those data (``stand_ins``:
+    not told apart there).
     """
     quiet = ("none", "unexplained") + (("recalibration",) if independent else ())
     table = []
@@ -430,6 +433,7 @@ def score(cases, reports, gaps, independent=False):
             row["complete"] = r.get("complete")
         if c["kind"] in ("effect", "decoy"):
             row["correct"] = r.get("verdict") == c["effect"]
+            row["named"] = row["correct"] or c["effect"] in r.get("stand_ins", ())
             if g["oracle"] is None:  # the oracle's fit failed
                 table.append(row)
                 continue
@@ -460,6 +464,7 @@ def _rates(table):
 
     ratios = [t["shrinkage_vs_oracle"] for t in table if t.get("shrinkage_vs_oracle") is not None]
     return {"top1_accuracy": rate(("effect", "decoy"), "correct"),
+            "named_rate": rate(("effect", "decoy"), "named"),
             "shrinkage_vs_oracle": statistics.median(ratios) if ratios else None,
             "false_alarm_rate": rate(("none",), "false_alarm"),
             "unexplained_rate": rate(("outside",), "unexplained"),

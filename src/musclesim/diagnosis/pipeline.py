@@ -40,7 +40,9 @@ counting effect's name, ``complete`` when the gap left is unstructured (within `
 noise floors or `RESIDUAL_SHARE` of the nominal gap), else false with its share (a further
 difference outside the library); ``recalibration`` when no effect counts and calibration closes
 at least `MOST` of the nominal gap (naming the parameters it moved; complete only within
-`STRUCTURED` noise floors); ``unexplained`` otherwise.
+`STRUCTURED` noise floors); ``unexplained`` otherwise. Candidates that do not count but whose
+signature the calibration makes too on these data (`selection.aliasing`, collinearity index at
+least `ALIASED`) are the report's ``stand_ins``, named in the explanation: not told apart there.
 
 The fits are independent tasks: `diagnose` maps them with the ``pmap`` it is given (the CLI passes
 Dask's, the same local cluster or scheduler as sweeps).
@@ -56,7 +58,8 @@ from musclesim.diagnosis.fitting import fit_task, known_columns, values_of
 from musclesim.diagnosis.problem import Problem, affected
 from musclesim.diagnosis.regimes import regime_table, regimes
 from musclesim.diagnosis.selection import (calibration, calibration_table, candidates,
-                                           cross_signal, rank, refine, select, verdict)
+                                           cross_signal, rank, refine, select, stand_ins,
+                                           verdict)
 from musclesim.diagnosis.simulate import Failed, residuals, signal_gap, simulate
 from musclesim.diagnosis.stats import before_after, deviates, gap, noise_floor
 from musclesim.errors import UserError
@@ -283,6 +286,7 @@ def _which_effect(problem, report, fitting, pmap, say):
     report["effects"] = entries
     report["selected"] = [e["name"] for e in selected]
     report["consistency"] = cross_signal(unit, entries, selected)
+    report["stand_ins"] = [e["name"] for e in stand_ins(entries)]
     gaps = {"nominal": cal["nominal_gap"], "calibrated": base["heldout_gap"]}
     report["verdict"], report["explanation"], report["complete"] = verdict(
         selected, final, gaps, floor, report["calibration"]["parameters"], entries=entries)

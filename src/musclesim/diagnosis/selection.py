@@ -316,9 +316,8 @@ def moved(table):
 
 def stand_ins(entries):
     """The candidates (entries of `score`) that do not count and whose signature calibration
-    makes too (`aliasing` index at least ALIASED), as text: ["thermocouple bias (like
-    wire.T_amb, wire.hysteresis_shift)", ...]."""
-    return [f"{e['label']} (like {', '.join(e['aliasing']['with'])})" for e in entries
+    makes too (`aliasing` index at least ALIASED): the report's ``stand_ins``."""
+    return [e for e in entries
             if not e["counts"] and e.get("aliasing") and e["aliasing"]["index"] >= ALIASED]
 
 
@@ -365,7 +364,7 @@ def verdict(selected, final, gaps, floor, calibrated, deviates=True, entries=())
 
 
 def _alias_note(entries):
-    names = stand_ins(entries)
+    names = [f"{e['label']} (like {', '.join(e['aliasing']['with'])})" for e in stand_ins(entries)]
     if not names:
         return ""
     return (f"; on these data the calibration makes what {'; '.join(names)} would (collinearity "
