@@ -367,10 +367,10 @@ def _alias_note(entries):
     names = [f"{e['label']} (like {', '.join(e['aliasing']['with'])})" for e in stand_ins(entries)]
     if not names:
         return ""
-    return (f"; on these data the calibration makes what {'; '.join(names)} would (collinearity "
-            f"index at least {ALIASED:g}): they cannot be told apart from a recalibration here; "
-            "stating one of those values in the data set's [conditions], or an experiment that "
-            "moves them apart, would")
+    return (f"; the calibration makes what {' and '.join(names)} would (collinearity index "
+            f"{ALIASED:g} or more), so these data cannot tell them apart from a recalibration: "
+            "state one of those values in the data set's [conditions], or add an experiment "
+            "that moves them apart")
 
 
 def cross_signal(unit, entries, selected):
