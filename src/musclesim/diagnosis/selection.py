@@ -127,9 +127,11 @@ def aliasing(jac, k, names):
 
     ``share`` is the squared cosine of the largest principal angle between the effect's columns
     and the calibration's (for one parameter: the R^2 of its column regressed on theirs): the
-    part of the effect's least aliased signature calibration makes too. ``index`` is Brun et
-    al.'s (2001) collinearity index of that direction, 1 / sqrt(1 - share); ``with`` the two
-    calibration parameters that carry most of the regression.
+    part of the effect's least aliased signature calibration makes too. ``index`` is
+    1 / sqrt(1 - share), read as Brun et al.'s (2001) collinearity index is: the change of the
+    outputs the effect makes can be compensated by the calibration parameters down to 1 / index
+    of it (its norm). ``with`` names the two calibration parameters that carry most of that
+    compensation.
 
     >>> J = np.array([[1.0, 1.0, 0.0], [1.0, 0.0, 1.0], [0.0, 0.0, 1.0]])
     >>> a = aliasing(J, 1, ["T_amb", "shift"])  # (1, 1, 0) projects to (1, .5, .5): 1.5 of 2
@@ -161,8 +163,8 @@ def aliasing(jac, k, names):
 
 def _aliasing_in(f, k, calib):
     """`aliasing` of fit `f`'s first `k` parameters by the calibration parameters `calib` that
-    ended inside their bounds: one at a bound can make only half of its column's signature (the
-    thermocouple's gain at its tolerance cannot stand in for a larger bias)."""
+    ended inside their bounds: one at a bound cannot move on (the thermocouple's gain at its
+    tolerance cannot stand in for a larger bias)."""
     inside = [i for i, (fr, x) in enumerate(zip(calib, f["x"][k:]))
               if fr.lower + 1e-3 * (fr.upper - fr.lower) < x
               < fr.upper - 1e-3 * (fr.upper - fr.lower)]

@@ -64,11 +64,11 @@ RESIDUAL_SHARE = 0.1
 
 # An effect whose signature on the training data the calibration parameters make too, to first
 # order, cannot be told apart from a recalibration there (a thermocouple's bias from a room and
-# transformation temperatures shifted together): the verdict says so when the collinearity index
-# of the effect's least aliased direction against the calibration's columns
-# (`musclesim.diagnosis.selection.aliasing`) reaches this value. Brun, Reichert and Kuensch
-# (2001, Water Resour. Res. 37(4)) take 10 to 15 as where a parameter set stops being
-# identifiable; 10 (99 % of the signature shared: 1 - 1/10^2) is the start of that range.
+# transformation temperatures shifted together): the verdict says so when the calibration can
+# compensate the effect's change of the outputs down to a tenth of it (the collinearity index of
+# `musclesim.diagnosis.selection.aliasing` at least 10: 99 % of its squared norm). Brun, Reichert
+# and Kuensch (2001, Water Resour. Res. 37(4)), whose index reads the same way, take 10 to 15 as
+# where parameters stop being identifiable; 10 is the start of that range.
 ALIASED = 10.0
 
 # When no effect counts, calibration alone is the verdict ("recalibration", naming the parameters
