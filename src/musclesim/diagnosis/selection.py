@@ -369,10 +369,10 @@ def _alias_note(entries):
     names = [f"{e['label']} (like {', '.join(e['aliasing']['with'])})" for e in stand_ins(entries)]
     if not names:
         return ""
-    return (f"; the calibration makes what {' and '.join(names)} would (collinearity index "
-            f"{ALIASED:g} or more), so these data cannot tell them apart from a recalibration: "
-            "state one of those values in the data set's [conditions], or add an experiment "
-            "that moves them apart")
+    return (f"; the calibration makes what {' and '.join(names)} would, all but a tenth of it "
+            f"or less (collinearity index {ALIASED:g} or more), so these data hardly tell them "
+            "from a recalibration: state one of those values in the data set's [conditions], or "
+            "add an experiment that moves them apart")
 
 
 def cross_signal(unit, entries, selected):
