@@ -58,11 +58,13 @@ def test_report_json_keeps_its_documented_shape(lag_case, tmp_path):
     paths = write_report(tmp_path, report, traces)
     assert {p.name for p in paths} == {"report.json", "report.md", "signals.png", "effects.png"}
     saved = json.loads((tmp_path / "report.json").read_text())
-    assert {"gap", "calibration", "located", "regimes", "effects", "verdict", "shrinkage",
-            "consistency"} <= set(saved)
+    assert {"gap", "calibration", "located", "regimes", "effects", "stand_ins", "verdict",
+            "shrinkage", "consistency"} <= set(saved)
     for key in ("name", "component", "parameters", "calibration", "heldout_gap_before",
-                "heldout_gap_after", "shrinkage", "judged", "interval", "per_signal"):
+                "heldout_gap_after", "aliasing", "shrinkage", "judged", "interval",
+                "per_signal"):
         assert key in saved["effects"][0], key
+    assert {"share", "index", "with"} <= set(saved["effects"][0]["aliasing"])
     assert {"nrmse", "bias", "lag"} <= set(saved["gap"]["signals"]["thermocouple.T_meas"])
     assert {"changing", "cooling", "hot", "transformation"} <= set(saved["regimes"]["by_regime"])
     assert len(saved["regimes"]["worst_windows"]) == WINDOWS
@@ -76,7 +78,7 @@ def test_the_model_matching_its_data_has_no_gap(fmu_dir, tmp_path):
             "latency_samples": 0, "seed": 3}
     blind._make((case, tmp_path, SCENARIOS, fmu_dir))
     report = diagnose(dataset.load(tmp_path / "cases" / "null"), fmu_dir)
-    assert report["verdict"] == "none" and report["effects"] == []
+    assert report["verdict"] == "none" and report["effects"] == report["stand_ins"] == []
     assert not report["gap"]["deviates"]
 
 

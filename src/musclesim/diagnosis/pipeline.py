@@ -91,8 +91,8 @@ def _diagnose(ds, fmu_dir, pmap, say, traces):
     if not report["gap"]["deviates"] and not any(u["deviates"] for u in units):
         floor = report["gap"]["noise_floor"]
         none, explanation, _ = verdict([], None, {}, floor, {}, deviates=False)
-        report.update(calibration={"parameters": {}}, effects=[], selected=[], verdict=none,
-                      explanation=explanation, noise_floor=floor, complete=True)
+        report.update(calibration={"parameters": {}}, effects=[], selected=[], stand_ins=[],
+                      verdict=none, explanation=explanation, noise_floor=floor, complete=True)
         _shrinkage(problem, report, {}, {}, traces)
         return report
     # calibrated with the loops cut open at the measurements (every measured signal replayed):
@@ -108,8 +108,8 @@ def _diagnose(ds, fmu_dir, pmap, say, traces):
     values = {}
     if not deviates(cut, cal["residuals"]) and not any(u["deviates"] for u in isolated):
         floor = noise_floor(cut)
-        report.update(effects=[], selected=[], verdict="recalibration", complete=True,
-                      noise_floor=floor, explanation=(
+        report.update(effects=[], selected=[], stand_ins=[], verdict="recalibration",
+                      complete=True, noise_floor=floor, explanation=(
                           f"calibration alone takes the held-out gap from "
                           f"{report['calibration']['heldout_gap_before']:.3g} to "
                           f"{report['calibration']['heldout_gap_after']:.3g}, within the noise "
