@@ -134,7 +134,7 @@ def _md_which(report):
           "material (beyond the noise), its gain is large enough with a bootstrap interval "
           "above zero, and it gains most in its regime.", "",
           "The collinearity index says how far the calibration makes the effect's signature "
-          "too (1: not at all; 10 and more: they cannot be told apart on these data).", "",
+          "too (1: not at all; 10 and more: these data hardly tell them apart).", "",
           "| rank | effect | fitted values [95 % interval] | judged on | gap there: calibrated "
           "-> with effect | gain [95 %] | pooled gap | regime gain ratio | collinearity with "
           "calibration | counts |",

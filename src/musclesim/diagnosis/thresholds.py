@@ -63,7 +63,7 @@ STRUCTURED = 3.0
 RESIDUAL_SHARE = 0.1
 
 # An effect whose signature on the training data the calibration parameters make too, to first
-# order, cannot be told apart from a recalibration there (a thermocouple's bias from a room and
+# order, is hardly told apart from a recalibration there (a thermocouple's bias from a room and
 # transformation temperatures shifted together): the verdict says so when the calibration can
 # compensate the effect's change of the outputs down to a tenth of it (the collinearity index of
 # `musclesim.diagnosis.selection.aliasing` at least 10: 99 % of its squared norm). Brun, Reichert
