@@ -1,5 +1,4 @@
 """Modified Preisach forward model of SPEC 2.2: temperature in, strain out, stress a correction."""
-import copy
 import sys
 from bisect import bisect_right
 from dataclasses import dataclass
@@ -180,7 +179,10 @@ class PreisachModel(StressInput):
         >>> round(m.step(90.0, 1e8) * 1e5, 6), round(m.peek(50.0, 1e8) * 1e5, 6), m.extrema
         (1800.0, 1000.0, [30.0])
         """
-        trial = copy.copy(self)  # floats and flags are rebound by step, the lists change in place
+        # a shallow copy (floats and flags are rebound by step), its lists copied (they change in
+        # place); built directly, as copy.copy's generic path costs as much as the step itself
+        trial = object.__new__(type(self))
+        trial.__dict__.update(self.__dict__)
         trial.extrema, trial.prefix, trial.stresses = self.extrema[:], self.prefix[:], self.stresses[:]
         return trial.step(T, sigma, t)
 

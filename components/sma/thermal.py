@@ -155,8 +155,12 @@ def step_coupled(T, inputs, dt, p, xi_at):
     wherever L |dxi/dT| > c_p, i.e. on steep branches. Without latent heat this is `step`
     followed by one xi_at call.
     """
+    seen = {}  # xi_at of each temperature tried: the search and the result ask twice
+
     def xi_end(T_end):
-        return min(1.0, max(0.0, xi_at(T_end)))
+        if T_end not in seen:
+            seen[T_end] = min(1.0, max(0.0, xi_at(T_end)))
+        return seen[T_end]
 
     if p.latent_heat == 0:
         T_new = step(T, inputs._replace(xi_rate=0.0), dt, p)
