@@ -1,4 +1,7 @@
-"""The maps of musclesim.batch.cluster, without a cluster: `dask_map` over a stand-in client."""
+"""The maps of musclesim.batch.cluster, without a cluster: `dask_map` over a stand-in client;
+the worker plugin called as a worker would."""
+from pathlib import Path
+
 from musclesim.batch import dask_map, serial_map
 
 
@@ -17,12 +20,33 @@ class FakeClient:
         return list(futures)
 
 
-def test_dask_map_keeps_the_order_and_runs_a_single_item_here():
+def test_dask_map_keeps_the_order_and_runs_every_item_on_the_cluster():
+    """Nothing runs in the caller's process, so that the diagnosis's fits may call the map
+    from several threads at once (``concurrent``), each simulation a task."""
     client = FakeClient()
     pmap = dask_map(client)
     assert pmap(lambda x: x * x, iter([3, 1, 2])) == [9, 1, 4]
     assert pmap(lambda x: -x, [5]) == [-5] and pmap(abs, []) == []
-    assert client.mapped == [[3, 1, 2]]  # one and zero items did not go to the cluster
+    assert client.mapped == [[3, 1, 2], [5]]  # no items, no tasks
+    assert pmap.concurrent and not getattr(serial_map, "concurrent", False)
+
+
+def test_a_worker_keeps_the_fmus_unpacked_for_its_life(fmu_dir):
+    """The worker plugin holds `reuse_fmus` open from the worker's start to its close: an FMU
+    is unpacked once for every task that runs it, and the folder goes with the worker."""
+    from musclesim.batch.plugins import ReusedFmus
+    from musclesim.cosim.host import extracted_fmu
+
+    fmu = fmu_dir / "Thermocouple.fmu"
+    assert extracted_fmu(fmu) is None  # outside, every run unpacks its own copy
+    plugin = ReusedFmus()
+    plugin.setup(worker=None)
+    try:
+        folder = extracted_fmu(fmu)
+        assert folder is not None and extracted_fmu(fmu) == folder
+    finally:
+        plugin.teardown(worker=None)
+    assert extracted_fmu(fmu) is None and not Path(folder).exists()
 
 
 def test_serial_map():

@@ -25,6 +25,7 @@ def dask_client(scheduler=None, workers=None, tasks=None):
     """
     from distributed import Client, LocalCluster
 
+    from musclesim.batch.plugins import ReusedFmus
     from musclesim.cosim import forget_fmu_resource_paths
 
     forget_fmu_resource_paths()  # workers inherit sys.path: no FMU's copy of musclesim in it
@@ -39,6 +40,7 @@ def dask_client(scheduler=None, workers=None, tasks=None):
                                        processes=True, dashboard_address=None,
                                        silence_logs=logging.CRITICAL)
         client = Client(scheduler or cluster)
+        client.register_plugin(ReusedFmus())
     except (OSError, TimeoutError) as exc:
         if cluster is not None:
             cluster.close()
@@ -69,13 +71,13 @@ def _workers_ignore_sigint():
 
 
 def dask_map(client):
-    """`pmap` over a Dask client: ``pmap(fn, items)`` returns the tasks' results in order (fewer
-    than two items run here, without a round trip to the cluster)."""
+    """`pmap` over a Dask client: ``pmap(fn, items)`` returns the tasks' results in order. Every
+    item is a task on the cluster, none runs here, so that the map may be called from several
+    threads at once (``pmap.concurrent``: the diagnosis's fits steer their simulations so)."""
     def pmap(fn, items):
         items = list(items)
-        if len(items) < 2:
-            return [fn(x) for x in items]
-        return client.gather(client.map(fn, items, pure=False))
+        return client.gather(client.map(fn, items, pure=False)) if items else []
+    pmap.concurrent = True
     return pmap
 
 
