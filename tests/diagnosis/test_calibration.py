@@ -2,13 +2,16 @@
 effect fitted with the calibration counts only when it is present; a sensor offset and an
 ambient offset are told apart. Data from the library's FMUs with the bench's nominal values
 changed, 30 s of the 50 Hz tracking bench (its voltage replayed), with sensor noise."""
+import threading
+
 import numpy as np
 import pytest
 
 from musclesim.cosim import Master, load_scenario, reuse_fmus
 from musclesim.diagnosis import dataset, diagnose
 from musclesim.diagnosis.blind import write_data_set
-from musclesim.diagnosis.fitting import fit
+from musclesim.batch import serial_map
+from musclesim.diagnosis.fitting import Free, fit, fit_all
 from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.selection import calibration
 from musclesim.diagnosis.simulate import simulate
@@ -90,6 +93,37 @@ def lag_cases(fmus, tmp_path_factory):
         ds = record(tmp_path_factory.mktemp(name) / "ds", {**OFFSETS, **extra}, fmus)
         out[name] = diagnose(ds, fmus)
     return out
+
+
+def test_fits_steered_side_by_side_give_the_fits_run_as_tasks(fmus, tmp_path):
+    """On a map whose tasks run elsewhere (`fit_all`'s threaded path, every simulation a task,
+    here run one at a time under a lock) a calibration and a scanned effect fit give exactly
+    what each fit run whole as one task gives; and their simulations did come from both
+    threads, a Jacobian's in one call."""
+    ds = record(tmp_path / "ds", OFFSETS, fmus, stop=10.0)
+    problem = Problem(ds, fmus)
+    unit = problem.unit("model")
+    calib = calibration(problem, unit)[:3]
+    lag = [Free(("thermocouple",), "tau", 0.0, 2.0, 0.0)]
+    jobs = [(unit, calib, fmus, None, None, 0, None, None),
+            (unit, lag + calib, fmus, None, None, 1, None, None)]
+    lock, calls = threading.Lock(), []
+
+    def elsewhere(fn, items):
+        items = list(items)
+        calls.append((threading.current_thread().name, len(items)))
+        with lock:
+            return [fn(x) for x in items]
+
+    elsewhere.concurrent = True
+    with reuse_fmus():
+        alone, side_by_side = fit_all(jobs, serial_map), fit_all(jobs, elsewhere)
+    for a, b in zip(alone, side_by_side):
+        assert a["x"] == b["x"] and a["interval"] == b["interval"]
+        assert a["heldout_gap"] == b["heldout_gap"] and a["evaluations"] == b["evaluations"]
+        assert np.array_equal(a["jac"], b["jac"]) and a["latency"] == b["latency"]
+    assert len({name for name, _ in calls}) == 2
+    assert max(n for _, n in calls) >= len(calib)  # a Jacobian's columns mapped together
 
 
 def test_an_effect_fitted_with_calibration_counts_only_when_present(lag_cases):

@@ -1,16 +1,19 @@
 """Fitting free parameters of a unit on the training part: `Free`, `fit` and its 95 % intervals.
 
 A fit scans the parameters' box coarsely, then runs bounded trust-region least squares from the
-best point; it is scored on the held-out part by the caller. `fit_task` is the same as one
-picklable task for a ``pmap`` (Dask).
+best point; it is scored on the held-out part by the caller. `fit_all` runs several fits on a
+``pmap``: each as one task (`fit_task`), or, on a map that runs its tasks elsewhere side by side
+(Dask's), each steered from a thread here with every simulation a task.
 """
 import itertools
 import math
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
 from scipy import optimize
 
+from musclesim.batch import serial_map
 from musclesim.cosim import reuse_fmus
 
 from musclesim.diagnosis.simulate import Failed, residuals, simulate
@@ -34,7 +37,8 @@ def values_of(free, x):
     return {(inst, f.name): v for f, v in zip(free, x) for inst in f.instances}
 
 
-def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency=None):
+def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency=None,
+        pmap=None):
     """Fit `free` on the training part; return a dict with values, intervals and residuals.
 
     A coarse scan of the first `scan` parameters (default all; `_axis` points each, one
@@ -54,22 +58,27 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     holding the calibration's while an effect is fitted keeps that trade the same for every
     candidate. Every point of the scan and of least squares is simulated as far as the training
     part reaches (``simulate(..., part=0)``); only the fitted values are run to the end, for the
-    held-out residuals of the result.
+    held-out residuals of the result. The points a step needs together (a Jacobian's, a scan's)
+    are simulated with `pmap` (default: here, one after the other); every run is a pure
+    function of its point, so the result does not depend on the map.
     """
     fixed = dict(fixed or {})
     lo = np.array([f.lower for f in free])
     span = np.array([f.upper - f.lower for f in free])
     cache, align = {}, {}  # align: the sensor latencies held during least squares
 
+    def simulated(points):  # the training runs of each point not run yet, mapped together
+        new = {}
+        for z in points:
+            key = tuple(np.round(z, 12))
+            if key not in cache:
+                new.setdefault(key, lo + span * np.clip(z, 0, 1))
+        tasks = [(unit, {**fixed, **values_of(free, x)}, fmu_dir, 0) for x in new.values()]
+        cache.update(zip(new, (pmap or serial_map)(simulation_task, tasks)))
+
     def run(z, free_choice=False):
-        key = tuple(np.round(z, 12))
-        if key not in cache:
-            x = lo + span * np.clip(z, 0, 1)
-            try:
-                cache[key] = simulate(unit, {**fixed, **values_of(free, x)}, fmu_dir, part=0)
-            except Failed:
-                cache[key] = None
-        sims = cache[key]
+        simulated([z])
+        sims = cache[tuple(np.round(z, 12))]
         return None if sims is None else residuals(unit, sims,
                                                    align=None if free_choice else align)
 
@@ -93,6 +102,7 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
         f0, known_ = train_vector(z), known or {}
         steps = [(i, _step(z[i])) for i in range(len(z)) if i not in known_]
         points = [z + np.eye(len(z))[i] * h for i, h in steps]
+        simulated(points)
         J = np.empty((f0.size, len(z)))
         for i, col in known_.items():
             J[:, i] = col
@@ -105,7 +115,7 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
                    0, 1)
     z0, applicable = base, True
     if scan:
-        z0, applicable = _scan(base, scan, cost)
+        z0, applicable = _scan(base, scan, cost, simulated)
     z, interval, J = z0, [(float(a), float(a + w)) for a, w in zip(lo, span)], None
     # least squares with the sensor latencies held (the residuals then move smoothly with the
     # parameters): the given `latency`, else chosen again after each pass until they stay (each
@@ -122,10 +132,10 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
             break
     x = lo + span * z
     chosen = dict(align) if align else latencies(z)
-    try:  # the fitted values over the whole runs, held-out part included
-        res = residuals(unit, simulate(unit, {**fixed, **values_of(free, x)}, fmu_dir))
-    except Failed:
-        res = None
+    # the fitted values over the whole runs, held-out part included
+    sims = (pmap or serial_map)(simulation_task, [(unit, {**fixed, **values_of(free, x)}, fmu_dir,
+                                                   None)])[0]
+    res = None if sims is None else residuals(unit, sims)
     return {"x": [float(v) for v in x], "interval": interval, "residuals": res,
             "train_gap": gap(unit, res, 0) if res else math.inf,
             "heldout_gap": gap(unit, res, 1) if res else math.inf,
@@ -144,19 +154,16 @@ def _step(z):
     return 1e-3 if z <= 0.5 else -1e-3
 
 
-def _scan(base, scan, cost):
+def _scan(base, scan, cost, simulated):
     """(start, applicable) from a scan of the first `scan` coordinates around `base`: each
     along its `_axis` alone, then the best of each together. ``applicable``: the cost changes
-    at all."""
+    at all. `simulated(points)` runs the points of the axes together first."""
+    axes = [[p for p in _axis(base[i]) if p != base[i]] for i in range(scan)]
+    simulated([base] + [_moved(base, i, p) for i, pts in enumerate(axes) for p in pts])
     c0 = cost(base)
     best, costs = base.copy(), [c0]
-    for i in range(scan):
-        pts = [p for p in _axis(base[i]) if p != base[i]]
-        cs = []
-        for p in pts:
-            z = base.copy()
-            z[i] = p
-            cs.append(cost(z))
+    for i, pts in enumerate(axes):
+        cs = [cost(_moved(base, i, p)) for p in pts]
         costs += cs
         if cs and min(cs) < c0:
             best[i] = pts[int(np.argmin(cs))]
@@ -164,11 +171,17 @@ def _scan(base, scan, cost):
     if scan > 1 and not np.array_equal(best, base):
         candidates.append((cost(best), best))
     for i in range(scan):  # each axis's best alone
-        z = base.copy()
-        z[i] = best[i]
-        if z[i] != base[i]:
+        if best[i] != base[i]:
+            z = _moved(base, i, best[i])
             candidates.append((cost(z), z))
     return min(candidates, key=lambda t: t[0])[1], len({round(v, 12) for v in costs}) > 1
+
+
+def _moved(z, i, value):
+    """`z` with coordinate `i` at `value` (a copy)."""
+    out = z.copy()
+    out[i] = value
+    return out
 
 
 def _axis(z0):
@@ -181,11 +194,40 @@ def _axis(z0):
     return sorted(points)
 
 
+def fit_all(jobs, pmap):
+    """`fit` of every job (unit, free, fmu_dir, fixed, x0, scan, known, latency), in order.
+
+    A `pmap` that runs its tasks elsewhere and may be called from several threads at once
+    (``pmap.concurrent``, as `musclesim.batch.dask_map`'s) gets every simulation of every fit as
+    a task, the fits steered side by side from threads of this process (which run no
+    simulation): the runs of a Jacobian spread over the workers, and a long fit no longer holds
+    one worker while the others wait. Any other map runs each fit whole as one task
+    (`fit_task`). The results are the same either way.
+    """
+    jobs = list(jobs)
+    if not getattr(pmap, "concurrent", False) or not jobs:
+        return pmap(fit_task, jobs)
+    with ThreadPoolExecutor(len(jobs), thread_name_prefix="musclesim-fit") as pool:
+        return list(pool.map(lambda job: fit(*job, pmap=pmap), jobs))
+
+
 def fit_task(args):
-    """One fit, as a Dask task: (unit, free, fmu_dir, fixed, x0, scan, known, latency) ->
-    fit(), its FMUs read and unpacked once for all its runs."""
+    """One fit, as a task: (unit, free, fmu_dir, fixed, x0, scan, known, latency) -> fit(),
+    its FMUs read and unpacked once for all its runs."""
     with reuse_fmus():
         return fit(*args)
+
+
+def simulation_task(args):
+    """One run of a fit, as a task: (unit, values, fmu_dir, part) -> `simulate`'s runs, None
+    when the values fail (FMUs reused as `reuse_fmus` allows: a worker of
+    `musclesim.batch.dask_client` keeps them for its life)."""
+    unit, values, fmu_dir, part = args
+    with reuse_fmus():
+        try:
+            return simulate(unit, values, fmu_dir, part=part)
+        except Failed:
+            return None
 
 
 def _train_size(unit):

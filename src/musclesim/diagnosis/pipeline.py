@@ -44,8 +44,9 @@ at least `MOST` of the nominal gap (naming the parameters it moved; complete onl
 signature the calibration makes too on these data (`selection.aliasing`, collinearity index at
 least `ALIASED`) are the report's ``stand_ins``, named in the explanation: not told apart there.
 
-The fits are independent tasks: `diagnose` maps them with the ``pmap`` it is given (the CLI passes
-Dask's, the same local cluster or scheduler as sweeps).
+The fits run on the ``pmap`` `diagnose` is given (`fitting.fit_all`): on Dask's (the CLI's, the
+same local cluster or scheduler as sweeps) every simulation of every fit is a task, the fits
+steered side by side from threads of this process; on any other map each fit is one task.
 
 This module runs the stages; the work is in the package's other modules: the thresholds named
 above in `musclesim.diagnosis.thresholds`, the units in `.problem`, simulation and residuals in
@@ -54,7 +55,7 @@ selection and verdict in `.selection`.
 """
 from musclesim.batch import serial_map
 from musclesim.cosim import reuse_fmus, split_signal
-from musclesim.diagnosis.fitting import fit_task, known_columns, values_of
+from musclesim.diagnosis.fitting import fit_all, known_columns, values_of
 from musclesim.diagnosis.problem import Problem, affected
 from musclesim.diagnosis.regimes import regime_table, regimes
 from musclesim.diagnosis.selection import (calibration, calibration_table, candidates,
@@ -177,8 +178,8 @@ def _calibrate(problem, report, whole, units, pmap):
     # a unit that is the whole model again (the same instances, signals and replays) is
     # calibrated once
     same = [i for i, (u, _) in enumerate(jobs) if i and _same(u, whole)]
-    fits = pmap(fit_task, [(u, free, problem.fmu_dir, None, None, 0, None, None)
-                           for i, (u, free) in enumerate(jobs) if free and i not in same])
+    fits = fit_all([(u, free, problem.fmu_dir, None, None, 0, None, None)
+                    for i, (u, free) in enumerate(jobs) if free and i not in same], pmap)
     fits = iter(fits)
     cals = []
     for i, ((u, free), nominal) in enumerate(zip(jobs, [res_whole]
@@ -278,7 +279,7 @@ def _which_effect(problem, report, fitting, pmap, say):
         "parameter(s)")
     jobs = [(unit, c.free + calib, fmu_dir, None, [fr.start for fr in c.free] + x_cal,
              len(c.free), known_columns(jac, len(c.free)), cal["latency"]) for c in cands]
-    fits = refine(unit, cands, pmap(fit_task, jobs), calib, cal["latency"], fmu_dir, pmap)
+    fits = refine(unit, cands, fit_all(jobs, pmap), calib, cal["latency"], fmu_dir, pmap)
     floor = noise_floor(unit)
     entries, counting = rank(unit, base, cands, fits, masks, calib)
     selected, final, free = select(unit, counting, (calib, jac, cal["latency"]), floor, masks,

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from musclesim.diagnosis.effects import by_component, calibration_of
-from musclesim.diagnosis.fitting import Free, fit_task, known_columns
+from musclesim.diagnosis.fitting import Free, fit_all, known_columns
 from musclesim.diagnosis.problem import affected, downstream
 from musclesim.diagnosis.stats import (before_after, bootstrap, gap, interval95, part_rows,
                                        row_squares)
@@ -110,8 +110,8 @@ def refine(unit, cands, fits, calib, latency, fmu_dir, pmap):
         return fits
     order = sorted((i for i, f in enumerate(fits) if f["residuals"] is not None
                     and f["applicable"]), key=lambda i: fits[i]["train_gap"])[:REFINED]
-    again = pmap(fit_task, [(unit, cands[i].free + calib, fmu_dir, None, fits[i]["x"], 0, None,
-                             latency) for i in order])
+    again = fit_all([(unit, cands[i].free + calib, fmu_dir, None, fits[i]["x"], 0, None,
+                      latency) for i in order], pmap)
     out = list(fits)
     for i, f in zip(order, again):
         if f["residuals"] is not None and f["train_gap"] < fits[i]["train_gap"]:
@@ -289,7 +289,7 @@ def select(unit, counting, calibrated, floor, masks, pmap, fmu_dir, say):
     jobs = [(unit, c.free + c1.free + calib, fmu_dir, None, [fr.start for fr in c.free]
              + f1["x"], len(c.free), known_columns(jac, len(c.free) + len(c1.free)), latency)
             for _, c, _ in pairs]
-    pair_fits = pmap(fit_task, jobs)
+    pair_fits = fit_all(jobs, pmap)
     (e2, c2, _), f12 = min(zip(pairs, pair_fits), key=lambda t: t[1]["heldout_gap"])
     if f12["residuals"] is None:
         return selected, final, free
