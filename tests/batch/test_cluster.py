@@ -19,6 +19,10 @@ class FakeClient:
     def gather(self, futures):
         return list(futures)
 
+    def scatter(self, obj, broadcast=False, hash=True):
+        assert broadcast and not hash  # to every worker, a new key each time
+        return ("sent", obj)
+
 
 def test_dask_map_keeps_the_order_and_runs_every_item_on_the_cluster():
     """Nothing runs in the caller's process, so that the diagnosis's fits may call the map
@@ -29,6 +33,7 @@ def test_dask_map_keeps_the_order_and_runs_every_item_on_the_cluster():
     assert pmap(lambda x: -x, [5]) == [-5] and pmap(abs, []) == []
     assert client.mapped == [[3, 1, 2], [5]]  # no items, no tasks
     assert pmap.concurrent and not getattr(serial_map, "concurrent", False)
+    assert pmap.share([1, 2]) == ("sent", [1, 2])
 
 
 def test_a_worker_keeps_the_fmus_unpacked_for_its_life(fmu_dir):

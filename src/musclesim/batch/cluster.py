@@ -73,11 +73,14 @@ def _workers_ignore_sigint():
 def dask_map(client):
     """`pmap` over a Dask client: ``pmap(fn, items)`` returns the tasks' results in order. Every
     item is a task on the cluster, none runs here, so that the map may be called from several
-    threads at once (``pmap.concurrent``: the diagnosis's fits steer their simulations so)."""
+    threads at once (``pmap.concurrent``: the diagnosis's fits steer their simulations so).
+    ``pmap.share(obj)`` sends `obj` to every worker once and returns what items carry in its
+    place (a fit's unit and its data, rather than in each of its hundred tasks)."""
     def pmap(fn, items):
         items = list(items)
         return client.gather(client.map(fn, items, pure=False)) if items else []
     pmap.concurrent = True
+    pmap.share = lambda obj: client.scatter(obj, broadcast=True, hash=False)
     return pmap
 
 

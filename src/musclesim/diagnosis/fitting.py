@@ -59,13 +59,15 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     candidate. Every point of the scan and of least squares is simulated as far as the training
     part reaches (``simulate(..., part=0)``); only the fitted values are run to the end, for the
     held-out residuals of the result. The points a step needs together (a Jacobian's, a scan's)
-    are simulated with `pmap` (default: here, one after the other); every run is a pure
-    function of its point, so the result does not depend on the map.
+    are simulated with `pmap` (default: here, one after the other; the unit sent once where
+    ``pmap.share`` can); every run is a pure function of its point, so the result does not
+    depend on the map.
     """
     fixed = dict(fixed or {})
     lo = np.array([f.lower for f in free])
     span = np.array([f.upper - f.lower for f in free])
     cache, align = {}, {}  # align: the sensor latencies held during least squares
+    sent = pmap.share(unit) if hasattr(pmap, "share") else unit  # what each task carries
 
     def simulated(points):  # the training runs of each point not run yet, mapped together
         new = {}
@@ -73,7 +75,7 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
             key = tuple(np.round(z, 12))
             if key not in cache:
                 new.setdefault(key, lo + span * np.clip(z, 0, 1))
-        tasks = [(unit, {**fixed, **values_of(free, x)}, fmu_dir, 0) for x in new.values()]
+        tasks = [(sent, {**fixed, **values_of(free, x)}, fmu_dir, 0) for x in new.values()]
         cache.update(zip(new, (pmap or serial_map)(simulation_task, tasks)))
 
     def run(z, free_choice=False):
@@ -133,7 +135,7 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     x = lo + span * z
     chosen = dict(align) if align else latencies(z)
     # the fitted values over the whole runs, held-out part included
-    sims = (pmap or serial_map)(simulation_task, [(unit, {**fixed, **values_of(free, x)}, fmu_dir,
+    sims = (pmap or serial_map)(simulation_task, [(sent, {**fixed, **values_of(free, x)}, fmu_dir,
                                                    None)])[0]
     res = None if sims is None else residuals(unit, sims)
     return {"x": [float(v) for v in x], "interval": interval, "residuals": res,
@@ -207,8 +209,12 @@ def fit_all(jobs, pmap):
     jobs = list(jobs)
     if not getattr(pmap, "concurrent", False) or not jobs:
         return pmap(fit_task, jobs)
-    with ThreadPoolExecutor(len(jobs), thread_name_prefix="musclesim-fit") as pool:
+    pool = ThreadPoolExecutor(len(jobs), thread_name_prefix="musclesim-fit")
+    try:
         return list(pool.map(lambda job: fit(*job, pmap=pmap), jobs))
+    finally:  # interrupted: not waiting for the fits (their next task fails once the map's
+        # client is closed)
+        pool.shutdown(wait=False, cancel_futures=True)
 
 
 def fit_task(args):
