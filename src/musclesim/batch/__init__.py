@@ -3,8 +3,9 @@
 The layer above a single co-simulation run (``musclesim.cosim``) and below the studies that need
 many of them (``musclesim.analysis``, ``musclesim.hysteresis``, ``musclesim.diagnosis``):
 
-- `cluster`: the one place for Dask: `dask_client` (a local cluster or a running scheduler),
-  `dask_map` (a ``pmap(fn, items)`` over it) and `serial_map` (the same, in this process);
+- `cluster`: the one place for Dask: `dask_client` (a local cluster or a running scheduler,
+  whose workers keep FMUs unpacked: `plugins`), `dask_map` (a ``pmap(fn, items)`` over it,
+  callable from several threads) and `serial_map` (the same, in this process);
 - `cases`: case folders, one run per folder, resumable: `claim` an output folder for one set of
   settings, `run_cases` on Dask (each a `run_case`), read back a `case_summary`, skip the
   `finished` ones;
