@@ -1,16 +1,17 @@
 """Calibration before diagnosis (issue 20): known offsets of nominal values are recovered; an
 effect fitted with the calibration counts only when it is present; a sensor offset and an
-ambient offset are told apart. Data from the library's FMUs with the bench's nominal values
+ambient offset are told apart; fits steered from threads with every simulation a task (item 7)
+give what fits run as tasks give. Data from the library's FMUs with the bench's nominal values
 changed, 30 s of the 50 Hz tracking bench (its voltage replayed), with sensor noise."""
 import threading
 
 import numpy as np
 import pytest
 
+from musclesim.batch import serial_map
 from musclesim.cosim import Master, load_scenario, reuse_fmus
 from musclesim.diagnosis import dataset, diagnose
 from musclesim.diagnosis.blind import write_data_set
-from musclesim.batch import serial_map
 from musclesim.diagnosis.fitting import Free, fit, fit_all
 from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.selection import calibration
