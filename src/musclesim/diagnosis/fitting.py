@@ -68,26 +68,31 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     span = np.array([f.upper - f.lower for f in free])
     cache, align = {}, {}  # align: the sensor latencies held during least squares
     sent = pmap.share(unit) if hasattr(pmap, "share") else unit  # what each task carries
+    mapped = pmap or serial_map
+
+    def task(x, part):  # the run of values `x` as `simulation_task` takes it
+        return sent, {**fixed, **values_of(free, x)}, fmu_dir, part
+
+    def key(z):  # a point as the cache knows it
+        return tuple(np.round(z, 12))
 
     def simulated(points):  # the training runs of each point not run yet, mapped together
         new = {}
         for z in points:
-            key = tuple(np.round(z, 12))
-            if key not in cache:
-                new.setdefault(key, lo + span * np.clip(z, 0, 1))
-        tasks = [(sent, {**fixed, **values_of(free, x)}, fmu_dir, 0) for x in new.values()]
-        cache.update(zip(new, (pmap or serial_map)(simulation_task, tasks)))
+            if key(z) not in cache:
+                new.setdefault(key(z), lo + span * np.clip(z, 0, 1))
+        cache.update(zip(new, mapped(simulation_task, [task(x, 0) for x in new.values()])))
 
     def run(z, free_choice=False):
         simulated([z])
-        sims = cache[tuple(np.round(z, 12))]
+        sims = cache[key(z)]
         return None if sims is None else residuals(unit, sims,
                                                    align=None if free_choice else align)
 
     def latencies(z):
         chosen = {}
         if run(z, True) is not None:
-            residuals(unit, cache[tuple(np.round(z, 12))], chosen)
+            residuals(unit, cache[key(z)], chosen)
         return chosen
 
     def train_vector(z):
@@ -135,8 +140,7 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     x = lo + span * z
     chosen = dict(align) if align else latencies(z)
     # the fitted values over the whole runs, held-out part included
-    sims = (pmap or serial_map)(simulation_task, [(sent, {**fixed, **values_of(free, x)}, fmu_dir,
-                                                   None)])[0]
+    sims = mapped(simulation_task, [task(x, None)])[0]
     res = None if sims is None else residuals(unit, sims)
     return {"x": [float(v) for v in x], "interval": interval, "residuals": res,
             "train_gap": gap(unit, res, 0) if res else math.inf,
