@@ -1,5 +1,6 @@
 """Every FMU of the catalogue: clean fmpy validation, documented SI variables, real FMU state,
 and self-containment (runs in a virtual environment with only numpy, scipy and fmpy)."""
+import gc
 import inspect
 import json
 import subprocess
@@ -121,6 +122,24 @@ def test_state_save_step_restore_redo_is_bit_identical(fmu_dir, name, tmp_path):
     slave.freeFMUstate(saved)
     slave.terminate()
     slave.freeInstance()
+
+
+def test_instances_leave_the_slave_namespace_with_every_reference_its_holders_release(fmu_dir,
+                                                                                     tmp_path):
+    """pythonfmu 0.7.0 releases, per instance, a reference to the slave module's namespace that it
+    never took; the FMU's entry point gives one back. The count must stay at least what the
+    objects holding the namespace will release when the interpreter clears the module at exit:
+    below it, the namespace was freed while being cleared (the suite's process crashed as it
+    ended, now and then)."""
+    for k in range(3):
+        slave = _open(fmu_dir, "SignalSource", tmp_path / str(k))[0]
+        slave.terminate()
+        slave.freeInstance()
+    namespace = sys.modules["musclesim_fmu_SignalSource"].__dict__
+    held = sum(sum(x is namespace for x in r) if isinstance(r, list) else 1
+               for r in gc.get_referrers(namespace))
+    assert held >= 1  # the module itself
+    assert sys.getrefcount(namespace) - 2 >= held  # less this frame's name and the call's argument
 
 
 def test_fmu_runs_in_a_venv_without_musclesim(fmu_dir, tmp_path):

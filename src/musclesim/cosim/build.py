@@ -23,15 +23,20 @@ from musclesim.errors import UserError
 # pythonfmu 0.7.0 finds the slave class by executing this script in the module's namespace once per
 # instantiation, and then releases a reference to that namespace it never owned; the second
 # instance of the same FMU in one process then crashes. Each execution therefore adds the
-# reference that is taken away (the module's first import adds one spare).
+# reference that is taken away, one that nothing else releases (the module's first import adds one
+# spare: the namespace lives as long as the process). A reference held by a Python object instead
+# (a list in the namespace) is released again when the interpreter clears the module at exit:
+# the namespace is then freed while it is being cleared, and the process crashed now and then
+# as it ended.
 # Where musclesim is not installed, the package comes from the first musclesim FMU's resources; a
 # host that deletes that folder (fmpy's simulate_fmu does) would leave a second FMU importing from
 # nowhere, so a package whose folder is gone is forgotten and imported again from this FMU.
 _STUB = '''"""FMU entry point of {name}."""
+import ctypes
 import os
 import sys
 
-globals().setdefault("_pythonfmu_refs", []).append(globals())
+ctypes.pythonapi.Py_IncRef(ctypes.py_object(globals()))
 if not all(os.path.isdir(p) for p in getattr(sys.modules.get("musclesim"), "__path__", [])):
     for _name in [n for n in sys.modules if n == "musclesim" or n.startswith("musclesim.")]:
         del sys.modules[_name]
@@ -64,8 +69,8 @@ def _component_sources():
 
 
 def source_digest():
-    """SHA-256 over the sources an FMU is built from (names and contents)."""
-    h = hashlib.sha256(musclesim.__version__.encode())
+    """SHA-256 over the sources an FMU is built from (names and contents, and its entry point)."""
+    h = hashlib.sha256(musclesim.__version__.encode() + _STUB.encode())
     for rel, src in _component_sources().items():
         h.update(str(rel).encode())
         h.update(src.read_bytes())
