@@ -1,8 +1,8 @@
-"""The maps of musclesim.batch.cluster, without a cluster: `dask_map` over a stand-in client;
-the worker plugin called as a worker would."""
+"""musclesim.batch.cluster: the maps without a cluster (`dask_map` over a stand-in client), the
+worker plugin called as a worker would, and two local clusters started at once."""
 from pathlib import Path
 
-from musclesim.batch import dask_map, serial_map
+from musclesim.batch import dask_client, dask_map, serial_map
 
 
 class FakeClient:
@@ -52,6 +52,14 @@ def test_a_worker_keeps_the_fmus_unpacked_for_its_life(fmu_dir):
     finally:
         plugin.teardown(worker=None)
     assert extracted_fmu(fmu) is None and not Path(folder).exists()
+
+
+def test_two_local_clusters_at_once_start_quietly(recwarn):
+    """Two commands at once on one machine (a sweep and a diagnosis, say) each start a local
+    cluster: neither warns that the other holds its port."""
+    with dask_client(None, 1) as a, dask_client(None, 1) as b:
+        assert a.scheduler.address != b.scheduler.address
+    assert not [str(w.message) for w in recwarn if "already in use" in str(w.message)]
 
 
 def test_serial_map():

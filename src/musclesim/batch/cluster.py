@@ -33,11 +33,14 @@ def dask_client(scheduler=None, workers=None, tasks=None):
     try:
         if scheduler is None:
             # one thread per worker process, since the Python FMUs hold the GIL; the cluster's
-            # log noise (heartbeats cut at shutdown) stays quiet, as task errors are recorded
+            # log noise (heartbeats cut at shutdown) stays quiet, as task errors are recorded;
+            # no dashboard, and the scheduler's HTTP server on a free port, not on 8787 (which
+            # a second command's cluster found taken, with a warning)
             n = workers or os.cpu_count() or 1
             with _workers_ignore_sigint():
                 cluster = LocalCluster(n_workers=max(1, min(n, tasks or n)), threads_per_worker=1,
                                        processes=True, dashboard_address=None,
+                                       scheduler_kwargs={"dashboard_address": ":0"},
                                        silence_logs=logging.CRITICAL)
         client = Client(scheduler or cluster)
         client.register_plugin(ReusedFmus())
