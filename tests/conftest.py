@@ -17,6 +17,16 @@ def fmu_dir(tmp_path_factory):
     return path
 
 
+@pytest.fixture(scope="session")
+def cluster_map():
+    """`dask_map` over a local cluster of two worker processes, as `--workers 2` runs: the map of
+    the tests that diagnose whole data sets or several cases (started once, when first asked)."""
+    from musclesim.batch import dask_client, dask_map
+
+    with dask_client(None, 2) as client:
+        yield dask_map(client)
+
+
 def in_process(cls, name, **params):
     """A slave of `cls` driven without FMI: instance `name`, `params` set, experiment set up."""
     slave = cls(instance_name=name)

@@ -87,12 +87,13 @@ def test_a_fit_step_simulates_the_training_part_exactly(fmus, tmp_path):
 
 
 @pytest.fixture(scope="module")
-def lag_cases(fmus, tmp_path_factory):
-    """The same offset bench with and without a 0.3 s thermocouple lag, diagnosed."""
+def lag_cases(fmus, tmp_path_factory, cluster_map):
+    """The same offset bench with and without a 0.3 s thermocouple lag, diagnosed (on two
+    workers, as `--workers 2`)."""
     out = {}
     for name, extra in (("lag", {"thermocouple.tau": 0.3}), ("none", {})):
         ds = record(tmp_path_factory.mktemp(name) / "ds", {**OFFSETS, **extra}, fmus)
-        out[name] = diagnose(ds, fmus)
+        out[name] = diagnose(ds, fmus, cluster_map)
     return out
 
 

@@ -230,11 +230,11 @@ def test_scores_of_the_independent_bench_and_their_place_in_scores_json(tmp_path
     assert both["by_bench"]["independent"] == {k: v for k, v in ind.items() if k != "per_case"}
 
 
-def test_a_small_blind_run_on_the_independent_bench(fmu_dir, tmp_path):
+def test_a_small_blind_run_on_the_independent_bench(fmu_dir, tmp_path, cluster_map):
     """Seed 22's four cases (20 s each): no hidden effect, a coated thermocouple, a latent heat
     posing as a lag, a clamp that slips. Measured scores of this diagnosis, asserted."""
     scores = blind.run(4, 22, tmp_path, fmu_dir=fmu_dir, scenarios_dir=ROOT / "scenarios",
-                       bench="independent", duration=20.0)
+                       pmap=cluster_map, bench="independent", duration=20.0)
     kinds = {r["kind"]: r for r in scores["per_case"]}
     assert set(kinds) == {"none", "effect", "decoy", "outside"}
     assert kinds["effect"]["truth"] == "thermocouple lag"

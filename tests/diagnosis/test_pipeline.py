@@ -17,14 +17,15 @@ from conftest import SCENARIOS
 
 
 @pytest.fixture(scope="module")
-def lag_case(fmu_dir, tmp_path_factory):
-    """The tracking bench with a hidden 0.3 s thermocouple lag, diagnosed once."""
+def lag_case(fmu_dir, tmp_path_factory, cluster_map):
+    """The tracking bench with a hidden 0.3 s thermocouple lag, diagnosed once (its fits'
+    simulations on two workers, as `--workers 2`)."""
     out = tmp_path_factory.mktemp("lag")
     case = {"case": "lag", "kind": "effect", "bench": "tracking", "effect": "thermocouple lag",
             "values": {"thermocouple.tau": 0.3}, "latency_samples": 1, "seed": 7}
     blind._make((case, out, SCENARIOS, fmu_dir))
     traces = {}
-    report = diagnose(dataset.load(out / "cases" / "lag"), fmu_dir, traces=traces)
+    report = diagnose(dataset.load(out / "cases" / "lag"), fmu_dir, cluster_map, traces=traces)
     return report, traces, out
 
 
@@ -127,9 +128,10 @@ held_out = ["second"]
     assert report["parts"] == {"train": ["first"], "held_out": ["second"]}
 
 
-def test_blind_benchmark_on_three_cases(fmu_dir, tmp_path):
+def test_blind_benchmark_on_three_cases(fmu_dir, tmp_path, cluster_map):
     """A null, an out-of-library and a decoy case, diagnosed blind; the key is sealed first."""
-    scores = blind.run(3, seed=4, out=tmp_path, fmu_dir=fmu_dir, scenarios_dir=SCENARIOS)
+    scores = blind.run(3, seed=4, out=tmp_path, fmu_dir=fmu_dir, scenarios_dir=SCENARIOS,
+                       pmap=cluster_map)
     key = (tmp_path / "key.json").read_text()
     assert (tmp_path / "key.sha256").read_text() == \
         hashlib.sha256(key.encode()).hexdigest() + "  key.json\n"
