@@ -78,9 +78,9 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
 
     def simulated(points):  # the training runs of each point not run yet, mapped together
         new = {}
-        for z in points:
-            if key(z) not in cache:
-                new.setdefault(key(z), lo + span * np.clip(z, 0, 1))
+        for k, z in ((key(z), z) for z in points):
+            if k not in cache:
+                new.setdefault(k, lo + span * np.clip(z, 0, 1))
         cache.update(zip(new, mapped(simulation_task, [task(x, 0) for x in new.values()])))
 
     def run(z, free_choice=False):
