@@ -180,5 +180,29 @@ def step_coupled(T, inputs, dt, p, xi_at):
     end = 0.0 if xi0 < inputs.xi else 1.0
     other = step(T, inputs._replace(xi_rate=(end - inputs.xi) / dt), dt, p)
     lo, hi = sorted((T0, other))
-    T_new = lo if hi - lo < 1e-12 else brentq(lambda x: x - advance(x), lo, hi, xtol=1e-10)
+    if hi - lo < 1e-12:
+        return lo, xi_end(lo)
+    if p.h_exponent:
+        return _root(lambda x: x - advance(x), lo, hi, xi_end)
+    # one exact update, affine in xi_rate (the latent term adds L / c_p xi_rate dt phi):
+    # advance(x) is T0 moved toward `other` in proportion to the fraction's change, so the
+    # search asks only the hysteresis, not the thermal step
+    slope = (other - T0) / (end - inputs.xi)
+
+    def g(x):
+        return x - T0 - slope * (xi_end(x) - inputs.xi)
+
+    # advance(T0) = T0 - g(T0) lies between T0 and the root wherever the fraction moves one way
+    # between them (it transforms less short of T0): a bracket as wide as the latent heat's
+    # effect in this step, not a whole transformation's, when g changes sign there
+    x1 = T0 - g(T0)
+    if g(x1) == 0 or (g(x1) < 0) != (g(T0) < 0):
+        lo, hi = sorted((T0, x1))
+    return _root(g, lo, hi, xi_end)
+
+
+def _root(g, lo, hi, xi_end):
+    """(T, xi_end(T)) at the root of `g` in [lo, hi] (its sign changes there, or it is zero at
+    an end)."""
+    T_new = brentq(g, lo, hi, xtol=1e-10)
     return T_new, xi_end(T_new)

@@ -136,6 +136,19 @@ def test_latent_heat_slows_heating_and_cooling_through_the_transformation():
     assert T["latent"] > T["base"] + 5  # exothermic martensite formation holds the wire warm
 
 
+
+@pytest.mark.parametrize("h_exponent", [0.0, 0.12], ids=["one exact update", "sub-stepped"])
+def test_coupled_step_ends_where_its_own_fraction_change_takes_it(h_exponent):
+    # the root's defining property: T_new is the step with xi_rate = (xi_at(T_new) - xi) / dt,
+    # whether the search uses the update's affine dependence on xi_rate (h constant) or steps
+    p = ThermalParams(latent_heat=20e3, h_exponent=h_exponent)
+    for T, u, xi in ((78.0, 1.5, 0.7), (82.0, 0.0, 0.2), (60.0, 2.5, 1.0)):
+        inputs = ThermalInputs(u=u, T_amb=T_AMB, xi=xi)
+        T_new, xi_new = step_coupled(T, inputs, 0.02, p, _xi_sharp)
+        assert xi_new == pytest.approx(_xi_sharp(T_new), abs=1e-12) and xi_new != xi
+        rate = (xi_new - xi) / 0.02
+        assert T_new == pytest.approx(step(T, inputs._replace(xi_rate=rate), 0.02, p), abs=1e-8)
+
 def test_cold_ends_follow_the_fin_profile():
     # 127 um in still air, k = 18 W/(m K): L_f = sqrt(k d / 4h) = 2.39 mm, G_f = 9.54e-5 W/K
     d, k, h, length = 127e-6, 18.0, 100.0, 58.42e-3
