@@ -62,13 +62,19 @@ def test_calibration_recovers_known_offsets(fmus, tmp_path):
                             ("wire.strain_scale", 0.005)):
         x, (lo, hi) = got[name]
         assert x == pytest.approx(truth[name], abs=tolerance) and lo <= truth[name] <= hi, name
-    # h, the specific heat and the resistivities only as combinations (the steady excess
-    # temperature follows rho / h, its time constant c / h): recovered to a few per cent, their
-    # intervals narrower than that ridge (README, "Diagnosis")
-    assert got["wire.h"][0] == pytest.approx(115.0, rel=0.03)
-    assert got["wire.specific_heat"][0] == pytest.approx(800.0, rel=0.03)
-    assert got["wire.rho_austenite"][0] == pytest.approx(1e-6, rel=0.03)
+    assert_thermal_ridge({k: x for k, (x, _) in got.items()}, 115.0, 800.0)
     assert f["heldout_gap"] < 3 * 0.002  # within the noise after calibration
+
+
+def assert_thermal_ridge(values, h, specific_heat, rho_austenite=1e-6, rho_martensite=8e-7):
+    """h, the specific heat and the resistivities are recovered as the combinations the data
+    pin: m c dT/dt = V^2 / R - h A (T - T_amb) is the same with h, c and 1 / rho scaled together
+    (the steady excess temperature follows 1 / (rho h), the time constant c / h), so where on
+    that ridge a fit stops is not the data's to say. `values`: {"wire.h": value, ...}."""
+    fitted = values["wire.h"]
+    assert values["wire.specific_heat"] / fitted == pytest.approx(specific_heat / h, rel=0.01)
+    assert values["wire.rho_austenite"] * fitted == pytest.approx(rho_austenite * h, rel=0.01)
+    assert values["wire.rho_martensite"] * fitted == pytest.approx(rho_martensite * h, rel=0.01)
 
 
 def test_a_fit_step_simulates_the_training_part_exactly(fmus, tmp_path):
@@ -144,7 +150,7 @@ def test_an_effect_fitted_with_calibration_counts_only_when_present(lag_cases):
     assert none["verdict"] == "recalibration" and none["complete"]
     assert not any(e["counts"] for e in none.get("effects", []))
     moved = none["calibration"]["parameters"]
-    assert moved["wire.h"]["value"] == pytest.approx(115.0, rel=0.03)
+    assert_thermal_ridge({k: v["value"] for k, v in moved.items()}, 115.0, 837.0)
 
 
 # the stress bench heated on and off (1.4 V for 10 s, then 10 s at rest): the wire cools to the

@@ -78,11 +78,13 @@ def dask_map(client):
     item is a task on the cluster, none runs here, so that the map may be called from several
     threads at once (``pmap.concurrent``: the diagnosis's fits steer their simulations so).
     ``pmap.share(obj)`` sends `obj` to every worker once and returns what items carry in its
-    place (a fit's unit and its data, rather than in each of its hundred tasks)."""
+    place (a fit's unit and its data, rather than in each of its hundred tasks);
+    ``pmap.width()`` is how many tasks the cluster runs at once (its workers' threads)."""
     def pmap(fn, items):
         items = list(items)
         return client.gather(client.map(fn, items, pure=False)) if items else []
     pmap.concurrent = True
+    pmap.width = lambda: max(1, sum(client.nthreads().values()))  # tasks it runs at once
     pmap.share = lambda obj: client.scatter(obj, broadcast=True, hash=False)
     return pmap
 

@@ -18,7 +18,7 @@ from musclesim.cosim import reuse_fmus
 
 from musclesim.diagnosis.simulate import Failed, residuals, simulate
 from musclesim.diagnosis.stats import gap, part_rows, part_vector
-from musclesim.diagnosis.thresholds import LATENCY_PASSES, MAX_ITERATIONS, SIMULATIONS
+from musclesim.diagnosis.thresholds import MAX_ITERATIONS, PASSES, STEPS
 
 
 @dataclass(frozen=True)
@@ -48,11 +48,15 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     refinement from it); when no scanned point changes the cost at all, the start is the fit
     (an effect that does not apply here, such as stress dependence in a model that keeps it).
 
-    The Jacobian is by forward differences; `known` ({index of a parameter: its column}, box
-    coordinates) reuses columns computed before (the calibration's, when an effect is fitted
-    together with it: a quasi-Newton step, every step still checked on the true cost). The
-    result's ``jac`` is the final Jacobian. The sensor channels' latencies (`residuals`) are
-    held during each least-squares pass: the given `latency` ({column: samples}, a
+    The Jacobian is by forward differences at the start of each least-squares pass and by
+    Broyden's rank-one update after every accepted step (one run a step, not one per
+    parameter); `known` ({index of a parameter: its column}, box coordinates) reuses columns
+    computed before (the calibration's, when an effect is fitted together with it: a
+    quasi-Newton start, every step still checked on the true cost). A pass that stopped short
+    while its cost was still falling is followed by one from fresh differences (without
+    `known` columns, which no pass makes fresh), at most `PASSES` in all. The result's
+    ``jac`` is the final Jacobian. The sensor channels' latencies (`residuals`) are
+    held during each pass: the given `latency` ({column: samples}, a
     calibration's), else chosen again between passes; the result's ``latency`` is the one held
     last. A latency trades against a lag effect on its channel (up to MAX_ALIGN samples of it):
     holding the calibration's while an effect is fitted keeps that trade the same for every
@@ -60,8 +64,9 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     part reaches (``simulate(..., part=0)``); only the fitted values are run to the end, for the
     held-out residuals of the result. The points a step needs together (a Jacobian's, a scan's)
     are simulated with `pmap` (default: here, one after the other; the unit sent once where
-    ``pmap.share`` can); every run is a pure function of its point, so the result does not
-    depend on the map.
+    ``pmap.share`` can); a pass's first point goes with its differences' runs when together
+    they fit on the map's workers at once (``pmap.width()``). Every run is a pure function of
+    its point, so the result does not depend on the map.
     """
     fixed = dict(fixed or {})
     lo = np.array([f.lower for f in free])
@@ -69,6 +74,7 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     cache, align = {}, {}  # align: the sensor latencies held during least squares
     sent = pmap.share(unit) if hasattr(pmap, "share") else unit  # what each task carries
     mapped = pmap or serial_map
+    width = pmap.width() if hasattr(pmap, "width") else 1  # runs the map makes at once
 
     def task(x, part):  # the run of values `x` as `simulation_task` takes it
         return sent, {**fixed, **values_of(free, x)}, fmu_dir, part
@@ -105,17 +111,39 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
         res = run(z, True)
         return 1e6 if res is None else float(np.sum(np.square(part_vector(unit, res, 0))))
 
-    def jac(z):
-        f0, known_ = train_vector(z), known or {}
-        steps = [(i, _step(z[i])) for i in range(len(z)) if i not in known_]
-        points = [z + np.eye(len(z))[i] * h for i, h in steps]
-        simulated(points)
-        J = np.empty((f0.size, len(z)))
-        for i, col in known_.items():
-            J[:, i] = col
-        for (i, h), p in zip(steps, points):
-            J[:, i] = (train_vector(p) - f0) / h
+    def differences(z):  # [(column, step, point)] of the Jacobian's unknown columns at z
+        return [(i, _step(z[i]), z + np.eye(len(z))[i] * _step(z[i])) for i in range(len(z))
+                if i not in (known or {})]
+
+    secant = {}  # the pass's Jacobian, the point it belongs to, the residuals there
+
+    def jac(z):  # finite differences at a pass's start, Broyden's update at each accepted step
+        f = train_vector(z)
+        if secant:
+            s, J = z - secant["z"], secant["J"]
+            if s.any():
+                J = J + np.outer(f - secant["f"] - J @ s, s) / (s @ s)
+        else:
+            steps = differences(z)
+            simulated([p for _, _, p in steps])
+            J = np.empty((f.size, len(z)))
+            for i, col in (known or {}).items():
+                J[:, i] = col
+            for i, h, p in steps:
+                J[:, i] = (train_vector(p) - f) / h
+        # still falling: the step to here lowered the cost by more than the tolerance
+        falling = "f" in secant and secant["f"] @ secant["f"] - f @ f > TOLERANCE * (
+            secant["f"] @ secant["f"])
+        secant.update(J=J, z=z.copy(), f=f, falling=falling)
         return J
+
+    def trial(z):  # least squares' residual vector at z; at a pass's start the runs of the
+        # Jacobian's differences go beside it when together they take no more than the map
+        # runs at once (the Jacobian follows unless the start fails)
+        steps = differences(z)
+        if not secant and 1 + len(steps) <= width:
+            simulated([z] + [p for _, _, p in steps])
+        return train_vector(z)
 
     scan = len(free) if scan is None else scan
     base = np.clip((np.array(x0 if x0 is not None else [f.start for f in free]) - lo) / span,
@@ -125,17 +153,21 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
         z0, applicable = _scan(base, scan, cost, simulated)
     z, interval, J = z0, [(float(a), float(a + w)) for a, w in zip(lo, span)], None
     # least squares with the sensor latencies held (the residuals then move smoothly with the
-    # parameters): the given `latency`, else chosen again after each pass until they stay (each
-    # pass lowers the cost)
-    for _ in range(0 if not applicable else 1 if latency is not None else LATENCY_PASSES):
+    # parameters): the given `latency`, else chosen again after each pass. A pass that stopped
+    # short, its cost still falling at its last accepted step (its steps shrank to nothing
+    # under an updated Jacobian, or its evaluations ran out), goes on from fresh differences;
+    # columns given as `known` are not fresh in any pass, so such a fit takes one (its
+    # refinement, `selection.refine`, has none)
+    for _ in range(PASSES if applicable else 0):
         align.clear()
         align.update(latencies(z) if latency is None else latency)
-        opt = optimize.least_squares(train_vector, z, jac=lambda z: jac(z), bounds=(0, 1),
-                                     x_scale=1.0, ftol=1e-4, xtol=1e-4, method="trf",
-                                     max_nfev=max(MAX_ITERATIONS, SIMULATIONS // (
-                                         1 + len(free) - len(known or {}))))
+        secant.clear()
+        opt = optimize.least_squares(trial, z, jac=jac, bounds=(0, 1), x_scale=1.0,
+                                     ftol=TOLERANCE, xtol=TOLERANCE, method="trf",
+                                     max_nfev=max(MAX_ITERATIONS, STEPS * len(free)))
         z, interval, J = opt.x, _interval(opt, lo, span), opt.jac  # never above the start
-        if latency is not None or latencies(z) == align:
+        short = not known and secant["falling"] and opt.status in (0, 3)  # evaluations, xtol
+        if not short and (latency is not None or latencies(z) == align):
             break
     x = lo + span * z
     chosen = dict(align) if align else latencies(z)
@@ -147,6 +179,9 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
             "heldout_gap": gap(unit, res, 1) if res else math.inf,
             "applicable": applicable, "evaluations": len(cache) + 1, "jac": J,
             "latency": chosen}
+
+
+TOLERANCE = 1e-4  # relative, on the cost (ftol) and the box coordinates (xtol)
 
 
 def known_columns(jac, k):

@@ -77,13 +77,15 @@ ALIASED = 10.0
 MOST = 0.5
 
 # -- fitting --------------------------------------------------------------------------------------
-# Cost evaluations of a fit's trust-region least squares: at least MAX_ITERATIONS, and as many
-# as SIMULATIONS runs allow when each step also takes a Jacobian (one run per parameter whose
-# column is not known): a one-parameter effect gets 30 steps, a seven-parameter calibration 8.
-# Calibration and effects start near their optimum (the nominal or calibrated values, the best
-# point of a scan), and the held-out gaps are reported to three digits: a handful of steps reach
-# them (relative tolerances 1e-4).
-SIMULATIONS = 60
+# Cost evaluations of one pass of a fit's trust-region least squares: STEPS per parameter, at
+# least MAX_ITERATIONS. Each costs one run: the Jacobian is differenced at the pass's start (one
+# run per parameter whose column is not known) and then carried along by Broyden's rank-one
+# update from each accepted step (Dennis & Schnabel 1983, ch. 8), which learns it along the
+# directions the steps explore; about n steps for n parameters, so two per parameter leave room
+# for a trust region that shrinks on the way. Calibration and effects start near their optimum
+# (the nominal or calibrated values, the best point of a scan), and the held-out gaps are
+# reported to three digits (relative tolerances 1e-4).
+STEPS = 2
 MAX_ITERATIONS = 8
 
 # Candidates refitted with a fresh Jacobian: an effect is fitted first from the calibration's
@@ -93,11 +95,13 @@ MAX_ITERATIONS = 8
 # there with every column fresh, as calibration alone was.
 REFINED = 2
 
-# Least-squares passes of a fit, the sensor channels' latencies (MAX_ALIGN) chosen again between
-# passes and held within each (a latency switching inside a pass makes the residuals jump, and
-# the trust region stalls next to the jump). Each pass lowers the cost; three end it in practice
-# (a lag trades at most MAX_ALIGN samples against the latency).
-LATENCY_PASSES = 3
+# Least-squares passes of a fit at most: the sensor channels' latencies (MAX_ALIGN) chosen again
+# between passes and held within each (a latency switching inside a pass makes the residuals
+# jump, and the trust region stalls next to the jump), and a pass from fresh differences after
+# one that stopped short while its cost still fell (a trust region can collapse where an
+# updated Jacobian is wrong; a fresh one shows whether the optimum is there). Each pass lowers the cost;
+# two or three end it in practice (a lag trades at most MAX_ALIGN samples against the latency).
+PASSES = 4
 
 # -- statistics -----------------------------------------------------------------------------------
 # Block-bootstrap resamples behind every 95 % interval: enough for stable 2.5 / 97.5 percentiles
