@@ -201,10 +201,11 @@ def test_scores_of_the_independent_bench_and_their_place_in_scores_json(tmp_path
                # not told apart from the recalibration: a miss, but named
                {"verdict": "recalibration", "complete": False,
                 "stand_ins": ["thermocouple bias"]}]
+    # the latent heat counts over calibration when fitted knowing it, the bias does not
     gaps = [{"before": 0.1, "oracle": None, "ours": 0.1}] * 3 + [
-        {"before": 0.1, "oracle": 0.02, "ours": 0.04}, {"before": 0.1, "oracle": None,
-                                                          "ours": 0.05},
-        {"before": 0.1, "oracle": None, "ours": 0.1}]
+        {"before": 0.1, "oracle": 0.02, "ours": 0.04, "identifiable": True},
+        {"before": 0.1, "oracle": None, "ours": 0.05},
+        {"before": 0.1, "oracle": None, "ours": 0.1, "identifiable": False}]
     own = blind.score(cases, reports, gaps)
     # the own bench's conditions are the model's: a recalibration there is a false alarm
     assert own["false_alarm_rate"] == 1.0 and own["unexplained_rate"] == pytest.approx(2 / 3)
@@ -212,6 +213,8 @@ def test_scores_of_the_independent_bench_and_their_place_in_scores_json(tmp_path
     assert ind["false_alarm_rate"] == 0.0 and ind["unexplained_rate"] == pytest.approx(2 / 3)
     assert ind["top1_accuracy"] == 0.5 and ind["shrinkage_vs_oracle"] == pytest.approx(0.75)
     assert ind["named_rate"] == 1.0
+    # of the two keyed cases one is identifiable on its data, and that one is named
+    assert ind["identifiable_rate"] == 0.5 and ind["top1_identifiable"] == 1.0
     path = tmp_path / "scores.json"
     blind._write_scores(path, own, "own")
     blind._write_scores(path, ind, "independent")
@@ -240,5 +243,7 @@ def test_a_small_blind_run_on_the_independent_bench(fmu_dir, tmp_path, cluster_m
     assert kinds["effect"]["truth"] == "thermocouple lag"
     assert scores["top1_accuracy"] == 1.0 and scores["false_alarm_rate"] == 0.0
     assert scores["unexplained_rate"] == 1.0 and scores["shrinkage_vs_oracle"] > 0.9
+    # both keyed cases can be named on their data (the oracle's effect counts over calibration)
+    assert scores["identifiable_rate"] == 1.0 and scores["top1_identifiable"] == 1.0
     saved = json.loads((tmp_path / "scores.json").read_text())
     assert saved["independent"]["cases"] == 4

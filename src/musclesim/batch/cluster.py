@@ -13,6 +13,15 @@ import threading
 from musclesim.errors import UserError
 
 
+# A local cluster's bookkeeping for a dashboard it does not serve, slowed down: the statistical
+# profiler samples every task's stack every 10 ms, and the system monitor and the event loop's
+# tick wake every process often, each time taking the GIL from a simulation in Python. The
+# command's process (scheduler and client) and the workers share the machine's cores.
+QUIET = {"distributed.worker.profile.enabled": False,
+         "distributed.admin.system-monitor.interval": "5s",
+         "distributed.admin.tick.interval": "500ms"}
+
+
 @contextlib.contextmanager
 def dask_client(scheduler=None, workers=None, tasks=None):
     """A Dask client on `scheduler`, else on a LocalCluster of `workers` processes (default: the
@@ -23,6 +32,7 @@ def dask_client(scheduler=None, workers=None, tasks=None):
     UserError
         When the local cluster cannot start or the scheduler cannot be reached.
     """
+    import dask
     from distributed import Client, LocalCluster
 
     from musclesim.batch.plugins import ReusedFmus
@@ -37,7 +47,7 @@ def dask_client(scheduler=None, workers=None, tasks=None):
             # no dashboard, and the scheduler's HTTP server on a free port, not on 8787 (which
             # a second command's cluster found taken, with a warning)
             n = workers or os.cpu_count() or 1
-            with _workers_ignore_sigint():
+            with _workers_ignore_sigint(), dask.config.set(QUIET):
                 cluster = LocalCluster(n_workers=max(1, min(n, tasks or n)), threads_per_worker=1,
                                        processes=True, dashboard_address=None,
                                        scheduler_kwargs={"dashboard_address": ":0"},

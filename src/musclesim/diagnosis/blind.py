@@ -421,7 +421,10 @@ def score(cases, reports, gaps, independent=False):
     library effects also counts when both are selected. ``named_rate`` is a weaker score beside
     top-1: the share of effect and decoy cases whose hidden effect the verdict names or the
     report lists among the effects the calibration stands in for on those data (``stand_ins``:
-    not told apart there).
+    not told apart there). Where the gaps say whether the oracle's effect counts over the
+    calibrated model (``identifiable``, the independent bench's oracle), ``identifiable_rate``
+    is the share of effect and decoy cases where it does and ``top1_identifiable`` the top-1
+    accuracy over those: the cases these data let the diagnosis's rules name at all.
     """
     quiet = ("none", "unexplained") + (("recalibration",) if independent else ())
     table = []
@@ -434,6 +437,8 @@ def score(cases, reports, gaps, independent=False):
         if c["kind"] in ("effect", "decoy"):
             row["correct"] = r.get("verdict") == c["effect"]
             row["named"] = row["correct"] or c["effect"] in r.get("stand_ins", ())
+            if g.get("identifiable") is not None:
+                row["identifiable"] = g["identifiable"]
             if g["oracle"] is None:  # the oracle's fit failed
                 table.append(row)
                 continue
@@ -457,14 +462,18 @@ def score(cases, reports, gaps, independent=False):
 
 
 def _rates(table):
-    """The four scores and the number of cases of some rows of the per-case table."""
+    """The scores and the number of cases of some rows of the per-case table."""
     def rate(kinds, key):
         rows = [t for t in table if t["kind"] in kinds]
         return sum(bool(t[key]) for t in rows) / len(rows) if rows else None
 
     ratios = [t["shrinkage_vs_oracle"] for t in table if t.get("shrinkage_vs_oracle") is not None]
+    judged = [t for t in table if "identifiable" in t]
+    can = [t for t in judged if t["identifiable"]]
     return {"top1_accuracy": rate(("effect", "decoy"), "correct"),
             "named_rate": rate(("effect", "decoy"), "named"),
+            "identifiable_rate": len(can) / len(judged) if judged else None,
+            "top1_identifiable": sum(t["correct"] for t in can) / len(can) if can else None,
             "shrinkage_vs_oracle": statistics.median(ratios) if ratios else None,
             "false_alarm_rate": rate(("none",), "false_alarm"),
             "unexplained_rate": rate(("outside",), "unexplained"),

@@ -33,8 +33,9 @@ from musclesim.diagnosis.dataset import load as load_dataset
 from musclesim.diagnosis.effects import find
 from musclesim.diagnosis.fitting import Free, fit, values_of
 from musclesim.diagnosis.independent import LENGTH, STRESS, Bench, run
-from musclesim.diagnosis.problem import Problem
-from musclesim.diagnosis.selection import calibration
+from musclesim.diagnosis.problem import Problem, affected
+from musclesim.diagnosis.regimes import regimes
+from musclesim.diagnosis.selection import calibration, judge
 from musclesim.diagnosis.simulate import Failed, residuals, simulate
 from musclesim.diagnosis.stats import gap
 
@@ -263,7 +264,10 @@ def oracle(args):
     the key's library effect fitted on the training part together with the calibration
     parameters, from the report's calibrated values (the bench's truth has no values in the
     library's terms, and its conditions differ from the model's). The oracle is None for a case
-    without a library key."""
+    without a library key. ``identifiable``: whether the oracle's effect counts over the
+    calibrated model by the diagnosis's own rules (`selection.judge`, on the signals it can
+    change): when it does not, these data cannot name the effect even knowing it (None without
+    a key or a calibration)."""
     case, case_dir, report, fmu_dir = args
     ours = report.get("shrinkage", {}).get("all")
     keyed = case["kind"] in ("effect", "decoy")
@@ -277,7 +281,7 @@ def oracle(args):
         except Failed:
             before = math.inf
         ours = {"before": before, "after": before}
-    best = None
+    best = identifiable = None
     if keyed:
         effect = find(case["effect"])
         insts = tuple(n for n, c in problem.components.items() if c == effect.component)
@@ -287,8 +291,25 @@ def oracle(args):
         x_cal = [table.get(f"{','.join(fr.instances)}.{fr.name}", {}).get("value", fr.start)
                  for fr in calib]
         start = _scan(unit, free, fmu_dir, values_of(calib, x_cal))
-        best = fit(unit, free + calib, fmu_dir, x0=start + x_cal, scan=0)["heldout_gap"]
-    return {"before": ours["before"], "oracle": best, "ours": ours["after"]}
+        f = fit(unit, free + calib, fmu_dir, x0=start + x_cal, scan=0)
+        best = f["heldout_gap"]
+        identifiable = _counts(problem, unit, effect, insts, f, values_of(calib, x_cal))
+    return {"before": ours["before"], "oracle": best, "ours": ours["after"],
+            "identifiable": identifiable}
+
+
+def _counts(problem, unit, effect, instances, f, calibrated):
+    """Whether `effect` on `instances` fitted as `f` counts over the model at the `calibrated`
+    values by the diagnosis's rules (None: no calibrated values, or a run failed)."""
+    if not calibrated or f["residuals"] is None:
+        return None
+    try:
+        base = residuals(unit, simulate(unit, calibrated, problem.fmu_dir))
+    except Failed:
+        return None
+    masks = regimes(problem, problem.unit("model"))
+    return judge(unit, base, f["residuals"], affected(unit, instances), effect.regime,
+                 masks)["counts"]
 
 
 def _scan(unit, free, fmu_dir, fixed):

@@ -55,7 +55,7 @@ selection and verdict in `.selection`.
 """
 from musclesim.batch import serial_map
 from musclesim.cosim import reuse_fmus, split_signal
-from musclesim.diagnosis.fitting import fit_all, known_columns, values_of
+from musclesim.diagnosis.fitting import fit_all, known_columns, simulation_task, values_of
 from musclesim.diagnosis.problem import Problem, affected
 from musclesim.diagnosis.regimes import regime_table, regimes
 from musclesim.diagnosis.selection import (calibration, calibration_table, candidates,
@@ -82,24 +82,20 @@ def _diagnose(ds, fmu_dir, pmap, say, traces):
     problem = Problem(ds, fmu_dir)
     whole = problem.unit("model")
     say("1/5 the gap: nominal model")
-    try:
-        sims = simulate(whole, {}, fmu_dir)
-    except Failed as exc:
-        raise UserError(f"data set {ds.path}: the nominal scenario fails: {exc}") from None
+    # calibrated with the loops cut open at the measurements (every measured signal replayed):
+    # a closed loop's phase would pull nominal values anywhere to match an oscillation
+    cut = problem.replayed()
+    sims, units, cut_sims = _nominal_runs(problem, whole, cut, pmap)
     res_whole = residuals(whole, sims)
     report = _gap_section(problem, whole, sims, res_whole)
-    units = _nominal_units(problem)
     if not report["gap"]["deviates"] and not any(u["deviates"] for u in units):
         floor = report["gap"]["noise_floor"]
         none, explanation, _ = verdict([], None, {}, floor, {}, deviates=False)
         report.update(calibration={"parameters": {}}, effects=[], selected=[], stand_ins=[],
                       verdict=none, explanation=explanation, noise_floor=floor, complete=True)
-        _shrinkage(problem, report, {}, {}, traces)
+        _shrinkage(problem, report, ({}, cut_sims), {}, traces, pmap)
         return report
-    # calibrated with the loops cut open at the measurements (every measured signal replayed):
-    # a closed loop's phase would pull nominal values anywhere to match an oscillation
-    cut = problem.replayed()
-    res_cut = res_whole if problem.scalar_only else residuals(cut, simulate(cut, {}, fmu_dir))
+    res_cut = residuals(cut, cut_sims)
     say(f"2/5 calibrating the model and {len(units)} isolation unit(s) on the training part")
     cal, isolated = _calibrate(problem, report, (cut, res_cut), units, pmap)
     say("3/5 isolating components (each unit calibrated)")
@@ -123,7 +119,7 @@ def _diagnose(ds, fmu_dir, pmap, say, traces):
         say("4/5 which effect: candidates fitted with the calibration parameters")
         values = _which_effect(problem, report, fitting + (masks,), pmap, say)
     say("5/5 how far the gap shrinks")
-    _shrinkage(problem, report, cal["values"], values, traces)
+    _shrinkage(problem, report, (cal["values"], cut_sims), values, traces, pmap)
     return report
 
 
@@ -151,17 +147,25 @@ def _same(unit, whole):
         for a, b in zip(whole.runs, unit.runs))
 
 
-def _nominal_units(problem):
-    """Every isolation unit simulated nominally: [{"unit", "nominal" (residuals),
-    "deviates"}] (one whose simulation fails is left out)."""
-    out = []
-    for u in problem.isolation_units():
+def _nominal_runs(problem, whole, cut, pmap):
+    """The nominal runs, mapped together: of the whole model (its failure is the user's
+    error), every isolation unit ([{"unit", "nominal" (residuals), "deviates"}], one whose
+    simulation fails left out) and the model with every measured signal replayed `cut` (the
+    whole model's again for scalar metrics)."""
+    units = problem.isolation_units()
+    extra = [] if problem.scalar_only else [cut]
+    runs = pmap(simulation_task, [(u, {}, problem.fmu_dir, None) for u in [whole, *extra, *units]])
+    if runs[0] is None:  # run again here for the cause
         try:
-            r = residuals(u, simulate(u, {}, problem.fmu_dir))
-        except Failed:
-            continue
-        out.append({"unit": u, "nominal": r, "deviates": deviates(u, r)})
-    return out
+            simulate(whole, {}, problem.fmu_dir)
+        except Failed as exc:
+            raise UserError(f"data set {problem.ds.path}: the nominal scenario fails: "
+                            f"{exc}") from None
+    nominal = [{"unit": u, "nominal": residuals(u, r)} for u, r in zip(units, runs[1 + len(extra):])
+               if r is not None]
+    for n in nominal:
+        n["deviates"] = deviates(n["unit"], n["nominal"])
+    return runs[0], nominal, runs[1] if extra else runs[0]
 
 
 def _calibrate(problem, report, whole, units, pmap):
@@ -295,19 +299,20 @@ def _which_effect(problem, report, fitting, pmap, say):
     return values_of(free, final["x"]) if selected else {}
 
 
-def _shrinkage(problem, report, calibrated, values, traces):
+def _shrinkage(problem, report, calibrated, values, traces, pmap):
     """report["shrinkage"]: the held-out gap per signal of the model with every measured signal
     replayed (`Problem.replayed`), nominal (``before``), calibrated and with the selected
-    effects (``after``, calibration refitted with them); the traces for the plots."""
+    effects (``after``, calibration refitted with them); the traces for the plots.
+    `calibrated`: (the calibrated values, the nominal runs of that model)."""
     unit = problem.replayed()
-    nominal = simulate(unit, {}, problem.fmu_dir)
-    runs = {"calibrated": nominal, "after": nominal}
+    calibrated, nominal = calibrated
+    wanted = [v for v in (calibrated, {**calibrated, **values}) if v]
+    wanted = [v for i, v in enumerate(wanted) if v not in wanted[:i]]
+    got = pmap(simulation_task, [(unit, v, problem.fmu_dir, None) for v in wanted])
+    runs = {"calibrated": nominal}
     for key, v in (("calibrated", calibrated), ("after", {**calibrated, **values})):
-        if v:
-            try:
-                runs[key] = simulate(unit, v, problem.fmu_dir)
-            except Failed:
-                runs[key] = runs["calibrated"]
+        run = got[wanted.index(v)] if v else None
+        runs[key] = runs["calibrated"] if run is None else run
     shifts = {}
     before_res, cal_res = residuals(unit, nominal), residuals(unit, runs["calibrated"])
     after_res = residuals(unit, runs["after"], shifts)
