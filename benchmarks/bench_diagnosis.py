@@ -1,7 +1,10 @@
 """Wall time of a diagnosis with its fits on a local Dask cluster (every simulation a task, as
 `musclesim diagnose` runs them) against the same diagnosis with the fits one after the other in
 this process, measured in one run; prints each stage's time, the ratio, and whether the two
-reports are the same (they should be, to the bit).
+reports are the same (they should be, to the bit). Both are also given in units of a reference
+measured in the same run: one nominal run of the model the diagnosis fits in (every measured
+signal replayed), in this process, the fastest of three, so that a machine's own speed (a
+shared host's varies by half within an hour) is told from the diagnosis's.
 
     .venv/bin/python benchmarks/bench_diagnosis.py [DATASET] [--workers 2] [--fmus DIR] [--json FILE]
 
@@ -14,8 +17,10 @@ import time
 from pathlib import Path
 
 from musclesim.batch import dask_client, dask_map, serial_map
-from musclesim.cosim import check_fresh
+from musclesim.cosim import check_fresh, reuse_fmus
 from musclesim.diagnosis import diagnose, load_dataset
+from musclesim.diagnosis.problem import Problem
+from musclesim.diagnosis.simulate import simulate
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -28,6 +33,20 @@ def timed(ds, fmu_dir, pmap):
     return report, time.perf_counter() - t0, stages
 
 
+def reference(ds, fmu_dir):
+    """Seconds of one nominal run of the model with every measured signal replayed, here (the
+    fastest of three, its FMUs unpacked once)."""
+    unit = Problem(ds, fmu_dir).replayed()
+    with reuse_fmus():
+        simulate(unit, {}, fmu_dir)
+        times = []
+        for _ in range(3):
+            t0 = time.perf_counter()
+            simulate(unit, {}, fmu_dir)
+            times.append(time.perf_counter() - t0)
+    return min(times)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("dataset", nargs="?",
@@ -38,6 +57,7 @@ def main():
     args = p.parse_args()
     check_fresh(args.fmus)
     ds = load_dataset(args.dataset, check_model=True, fmu_dir=args.fmus)
+    ref = reference(ds, args.fmus)
     serial, t_serial, s_serial = timed(ds, args.fmus, serial_map)
     with dask_client(None, args.workers) as client:
         parallel, t_parallel, s_parallel = timed(ds, args.fmus, dask_map(client))
@@ -49,10 +69,13 @@ def main():
     print(f"in all: {t_serial:.1f} s one fit after another here, {t_parallel:.1f} s on "
           f"{args.workers} Dask workers (cluster start not counted): ratio "
           f"{t_serial / t_parallel:.2f}; the same report: {same}")
+    print(f"reference, one nominal run here: {ref:.3f} s; the diagnosis took "
+          f"{t_serial / ref:.0f} of them here, {t_parallel / ref:.0f} on Dask")
     if args.json:
         Path(args.json).write_text(json.dumps(
             {"dataset": args.dataset, "workers": args.workers, "serial_s": t_serial,
              "dask_s": t_parallel, "ratio": t_serial / t_parallel, "same_report": same,
+             "reference_run_s": ref,
              "stages": [{"stage": t, "serial_s": a, "dask_s": b}
                         for (t, a), (_, b) in zip(s_serial, s_parallel)]}, indent=2) + "\n")
     if not same:
