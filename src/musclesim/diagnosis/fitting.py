@@ -18,7 +18,7 @@ from musclesim.cosim import reuse_fmus
 
 from musclesim.diagnosis.simulate import Failed, residuals, simulate
 from musclesim.diagnosis.stats import gap, part_rows, part_vector
-from musclesim.diagnosis.thresholds import MAX_ITERATIONS, PASSES, STEPS
+from musclesim.diagnosis.thresholds import MAX_ITERATIONS, PASSES, STEPS, TOLERANCE
 
 
 @dataclass(frozen=True)
@@ -156,8 +156,8 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     # parameters): the given `latency`, else chosen again after each pass. A pass that stopped
     # short, its cost still falling at its last accepted step (its steps shrank to nothing
     # under an updated Jacobian, or its evaluations ran out), goes on from fresh differences;
-    # columns given as `known` are not fresh in any pass, so such a fit takes one (its
-    # refinement, `selection.refine`, has none)
+    # columns given as `known` are not fresh in any pass, so such a fit takes no second pass for
+    # that (its refinement, `selection.refine`, has none)
     for _ in range(PASSES if applicable else 0):
         align.clear()
         align.update(latencies(z) if latency is None else latency)
@@ -179,9 +179,6 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
             "heldout_gap": gap(unit, res, 1) if res else math.inf,
             "applicable": applicable, "evaluations": len(cache) + 1, "jac": J,
             "latency": chosen}
-
-
-TOLERANCE = 1e-4  # relative, on the cost (ftol) and the box coordinates (xtol)
 
 
 def known_columns(jac, k):

@@ -84,9 +84,12 @@ MOST = 0.5
 # directions the steps explore; about n steps for n parameters, so two per parameter leave room
 # for a trust region that shrinks on the way. Calibration and effects start near their optimum
 # (the nominal or calibrated values, the best point of a scan), and the held-out gaps are
-# reported to three digits (relative tolerances 1e-4).
+# reported to three digits: TOLERANCE is the relative change of the cost and of the box
+# coordinates at which a pass ends, and the fall of the cost below which a step no longer counts
+# as progress (PASSES).
 STEPS = 2
 MAX_ITERATIONS = 8
+TOLERANCE = 1e-4
 
 # Candidates refitted with a fresh Jacobian: an effect is fitted first from the calibration's
 # Jacobian columns (taken without the effect, so each fit costs a few runs), which can stop short
