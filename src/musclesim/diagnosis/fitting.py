@@ -55,7 +55,8 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     quasi-Newton start, every step still checked on the true cost). A pass that stopped short
     while its cost was still falling is followed by one from fresh differences (without
     `known` columns, which no pass makes fresh), at most `PASSES` in all. The result's
-    ``jac`` is the final Jacobian. The sensor channels' latencies (`residuals`) are
+    ``jac`` and intervals are from differences at the fitted values (`known` columns as
+    given), taken again there when the last Jacobian was an update. The sensor channels' latencies (`residuals`) are
     held during each pass: the given `latency` ({column: samples}, a
     calibration's), else chosen again between passes; the result's ``latency`` is the one held
     last. A latency trades against a lag effect on its channel (up to MAX_ALIGN samples of it):
@@ -120,21 +121,25 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     def jac(z):  # finite differences at a pass's start, Broyden's update at each accepted step
         f = train_vector(z)
         if secant:
-            s, J = z - secant["z"], secant["J"]
+            s, J, fresh = z - secant["z"], secant["J"], secant["fresh"]
             if s.any():
-                J = J + np.outer(f - secant["f"] - J @ s, s) / (s @ s)
+                J, fresh = J + np.outer(f - secant["f"] - J @ s, s) / (s @ s), False
         else:
-            steps = differences(z)
-            simulated([p for _, _, p in steps])
-            J = np.empty((f.size, len(z)))
-            for i, col in (known or {}).items():
-                J[:, i] = col
-            for i, h, p in steps:
-                J[:, i] = (train_vector(p) - f) / h
+            J, fresh = differenced(z, np.empty((f.size, len(z)))), True
         # still falling: the step to here lowered the cost by more than the tolerance
         falling = "f" in secant and secant["f"] @ secant["f"] - f @ f > TOLERANCE * (
             secant["f"] @ secant["f"])
-        secant.update(J=J, z=z.copy(), f=f, falling=falling)
+        secant.update(J=J, z=z.copy(), f=f, falling=falling, fresh=fresh)
+        return J
+
+    def differenced(z, J):  # J with the `known` columns and the others by differences at z
+        steps = differences(z)
+        simulated([p for _, _, p in steps])
+        f = train_vector(z)
+        for i, col in (known or {}).items():
+            J[:, i] = col
+        for i, h, p in steps:
+            J[:, i] = (train_vector(p) - f) / h
         return J
 
     def trial(z):  # least squares' residual vector at z; at a pass's start the runs of the
@@ -165,14 +170,27 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
         opt = optimize.least_squares(trial, z, jac=jac, bounds=(0, 1), x_scale=1.0,
                                      ftol=TOLERANCE, xtol=TOLERANCE, method="trf",
                                      max_nfev=max(MAX_ITERATIONS, STEPS * len(free)))
-        z, interval, J = opt.x, _interval(opt, lo, span), opt.jac  # never above the start
+        z, J = opt.x, opt.jac  # never above the start
         short = not known and secant["falling"] and opt.status in (0, 3)  # evaluations, xtol
         if not short and (latency is not None or latencies(z) == align):
             break
     x = lo + span * z
     chosen = dict(align) if align else latencies(z)
-    # the fitted values over the whole runs, held-out part included
-    sims = mapped(simulation_task, [task(x, None)])[0]
+    # the fitted values over the whole runs, held-out part included; beside them, when the
+    # Jacobian was last updated by Broyden's formula (exact only along the steps taken), the
+    # runs of fresh differences there: the intervals and what reads ``jac`` (the collinearity of
+    # an effect with the calibration) take the sensitivities at the fitted values
+    refresh = J is not None and not (secant["fresh"] and np.array_equal(secant["z"], z))
+    ahead = {key(p): p for _, _, p in (differences(z) if refresh else [])}
+    ahead = {k: p for k, p in ahead.items() if k not in cache}
+    runs = mapped(simulation_task, [task(x, None)] + [
+        task(lo + span * np.clip(p, 0, 1), 0) for p in ahead.values()])
+    sims = runs[0]
+    cache.update(zip(ahead, runs[1:]))
+    if refresh:
+        J = differenced(z, J.copy())
+    if J is not None:
+        interval = _interval(train_vector(z), J, z, lo, span)
     res = None if sims is None else residuals(unit, sims)
     return {"x": [float(v) for v in x], "interval": interval, "residuals": res,
             "train_gap": gap(unit, res, 0) if res else math.inf,
@@ -276,19 +294,19 @@ def _train_size(unit):
     return sum(int(np.count_nonzero(m)) for m in part_rows(unit, 0)) * len(unit.observed)
 
 
-def _interval(opt, lo, span):
-    """95 % intervals from the Jacobian, the residuals' autocorrelation widening them."""
-    r, J = opt.fun, opt.jac
+def _interval(r, J, z, lo, span):
+    """95 % intervals of the values at box coordinates `z` from the residuals `r` and Jacobian
+    `J` there, the residuals' autocorrelation widening them."""
     m, n = J.shape
     rho = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if m > 2 and np.std(r) > 0 else 0.0
     inflate = (1 + max(rho, 0)) / max(1 - max(rho, 0), 1e-3)
-    s2 = 2 * opt.cost / max(m - n, 1) * inflate
+    s2 = float(r @ r) / max(m - n, 1) * inflate
     try:
         cov = s2 * np.linalg.inv(J.T @ J)
         half = 1.96 * np.sqrt(np.clip(np.diag(cov), 0, None))
     except np.linalg.LinAlgError:
         half = np.full(n, np.inf)
     out = []
-    for z, h, l, w in zip(opt.x, half, lo, span):
-        out.append((float(l + w * max(z - h, 0)), float(l + w * min(z + h, 1))))
+    for c, h, l, w in zip(z, half, lo, span):
+        out.append((float(l + w * max(c - h, 0)), float(l + w * min(c + h, 1))))
     return out
