@@ -56,8 +56,8 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     while its cost was still falling is followed by one from fresh differences (without
     `known` columns, which no pass makes fresh), at most `PASSES` in all. The result's
     ``jac`` and intervals are from differences at the fitted values (`known` columns as
-    given), taken again there when the last Jacobian was an update. The sensor channels' latencies (`residuals`) are
-    held during each pass: the given `latency` ({column: samples}, a
+    given), taken again there when the last Jacobian was an update. The sensor channels'
+    latencies (`residuals`) are held during each pass: the given `latency` ({column: samples}, a
     calibration's), else chosen again between passes; the result's ``latency`` is the one held
     last. A latency trades against a lag effect on its channel (up to MAX_ALIGN samples of it):
     holding the calibration's while an effect is fitted keeps that trade the same for every
@@ -83,12 +83,16 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     def key(z):  # a point as the cache knows it
         return tuple(np.round(z, 12))
 
-    def simulated(points):  # the training runs of each point not run yet, mapped together
+    def simulated(points, whole=()):  # the training runs of each point not run yet and the
+        # whole runs of the values `whole` (returned), mapped together
         new = {}
         for k, z in ((key(z), z) for z in points):
             if k not in cache:
                 new.setdefault(k, lo + span * np.clip(z, 0, 1))
-        cache.update(zip(new, mapped(simulation_task, [task(x, 0) for x in new.values()])))
+        runs = mapped(simulation_task, [task(x, None) for x in whole]
+                      + [task(x, 0) for x in new.values()])
+        cache.update(zip(new, runs[len(whole):]))
+        return runs[:len(whole)]
 
     def run(z, free_choice=False):
         simulated([z])
@@ -125,17 +129,18 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
             if s.any():
                 J, fresh = J + np.outer(f - secant["f"] - J @ s, s) / (s @ s), False
         else:
-            J, fresh = differenced(z, np.empty((f.size, len(z)))), True
+            J, fresh = differenced(z), True
         # still falling: the step to here lowered the cost by more than the tolerance
         falling = "f" in secant and secant["f"] @ secant["f"] - f @ f > TOLERANCE * (
             secant["f"] @ secant["f"])
         secant.update(J=J, z=z.copy(), f=f, falling=falling, fresh=fresh)
         return J
 
-    def differenced(z, J):  # J with the `known` columns and the others by differences at z
+    def differenced(z):  # the Jacobian of the `known` columns and differences at z
         steps = differences(z)
         simulated([p for _, _, p in steps])
         f = train_vector(z)
+        J = np.empty((f.size, len(z)))
         for i, col in (known or {}).items():
             J[:, i] = col
         for i, h, p in steps:
@@ -181,14 +186,9 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     # runs of fresh differences there: the intervals and what reads ``jac`` (the collinearity of
     # an effect with the calibration) take the sensitivities at the fitted values
     refresh = J is not None and not (secant["fresh"] and np.array_equal(secant["z"], z))
-    ahead = {key(p): p for _, _, p in (differences(z) if refresh else [])}
-    ahead = {k: p for k, p in ahead.items() if k not in cache}
-    runs = mapped(simulation_task, [task(x, None)] + [
-        task(lo + span * np.clip(p, 0, 1), 0) for p in ahead.values()])
-    sims = runs[0]
-    cache.update(zip(ahead, runs[1:]))
+    sims = simulated([p for _, _, p in differences(z)] if refresh else [], whole=[x])[0]
     if refresh:
-        J = differenced(z, J.copy())
+        J = differenced(z)
     if J is not None:
         interval = _interval(train_vector(z), J, z, lo, span)
     res = None if sims is None else residuals(unit, sims)
