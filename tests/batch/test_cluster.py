@@ -54,12 +54,22 @@ def test_a_worker_keeps_the_fmus_unpacked_for_its_life(fmu_dir):
     assert extracted_fmu(fmu) is None and not Path(folder).exists()
 
 
-def test_two_local_clusters_at_once_start_quietly(recwarn):
+def blas_threads():
+    from threadpoolctl import threadpool_info
+
+    return {i["filepath"]: i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"}
+
+
+def test_two_local_clusters_at_once_start_quietly_and_this_process_blas_on_one_thread(recwarn):
     """Two commands at once on one machine (a sweep and a diagnosis, say) each start a local
-    cluster: neither warns that the other holds its port."""
+    cluster: neither warns that the other holds its port. While a local cluster runs, this
+    process's BLAS has one thread (idle ones would spin on the workers' cores), restored after."""
+    before = blas_threads()
     with dask_client(None, 1) as a, dask_client(None, 1) as b:
         assert a.scheduler.address != b.scheduler.address
+        assert set(blas_threads().values()) <= {1}
     assert not [str(w.message) for w in recwarn if "already in use" in str(w.message)]
+    assert blas_threads() == before
 
 
 def test_serial_map():
