@@ -2,8 +2,14 @@
 from pathlib import Path
 
 import pytest
+from threadpoolctl import threadpool_limits
 
 from musclesim.cosim.build import build_all
+
+# the suite runs on two processes (pyproject's addopts), one per core: each one's BLAS on one
+# thread, as `dask_client` does beside its workers (idle OpenBLAS threads spin on the other
+# process's core; the tests' matrices are small)
+threadpool_limits(1, user_api="blas")
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENARIOS = ROOT / "scenarios"
