@@ -35,6 +35,9 @@ class ActuatorParams:
     kappa: float = 1.2  # polytropic exponent (assumption: between 1 isothermal and 1.4
     #                     adiabatic, SPEC 5)
     f_pwm: float = 50.0  # Hz, PWM carrier (assumption: the study gives none)
+    pwm_phase: float = 0.0  # of a period: where the carrier's periods start on the master's
+    #                         clock (assumption: the study gives none); a bench's own PWM
+    #                         timer starts anywhere, which matters when its duties are replayed
     p_contact: float = 8e3  # Pa gauge, firm ground contact above it (assumption; SPEC 1.5 by eye)
     t_contact: float = 0.2  # s, contact 0 -> 1 (assumption: SPEC 1.1's up to 0.4 s switching
     #                         includes the pressure build-up); <= 0: at once (bulge_contact)
@@ -64,6 +67,8 @@ class ActuatorParams:
         if not -P_ATM < self.p_exhaust <= 0.0:
             raise ValueError(f"p_exhaust must be within (-{P_ATM:g}, 0] Pa gauge "
                              f"(got {self.p_exhaust!r})")
+        if not 0.0 <= self.pwm_phase < 1.0:
+            raise ValueError(f"pwm_phase must be within [0, 1) of a period (got {self.pwm_phase!r})")
         if not 0.0 <= self.supply_drop < 1.0:
             raise ValueError(f"supply_drop must be within [0, 1) (got {self.supply_drop!r})")
 
@@ -101,12 +106,12 @@ def signed_flow(p_a, p_b, C, b, T=T_0):
     return mass_flow(p_a, p_b, C, b, T) if p_a >= p_b else -mass_flow(p_b, p_a, C, b, T)
 
 
-def pwm_edges(t0, t1, duty, period):
+def pwm_edges(t0, t1, duty, period, phase=0.0):
     """The PWM command over [t0, t1): [(t0, state at t0), (time, on) of each switching in (t0, t1)].
 
-    The command is on while the carrier phase (t mod period) / period is below duty, that is in
-    [k period, k period + duty period); the state at t0 comes from the same edge times as the
-    switchings, so consecutive steps agree to the last bit.
+    The carrier's periods start at (k + phase) period; the command is on for the first duty of
+    each, [(k + phase) period, (k + phase) period + duty period). The state at t0 comes from
+    the same edge times as the switchings, so consecutive steps agree to the last bit.
 
     Examples
     --------
@@ -114,14 +119,20 @@ def pwm_edges(t0, t1, duty, period):
     [(0.0, True), (0.005, False), (0.02, True), (0.025, False), (0.04, True), (0.045, False)]
     >>> pwm_edges(0.013, 0.014, 1.0, 0.02)
     [(0.013, True)]
+    >>> [(round(t, 9), on) for t, on in pwm_edges(0.0, 0.03, 0.25, 0.02, phase=0.875)]
+    [(0.0, True), (0.0025, False), (0.0175, True), (0.0225, False)]
     """
     if duty <= 0.0 or duty >= 1.0:
         return [(t0, duty >= 1.0)]
-    k = math.floor(t0 / period)
-    k += ((k + 1) * period <= t0) - (k * period > t0)  # t0 / period rounded across an integer
-    edges = [(t0, t0 < k * period + duty * period)]
-    while k * period < t1:
-        for te, on in ((k * period, True), (k * period + duty * period, False)):
+
+    def start(k):  # of the carrier's period k
+        return (k + phase) * period
+
+    k = math.floor(t0 / period - phase)
+    k += (start(k + 1) <= t0) - (start(k) > t0)  # t0 / period - phase rounded across an integer
+    edges = [(t0, t0 < start(k) + duty * period)]
+    while start(k) < t1:
+        for te, on in ((start(k), True), (start(k) + duty * period, False)):
             if t0 < te < t1:
                 edges.append((te, on))
         k += 1
@@ -254,9 +265,10 @@ class Actuator:
         duty = min(max(duty, -1.0), 1.0)
         period, t1 = 1.0 / p.f_pwm, t + h
         delays = p.t_open_delay, p.t_close_delay
-        open_in = self.inflate.open_intervals(pwm_edges(t, t1, max(duty, 0.0), period), t1, *delays)
-        open_out = self.exhaust.open_intervals(pwm_edges(t, t1, max(-duty, 0.0), period), t1,
-                                               *delays)
+        open_in = self.inflate.open_intervals(
+            pwm_edges(t, t1, max(duty, 0.0), period, p.pwm_phase), t1, *delays)
+        open_out = self.exhaust.open_intervals(
+            pwm_edges(t, t1, max(-duty, 0.0), period, p.pwm_phase), t1, *delays)
         p_in, p_out = source_pressures(p)
         gain = p.kappa * R_AIR * p.T
         n = max(1, math.ceil(h / p.dt_sub - 1e-9))
