@@ -68,7 +68,8 @@ class ActuatorParams:
             raise ValueError(f"p_exhaust must be within (-{P_ATM:g}, 0] Pa gauge "
                              f"(got {self.p_exhaust!r})")
         if not 0.0 <= self.pwm_phase < 1.0:
-            raise ValueError(f"pwm_phase must be within [0, 1) of a period (got {self.pwm_phase!r})")
+            raise ValueError(f"pwm_phase must be within [0, 1) of a period "
+                             f"(got {self.pwm_phase!r})")
         if not 0.0 <= self.supply_drop < 1.0:
             raise ValueError(f"supply_drop must be within [0, 1) (got {self.supply_drop!r})")
 
