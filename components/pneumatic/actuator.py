@@ -110,9 +110,9 @@ def signed_flow(p_a, p_b, C, b, T=T_0):
 def pwm_edges(t0, t1, duty, period, phase=0.0):
     """The PWM command over [t0, t1): [(t0, state at t0), (time, on) of each switching in (t0, t1)].
 
-    The carrier's periods start at (k + phase) period; the command is on for the first duty of
-    each, [(k + phase) period, (k + phase) period + duty period). The state at t0 comes from
-    the same edge times as the switchings, so consecutive steps agree to the last bit.
+    The carrier's period k starts at k period + phase period; the command is on for the first
+    duty of each. The state at t0 comes from the same edge times as the switchings, so
+    consecutive steps agree to the last bit.
 
     Examples
     --------
@@ -125,15 +125,12 @@ def pwm_edges(t0, t1, duty, period, phase=0.0):
     """
     if duty <= 0.0 or duty >= 1.0:
         return [(t0, duty >= 1.0)]
-
-    def start(k):  # of the carrier's period k
-        return (k + phase) * period
-
-    k = math.floor(t0 / period - phase)
-    k += (start(k + 1) <= t0) - (start(k) > t0)  # t0 / period - phase rounded across an integer
-    edges = [(t0, t0 < start(k) + duty * period)]
-    while start(k) < t1:
-        for te, on in ((start(k), True), (start(k) + duty * period, False)):
+    shift = phase * period  # period k starts at k period + shift
+    k = math.floor((t0 - shift) / period)
+    k += ((k + 1) * period + shift <= t0) - (k * period + shift > t0)  # rounded across an integer
+    edges = [(t0, t0 < k * period + shift + duty * period)]
+    while (rise := k * period + shift) < t1:
+        for te, on in ((rise, True), (rise + duty * period, False)):
             if t0 < te < t1:
                 edges.append((te, on))
         k += 1
