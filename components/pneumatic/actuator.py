@@ -37,7 +37,8 @@ class ActuatorParams:
     f_pwm: float = 50.0  # Hz, PWM carrier (assumption: the study gives none)
     pwm_phase: float = 0.0  # of a period: where the carrier's periods start on the master's
     #                         clock (assumption: the study gives none); a bench's own PWM
-    #                         timer starts anywhere, which matters when its duties are replayed
+    #                         timer starts anywhere, which matters when its duties are replayed;
+    #                         periodic: 1.25 is 0.25
     p_contact: float = 8e3  # Pa gauge, firm ground contact above it (assumption; SPEC 1.5 by eye)
     t_contact: float = 0.2  # s, contact 0 -> 1 (assumption: SPEC 1.1's up to 0.4 s switching
     #                         includes the pressure build-up); <= 0: at once (bulge_contact)
@@ -67,9 +68,6 @@ class ActuatorParams:
         if not -P_ATM < self.p_exhaust <= 0.0:
             raise ValueError(f"p_exhaust must be within (-{P_ATM:g}, 0] Pa gauge "
                              f"(got {self.p_exhaust!r})")
-        if not 0.0 <= self.pwm_phase < 1.0:
-            raise ValueError(f"pwm_phase must be within [0, 1) of a period "
-                             f"(got {self.pwm_phase!r})")
         if not 0.0 <= self.supply_drop < 1.0:
             raise ValueError(f"supply_drop must be within [0, 1) (got {self.supply_drop!r})")
 
@@ -110,8 +108,8 @@ def signed_flow(p_a, p_b, C, b, T=T_0):
 def pwm_edges(t0, t1, duty, period, phase=0.0):
     """The PWM command over [t0, t1): [(t0, state at t0), (time, on) of each switching in (t0, t1)].
 
-    The carrier's period k starts at k period + phase period; the command is on for the first
-    duty of each. The state at t0 comes from the same edge times as the switchings, so
+    The carrier's period k starts at k period + phase period (any phase: 1.25 is 0.25); the
+    command is on for the first duty of each. The state at t0 comes from the same edge times as the switchings, so
     consecutive steps agree to the last bit.
 
     Examples

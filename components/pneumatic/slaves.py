@@ -40,8 +40,9 @@ class SoftActuator(Slave):
                        "(adiabatic) (assumption: 1.2, SPEC 5)")
         self.parameter("f_pwm", d.f_pwm, "Hz", "PWM carrier frequency (assumption: the study "
                        "gives none)")
-        self.parameter("pwm_phase", d.pwm_phase, "1", "Phase in [0, 1) of a period at which the "
-                       "carrier's periods start on the master's clock (assumption: 0)")
+        self.parameter("pwm_phase", d.pwm_phase, "1", "Phase of a period at which the carrier's "
+                       "periods start on the master's clock, periodic (1.25 is 0.25; "
+                       "assumption: 0)")
         self.parameter("p_contact", d.p_contact, "Pa", "Gauge pressure above which the silicone "
                        "makes firm ground contact (assumption; SPEC 1.5 found it by eye)")
         self.parameter("t_contact", d.t_contact, "s", "Time of the contact's 0 -> 1 change; "
