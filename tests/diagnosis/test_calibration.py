@@ -1,8 +1,9 @@
 """Calibration before diagnosis (issue 20): known offsets of nominal values are recovered; an
 effect fitted with the calibration counts only when it is present; a sensor offset and an
 ambient offset are told apart; fits steered from threads with every simulation a task (item 7)
-give what fits run as tasks give. Data from the library's FMUs with the bench's nominal values
-changed, 30 s of the 50 Hz tracking bench (its voltage replayed), with sensor noise."""
+give what fits run as tasks give; a periodic parameter (a PWM carrier's phase) is found in
+whichever well it lies. Data from the library's FMUs with the bench's nominal values changed, 30
+s of the 50 Hz tracking bench (its voltage replayed), with sensor noise; 2 s of a valve's duty."""
 import threading
 
 import numpy as np
@@ -14,7 +15,7 @@ from musclesim.diagnosis import dataset, diagnose
 from musclesim.diagnosis.blind import write_data_set
 from musclesim.diagnosis.fitting import Free, fit, fit_all
 from musclesim.diagnosis.problem import Problem
-from musclesim.diagnosis.selection import calibration
+from musclesim.diagnosis.selection import calibration, scanned
 from musclesim.diagnosis.simulate import simulate
 
 from conftest import SCENARIOS
@@ -180,3 +181,48 @@ def test_a_sensor_offset_and_an_ambient_offset_are_told_apart(fmus, tmp_path):
     assert ambient["calibration"]["parameters"]["wire.T_amb"]["value"] == pytest.approx(
         297.15, abs=0.3)
     assert not any(e["counts"] for e in ambient.get("effects", []))
+
+
+VALVE = '''name = "valve"
+description = "an extremal soft actuator's duty replayed, its pressure sensor observed"
+step = 1e-3
+stop_time = 2.0
+connections = [["act.p", "sensor.p"]]
+record = ["sensor.p_meas"]
+[instances.act]
+component = "SoftActuator"
+parameters = { central = 0.0, V0 = 1.41e-5 }
+[instances.sensor]
+component = "PressureSensor"
+'''
+
+
+def test_calibration_finds_a_pwm_carrier_phase_in_any_well(fmus, tmp_path):
+    """A bench's PWM timer starts at 0.6 of a period on its log's clock, the model's at 0. With
+    a PI-like duty (a swing plus per-sample jitter) replayed, the pressure's gap over the
+    model's phase has wells beside the true one: the calibration scans the whole period before
+    its local fit and finds the phase (a fit from 0 without that scan stays in a well near 0)."""
+    scenario = tmp_path / "valve.toml"
+    scenario.write_text(VALVE)
+    rng = np.random.default_rng(3)
+    t = np.arange(2001) * 1e-3
+    duty = np.clip(0.2 + 0.5 * np.sin(2 * np.pi * t / 0.37) + 0.15 * rng.standard_normal(t.size),
+                   -1, 1)
+    s = load_scenario(scenario, ["act.pwm_phase=0.6"])
+    res = Master(s, fmus, inputs={"act.duty": duty}).run()
+    assert res.error is None, res.error
+    cols = {"act.duty": duty, "sensor.p_meas": res["sensor.p_meas"] + 50 * rng.standard_normal(
+        t.size)}
+    write_data_set(tmp_path / "ds", res.time, cols, ["act.duty"], ["sensor.p_meas"],
+                   str(scenario), "valve bench")
+    with reuse_fmus():
+        problem = Problem(dataset.load(tmp_path / "ds"), fmus)
+        unit = problem.unit("model")
+        free = calibration(problem, unit)
+        assert [f.name for f in free][0] == "pwm_phase" and scanned(free) == 1
+        found, unscanned = (fit(unit, free, fmus, scan=n) for n in (1, 0))
+    phase, (lo, hi) = found["x"][0], found["interval"][0]
+    assert phase == pytest.approx(0.6, abs=0.005) and lo <= 0.6 <= hi
+    assert found["heldout_gap"] < 3 * 50 / 40e3  # within the noise
+    assert abs(unscanned["x"][0] - 0.6) > 0.25 and unscanned["heldout_gap"] > 10 * found[
+        "heldout_gap"]

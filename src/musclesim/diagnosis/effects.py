@@ -178,7 +178,10 @@ class Calibrated:
 
     The bounds are factors on the scenario's value (`relative`) or offsets added to it; an input
     (such as the ambient temperature) is calibrated as a constant unless the data set states it
-    as a bench condition, which then fixes it.
+    as a bench condition, which then fixes it. A `period` (> 0) makes the parameter periodic (a
+    phase): its cost has a well in every period, so the calibration scans one whole period
+    before its local fit, and its bounds span more than one period, so that the fit can follow
+    a well across the period's ends.
     """
 
     component: str
@@ -188,6 +191,7 @@ class Calibrated:
     relative: bool
     spec: str
     why: str
+    period: float = 0.0
 
     def bounds(self, nominal):
         """Absolute (lower, upper) around the scenario's `nominal` value."""
@@ -229,6 +233,10 @@ CALIBRATION = (
     # the valves' sonic conductances are assumptions (SPEC 1.1 names no valve; SPEC 5 the law)
     Calibrated("SoftActuator", "C_in", 0.5, 2.0, True, "SPEC 1.1, 5", "inflation valve"),
     Calibrated("SoftActuator", "C_out", 0.5, 2.0, True, "SPEC 1.1, 5", "exhaust valve"),
+    # a bench's PWM timer starts anywhere on its log's clock: replayed duties act at another
+    # instant of each period (components/pneumatic/README.md); one timer drives every valve
+    Calibrated("SoftActuator", "pwm_phase", -0.5, 1.5, False, "SPEC 1.1, 5",
+               "where the valves' PWM carrier starts on the data's clock", period=1.0),
     # sensors' gains (their offsets: the thermocouple's is the effect "thermocouple bias"; the
     # others are zeroed on the bench before a run)
     Calibrated("Thermocouple", "gain", 0.9925, 1.0075, True, "SPEC 2.1",

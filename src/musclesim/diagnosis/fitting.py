@@ -18,7 +18,8 @@ from musclesim.cosim import reuse_fmus
 
 from musclesim.diagnosis.simulate import Failed, residuals, simulate
 from musclesim.diagnosis.stats import gap, part_rows, part_vector
-from musclesim.diagnosis.thresholds import MAX_ITERATIONS, PASSES, STEPS, TOLERANCE
+from musclesim.diagnosis.thresholds import (MAX_ITERATIONS, PASSES, PERIOD_POINTS, STEPS,
+                                           TOLERANCE)
 
 
 @dataclass(frozen=True)
@@ -30,6 +31,7 @@ class Free:
     lower: float
     upper: float
     start: float  # its nominal value
+    period: float = 0.0  # > 0: periodic (a phase), scanned over a whole period
 
 
 def values_of(free, x):
@@ -41,9 +43,10 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
         pmap=None):
     """Fit `free` on the training part; return a dict with values, intervals and residuals.
 
-    A coarse scan of the first `scan` parameters (default all; `_axis` points each, one
-    parameter at a time, then the best of each together), the others held at `x0` (default
-    their nominal values), picks the start of a bounded trust-region least-squares fit of all of
+    A coarse scan of the first `scan` parameters (default all; `_axis` points each, or
+    `PERIOD_POINTS` even ones over a periodic parameter's period; one parameter at a time, then
+    the best of each together), the others held at `x0` (default their nominal values), picks
+    the start of a bounded trust-region least-squares fit of all of
     them in box coordinates [0, 1]. With ``scan=0`` the fit starts at `x0` (a calibration, or a
     refinement from it); when no scanned point changes the cost at all, the start is the fit
     (an effect that does not apply here, such as stress dependence in a model that keeps it).
@@ -160,7 +163,9 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
                    0, 1)
     z0, applicable = base, True
     if scan:
-        z0, applicable = _scan(base, scan, cost, simulated)
+        axes = [_axis(base[i]) if not free[i].period else
+                _period_axis(base[i], free[i].period / span[i]) for i in range(scan)]
+        z0, applicable = _scan(base, axes, cost, simulated)
     z, interval, J = z0, [(float(a), float(a + w)) for a, w in zip(lo, span)], None
     # least squares with the sensor latencies held (the residuals then move smoothly with the
     # parameters): the given `latency`, else chosen again after each pass. A pass that stopped
@@ -210,11 +215,13 @@ def _step(z):
     return 1e-3 if z <= 0.5 else -1e-3
 
 
-def _scan(base, scan, cost, simulated):
-    """(start, applicable) from a scan of the first `scan` coordinates around `base`: each
-    along its `_axis` alone, then the best of each together. ``applicable``: the cost changes
-    at all. `simulated(points)` runs the points of the axes together first."""
-    axes = [[p for p in _axis(base[i]) if p != base[i]] for i in range(scan)]
+def _scan(base, axes, cost, simulated):
+    """(start, applicable) from a scan of the first coordinates around `base`, one for each of
+    `axes` (its points): each along its axis alone, then the best of each together.
+    ``applicable``: the cost changes at all. `simulated(points)` runs the points of the axes
+    together first."""
+    scan = len(axes)
+    axes = [[p for p in pts if p != base[i]] for i, pts in enumerate(axes)]
     simulated([base] + [_moved(base, i, p) for i, pts in enumerate(axes) for p in pts])
     c0 = cost(base)
     best, costs = base.copy(), [c0]
@@ -248,6 +255,14 @@ def _axis(z0):
     fractions = (0.125, 0.5, 1.0)
     points = {z0} | {z0 + f * (1 - z0) for f in fractions} | {z0 - f * z0 for f in fractions}
     return sorted(points)
+
+
+def _period_axis(z0, width):
+    """Scan points of a periodic parameter in box coordinates: `PERIOD_POINTS` evenly over one
+    period (`width` in box coordinates) from its start `z0`, each moved by whole periods into
+    the box [0, 1] where it falls outside."""
+    points = (z0 + k * width / PERIOD_POINTS for k in range(PERIOD_POINTS))
+    return sorted(p - width * math.floor(p / width) if not 0 <= p <= 1 else p for p in points)
 
 
 def fit_all(jobs, pmap):

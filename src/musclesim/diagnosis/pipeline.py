@@ -14,7 +14,8 @@ The steps, on a measured data set (`musclesim.diagnosis.dataset`), each printed 
    (its ambient, h, material data, the hysteresis's temperature shift and strain scale, ...):
    every calibration parameter its components declare (`effects.CALIBRATION`; a value the data
    set states in ``[conditions]`` stays fixed) is fitted on the training part, from the nominal
-   values; the report gives them with 95 % intervals and the gap before and after.
+   values (a periodic one, the PWM carrier's phase, from the best of a scan over its period);
+   the report gives them with 95 % intervals and the gap before and after.
 3. Where. Each component is re-simulated, calibrated, in its *isolation unit*: the component
    plus the upstream instances whose outputs were not measured, with every measured signal
    feeding the unit replayed. A unit deviates when the held-out gap of one of its signals
@@ -59,8 +60,8 @@ from musclesim.diagnosis.fitting import fit_all, known_columns, simulation_task,
 from musclesim.diagnosis.problem import Problem, affected
 from musclesim.diagnosis.regimes import regime_table, regimes
 from musclesim.diagnosis.selection import (calibration, calibration_table, candidates,
-                                           cross_signal, rank, refine, select, stand_ins,
-                                           verdict)
+                                           cross_signal, rank, refine, scanned, select,
+                                           stand_ins, verdict)
 from musclesim.diagnosis.simulate import Failed, residuals, signal_gap, simulate
 from musclesim.diagnosis.stats import before_after, deviates, gap, noise_floor
 from musclesim.errors import UserError
@@ -182,7 +183,7 @@ def _calibrate(problem, report, whole, units, pmap):
     # a unit that is the whole model again (the same instances, signals and replays) is
     # calibrated once
     same = [i for i, (u, _) in enumerate(jobs) if i and _same(u, whole)]
-    fits = fit_all([(u, free, problem.fmu_dir, None, None, 0, None, None)
+    fits = fit_all([(u, free, problem.fmu_dir, None, None, scanned(free), None, None)
                     for i, (u, free) in enumerate(jobs) if free and i not in same], pmap)
     fits = iter(fits)
     cals = []

@@ -66,7 +66,7 @@ def _by_component(unit, instances):
 def calibration(problem, unit, instances=None):
     """The calibration parameters (`Free`, absolute bounds) of the components of `instances`
     (default: all of `unit`'s) that act on an observed signal, one per component and parameter
-    for all its instances together.
+    for all its instances together, the periodic ones first.
     A value the data set states as a bench condition (``[conditions]``) is fixed, not
     calibrated, and so is an input the scenario connects or the data set replays. Nothing is
     calibrated when the training part holds fewer than MIN_VALUES_PER_PARAMETER values per
@@ -82,9 +82,17 @@ def calibration(problem, unit, instances=None):
             free = tuple(i for i in insts if f"{i}.{c.name}" not in taken)
             if free:
                 nominal = _nominal(problem, unit, free[0], c.name)
-                out.append(Free(free, c.name, *c.bounds(nominal), nominal))
+                out.append(Free(free, c.name, *c.bounds(nominal), nominal, c.period))
+    out.sort(key=lambda f: not f.period)  # the periodic first: `fit` scans them (`scanned`)
     # a handful of metrics cannot pin several nominal values: too few training values, none
     return out if rows >= MIN_VALUES_PER_PARAMETER * len(out) else []
+
+
+def scanned(free):
+    """How many of the calibration parameters `free` (`calibration`'s, the periodic first) a
+    calibration from the nominal values scans: the periodic ones, whose nominal value may lie
+    in any of their cost's wells."""
+    return sum(1 for f in free if f.period)
 
 
 def candidates(problem, unit, suspects):

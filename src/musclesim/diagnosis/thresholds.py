@@ -90,6 +90,10 @@ MOST = 0.5
 STEPS = 2
 MAX_ITERATIONS = 8
 TOLERANCE = 1e-4
+# Points of a periodic parameter's scan over one period (a PWM carrier's phase): the crawler's
+# nominal gap over its carrier phase is one smooth well a period wide (components/pneumatic/
+# README.md), so eighths start the local fit inside the well wherever it lies.
+PERIOD_POINTS = 8
 
 # Candidates refitted with a fresh Jacobian: an effect is fitted first from the calibration's
 # Jacobian columns (taken without the effect, so each fit costs a few runs), which can stop short
