@@ -46,10 +46,10 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     A coarse scan of the first `scan` parameters (default all; `_axis` points each, or
     `PERIOD_POINTS` even ones over a periodic parameter's period; one parameter at a time, then
     the best of each together), the others held at `x0` (default their nominal values), picks
-    the start of a bounded trust-region least-squares fit of all of
-    them in box coordinates [0, 1]. With ``scan=0`` the fit starts at `x0` (a calibration, or a
-    refinement from it); when no scanned point changes the cost at all, the start is the fit
-    (an effect that does not apply here, such as stress dependence in a model that keeps it).
+    the start of a bounded trust-region least-squares fit of all of them in box coordinates
+    [0, 1]. With ``scan=0`` the fit starts at `x0` (a calibration, or a refinement from it);
+    when no scanned point changes the cost at all, the start is the fit (an effect that does
+    not apply here, such as stress dependence in a model that keeps it).
 
     The Jacobian is by forward differences at the start of each least-squares pass and by
     Broyden's rank-one update after every accepted step (one run a step, not one per
