@@ -90,9 +90,10 @@ MOST = 0.5
 STEPS = 2
 MAX_ITERATIONS = 8
 TOLERANCE = 1e-4
-# Points of a periodic parameter's scan over one period (a PWM carrier's phase): the crawler's
-# nominal gap over its carrier phase is one smooth well a period wide (components/pneumatic/
-# README.md), so eighths start the local fit inside the well wherever it lies.
+# Points of a periodic parameter's scan over one period (a PWM carrier's phase): the crawler
+# bench's nominal gap over its carrier phase was one smooth well (components/pneumatic/README.md);
+# one valve's under a jittery duty has side wells a few tenths of a period from the true one
+# (tests/diagnosis/test_calibration.py): eighths start the local fit inside the true well.
 PERIOD_POINTS = 8
 
 # Candidates refitted with a fresh Jacobian: an effect is fitted first from the calibration's
