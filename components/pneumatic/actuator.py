@@ -109,8 +109,8 @@ def pwm_edges(t0, t1, duty, period, phase=0.0):
     """The PWM command over [t0, t1): [(t0, state at t0), (time, on) of each switching in (t0, t1)].
 
     The carrier's period k starts at k period + phase period (any phase: 1.25 is 0.25); the
-    command is on for the first duty of each. The state at t0 comes from the same edge times as the switchings, so
-    consecutive steps agree to the last bit.
+    command is on for the first duty of each. The state at t0 comes from the same edge times as
+    the switchings, so consecutive steps agree to the last bit.
 
     Examples
     --------

@@ -179,9 +179,9 @@ class Calibrated:
     The bounds are factors on the scenario's value (`relative`) or offsets added to it; an input
     (such as the ambient temperature) is calibrated as a constant unless the data set states it
     as a bench condition, which then fixes it. A `period` (> 0) makes the parameter periodic (a
-    phase): its cost has a well in every period, so the calibration scans one whole period
-    before its local fit, and its bounds span more than one period, so that the fit can follow
-    a well across the period's ends.
+    phase): its cost repeats every period and may have several wells in one, so the calibration
+    scans one whole period before its local fit, and its bounds span more than one period, so
+    that the fit can follow a well across the period's ends.
     """
 
     component: str
