@@ -148,10 +148,15 @@ EFFECTS = (
            "late", "SPEC 1.5, 4",
            "particles collect on the silicone and lower its friction over time"),
     # pneumatic actuation of the crawler (SPEC 1.1, 4, 5)
+    # its gain can show at any sample: under PWM, unequal delays change the width of every pulse
+    # (a 5 ms difference is a quarter of the 20 ms carrier's period in duty), which moves the
+    # pressure a valve holds, not only where it changes, and the valves pulse nearly throughout
+    # a gait; equal delays only shift each pulse
     Effect("valve delay", "SoftActuator",
            (Parameter("t_open_delay", 0.0, 0.0, 0.02), Parameter("t_close_delay", 0.0, 0.0, 0.02)),
-           "pressure_changing", "SPEC 4, 5",
-           "the solenoid valves open and close a few ms after their PWM command"),
+           "all", "SPEC 4, 5",
+           "the solenoid valves open and close a few ms after their PWM command: every pulse "
+           "shifted and, where the delays differ, narrowed or widened"),
     Effect("supply-pressure drop", "SoftActuator", (Parameter("supply_drop", 0.0, 0.0, 0.5),),
            "pressurised", "SPEC 1.1, 4",
            "the inflation pump does not hold its pressure"),
