@@ -44,7 +44,9 @@ def test_the_lag_is_located_named_fitted_and_shrinks_the_held_out_gap(lag_case):
     latency = report["fit_unit"]["latency"].get("thermocouple.T_meas", 0)
     assert abs(tau["value"] + 0.02 * latency - 0.3) < 0.03
     assert tau["interval"][0] < tau["value"] < tau["interval"][1] < tau["interval"][0] + 0.04
-    # judged on its own channel against calibration alone
+    # judged on its own channel against calibration alone (its values with the lag off fit
+    # the training part worse)
+    assert best["baseline"] == "calibration"
     assert best["judged"]["signals"] == ["thermocouple.T_meas"]
     assert best["judged"]["gain"] > 0.8 and best["interval"][0] > 0.8
     assert best["margin"] > 0.5  # the runner-up is far behind
@@ -62,7 +64,7 @@ def test_report_json_keeps_its_documented_shape(lag_case, tmp_path):
     assert {"gap", "calibration", "located", "regimes", "effects", "stand_ins", "verdict",
             "shrinkage", "consistency"} <= set(saved)
     for key in ("name", "component", "parameters", "calibration", "heldout_gap_before",
-                "heldout_gap_after", "aliasing", "shrinkage", "judged", "interval",
+                "baseline", "heldout_gap_after", "aliasing", "shrinkage", "judged", "interval",
                 "per_signal"):
         assert key in saved["effects"][0], key
     assert {"share", "index", "with"} <= set(saved["effects"][0]["aliasing"])

@@ -5,11 +5,12 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from musclesim.diagnosis import effects
+from musclesim.diagnosis import effects, selection
 from musclesim.diagnosis.fitting import Free
-from musclesim.diagnosis.selection import (Candidate, aliasing, cross_signal, explained,
-                                           gain_signature, judge, moved, rank, refine, score,
-                                           signature, stand_ins, verdict)
+from musclesim.diagnosis.selection import (Candidate, aliasing, baseline, cross_signal,
+                                           explained, gain_signature, judge, moved, rank,
+                                           refine, score, signature, stand_ins, switched_off,
+                                           verdict)
 from musclesim.diagnosis.stats import gap
 from musclesim.diagnosis.thresholds import REFINED, SIGNATURE_MIN
 
@@ -213,12 +214,58 @@ def test_rank_puts_counting_effects_first_with_margins():
     cands = [candidate("thermocouple bias", "thermocouple"),
              candidate("thermocouple lag", "thermocouple"),
              candidate("thermocouple bias", "thermocouple")]
-    entries, counting = rank(unit, base, cands, fits, {})
+    entries, counting = rank(unit, [base] * 3, cands, fits, {})
     assert [e["heldout_gap_after"] for e in entries] == pytest.approx([0.01, 0.05, 0.15],
                                                                       abs=0.002)
     assert [e["counts"] for e in entries] == [True, True, False]  # 0.15 shrinks too little
     assert [t[0] for t in counting] == entries[:2]
     assert entries[-1]["margin"] is None
+
+
+def test_an_effect_is_not_credited_with_what_its_fit_s_calibration_gains_alone():
+    """A joint fit whose calibration found a better optimum (another well of a periodic phase)
+    gains whether the effect is on or not: judged against its own values with the effect off,
+    which fit the training part better than calibration alone, it does not count. A fit whose
+    values with the effect off fit worse than calibration alone is judged against calibration
+    as before."""
+    unit = fake_unit((TC,))
+    wave = 0.05 * np.sin(np.arange(N) / 7)
+    cal_res = {TC: [noise(9) + wave]}  # the calibration stopped in a worse well
+    base = {"residuals": cal_res, "heldout_gap": gap(unit, cal_res, 1)}
+    fit_res = {TC: [noise(10)]}  # the joint fit: the better well, the effect (near) off
+    off_res = {TC: [noise(10) + 1e-4]}  # its values with the effect off: nearly the same
+    b = baseline(unit, base, off_res)
+    assert b["effect_off"] and b["residuals"] is off_res
+    e = score(unit, b, candidate("thermocouple bias", "thermocouple"), fitted(unit, fit_res),
+              {})
+    assert e["baseline"] == "its own fit with the effect off" and not e["counts"]
+    assert abs(e["judged"]["gain"]) < 0.05
+    # the same fit judged against calibration alone would have counted: the defect this fixes
+    assert score(unit, base, candidate("thermocouple bias", "thermocouple"),
+                 fitted(unit, fit_res), {})["counts"]
+    # a true effect: with it off, the fit's values are worse than calibration alone
+    worse = {TC: [noise(9) + 2 * wave]}
+    assert baseline(unit, base, worse) is base and baseline(unit, base, None) is base
+
+
+def test_switched_off_runs_each_fit_with_its_effect_at_its_off_value(monkeypatch):
+    unit = fake_unit((TC,))
+    eff = [Free(("thermocouple",), "bias", -10.0, 10.0, 0.0)]
+    cal = [Free(("wire",), "h", 50.0, 200.0, 100.0)]
+    fits = [{"x": [3.0, 120.0], "residuals": {}}, {"x": [1.0, 90.0], "residuals": None},
+            {"x": [2.0, 80.0], "residuals": {}}]
+    sent, read = [], []
+
+    def pmap(task, jobs):  # the first run succeeds, the second fails
+        sent.extend(job[1] for job in jobs)
+        return [{"sims": 1}, None]
+
+    monkeypatch.setattr(selection, "residuals", lambda u, sims: read.append(sims) or "res")
+    out = switched_off(unit, [(eff, eff + cal, f) for f in fits], "fmus", pmap)
+    # the failed fit is not run; the others with the bias off and h as fitted
+    assert sent == [{("thermocouple", "bias"): 0.0, ("wire", "h"): 120.0},
+                    {("thermocouple", "bias"): 0.0, ("wire", "h"): 80.0}]
+    assert out == ["res", None, None] and read == [{"sims": 1}]
 
 
 def test_cross_signal_places_the_gap_in_the_sensor_or_in_the_plant():

@@ -59,9 +59,9 @@ from musclesim.cosim import reuse_fmus, split_signal
 from musclesim.diagnosis.fitting import fit_all, known_columns, simulation_task, values_of
 from musclesim.diagnosis.problem import Problem, affected
 from musclesim.diagnosis.regimes import regime_table, regimes
-from musclesim.diagnosis.selection import (calibration, calibration_table, candidates,
-                                           cross_signal, rank, refine, scanned, select,
-                                           stand_ins, verdict)
+from musclesim.diagnosis.selection import (baseline, calibration, calibration_table,
+                                           candidates, cross_signal, rank, refine, scanned,
+                                           select, stand_ins, switched_off, verdict)
 from musclesim.diagnosis.simulate import Failed, residuals, signal_gap, simulate
 from musclesim.diagnosis.stats import before_after, deviates, gap, noise_floor
 from musclesim.errors import UserError
@@ -271,7 +271,8 @@ def _fit_unit(whole, isolated, suspects):
 def _which_effect(problem, report, fitting, pmap, say):
     """Section 4 into `report`: every candidate effect of the suspects fitted together with the
     fit unit's calibration parameters (from its calibrated values), judged against that
-    calibration alone, ranked and selected; the verdict. `fitting`: (unit, its calibration,
+    calibration alone or against its own fit with the effect switched off, whichever fits the
+    training part better (`baseline`), ranked and selected; the verdict. `fitting`: (unit, its calibration,
     suspects, regime masks). Return the selected values {(instance, parameter): value},
     calibration refitted with the effects included."""
     unit, cal, suspects, masks = fitting
@@ -286,7 +287,10 @@ def _which_effect(problem, report, fitting, pmap, say):
              len(c.free), known_columns(jac, len(c.free)), cal["latency"]) for c in cands]
     fits = refine(unit, cands, fit_all(jobs, pmap), calib, cal["latency"], fmu_dir, pmap)
     floor = noise_floor(unit)
-    entries, counting = rank(unit, base, cands, fits, masks, calib)
+    offs = switched_off(unit, [(c.free, c.free + calib, f) for c, f in zip(cands, fits)],
+                        fmu_dir, pmap)
+    bases = [baseline(unit, base, off) for off in offs]
+    entries, counting = rank(unit, bases, cands, fits, masks, calib)
     selected, final, free = select(unit, counting, (calib, jac, cal["latency"]), floor, masks,
                                    pmap, fmu_dir, say)
     report["effects"] = entries

@@ -129,8 +129,10 @@ def _md_which(report):
         return L + ["No candidate was fitted."]
     fu = report.get("fit_unit", {})
     L += [f"Fitted in {' + '.join(fu.get('instances', []))} on the training part together with "
-          "the calibration parameters, scored on the held-out part against calibration alone, "
-          "on the signals each effect can change. An effect counts if the gap there is "
+          "the calibration parameters, scored on the held-out part against calibration alone "
+          "(or, marked *, against its own fit with the effect switched off, when that fits the "
+          "training part better: the gain of a better calibration is not the effect's), on the "
+          "signals each effect can change. An effect counts if the gap there is "
           "material (beyond the noise), its gain is large enough with a bootstrap interval "
           "above zero, and it gains most in its regime.", "",
           "The collinearity index says how far the calibration makes the effect's signature "
@@ -144,7 +146,8 @@ def _md_which(report):
                          for n, p in e["parameters"].items())
         j = e.get("judged") or {}
         sig = e["signature"]
-        L.append(f"| {i} | {e['label']} | {vals} | {', '.join(j.get('signals', []))} | "
+        mark = " *" if e.get("baseline", "calibration") != "calibration" else ""
+        L.append(f"| {i} | {e['label']}{mark} | {vals} | {', '.join(j.get('signals', []))} | "
                  f"{_num(j.get('before'))} -> {_num(j.get('after'))} | "
                  f"{_num(j.get('gain'), '.2f')} {_iv(j.get('interval'), '.2f')} | "
                  f"{_num(e['heldout_gap_before'])} -> {_num(e['heldout_gap_after'])} | "

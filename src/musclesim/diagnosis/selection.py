@@ -2,8 +2,9 @@
 
 The nominal values a real bench has differently (`effects.CALIBRATION`) are calibrated first;
 every candidate effect is then fitted together with them (`calibration` gives their `Free`
-parameters) and judged against calibration alone on the observed signals it can change
-(`musclesim.diagnosis.problem.affected`): it counts when its held-out gain there is at least
+parameters) and judged against calibration alone (or against its own fit with the effect
+switched off, when that fits the training part better: `baseline`) on the observed signals it
+can change (`musclesim.diagnosis.problem.affected`): it counts when its held-out gain there is at least
 `MIN_SHRINKAGE`, its block-bootstrap interval excludes zero, and it gains at least
 `SIGNATURE_MIN` of its average per sample in the regime it predicts
 (`musclesim.diagnosis.thresholds`). The best counting effect is selected; a second one is added
@@ -22,8 +23,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from musclesim.diagnosis.effects import by_component, calibration_of
-from musclesim.diagnosis.fitting import Free, fit_all, known_columns
+from musclesim.diagnosis.fitting import Free, fit_all, known_columns, simulation_task, values_of
 from musclesim.diagnosis.problem import affected, downstream
+from musclesim.diagnosis.simulate import residuals
 from musclesim.diagnosis.stats import (before_after, bootstrap, gap, interval95, part_rows,
                                        row_squares)
 from musclesim.diagnosis.thresholds import (ALIASED, DEVIATES, MIN_SHRINKAGE,
@@ -125,6 +127,31 @@ def refine(unit, cands, fits, calib, latency, fmu_dir, pmap):
         if f["residuals"] is not None and f["train_gap"] < fits[i]["train_gap"]:
             out[i] = {**f, "applicable": fits[i]["applicable"]}
     return out
+
+
+def switched_off(unit, fits, fmu_dir, pmap):
+    """The residuals of each fit's values with its effect switched off, the other parameters as
+    fitted (None where the fit or that run failed), run together on `pmap`. `fits`: [(the
+    effect's `Free` parameters, first in the fit, the fit's whole `Free` list, the fit)]."""
+    todo = [(i, values_of(free, [fr.start for fr in eff] + f["x"][len(eff):]))
+            for i, (eff, free, f) in enumerate(fits) if f["residuals"] is not None]
+    runs = pmap(simulation_task, [(unit, v, fmu_dir, None) for _, v in todo])
+    out = [None] * len(fits)
+    for (i, _), sims in zip(todo, runs):
+        out[i] = None if sims is None else residuals(unit, sims)
+    return out
+
+
+def baseline(unit, base, off):
+    """What an effect's fit is judged against: `base` (a dict with the ``residuals`` and
+    ``heldout_gap`` of calibration alone, or of the effect selected first), or `off`, the
+    residuals of the fit's own values with the effect switched off (`switched_off`), when those
+    fit the training part better: a joint fit whose other parameters reached a better optimum
+    (a periodic phase in another of its wells) gains by them, and that gain is not the
+    effect's. Chosen on the training part only."""
+    if off is None or gap(unit, off, 0) >= gap(unit, base["residuals"], 0):
+        return base
+    return {"residuals": off, "heldout_gap": gap(unit, off, 1), "effect_off": True}
 
 
 def aliasing(jac, k, names):
@@ -236,9 +263,9 @@ def judge(unit, res_before, res_after, columns, regime, masks):
 
 def score(unit, base, cand, f, masks, calib=()):
     """The report's entry of candidate `cand` fitted with the calibration parameters as `f` (a
-    `fit` result, the effect's parameters first) in `unit`, against calibration alone `base`:
+    `fit` result, the effect's parameters first) in `unit`, against its `baseline` `base`:
     its values, the pooled held-out gaps, the per-signal before/after and the judgement on the
-    signals it can change (`judge`), ``counts``."""
+    signals it can change (`judge`), ``counts``; ``baseline`` says which it was."""
     k = len(cand.free)
     res = f["residuals"]
     entry = {"name": cand.effect.name, "label": cand.label, "component": cand.effect.component,
@@ -249,6 +276,8 @@ def score(unit, base, cand, f, masks, calib=()):
              "calibration": {f"{','.join(fr.instances)}.{fr.name}": x
                              for fr, x in zip(calib, f["x"][k:])},
              "applicable": f["applicable"], "heldout_gap_before": base["heldout_gap"],
+             "baseline": "its own fit with the effect off" if base.get("effect_off")
+             else "calibration",
              "heldout_gap_after": f["heldout_gap"], "aliasing": _aliasing_in(f, k, calib)}
     entry["shrinkage"] = 1 - entry["heldout_gap_after"] / entry["heldout_gap_before"] \
         if entry["heldout_gap_before"] else 0.0
@@ -266,11 +295,12 @@ def score(unit, base, cand, f, masks, calib=()):
     return entry
 
 
-def rank(unit, base, cands, fits, masks, calib=()):
-    """Score and rank the candidates (counting ones first, then by pooled held-out gap after),
-    each entry's ``margin`` to the next: (entries, [(entry, candidate, fit) that count])."""
-    scored = sorted(((score(unit, base, c, f, masks, calib), c, f)
-                     for c, f in zip(cands, fits)),
+def rank(unit, bases, cands, fits, masks, calib=()):
+    """Score and rank the candidates, each against its baseline in `bases` (counting ones first,
+    then by pooled held-out gap after), each entry's ``margin`` to the next: (entries,
+    [(entry, candidate, fit) that count])."""
+    scored = sorted(((score(unit, b, c, f, masks, calib), c, f)
+                     for b, c, f in zip(bases, cands, fits)),
                     key=lambda t: (not t[0]["counts"], t[0]["heldout_gap_after"]))
     entries = [e for e, _, _ in scored]
     for a, b in zip(entries, entries[1:] + [None]):
@@ -284,7 +314,8 @@ def select(unit, counting, calibrated, floor, masks, pmap, fmu_dir, say):
     greedily a second one (of the next three, each fitted with the first and the calibration
     parameters; `calibrated`: their `Free` list, the calibration's Jacobian or None and its
     sensor latencies) when the first leaves a structured gap and the second gains
-    MIN_SHRINKAGE more, significantly and in its regime, on the signals it can change."""
+    MIN_SHRINKAGE more, significantly and in its regime, on the signals it can change (against
+    the first alone, or the pair's fit with the second switched off: `baseline`)."""
     if not counting:
         return [], None, []
     calib, jac, latency = calibrated
@@ -301,12 +332,15 @@ def select(unit, counting, calibrated, floor, masks, pmap, fmu_dir, say):
     (e2, c2, _), f12 = min(zip(pairs, pair_fits), key=lambda t: t[1]["heldout_gap"])
     if f12["residuals"] is None:
         return selected, final, free
-    j = judge(unit, f1["residuals"], f12["residuals"], affected(unit, c2.instances),
+    pair = c2.free + c1.free + calib
+    off, = switched_off(unit, [(c2.free, pair, f12)], fmu_dir, pmap)
+    b = baseline(unit, {"residuals": f1["residuals"], "heldout_gap": f1["heldout_gap"]}, off)
+    j = judge(unit, b["residuals"], f12["residuals"], affected(unit, c2.instances),
               c2.effect.regime, masks)
     if j["counts"]:
         selected.append(e2)
         e2["second"] = j
-        final, free = f12, c2.free + c1.free + calib
+        final, free = f12, pair
     return selected, final, free
 
 
