@@ -272,8 +272,8 @@ def _which_effect(problem, report, fitting, pmap, say):
     """Section 4 into `report`: every candidate effect of the suspects fitted together with the
     fit unit's calibration parameters (from its calibrated values), judged against that
     calibration alone or against its own fit with the effect switched off, whichever fits the
-    training part better (`baseline`), ranked and selected; the verdict. `fitting`: (unit, its calibration,
-    suspects, regime masks). Return the selected values {(instance, parameter): value},
+    training part better (`baseline`), ranked and selected; the verdict. `fitting`: (unit, its
+    calibration, suspects, regime masks). Return the selected values {(instance, parameter): value},
     calibration refitted with the effects included."""
     unit, cal, suspects, masks = fitting
     fmu_dir = problem.fmu_dir

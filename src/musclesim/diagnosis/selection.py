@@ -4,8 +4,8 @@ The nominal values a real bench has differently (`effects.CALIBRATION`) are cali
 every candidate effect is then fitted together with them (`calibration` gives their `Free`
 parameters) and judged against calibration alone (or against its own fit with the effect
 switched off, when that fits the training part better: `baseline`) on the observed signals it
-can change (`musclesim.diagnosis.problem.affected`): it counts when its held-out gain there is at least
-`MIN_SHRINKAGE`, its block-bootstrap interval excludes zero, and it gains at least
+can change (`musclesim.diagnosis.problem.affected`): it counts when its held-out gain there is
+at least `MIN_SHRINKAGE`, its block-bootstrap interval excludes zero, and it gains at least
 `SIGNATURE_MIN` of its average per sample in the regime it predicts
 (`musclesim.diagnosis.thresholds`). The best counting effect is selected; a second one is added
 greedily when it shrinks the remaining gap by `MIN_SHRINKAGE` again. `verdict` names the outcome.
