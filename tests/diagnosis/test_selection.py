@@ -106,6 +106,11 @@ def test_verdict_names_the_effect_with_its_share_complete_or_not():
     gaps = {"nominal": 0.5, "calibrated": 0.1}
     v, why, done = verdict([lag], {"heldout_gap": 0.02}, gaps, FLOOR, CALIBRATED)
     assert v == "thermocouple lag" and done and "explains 60% [55%, 65%]" in why
+    assert "of the calibrated model's held-out gap on" in why
+    # judged against its own fit with the effect off: the explanation says so
+    why = verdict([{**lag, "baseline": "its own fit with the effect off"}],
+                  {"heldout_gap": 0.02}, gaps, FLOOR, CALIBRATED)[1]
+    assert "of the held-out gap of its own fit with the effect off (a better calibration)" in why
     v, why, done = verdict([lag], {"heldout_gap": 0.2}, gaps, FLOOR, CALIBRATED)
     assert v == "thermocouple lag" and not done and "20.0 noise floors" in why
     pair = [lag, entry("latent heat")]

@@ -382,8 +382,11 @@ def verdict(selected, final, gaps, floor, calibrated, deviates=True, entries=())
         first, labels = selected[0], " + ".join(e["label"] for e in selected)
         j, after = first["judged"], final["heldout_gap"]
         done = explained(after, nominal, floor)
+        against = "the calibrated model's held-out gap" if first.get(
+            "baseline", "calibration") == "calibration" else \
+            "the held-out gap of its own fit with the effect off (a better calibration)"
         text = (f"{labels} explains {j['gain']:.0%} [{j['interval'][0]:.0%}, "
-                f"{j['interval'][1]:.0%}] of the calibrated model's held-out gap on "
+                f"{j['interval'][1]:.0%}] of {against} on "
                 f"{', '.join(j['signals'])} ({j['before']:.3g} -> {j['after']:.3g}); pooled "
                 f"{nominal:.3g} nominal, {cal:.3g} calibrated, {after:.3g} with the effect")
         if not done:
