@@ -257,8 +257,10 @@ def test_switched_off_runs_each_fit_with_its_effect_at_its_off_value(monkeypatch
     unit = fake_unit((TC,))
     eff = [Free(("thermocouple",), "bias", -10.0, 10.0, 0.0)]
     cal = [Free(("wire",), "h", 50.0, 200.0, 100.0)]
-    fits = [{"x": [3.0, 120.0], "residuals": {}}, {"x": [1.0, 90.0], "residuals": None},
-            {"x": [2.0, 80.0], "residuals": {}}]
+    fits = [{"x": [3.0, 120.0], "residuals": {}, "applicable": True},
+            {"x": [1.0, 90.0], "residuals": None, "applicable": True},
+            {"x": [2.0, 80.0], "residuals": {}, "applicable": True},
+            {"x": [0.0, 95.0], "residuals": {}, "applicable": False}]
     sent, read = [], []
 
     def pmap(task, jobs):  # the first run succeeds, the second fails
@@ -267,10 +269,11 @@ def test_switched_off_runs_each_fit_with_its_effect_at_its_off_value(monkeypatch
 
     monkeypatch.setattr(selection, "residuals", lambda u, sims: read.append(sims) or "res")
     out = switched_off(unit, [(eff, eff + cal, f) for f in fits], "fmus", pmap)
-    # the failed fit is not run; the others with the bias off and h as fitted
+    # the failed fit and the inapplicable one are not run; the others with the bias off and h
+    # as fitted
     assert sent == [{("thermocouple", "bias"): 0.0, ("wire", "h"): 120.0},
                     {("thermocouple", "bias"): 0.0, ("wire", "h"): 80.0}]
-    assert out == ["res", None, None] and read == [{"sims": 1}]
+    assert out == ["res", None, None, None] and read == [{"sims": 1}]
 
 
 def test_cross_signal_places_the_gap_in_the_sensor_or_in_the_plant():

@@ -131,10 +131,13 @@ def refine(unit, cands, fits, calib, latency, fmu_dir, pmap):
 
 def switched_off(unit, fits, fmu_dir, pmap):
     """The residuals of each fit's values with its effect switched off, the other parameters as
-    fitted (None where the fit or that run failed), run together on `pmap`. `fits`: [(the
-    effect's `Free` parameters, first in the fit, the fit's whole `Free` list, the fit)]."""
+    fitted, run together on `pmap`; None where the fit or that run failed, and for a fit that is
+    not applicable (its start is the fit: with the effect off it is its start again, which
+    cannot count). `fits`: [(the effect's `Free` parameters, first in the fit, the fit's whole
+    `Free` list, the fit)]."""
     todo = [(i, values_of(free, [fr.start for fr in eff] + f["x"][len(eff):]))
-            for i, (eff, free, f) in enumerate(fits) if f["residuals"] is not None]
+            for i, (eff, free, f) in enumerate(fits)
+            if f["residuals"] is not None and f["applicable"]]
     runs = pmap(simulation_task, [(unit, v, fmu_dir, None) for _, v in todo])
     out = [None] * len(fits)
     for (i, _), sims in zip(todo, runs):
@@ -334,8 +337,7 @@ def select(unit, counting, calibrated, floor, masks, pmap, fmu_dir, say):
         return selected, final, free
     pair = c2.free + c1.free + calib
     off, = switched_off(unit, [(c2.free, pair, f12)], fmu_dir, pmap)
-    b = baseline(unit, {"residuals": f1["residuals"], "heldout_gap": f1["heldout_gap"]}, off)
-    j = judge(unit, b["residuals"], f12["residuals"], affected(unit, c2.instances),
+    j = judge(unit, baseline(unit, f1, off)["residuals"], f12["residuals"], affected(unit, c2.instances),
               c2.effect.regime, masks)
     if j["counts"]:
         selected.append(e2)
