@@ -5,15 +5,17 @@ sets of instances simulated together against the data: the whole model with the 
 replayed, one *isolation unit* per component (the component plus the upstream instances whose
 outputs were not measured, every measured signal feeding it replayed), and the model with every
 measured signal replayed (`Problem.replayed`). Which measured ports stay coupled instead of being
-replayed is declared in `musclesim.diagnosis.effects` (`COUPLED_PORTS`).
+replayed is declared in `musclesim.diagnosis.effects` (`COUPLED_PORTS`). Instances of a unit that
+nothing fitted can change (a constant load, a reference) are simulated once and replayed in every
+run of a fit (`Run.stepped`): the SMA tracking bench's runs take about a quarter less time.
 """
 import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from musclesim.cosim import load_scenario, read_fmu, split_signal
-from musclesim.diagnosis.effects import COUPLED_PORTS
+from musclesim.cosim import Master, load_scenario, read_fmu, split_signal
+from musclesim.diagnosis.effects import COUPLED_PORTS, by_component, calibration_of
 from musclesim.diagnosis.stats import noise_estimate
 from musclesim.diagnosis.thresholds import METRIC_FLOOR, NOISE_FLOOR
 from musclesim.errors import UserError
@@ -30,11 +32,22 @@ class Run:
     measured: dict = field(default_factory=dict)  # observed column (or metric) -> values
     part: np.ndarray = None  # per data row (per run if scalar-only): 0 train, 1 held-out
     t0: float = 0.0
+    sources: tuple = ()  # instances of `scenario` simulated once, not in every run (`_sources`)
+    fed: dict = field(default_factory=dict)  # input they feed -> its values, as `inputs`
+
+    def stepped(self, s):
+        """(scenario, replayed inputs) the master runs for `s` (`scenario`, values applied):
+        without the `sources`, their outputs replayed as recorded (`fed`)."""
+        if not self.sources:
+            return s, self.inputs
+        keep = set(s.instances) - set(self.sources)
+        return _reduce(s, keep, self.fed, s.record), {**self.inputs, **self.fed}
 
 
 @dataclass
 class Unit:
-    """Instances simulated together, the observed columns they produce, how they are run."""
+    """Instances simulated together (each run's `sources` once), the observed columns they
+    produce, how they are run."""
 
     name: str
     instances: tuple
@@ -79,6 +92,31 @@ def _reduce(s, keep, replay_from, record):
                   and split_signal(b)[0] in keep and b not in replay_from)
     return replace(s, instances={n: i for n, i in s.instances.items() if n in keep},
                    connections=conns, record=tuple(record), metrics={}, plots=())
+
+
+def _sources(s, observed):
+    """The instances of scenario `s` that nothing a diagnosis fits can change: their component
+    declares no effect and no calibration parameter, they read only replayed inputs or other
+    such instances' outputs, and no `observed` column is theirs (the tracking bench's constant
+    load, its reference). Their outputs are the same in every run of a fit: `Problem.unit`
+    records them once and replays them (`Run.stepped`), bit for bit the values a reader takes
+    under the Jacobi algorithm, where every instance reads the others' outputs of the same
+    communication point (none under Gauss-Seidel, where a reader stepped after a source takes
+    its output after its step)."""
+    if s.algorithm != "jacobi":
+        return set()
+    out = {n for n, i in s.instances.items() if not by_component(i.component)
+           and not calibration_of(i.component)
+           and not any(split_signal(c)[0] == n for c in observed)}
+    changed = True
+    while changed:
+        changed = False
+        for src, dst in s.connections:
+            a, b = split_signal(src)[0], split_signal(dst)[0]
+            if b in out and a not in out:
+                out.discard(b)
+                changed = True
+    return out
 
 
 def _replays(s, keep, columns, input_columns, cut_all=False):
@@ -165,7 +203,9 @@ class Problem:
             grid = t0 + np.arange(red.n_steps + 1) * red.step
             inputs = {dst: np.interp(grid, t, cols[col]) for dst, col in replay.items()}
             part = self._parts(ename, t)
-            runs.append(Run(ename, red, inputs, t - t0, {c: cols[c] for c in obs}, part, t0))
+            sources = _sources(red, obs)
+            runs.append(Run(ename, red, inputs, t - t0, {c: cols[c] for c in obs}, part, t0,
+                            tuple(sorted(sources)), self._source_outputs(red, sources, inputs)))
         scale, noise = {}, {}
         for c in observed:
             y = np.concatenate([r.measured[c] for r in runs])
@@ -179,6 +219,20 @@ class Problem:
         return Unit(name, keep_all, observed, runs, scale, noise,
                     {n: self.components[n] for n in keep_all},
                     tuple(c for c in observed if c not in read))
+
+    def _source_outputs(self, s, sources, inputs):
+        """{input of another instance: its values per communication point} fed by `sources`
+        (`_sources`) in scenario `s` with replayed `inputs`, from one run of them alone."""
+        feeds = [(a, b) for a, b in s.connections
+                 if split_signal(a)[0] in sources and split_signal(b)[0] not in sources]
+        if not feeds:
+            return {}
+        alone = _reduce(s, sources, {}, dict.fromkeys(a for a, _ in feeds))
+        res = Master(alone, self.fmu_dir, {k: v for k, v in inputs.items()
+                                           if split_signal(k)[0] in sources}).run()
+        if res.error:
+            raise UserError(f"data set {self.ds.path}: {res.error}")
+        return {b: res[a] for a, b in feeds}
 
     def _parts(self, ename, t):
         train, held = self.part_names

@@ -39,7 +39,7 @@ def simulate(unit, values, fmu_dir, part=None):
     """
     out = []
     for run in unit.runs:
-        s, inputs, rows = with_values(run.scenario, values), run.inputs, None
+        (s, inputs), rows = run.stepped(with_values(run.scenario, values)), None
         if part is not None:
             rows = np.flatnonzero(run.part == part)
             if not rows.size:
