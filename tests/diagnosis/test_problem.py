@@ -26,12 +26,14 @@ def test_sources_are_the_instances_nothing_fitted_reaches():
 
 
 def test_a_source_replayed_gives_every_run_what_simulating_it_gives(fmu_dir):
-    """Every unit of the independent tracking bench's data set: the load runs once, its force is
-    replayed into the wire, and the runs of a fit (training part, values changed) are the same
-    to the bit as with the load simulated in each."""
+    """Every unit of the independent tracking bench's data set: the load runs once for them all
+    (not the reference and controller, which feed nothing there), its force is replayed into the
+    wire, and the runs of a fit (training part, values changed) are the same to the bit as with
+    the load simulated in each."""
     ds = dataset.load(SCENARIOS / "data" / "sma-independent-thermocouple-lag")
     problem = Problem(ds, fmu_dir)
     units = [problem.unit("model"), problem.replayed(), *problem.isolation_units()]
+    assert len(problem._recorded) == 1  # the load alone, once for all the units
     values = {("wire", "h"): 110.0, ("thermocouple", "tau"): 0.2}
     with reuse_fmus():
         for unit in units:
