@@ -230,13 +230,8 @@ class Problem:
                  if split_signal(a)[0] in sources and split_signal(b)[0] not in sources]
         if not feeds:
             return {}
-        needed, changed = {split_signal(a)[0] for a, _ in feeds}, True
-        while changed:  # and the sources upstream of them (not one that feeds nothing)
-            changed = False
-            for a, b in s.connections:
-                if split_signal(b)[0] in needed and split_signal(a)[0] not in needed:
-                    needed.add(split_signal(a)[0])
-                    changed = True
+        # and the sources upstream of them (not one that feeds nothing)
+        needed = _closure(s, {split_signal(a)[0] for a, _ in feeds}, ())
         alone = _reduce(s, needed, {}, dict.fromkeys(a for a, _ in feeds))
         replayed = {k: v for k, v in inputs.items() if split_signal(k)[0] in needed}
         key = (repr(alone), tuple((k, v.tobytes()) for k, v in sorted(replayed.items())))

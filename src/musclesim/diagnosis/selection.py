@@ -337,8 +337,8 @@ def select(unit, counting, calibrated, floor, masks, pmap, fmu_dir, say):
         return selected, final, free
     pair = c2.free + c1.free + calib
     off, = switched_off(unit, [(c2.free, pair, f12)], fmu_dir, pmap)
-    j = judge(unit, baseline(unit, f1, off)["residuals"], f12["residuals"], affected(unit, c2.instances),
-              c2.effect.regime, masks)
+    j = judge(unit, baseline(unit, f1, off)["residuals"], f12["residuals"],
+              affected(unit, c2.instances), c2.effect.regime, masks)
     if j["counts"]:
         selected.append(e2)
         e2["second"] = j
