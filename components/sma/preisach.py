@@ -149,6 +149,14 @@ class PreisachModel(StressInput):
                         return self._all_off()
                     self._wipe_pair()
             a, b = E[-1], X
+        f = self._term(a, b)
+        if not self.rising:
+            f = -f
+        self.X, self.X_sigma, self.X_term = X, self._sig, f
+        return self.prefix[-1] + f
+
+    def _term(self, a, b):
+        """F(a, b) at the current stress, bilinear in the grid cell holding (a, b)."""
         nc = self._nc
         x = (a - self._t_lo) * self._inv_h
         i = int(x)
@@ -161,11 +169,7 @@ class PreisachModel(StressInput):
         u = x - i
         v = y - j
         c0, c1, c2, c3, d0, d1, d2, d3 = self.surface.cells[self._k_base + i * nc + j]
-        f = c0 + c1 * u + (c2 + c3 * u) * v + self._w * (d0 + d1 * u + (d2 + d3 * u) * v)
-        if not self.rising:
-            f = -f
-        self.X, self.X_sigma, self.X_term = X, self._sig, f
-        return self.prefix[-1] + f
+        return c0 + c1 * u + (c2 + c3 * u) * v + self._w * (d0 + d1 * u + (d2 + d3 * u) * v)
 
     def peek(self, T, sigma, t=None):
         """The strain `step` would return for T [C], sigma [Pa], leaving the memory unchanged:
@@ -179,8 +183,17 @@ class PreisachModel(StressInput):
         >>> round(m.step(90.0, 1e8) * 1e5, 6), round(m.peek(50.0, 1e8) * 1e5, 6), m.extrema
         (1800.0, 1000.0, [30.0])
         """
-        # a shallow copy (floats and flags are rebound by step), its lists copied (they change in
-        # place); built directly, as copy.copy's generic path costs as much as the step itself
+        if sigma == self._sigma and self._t_lo <= T <= self._t_hi:
+            # the running term moves and nothing is recorded or wiped out (the implicit search's
+            # usual trial, a fraction of a kelvin on): `step`'s arithmetic without its bookkeeping
+            X, E = self.X, self.extrema
+            if self.rising:
+                if T >= X - self._tol and (T < X or len(E) <= 2 or T < E[-2]):
+                    return self.prefix[-1] + self._term(max(X, T), E[-1])
+            elif T <= X + self._tol and (T > X or T > E[-2]):
+                return self.prefix[-1] - self._term(E[-1], min(X, T))
+        # else a shallow copy (floats and flags are rebound by step), its lists copied (they
+        # change in place); built directly, as copy.copy's generic path costs as much as the step
         trial = object.__new__(type(self))
         trial.__dict__.update(self.__dict__)
         trial.extrema, trial.prefix, trial.stresses = self.extrema[:], self.prefix[:], self.stresses[:]

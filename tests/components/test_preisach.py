@@ -222,6 +222,31 @@ def test_deepcopy_saves_and_restores_the_state():
     assert [saved.step(T, 130e6) for T in (85, 60, 100)] == ahead
 
 
+@settings(max_examples=60)
+@given(st.lists(st.tuples(temps, st.sampled_from([110e6, 125e6, 140e6])), min_size=1,
+                max_size=40),
+       st.lists(st.floats(-3.0, 3.0), min_size=1, max_size=6),
+       st.sampled_from([0.0, 0.01, 2.0]))
+def test_peek_is_step_on_a_copy_bit_for_bit(inputs, offsets, tol):
+    """peek(T, sigma) returns what step would on the present memory, to the bit, and leaves the
+    memory as it was: near trials (the running term moving, a reversal within tol), reversals
+    that record, wipe out or empty the memory, a new stress, temperatures beyond the grid."""
+    m = PreisachModel(SMA, MemoryParams(tol=tol))
+    for T, sigma in inputs:
+        # trials around the present input and around the stack's extrema (wiping-out's edges)
+        trials = [T + d for d in offsets] + [e + d for e in m.extrema[-3:] for d in (-1e-9, 0.0)]
+        for trial in trials + [25.0, 140.0]:
+            for s in (sigma, m._sigma, 125e6):
+                memory = copy.deepcopy(m.__dict__)
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", RangeWarning)
+                    expected = copy.deepcopy(m).step(trial, s)
+                    assert m.peek(trial, s) == expected
+                m._warned = memory["_warned"]  # warnings count as given: peek's documented way
+                assert m.__dict__ == memory
+        m.step(T, sigma)
+
+
 def test_single_stress_surface_ignores_stress():
     flat = SMA.at_stress(125e6)
     m = PreisachModel(flat)
