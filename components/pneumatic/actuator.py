@@ -265,9 +265,12 @@ class Actuator:
             pwm_edges(t, t1, max(duty, 0.0), period, p.pwm_phase), t1, *delays)
         open_out = self.exhaust.open_intervals(
             pwm_edges(t, t1, max(-duty, 0.0), period, p.pwm_phase), t1, *delays)
+        n = max(1, math.ceil(h / p.dt_sub - 1e-9))
+        if not (open_in or open_out or p.C_leak) and self._holds(elongation, h / n):
+            self.elongation = elongation
+            return 0.0
         p_in, p_out = source_pressures(p)
         gain = p.kappa * R_AIR * p.T
-        n = max(1, math.ceil(h / p.dt_sub - 1e-9))
         times = [t + h * i / n for i in range(n)] + [t1]
         e0, mass = self.elongation, 0.0
         v = volume(e0, self.contact, p)
@@ -298,3 +301,16 @@ class Actuator:
             mass += dm
         self.elongation = elongation
         return mass
+
+    def _holds(self, elongation, dt):
+        """With no air flowing over the next step (valves shut, no leak), whether its sub-steps
+        of `dt` would leave pressure, contact and volume as they are: the contact already where
+        its sub-step takes it at this pressure, the volume not following an elongation (an
+        extremal chamber's does not; a central one's must stand still). The extremal
+        actuators hold so most of a gait, their valves shut between pulses."""
+        p = self.params
+        if p.central and elongation != self.elongation:
+            return False
+        if p.t_contact <= 0 and not p.central and p.dV_contact > 0:
+            return bulge_contact(self.contact, self.pressure, p) == self.contact
+        return contact_step(self.contact, self.pressure, dt, p) == self.contact

@@ -6,6 +6,7 @@ import math
 import numpy as np
 import pytest
 from fmpy import simulate_fmu
+from hypothesis import given, settings, strategies as st
 from scipy.integrate import solve_ivp
 
 from musclesim.components.pneumatic import actuator as pa
@@ -196,6 +197,35 @@ def test_effects_off_are_the_nominal_model_bit_for_bit():
     assert np.all(np.diff(leak[301:500]) < 0)  # a leak lets it fall
     drop = run(ActuatorParams(supply_drop=0.5), [1.0] * 1000)[0]
     assert drop.max() == 20e3 and drop[-1] == 20e3  # the sagged supply bounds the pressure
+
+
+@settings(max_examples=25, deadline=None)
+@given(central=st.sampled_from([0.0, 1.0]), t_contact=st.sampled_from([0.0, 0.02, 0.2]),
+       dV_contact=st.sampled_from([0.0, 3e-6]), phase=st.floats(0.0, 1.0),
+       delays=st.sampled_from([(0.0, 0.0), (0.01, 0.005), (0.003, 0.008)]),
+       leak=st.sampled_from([0.0, 1e-11]), seed=st.integers(0, 2**31 - 1))
+def test_a_step_without_flow_or_motion_is_the_sub_steps_to_the_bit(central, t_contact,
+                                                                     dV_contact, phase, delays,
+                                                                     leak, seed):
+    # the shortcut (valves shut, no leak, contact at its target, volume still) against every
+    # step taken through its sub-steps: pressures, contacts, masses the same to the bit
+    rng = np.random.default_rng(seed)
+    params = ActuatorParams(central=central, t_contact=t_contact, dV_contact=dV_contact,
+                            pwm_phase=phase, t_open_delay=delays[0], t_close_delay=delays[1],
+                            C_leak=leak)
+    n = 100
+    duties = np.where(rng.random(n) < 0.5, 0.0, rng.uniform(-1, 1, n)).repeat(5)
+    held = rng.random(5 * n) < 0.5  # the elongation stands still at about half the steps
+    elongations = np.cumsum(np.where(held, 0.0, rng.normal(0, 1e-4, 5 * n)))
+    shortcut = run(params, duties, elongations=elongations)
+    taken = []
+    holds = pa.Actuator._holds
+    with pytest.MonkeyPatch.context() as mp:  # every step through its sub-steps
+        mp.setattr(pa.Actuator, "_holds", lambda self, *a: taken.append(holds(self, *a)) or False)
+        through = run(params, duties, elongations=elongations)
+    for a, b in zip(shortcut, through):
+        assert a.tobytes() == b.tobytes()
+    assert any(taken) or leak  # the shortcut was taken (and so compared); never with a leak
 
 
 @pytest.mark.parametrize("field, value", [
