@@ -290,10 +290,7 @@ class Actuator:
             clamped = min(max(p_flow, min(self.pressure, p_out)), max(self.pressure, p_in))
             if clamped != p_flow:  # the mass that fits
                 p_flow, dm = clamped, (clamped - self.pressure) * v / gain
-            if p.t_contact <= 0 and not p.central and p.dV_contact > 0:
-                self.contact = bulge_contact(self.contact, p_flow, p)
-            else:
-                self.contact = contact_step(self.contact, p_flow, b - a, p)
+            self.contact = self._contact_after(p_flow, b - a)
             v_next = volume(e0 + (elongation - e0) * (i + 1) / n, self.contact, p)
             if v_next != v:  # polytropic change at the mass just reached: p_abs V^kappa constant
                 p_flow = (P_ATM + p_flow) * (v / v_next) ** p.kappa - P_ATM
@@ -308,9 +305,14 @@ class Actuator:
         its sub-step takes it at this pressure, the volume not following an elongation (an
         extremal chamber's does not; a central one's must stand still). The extremal
         actuators hold so most of a gait, their valves shut between pulses."""
-        p = self.params
-        if p.central and elongation != self.elongation:
+        if self.params.central and elongation != self.elongation:
             return False
+        return self._contact_after(self.pressure, dt) == self.contact
+
+    def _contact_after(self, pressure, dt):
+        """The contact after a sub-step of dt at gauge pressure `pressure`: an extremal chamber
+        whose bulge follows at once (`bulge_contact`), else at its finite rate (`contact_step`)."""
+        p = self.params
         if p.t_contact <= 0 and not p.central and p.dV_contact > 0:
-            return bulge_contact(self.contact, self.pressure, p) == self.contact
-        return contact_step(self.contact, self.pressure, dt, p) == self.contact
+            return bulge_contact(self.contact, pressure, p)
+        return contact_step(self.contact, pressure, dt, p)
