@@ -1,7 +1,7 @@
 """The component catalogue: every FMU musclesim builds, by name, with the slave class behind it.
 
 Each subsystem folder holds pure physics cores (no FMI), thin FMU slaves (`slaves.py`) and a
-README with the equations and the SPEC.md sections they come from.
+README saying where the equations are: the model reference in docs/model (§model-reference).
 """
 
 # component name -> "module:class" of its FMU slave (the FMU file is fmus/<name>.fmu)

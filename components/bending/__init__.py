@@ -1,4 +1,4 @@
-"""The bending actuator of SPEC.md 3.2 (a): two antagonistic 50 um SMA wires beside an elastic
+"""The bending actuator of §bending-actuator: two antagonistic 50 um SMA wires beside an elastic
 carbon-fibre beam pair, the beams' first bending mode, and its FMU.
 
 - `beam`: the beam pair as a leaf spring (Euler-Bernoulli, pure end moment), deflection at a

@@ -1,4 +1,4 @@
-"""The bending actuator of SPEC 3.2 (a) as one physics core: two 50 um SMA wires at +-e beside
+"""The bending actuator of §bending-actuator as one physics core: two 50 um SMA wires at +-e beside
 the beam pair (`beam`), each with its own thermal state (`sma.thermal`) and Preisach memory
 (`sma.preisach`), pulling on the top cap.
 
@@ -67,7 +67,7 @@ WIRE_50UM = read_wire_file()  # read once at import: an FMU's first folder may b
 
 
 def resistivities(diameter, resistance_martensite, resistance_austenite):
-    """(rho_M, rho_A) [Ohm m] of a wire from its resistances per metre [Ohm/m] (SPEC 5's form).
+    """(rho_M, rho_A) [Ohm m] of a wire from its resistances per metre [Ohm/m] (§sma-material's form).
 
     Examples
     --------
@@ -112,11 +112,11 @@ def hysteresis_surface(wire_params, sigma):
 
 @dataclass(frozen=True)
 class WireLayout:
-    """The wires' placement, pretension, elasticity and drive (defaults: SPEC 3.2, 5; open values
+    """The wires' placement, pretension, elasticity and drive (defaults: §bending-actuator, §sma-material; open values
     and their reasons in components/bending/README.md)."""
 
-    offset: float = 1.7e-3  # m, each wire beside the beams (SPEC 3.2)
-    length: float = 10e-3  # m, free length, about the cap spacing (SPEC 3.2, open)
+    offset: float = 1.7e-3  # m, each wire beside the beams (§bending-actuator)
+    length: float = 10e-3  # m, free length, about the cap spacing (§bending-actuator, open)
     pretension: float = 0.196  # N, each cold wire (100 MPa on 50 um; open)
     modulus_martensite: float = 28e9  # Pa, NiTi martensite (data-sheet value, open)
     modulus_austenite: float = 75e9  # Pa, NiTi austenite (data-sheet value, open)
@@ -126,7 +126,7 @@ class WireLayout:
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
         # a pretension is needed: the hysteresis is taken at its stress, and a wire detwins
-        # (elongates, SPEC 2.3) only under stress
+        # (elongates, §forc-identification) only under stress
         require(self, positive=("offset", "length", "pretension", "modulus_martensite",
                                 "modulus_austenite", "max_substep"),
                 non_negative=("series_resistance",))
@@ -239,7 +239,7 @@ class BendingActuator:
         self.tension = list(tensions(self.theta, self.eps, self.xi, self.area, self.layout))
 
     def _seen(self, T):
-        """Temperature [C] the hysteresis sees: saturated at its grid's ends (SPEC 2.1)."""
+        """Temperature [C] the hysteresis sees: saturated at its grid's ends (§sma-wire)."""
         return min(max(T, self.surface.t_lo), self.surface.t_hi)
 
     def step(self, dt, u, T_amb, t=None):

@@ -1,5 +1,5 @@
 """The bending actuator's carbon-fibre beam pair as a leaf spring with its first bending mode
-(SPEC 3.2 a): Euler-Bernoulli beams clamped in the base cap, loaded at the top cap by the wires'
+(§bending-actuator: Euler-Bernoulli beams clamped in the base cap, loaded at the top cap by the wires'
 eccentric tension, i.e. by an end moment M.
 
 Under a pure end moment the beams bend with uniform curvature M / EI, so the top cap (rigid, at
@@ -20,11 +20,11 @@ from musclesim.components.checks import require
 
 @dataclass(frozen=True)
 class BeamParams:
-    """Beam pair, caps and foot (SPEC 3.2 leaves all but the cap spacing open: defaults and their
+    """Beam pair, caps and foot (§bending-actuator leaves all but the cap spacing open: defaults and their
     reasons in components/bending/README.md)."""
 
-    length: float = 10e-3  # m, free length between the caps (SPEC 3.2: caps 10 mm apart)
-    n_beams: float = 2.0  # two coplanar beams (SPEC 3.2)
+    length: float = 10e-3  # m, free length between the caps (§bending-actuator: caps 10 mm apart)
+    n_beams: float = 2.0  # two coplanar beams (§bending-actuator)
     width: float = 1.0e-3  # m, each beam (open)
     thickness: float = 0.2e-3  # m, each beam, in the bending direction (open)
     modulus: float = 120e9  # Pa, unidirectional carbon fibre along the fibres (open)

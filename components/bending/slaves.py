@@ -1,4 +1,4 @@
-"""FMU slave of the bending actuator (SPEC 3.2 a): a thin adapter over `actuator.BendingActuator`."""
+"""FMU slave of the bending actuator (§bending-actuator: a thin adapter over `actuator.BendingActuator`."""
 import math
 
 from musclesim.components.bending import actuator, beam
@@ -6,11 +6,11 @@ from musclesim.components.sma import datasets, thermal, wire
 from musclesim.fmu import Slave
 
 ZERO_C = 273.15  # K; the FMU speaks K, the cores C
-LASER_HEIGHT = 17e-3  # m, where the study's laser reads the deflection (SPEC 3.2)
+LASER_HEIGHT = 17e-3  # m, where the study's laser reads the deflection (§bending-actuator)
 
 
 class BendingActuator(Slave):
-    """Bending actuator: two 50 um SMA wires beside a carbon-fibre beam pair (SPEC 3.2 a).
+    """Bending actuator: two 50 um SMA wires beside a carbon-fibre beam pair (§bending-actuator.
 
     Per communication step, inputs held from its start: each wire's temperature (lumped thermal
     model, voltage through a series resistance), its hysteresis (at the pretension's stress),
@@ -20,14 +20,14 @@ class BendingActuator(Slave):
 
     description = ("Bending actuator: two antagonistic 50 um SMA wires (thermal model, modified "
                    "Preisach hysteresis) bending a carbon-fibre beam pair, first bending mode "
-                   "(SPEC 3.2)")
+                   "(§bending-actuator)")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         b, w = beam.BeamParams(), actuator.WireLayout()
-        self.parameter("length", b.length, "m", "Free beam length between the caps (SPEC 3.2: "
+        self.parameter("length", b.length, "m", "Free beam length between the caps (§bending-actuator: "
                        "caps 10 mm apart)")
-        self.parameter("n_beams", b.n_beams, "1", "Number of coplanar beams (SPEC 3.2: 2)")
+        self.parameter("n_beams", b.n_beams, "1", "Number of coplanar beams (§bending-actuator: 2)")
         self.parameter("width", b.width, "m", "Width of each beam (open, README)")
         self.parameter("thickness", b.thickness, "m", "Thickness of each beam in the bending "
                        "direction (open, README)")
@@ -38,8 +38,8 @@ class BendingActuator(Slave):
                        "base (open, README)")
         self.parameter("damping_ratio", b.damping_ratio, "1", "Damping ratio of the first "
                        "bending mode with both wires cold (open, README)")
-        self.parameter("offset", w.offset, "m", "Distance of each wire from the beams (SPEC 3.2)")
-        self.parameter("wire_length", w.length, "m", "Free length of each wire (SPEC 3.2: about "
+        self.parameter("offset", w.offset, "m", "Distance of each wire from the beams (§bending-actuator)")
+        self.parameter("wire_length", w.length, "m", "Free length of each wire (§bending-actuator: about "
                        "the cap spacing)")
         self.parameter("pretension", w.pretension, "N", "Tension of each cold wire at rest "
                        "(open, README: 100 MPa)")
@@ -51,20 +51,20 @@ class BendingActuator(Slave):
                        "resistance in series with each wire (open, README)")
         self.parameter("max_substep", w.max_substep, "s", "Longest mechanical sub-step")
         t = actuator.wire_thermal(w.length)
-        self.parameter("diameter", t.diameter, "m", "Wire diameter (SPEC 3.2: 50 um)")
-        self.parameter("wire_density", t.density, "kg/m3", "Density of NiTi (SPEC 5)")
+        self.parameter("diameter", t.diameter, "m", "Wire diameter (§bending-actuator: 50 um)")
+        self.parameter("wire_density", t.density, "kg/m3", "Density of NiTi (§sma-material)")
         self.parameter("specific_heat", t.specific_heat, "J/(kg.K)",
-                       "Specific heat of NiTi (SPEC 5)")
+                       "Specific heat of NiTi (§sma-material)")
         self.parameter("rho_martensite", t.rho_martensite, "Ohm.m", "Resistivity of the wire's "
-                       "martensite (SPEC 5: 470 Ohm/m on 50 um)")
+                       "martensite (§sma-material: 470 Ohm/m on 50 um)")
         self.parameter("rho_austenite", t.rho_austenite, "Ohm.m", "Resistivity of the wire's "
-                       "austenite (SPEC 5: 490 Ohm/m on 50 um)")
+                       "austenite (§sma-material: 490 Ohm/m on 50 um)")
         self.parameter("h", t.h, "W/(m2.K)", "Convection coefficient of the 50 um wire "
-                       "(SPEC 5: 230)")
+                       "(§sma-material: 230)")
         self.parameter("T_init", 293.15, "K", "Initial temperature of both wires (martensitic, "
                        "heated to it)")
         self.parameter("z_tip", LASER_HEIGHT, "m", "Height above the base where tip.s is read "
-                       "(SPEC 3.2: the laser, 17 mm)")
+                       "(§bending-actuator: the laser, 17 mm)")
         self.input("wireA.u", 0.0, "V", "Voltage across wire A and its series resistance")
         self.input("wireB.u", 0.0, "V", "Voltage across wire B and its series resistance")
         self.input("T_amb", 293.15, "K", "Ambient air temperature")

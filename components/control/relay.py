@@ -1,9 +1,9 @@
-"""Relay (bang-bang) controller with hysteresis, e.g. SPEC 3.1 c's heating of an SMA wire.
+"""Relay (bang-bang) controller with hysteresis, e.g. §bang-bang's heating of an SMA wire.
 
 The relay is on or off. Sampled at the communication points, with y the measurement:
 
-    off -> on   when y <= y_on    (falling through the lower threshold: SPEC 3.1 c, 75 C)
-    on  -> off  when y >= y_off   (rising through the upper threshold: SPEC 3.1 c, 90 C)
+    off -> on   when y <= y_on    (falling through the lower threshold: §bang-bang, 75 C)
+    on  -> off  when y >= y_off   (rising through the upper threshold: §bang-bang, 90 C)
     u = u_on when on, u_off when off
 
 Between the thresholds the relay keeps its state, so the switching has hysteresis y_off - y_on.
@@ -18,12 +18,12 @@ ZERO_C = 273.15
 
 @dataclass(frozen=True)
 class RelayParams:
-    """Thresholds, output levels and the initial state (defaults: SPEC 3.1 c in K; the supply
+    """Thresholds, output levels and the initial state (defaults: §multiplier-experiments in K; the supply
     voltage is open: see components/control/README.md)."""
 
-    y_on: float = ZERO_C + 75.0  # K: switch on when falling to it (SPEC 3.1 c)
-    y_off: float = ZERO_C + 90.0  # K: switch off when rising to it (SPEC 3.1 c)
-    u_on: float = 1.0  # output when on (a supply voltage [V]: open in SPEC 3.1 c, set per wire)
+    y_on: float = ZERO_C + 75.0  # K: switch on when falling to it (§multiplier-experiments
+    y_off: float = ZERO_C + 90.0  # K: switch off when rising to it (§multiplier-experiments
+    u_on: float = 1.0  # output when on (a supply voltage [V]: open in §multiplier-experiments, set per wire)
     u_off: float = 0.0  # output when off
     initially_on: float = 1.0  # state at the start when y lies between the thresholds
 

@@ -53,15 +53,15 @@ class PID(_PIDBase):
 
 
 class GainScheduledPID(_PIDBase):
-    """PID whose gains are interpolated from 21 sets scheduled on the reference (SPEC 2.5)."""
+    """PID whose gains are interpolated from 21 sets scheduled on the reference (§temperature-control)."""
 
     description = ("Gain-scheduled PID: 21 gain sets on the reference, 30..130 C every 5 C, "
-                   "linear in between (SPEC 2.5)")
+                   "linear in between (§temperature-control)")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         for i, x in enumerate(SCHEDULE_K, start=1):
-            self.parameter(f"x[{i}]", x, "1", f"Scheduling point {i} of the reference (SPEC 2.5)")
+            self.parameter(f"x[{i}]", x, "1", f"Scheduling point {i} of the reference (§temperature-control)")
         for name, what in (("Kp", "Proportional gain"), ("Ki", "Integral gain [1/s]"),
                            ("Kd", "Derivative gain [s]")):
             for i in range(1, 22):
@@ -84,22 +84,22 @@ class GainScheduledPID(_PIDBase):
 
 class BangBang(Slave):
     """Relay temperature controller with hysteresis: on when the measured temperature falls to
-    T_on, off when it rises to T_off (SPEC 3.1 c: 75 C and 90 C); output u_on or u_off.
+    T_on, off when it rises to T_off (§multiplier-experiments: 75 C and 90 C); output u_on or u_off.
     A thin adapter over `relay`; equations: components/control/README.md.
     """
 
     description = ("Bang-bang (relay) temperature controller: on when T falls to T_on, off when T "
-                   "rises to T_off; output u_on / u_off (SPEC 3.1 c)")
+                   "rises to T_off; output u_on / u_off (§multiplier-experiments")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         d = relay.RelayParams()
         self.parameter("T_on", d.y_on, "K", "Switch on when the temperature falls to this "
-                       "(SPEC 3.1 c: 75 C)")
+                       "(§multiplier-experiments: 75 C)")
         self.parameter("T_off", d.y_off, "K", "Switch off when the temperature rises to this "
-                       "(SPEC 3.1 c: 90 C)")
+                       "(§multiplier-experiments: 90 C)")
         self.parameter("u_on", d.u_on, "1", "Output when on: the heating supply voltage [V] "
-                       "(open in SPEC 3.1 c; the scenarios set it per wire)")
+                       "(open in §multiplier-experiments; the scenarios set it per wire)")
         self.parameter("u_off", d.u_off, "1", "Output when off")
         self.parameter("initially_on", d.initially_on, "1", "State at the start when the "
                        "temperature lies between the thresholds (1 on, 0 off)")

@@ -1,1 +1,1 @@
-"""The friction-switching crawler of SPEC.md section 1: body, friction blocks, ideal inputs."""
+"""The friction-switching crawler of §crawler: body, friction blocks, ideal inputs."""

@@ -1,4 +1,4 @@
-"""Crawler body: the two-mass, spring, damper plant of SPEC 1.2 and its zero-order-hold discretisation.
+"""Crawler body: the two-mass, spring, damper plant of §two-mass and its zero-order-hold discretisation.
 
 State x = [x1, v1, x2, v2] (positions are variations from rest, climbing is positive x);
 input u = [f_a, f1, f2] (actuator force pushing the blocks apart, friction on block 1 and 2).
@@ -16,16 +16,16 @@ G = 9.81  # m/s^2
 
 @dataclass(frozen=True)
 class BodyParams:
-    """Crawler body parameters (defaults: SPEC 1.4, flat ground)."""
+    """Crawler body parameters (defaults: §ideal-actuation, flat ground)."""
 
-    m1: float = 0.2  # kg, rear block (SPEC 1.4)
-    m2: float = 0.2  # kg, front block (SPEC 1.4)
-    k: float = 200.0  # N/m, central actuator stiffness from its tensile test (SPEC 1.4)
-    c: float = 1.3  # N s/m, central actuator damping (SPEC 1.4)
-    theta: float = 0.0  # rad, incline of the ground, climbing positive (SPEC 1.2)
-    # effects, off by default (diagnosis candidates, SPEC 4):
+    m1: float = 0.2  # kg, rear block (§ideal-actuation)
+    m2: float = 0.2  # kg, front block (§ideal-actuation)
+    k: float = 200.0  # N/m, central actuator stiffness from its tensile test (§ideal-actuation)
+    c: float = 1.3  # N s/m, central actuator damping (§ideal-actuation)
+    theta: float = 0.0  # rad, incline of the ground, climbing positive (§two-mass)
+    # effects, off by default (diagnosis candidates, §named-effects):
     k_slope: float = 0.0  # 1/N, k grows by this fraction per newton of f_a: the real stiffness is
-    #                       nonlinear and pressure dependent (SPEC 1.2, 4)
+    #                       nonlinear and pressure dependent (§two-mass, §named-effects)
     c_ground: float = 0.0  # N s/m, viscous drag of the ground on each block
 
     def check(self):
@@ -41,7 +41,7 @@ def stiffness(p, f_a=0.0):
 
 
 def state_space(p, f_a=0.0):
-    """Continuous plant of SPEC 1.2: return (A, B) with B's columns for f_a, f1, f2.
+    """Continuous plant of §two-mass: return (A, B) with B's columns for f_a, f1, f2.
 
     With the effects on, k is the stiffness at actuator force `f_a` and each block also feels
     the ground's viscous drag -c_ground v_i.
@@ -82,7 +82,7 @@ def nonfriction_forces(x, f_a, p):
 
 
 def normal_forces(p):
-    """Normal force of each block on the ground, N_i = m_i g cos(theta) (SPEC 1.3)."""
+    """Normal force of each block on the ground, N_i = m_i g cos(theta) (§friction)."""
     return p.m1 * G * math.cos(p.theta), p.m2 * G * math.cos(p.theta)
 
 

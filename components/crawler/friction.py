@@ -1,10 +1,10 @@
-"""Stick-slip friction of a crawler block (SPEC 1.3, Karnopp style) with switchable coefficients.
+"""Stick-slip friction of a crawler block (§friction, Karnopp style) with switchable coefficients.
 
 The indicator u in [0, 1] selects low (casing on the ground, 0) or high (inflated silicone, 1)
 friction. With a switching time t_switch > 0 the contact state s follows u at a finite rate instead
-of jumping (a candidate unmodelled effect; SPEC 1.1 says switching takes up to 0.4 s).
+of jumping (a candidate unmodelled effect; §crawler-hardware says switching takes up to 0.4 s).
 Two more effects, off by default, lower the high (silicone) coefficients only: bending of the soft
-actuator under shear on an incline, and contamination of the silicone over time (SPEC 1.5, 4).
+actuator under shear on an incline, and contamination of the silicone over time (§gait, §named-effects).
 The anchoring slip, the distance a block slides while its contact is high, is accumulated here too.
 """
 import math
@@ -14,19 +14,19 @@ from musclesim.components.checks import require
 
 @dataclass(frozen=True)
 class FrictionParams:
-    """Friction coefficients and numerics (defaults: SPEC 1.3)."""
+    """Friction coefficients and numerics (defaults: §friction)."""
 
-    mu_s_high: float = 1.0  # inflated silicone, static (SPEC 1.3)
-    mu_k_high: float = 0.75  # inflated silicone, kinetic = 0.75 mu_s (SPEC 1.3)
-    mu_s_low: float = 0.13  # ABS casing, static (SPEC 1.3)
-    mu_k_low: float = 0.0975  # ABS casing, kinetic = 0.75 mu_s (SPEC 1.3)
-    v_s: float = 1e-3  # m/s, stick velocity band (SPEC 1.3)
+    mu_s_high: float = 1.0  # inflated silicone, static (§friction)
+    mu_k_high: float = 0.75  # inflated silicone, kinetic = 0.75 mu_s (§friction)
+    mu_s_low: float = 0.13  # ABS casing, static (§friction)
+    mu_k_low: float = 0.0975  # ABS casing, kinetic = 0.75 mu_s (§friction)
+    v_s: float = 1e-3  # m/s, stick velocity band (§friction)
     t_switch: float = 0.0  # s, low<->high transition time; 0 = the study's square switching
-    # effects, off by default (diagnosis candidates, SPEC 4):
+    # effects, off by default (diagnosis candidates, §named-effects):
     bending: float = 0.0  # 1/rad, high coefficients scaled by max(0, 1 - bending |theta|): the soft
-    #                       actuator bends under shear on an incline (SPEC 1.3 plates, 1.5 climbing)
+    #                       actuator bends under shear on an incline (§friction plates, 1.5 climbing)
     mu_decay: float = 0.0  # 1/s, high coefficients scaled by exp(-mu_decay t): particles collect
-    #                        on the silicone and lower its friction over time (SPEC 1.5 wood)
+    #                        on the silicone and lower its friction over time (§gait wood)
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
@@ -59,7 +59,7 @@ def coefficients(s, p, scale=1.0):
 
 
 def friction_force(v, f_n, normal, mu_s, mu_k, v_s):
-    """Friction force on a block (SPEC 1.3).
+    """Friction force on a block (§friction).
 
     Parameters
     ----------

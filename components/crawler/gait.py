@@ -1,4 +1,4 @@
-"""Four-phase peristaltic gait of the real crawler (SPEC 1.5) as pressure references.
+"""Four-phase peristaltic gait of the real crawler (§gait) as pressure references.
 
 Three actuators: back extremal (1), central (c), front extremal (2). A forward stride:
 
@@ -14,9 +14,9 @@ phase  what happens                 p_ref1      p_ref_c     p_ref2
 A backward stride is the mirror image: back and front swap roles (phase 1 anchors the front,
 phase 3 the back, phase 4 deflates the front and the central actuator); each extremal actuator
 keeps its own anchoring pressure. Phase 2 lasts the protrusion time; the stance time is split
-equally over phases 1, 3 and 4 (an assumption: SPEC 1.5 gives only the protrusion and stance
+equally over phases 1, 3 and 4 (an assumption: §gait gives only the protrusion and stance
 times). With t_reverse > 0 the direction flips every t_reverse seconds and a new stride starts at
-phase 1 in the other direction (SPEC 1.5 bidirectional test).
+phase 1 in the other direction (§gait bidirectional test).
 """
 import math
 from dataclasses import dataclass
@@ -30,13 +30,13 @@ EPS = 1e-9
 
 @dataclass(frozen=True)
 class GaitParams:
-    """Gait timing and pressure references (defaults: SPEC 1.5 timing)."""
+    """Gait timing and pressure references (defaults: §gait timing)."""
 
-    t_protrusion: float = 1.2  # s, phase 2 (SPEC 1.5)
-    t_stance: float = 1.8  # s, phases 1, 3 and 4 together, 0.6 s each (SPEC 1.5; equal split assumed)
+    t_protrusion: float = 1.2  # s, phase 2 (§gait)
+    t_stance: float = 1.8  # s, phases 1, 3 and 4 together, 0.6 s each (§gait; equal split assumed)
     direction: float = 1.0  # direction of the first stride: +1 forward, -1 backward
-    t_reverse: float = 0.0  # s, direction reversal period; 0 = never (SPEC 1.5 test: 32.5 s)
-    # Pa: scenarios set these from the off-line characterisation (scenarios/params, SPEC 1.5);
+    t_reverse: float = 0.0  # s, direction reversal period; 0 = never (§gait test: 32.5 s)
+    # Pa: scenarios set these from the off-line characterisation (scenarios/params, §pressure-control);
     # the defaults only make the FMU runnable on its own
     p_central: float = 10e3  # central actuator while protruding
     p_anchor1: float = 10e3  # back extremal actuator while anchoring
@@ -54,7 +54,7 @@ class GaitParams:
 
 
 def period(p):
-    """Stride period [s]: protrusion plus stance time (3 s in SPEC 1.5)."""
+    """Stride period [s]: protrusion plus stance time (3 s in §gait)."""
     return p.t_protrusion + p.t_stance
 
 

@@ -1,4 +1,4 @@
-"""Ideal open-loop actuation of SPEC 1.4: a sinusoidal actuator force and two friction indicators."""
+"""Ideal open-loop actuation of §ideal-actuation: a sinusoidal actuator force and two friction indicators."""
 import math
 from dataclasses import dataclass
 
@@ -6,13 +6,13 @@ from musclesim.components.checks import require
 
 @dataclass(frozen=True)
 class InputParams:
-    """Signal parameters (defaults: SPEC 1.4 nominal case)."""
+    """Signal parameters (defaults: §ideal-actuation nominal case)."""
 
-    f_mean: float = 10.28  # N, mean of f_a, which oscillates between 0.66 N and 19.9 N (SPEC 1.4)
-    f_amp: float = 9.62  # N, amplitude of f_a (SPEC 1.4)
-    f_f: float = 1.0  # Hz, frequency of f_a (SPEC 1.4)
-    f_u: float = 1.0  # Hz, frequency of the friction indicators (SPEC 1.4)
-    phi: float = 1.64  # rad, phase lag of u2 behind u1; steers the direction (SPEC 1.4)
+    f_mean: float = 10.28  # N, mean of f_a, which oscillates between 0.66 N and 19.9 N (§ideal-actuation)
+    f_amp: float = 9.62  # N, amplitude of f_a (§ideal-actuation)
+    f_f: float = 1.0  # Hz, frequency of f_a (§ideal-actuation)
+    f_u: float = 1.0  # Hz, frequency of the friction indicators (§ideal-actuation)
+    phi: float = 1.64  # rad, phase lag of u2 behind u1; steers the direction (§ideal-actuation)
     direction: float = 1.0  # +1; -1 swaps the indicators: the mirror image, driven backward
 
     def check(self):

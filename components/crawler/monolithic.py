@@ -1,4 +1,4 @@
-"""Monolithic reference simulation of the ideal-actuation crawler (SPEC 1.4) in plain numpy.
+"""Monolithic reference simulation of the ideal-actuation crawler (§ideal-actuation) in plain numpy.
 
 It steps the same physics cores as the FMUs in one loop, with no co-simulation in between; the
 co-simulated scenario must agree with it (tests/cosim/test_crawler_cosim.py) and the benchmark
@@ -12,7 +12,7 @@ from musclesim.components.crawler import body, friction, inputs
 
 def simulate_ideal(body_p=body.BodyParams(), friction_p=(friction.FrictionParams(),) * 2,
                    inputs_p=inputs.InputParams(), step=1e-3, stop_time=60.0, actuator_lead=False):
-    """Simulate SPEC 1.4 and return (time, x) with x[:, :] = [x1, v1, x2, v2] at every step.
+    """Simulate §ideal-actuation and return (time, x) with x[:, :] = [x1, v1, x2, v2] at every step.
 
     Parameters
     ----------

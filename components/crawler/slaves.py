@@ -8,22 +8,22 @@ from musclesim.fmu import Slave
 
 
 class CrawlerBody(Slave):
-    """Two-mass crawler body (SPEC 1.2) discretised by zero-order hold at the communication step."""
+    """Two-mass crawler body (§two-mass) discretised by zero-order hold at the communication step."""
 
-    description = "Crawler body: two blocks joined by the central actuator's spring, damper and force (SPEC 1.2)"
+    description = "Crawler body: two blocks joined by the central actuator's spring, damper and force (§two-mass)"
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         d = body.BodyParams()
-        self.parameter("m1", d.m1, "kg", "Mass of the rear block 1 (SPEC 1.4)")
-        self.parameter("m2", d.m2, "kg", "Mass of the front block 2 (SPEC 1.4)")
-        self.parameter("k", d.k, "N/m", "Stiffness of the central actuator (SPEC 1.4)")
-        self.parameter("c", d.c, "N.s/m", "Damping of the central actuator (SPEC 1.4)")
-        self.parameter("theta", d.theta, "rad", "Incline of the ground, climbing positive (SPEC 1.2)")
+        self.parameter("m1", d.m1, "kg", "Mass of the rear block 1 (§ideal-actuation)")
+        self.parameter("m2", d.m2, "kg", "Mass of the front block 2 (§ideal-actuation)")
+        self.parameter("k", d.k, "N/m", "Stiffness of the central actuator (§ideal-actuation)")
+        self.parameter("c", d.c, "N.s/m", "Damping of the central actuator (§ideal-actuation)")
+        self.parameter("theta", d.theta, "rad", "Incline of the ground, climbing positive (§two-mass)")
         self.parameter("k_slope", d.k_slope, "1", "Effect, 0 = off: relative stiffness change per "
-                       "newton of actuator force [1/N] (pressure-dependent stiffness, SPEC 1.2, 4)")
+                       "newton of actuator force [1/N] (pressure-dependent stiffness, §two-mass, §named-effects)")
         self.parameter("c_ground", d.c_ground, "N.s/m",
-                       "Effect, 0 = off: viscous drag of the ground on each block (SPEC 4)")
+                       "Effect, 0 = off: viscous drag of the ground on each block (§named-effects)")
         self.input("f_a", 0.0, "N", "Actuator force pushing the blocks apart")
         self.input("flange1.f", 0.0, "N", "Friction force on block 1")
         self.input("flange2.f", 0.0, "N", "Friction force on block 2")
@@ -39,7 +39,7 @@ class CrawlerBody(Slave):
 
     def setup(self):
         self.p = self.core_params(body.BodyParams)
-        self.x = np.zeros(4)  # zero initial state (SPEC 1.4)
+        self.x = np.zeros(4)  # zero initial state (§ideal-actuation)
         self.dt = self.f_held = None
         self.flange1_N, self.flange2_N = body.normal_forces(self.p)
         self.incline = self.p.theta
@@ -62,24 +62,24 @@ class CrawlerBody(Slave):
 
 
 class FrictionBlock(Slave):
-    """Stick-slip friction of one block with coefficients switched by an indicator (SPEC 1.3)."""
+    """Stick-slip friction of one block with coefficients switched by an indicator (§friction)."""
 
-    description = "Stick-slip friction block with switchable high/low coefficients (SPEC 1.3)"
+    description = "Stick-slip friction block with switchable high/low coefficients (§friction)"
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         d = friction.FrictionParams()
-        self.parameter("mu_s_high", d.mu_s_high, "1", "Static coefficient, high friction (SPEC 1.3)")
-        self.parameter("mu_k_high", d.mu_k_high, "1", "Kinetic coefficient, high friction (SPEC 1.3)")
-        self.parameter("mu_s_low", d.mu_s_low, "1", "Static coefficient, low friction (SPEC 1.3)")
-        self.parameter("mu_k_low", d.mu_k_low, "1", "Kinetic coefficient, low friction (SPEC 1.3)")
-        self.parameter("v_s", d.v_s, "m/s", "Stick velocity band (SPEC 1.3)")
+        self.parameter("mu_s_high", d.mu_s_high, "1", "Static coefficient, high friction (§friction)")
+        self.parameter("mu_k_high", d.mu_k_high, "1", "Kinetic coefficient, high friction (§friction)")
+        self.parameter("mu_s_low", d.mu_s_low, "1", "Static coefficient, low friction (§friction)")
+        self.parameter("mu_k_low", d.mu_k_low, "1", "Kinetic coefficient, low friction (§friction)")
+        self.parameter("v_s", d.v_s, "m/s", "Stick velocity band (§friction)")
         self.parameter("t_switch", d.t_switch, "s",
-                       "Low/high friction transition time; 0 = instantaneous (SPEC 1.1, effect off)")
+                       "Low/high friction transition time; 0 = instantaneous (§crawler-hardware, effect off)")
         self.parameter("bending", d.bending, "1/rad", "Effect, 0 = off: high coefficients scaled "
-                       "by max(0, 1 - bending |theta|) (actuator bending on an incline, SPEC 1.3)")
+                       "by max(0, 1 - bending |theta|) (actuator bending on an incline, §friction)")
         self.parameter("mu_decay", d.mu_decay, "1/s", "Effect, 0 = off: high coefficients scaled "
-                       "by exp(-mu_decay t) (contamination of the silicone, SPEC 1.5)")
+                       "by exp(-mu_decay t) (contamination of the silicone, §gait)")
         self.input("flange.v", 0.0, "m/s", "Velocity of the block")
         self.input("flange.f_n", 0.0, "N", "Net non-friction force along the surface on the block")
         self.input("flange.N", 0.0, "N", "Normal force of the block on the ground")
@@ -114,18 +114,18 @@ class FrictionBlock(Slave):
 
 
 class FrictionSwitchingInputs(Slave):
-    """Ideal actuation of SPEC 1.4: sinusoidal actuator force and square-wave friction indicators."""
+    """Ideal actuation of §ideal-actuation: sinusoidal actuator force and square-wave friction indicators."""
 
-    description = "Open-loop friction-switching inputs: f_a sinusoid and indicators u1, u2 (SPEC 1.4)"
+    description = "Open-loop friction-switching inputs: f_a sinusoid and indicators u1, u2 (§ideal-actuation)"
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         d = inputs.InputParams()
-        self.parameter("f_mean", d.f_mean, "N", "Mean actuator force (SPEC 1.4)")
-        self.parameter("f_amp", d.f_amp, "N", "Amplitude of the actuator force (SPEC 1.4)")
-        self.parameter("f_f", d.f_f, "Hz", "Frequency of the actuator force (SPEC 1.4)")
-        self.parameter("f_u", d.f_u, "Hz", "Frequency of the friction indicators (SPEC 1.4)")
-        self.parameter("phi", d.phi, "rad", "Phase lag of u2 behind u1 (SPEC 1.4)")
+        self.parameter("f_mean", d.f_mean, "N", "Mean actuator force (§ideal-actuation)")
+        self.parameter("f_amp", d.f_amp, "N", "Amplitude of the actuator force (§ideal-actuation)")
+        self.parameter("f_f", d.f_f, "Hz", "Frequency of the actuator force (§ideal-actuation)")
+        self.parameter("f_u", d.f_u, "Hz", "Frequency of the friction indicators (§ideal-actuation)")
+        self.parameter("phi", d.phi, "rad", "Phase lag of u2 behind u1 (§ideal-actuation)")
         self.parameter("direction", d.direction, "1", "1; -1 swaps u1 and u2: the mirror image "
                        "of the gait, driven backward")
         self.output("f_a", "N", "Actuator force")
@@ -140,21 +140,21 @@ class FrictionSwitchingInputs(Slave):
 
 
 class GaitSequencer(Slave):
-    """Four-phase peristaltic gait (SPEC 1.5): pressure references of the three actuators."""
+    """Four-phase peristaltic gait (§gait): pressure references of the three actuators."""
 
     description = ("Peristaltic gait sequencer: pressure references of the back, central and front "
-                   "actuators (SPEC 1.5)")
+                   "actuators (§gait)")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         d = gait.GaitParams()
-        self.parameter("t_protrusion", d.t_protrusion, "s", "Protrusion time, phase 2 (SPEC 1.5)")
+        self.parameter("t_protrusion", d.t_protrusion, "s", "Protrusion time, phase 2 (§gait)")
         self.parameter("t_stance", d.t_stance, "s",
-                       "Stance time, split equally over phases 1, 3 and 4 (SPEC 1.5)")
+                       "Stance time, split equally over phases 1, 3 and 4 (§gait)")
         self.parameter("direction", d.direction, "1",
-                       "Direction of the first stride: +1 forward, -1 backward (SPEC 1.5)")
+                       "Direction of the first stride: +1 forward, -1 backward (§gait)")
         self.parameter("t_reverse", d.t_reverse, "s",
-                       "Direction reversal period; 0 = never (SPEC 1.5 bidirectional test: 32.5 s)")
+                       "Direction reversal period; 0 = never (§gait bidirectional test: 32.5 s)")
         self.parameter("p_central", d.p_central, "Pa",
                        "Central actuator reference while protruding (from the characterisation)")
         self.parameter("p_anchor1", d.p_anchor1, "Pa",
@@ -165,7 +165,7 @@ class GaitSequencer(Slave):
         self.output("p_ref1", "Pa", "Pressure reference of the back extremal actuator 1")
         self.output("p_ref_c", "Pa", "Pressure reference of the central actuator")
         self.output("p_ref2", "Pa", "Pressure reference of the front extremal actuator 2")
-        self.output("phase", "1", "Gait phase 1..4 (SPEC 1.5)")
+        self.output("phase", "1", "Gait phase 1..4 (§gait)")
         # not "direction": that is the parameter's name
         self.output("stride_direction", "1",
                     "Direction of the current stride: +1 forward, -1 backward")

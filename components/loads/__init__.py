@@ -1,1 +1,1 @@
-"""Loads of the SMA wire on the position-control bench (SPEC.md 2.1, 2.4, 3.1)."""
+"""Loads of the SMA wire on the position-control bench (§sma-bench, §position-control, §loads)."""

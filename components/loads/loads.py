@@ -1,4 +1,4 @@
-"""Loads of the SMA wire (SPEC 2.1, 2.4, 3.1): bias spring, dead weight, electromagnet.
+"""Loads of the SMA wire (§sma-bench, §loads): bias spring, dead weight, electromagnet.
 
 Sign convention (the SmaWire FMU's): s [m] is the wire's contraction, positive when the wire
 shortens and lifts or pulls its load; f [N] is the tension the load puts on the wire. Equations
@@ -13,8 +13,8 @@ from scipy.linalg import expm
 from musclesim.components.checks import require
 
 G = 9.80665  # m/s^2, standard gravity
-AREA = math.pi * 127e-6 ** 2 / 4  # m^2, the 127 um main wire (SPEC 2.1), as SmaWire computes it
-PRELOAD_125MPA = 125e6 * AREA  # N, the bias spring's baseline stress of about 125 MPa (SPEC 3.1)
+AREA = math.pi * 127e-6 ** 2 / 4  # m^2, the 127 um main wire (§sma-bench), as SmaWire computes it
+PRELOAD_125MPA = 125e6 * AREA  # N, the bias spring's baseline stress of about 125 MPa (§loads)
 
 
 def _require_finite(params, names):
@@ -25,7 +25,7 @@ def _require_finite(params, names):
 
 @dataclass(frozen=True)
 class SpringParams:
-    """Preloaded bias spring (SPEC 3.1: 490 N/m, baseline stress about 125 MPa)."""
+    """Preloaded bias spring (§loads: 490 N/m, baseline stress about 125 MPa)."""
 
     k: float = 490.0  # N/m
     preload: float = PRELOAD_125MPA  # N, tension at s = 0
@@ -49,7 +49,7 @@ def spring_tension(s, p):
 
 @dataclass(frozen=True)
 class WeightParams:
-    """Dead weight hanging from the wire on a springy link; default: 125 MPa on the wire (SPEC 2.4,
+    """Dead weight hanging from the wire on a springy link; default: 125 MPa on the wire (§loads,
     3.1). Quasi-static (tension m g) unless its inertia is on (effect)."""
 
     mass: float = PRELOAD_125MPA / G  # kg
@@ -115,9 +115,9 @@ def weight_lift(x, s, p):
 
 @dataclass(frozen=True)
 class MagnetParams:
-    """Calibration weight plus an electromagnet driven by PWM (SPEC 2.1); coil values assumed."""
+    """Calibration weight plus an electromagnet driven by PWM (§sma-bench); coil values assumed."""
 
-    m_cal: float = 0.1  # kg, the 100 g calibration weight (SPEC 2.1)
+    m_cal: float = 0.1  # kg, the 100 g calibration weight (§sma-bench)
     g: float = G  # m/s^2
     V_supply: float = 12.0  # V, assumption
     R: float = 24.0  # Ohm, assumption

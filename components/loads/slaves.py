@@ -10,16 +10,16 @@ S_DESCRIPTION = "Contraction of the wire (SmaWire flange.s); positive = the wire
 
 
 class BiasSpring(Slave):
-    """Preloaded bias spring stretched by the wire's contraction (SPEC 3.1)."""
+    """Preloaded bias spring stretched by the wire's contraction (§loads)."""
 
-    description = "Bias spring: tension preload + k s on the wire (SPEC 3.1: 490 N/m, ~125 MPa)"
+    description = "Bias spring: tension preload + k s on the wire (§loads: 490 N/m, ~125 MPa)"
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         d = loads.SpringParams()
-        self.parameter("k", d.k, "N/m", "Spring stiffness (SPEC 3.1: 490 N/m)")
+        self.parameter("k", d.k, "N/m", "Spring stiffness (§loads: 490 N/m)")
         self.parameter("preload", d.preload, "N", "Tension at zero contraction: 125 MPa on the "
-                       "127 um wire (SPEC 3.1 baseline stress)")
+                       "127 um wire (§loads baseline stress)")
         self.input("flange.s", 0.0, "m", S_DESCRIPTION)
         self.output("flange.f", "N", "Tension of the spring on the wire", depends=["flange.s"])
 
@@ -31,7 +31,7 @@ class BiasSpring(Slave):
 
 
 class DeadWeight(Slave):
-    """Weight hanging from the wire, quasi-static by default; inertia is an effect (SPEC 2.4, 4)."""
+    """Weight hanging from the wire, quasi-static by default; inertia is an effect (§loads, §named-effects)."""
 
     description = ("Dead weight on the wire: tension m g, or (inertia effect) a mass on a "
                    "spring link pulled by the wire, its motion damped: m g + k_link (s - lift)")
@@ -40,7 +40,7 @@ class DeadWeight(Slave):
         super().__init__(**kwargs)
         d = loads.WeightParams()
         self.parameter("mass", d.mass, "kg", "Mass of the weight: 125 MPa on the 127 um wire "
-                       "(SPEC 2.4, 3.1)")
+                       "(§loads)")
         self.parameter("g", d.g, "m/s2", "Gravitational acceleration (standard gravity)")
         self.parameter("inertia", d.inertia, "1", "Inertia of the weight (effect): 0 = off, "
                        "tension m g; r in (0, 1]: the share r of the weight moving on its link")
@@ -79,22 +79,22 @@ class DeadWeight(Slave):
 
 
 class Electromagnet(Slave):
-    """Calibration weight plus a PWM-driven coil pulling a rare-earth magnet (SPEC 2.1, 2.4)."""
+    """Calibration weight plus a PWM-driven coil pulling a rare-earth magnet (§sma-bench, §loads)."""
 
     description = ("Electromagnet load: 100 g calibration weight plus a coil (L di/dt = V duty - "
-                   "R i) pulling a magnet with k_f i (1 + nonlinearity i) (SPEC 2.1)")
+                   "R i) pulling a magnet with k_f i (1 + nonlinearity i) (§sma-bench)")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         d = loads.MagnetParams()
-        self.parameter("m_cal", d.m_cal, "kg", "Calibration weight (SPEC 2.1: 100 g)")
+        self.parameter("m_cal", d.m_cal, "kg", "Calibration weight (§sma-bench: 100 g)")
         self.parameter("g", d.g, "m/s2", "Gravitational acceleration (standard gravity)")
         self.parameter("V_supply", d.V_supply, "V", "Supply voltage switched by the PWM "
                        "(assumption: 12 V)")
         self.parameter("R", d.R, "Ohm", "Coil resistance (assumption: 24 Ohm, 0.5 A at full duty)")
         self.parameter("L", d.L, "H", "Coil inductance (assumption: 0.05 H, L/R = 2.1 ms)")
         self.parameter("k_f", d.k_f, "N/A", "Force per coil current (assumption: 2 N/A, so the "
-                       "duty range spans 77..156 MPa, covering SPEC 2.4's 105..145 MPa)")
+                       "duty range spans 77..156 MPa, covering §loads's 105..145 MPa)")
         self.parameter("nonlinearity", d.nonlinearity, "1/A", "Force nonlinearity (effect, "
                        "0 = off = linear): force k_f i (1 + nonlinearity i)")
         self.input("duty", 0.0, "1", "PWM duty of the coil voltage, 0..1 (clamped, with one "

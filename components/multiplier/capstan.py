@@ -1,12 +1,12 @@
-"""Capstan multiplier (SPEC 3.1 b): one SMA wire folded over fixed capstans into segments.
+"""Capstan multiplier (§capstan-multiplier: one SMA wire folded over fixed capstans into segments.
 
 Segments are numbered from the fixed clamp (1) to the load end (n). Contact j sits between
 segments j and j + 1 and the wire sweeps the angle theta_j over it. With the load's tension f at
-the load end, the capstan equation (SPEC 3.1 b) steps the tension up toward the clamp:
+the load end, the capstan equation (§capstan-multiplier steps the tension up toward the clamp:
 
     f_n = f,   f_i = f_{i+1} exp(mu_f theta_i),   sigma_i = f_i / A
 
-Each segment is a lumped SMA wire of its own (SPEC 2.1 thermal model, SPEC 2.2 modified Preisach
+Each segment is a lumped SMA wire of its own (§thermal-model thermal model, §preisach modified Preisach
 model on the shared hypersurface, each with its own memory and its own stress). The wire is one
 electrical element: the segments are in series, so under voltage drive segment i sees
 u_i = u R_i / sum R (resistances at the start of the step, as the straight wire's) and under
@@ -26,15 +26,15 @@ from musclesim.components.sma import thermal
 from musclesim.components.sma.preisach import PreisachModel
 from musclesim.components.sma.surface import clamp
 
-MAX_SEGMENTS = 6  # variables the FMU declares per segment (SPEC 3.1 b suggests three)
-WRAP = math.pi  # rad, sweep per turning tube: a ratio 1.060-1.085 fits about pi (SPEC 3.1 b)
-MU_F = 0.0237  # wire on PTFE (SPEC 3.1 b: 0.0237 +/- 0.0037)
-LENGTH = 0.214  # m, the multiplier wire (SPEC 3.1 b)
+MAX_SEGMENTS = 6  # variables the FMU declares per segment (§capstan-multiplier suggests three)
+WRAP = math.pi  # rad, sweep per turning tube: a ratio 1.060-1.085 fits about pi (§capstan-multiplier
+MU_F = 0.0237  # wire on PTFE (§capstan-multiplier: 0.0237 +/- 0.0037)
+LENGTH = 0.214  # m, the multiplier wire (§capstan-multiplier
 
 
 @dataclass(frozen=True)
 class CapstanParams:
-    """Geometry of the fold and the wire (defaults SPEC 3.1 b; material SPEC 5 via `wire`).
+    """Geometry of the fold and the wire (defaults §capstan-multiplier; material §sma-material via `wire`).
 
     ``segment_lengths``: one entry per segment [m]; 0 (or an empty tuple) = an equal share of
     what the other entries leave of ``length``. ``wraps``: one angle [rad] per contact (n - 1);

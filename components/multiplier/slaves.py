@@ -6,46 +6,46 @@ from musclesim.components.sma import datasets, thermal
 from musclesim.fmu import Slave
 
 ZERO_C = 273.15  # K; the FMU speaks K, the cores C
-LOAD_150G = 0.150 * 9.80665  # N, the 150 g weight of the multiplier tests (SPEC 3.1 b)
+LOAD_150G = 0.150 * 9.80665  # N, the 150 g weight of the multiplier tests (§capstan-multiplier
 N = capstan.MAX_SEGMENTS
 
 
 class CapstanMultiplier(Slave):
     """SMA wire folded over fixed capstans into segments, each with its own temperature, stress
     (capstan equation) and Preisach memory; one electrical element; end displacement = sum of the
-    segments' contractions (SPEC 3.1 b). Equations: components/multiplier/README.md.
+    segments' contractions (§capstan-multiplier. Equations: components/multiplier/README.md.
 
     Outputs depend on no input directly (like SmaWire), so loads and controllers close loops
     around it without an algebraic loop. Per-segment outputs beyond ``n_segments`` stay 0.
     """
 
     description = ("Capstan multiplier: one SMA wire folded over fixed capstans into segments with "
-                   "their own temperature, stress and hysteresis memory (SPEC 3.1)")
+                   "their own temperature, stress and hysteresis memory (§capstan-multiplier)")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         t = thermal.ThermalParams()
-        self.parameter("length", capstan.LENGTH, "m", "Total wire length (SPEC 3.1 b: 214 mm)")
-        self.parameter("n_segments", 3.0, "1", f"Number of segments, 1..{N} (SPEC 3.1 b: three, "
+        self.parameter("length", capstan.LENGTH, "m", "Total wire length (§capstan-multiplier: 214 mm)")
+        self.parameter("n_segments", 3.0, "1", f"Number of segments, 1..{N} (§capstan-multiplier: three, "
                        "one thermocouple each)")
         for i in range(1, N + 1):
             self.parameter(f"segment_length[{i}]", 0.0, "m", f"Length of segment {i} (1 at the "
                            "clamp); 0 = an equal share of what the others leave of length")
         for j in range(1, N):
             self.parameter(f"wrap[{j}]", capstan.WRAP, "rad", f"Angle the wire sweeps on "
-                           f"capstan {j}, between segments {j} and {j + 1} (SPEC 3.1 b: about pi)")
+                           f"capstan {j}, between segments {j} and {j + 1} (§capstan-multiplier: about pi)")
         self.parameter("mu_f", capstan.MU_F, "1", "Friction coefficient of the wire on the "
-                       "capstans (SPEC 3.1 b: 0.0237, PTFE)")
-        self.parameter("diameter", t.diameter, "m", "Wire diameter (SPEC 3.1 b: 127 um)")
-        self.parameter("density", t.density, "kg/m3", "Density of NiTi (SPEC 5)")
-        self.parameter("specific_heat", t.specific_heat, "J/(kg.K)", "Specific heat of NiTi (SPEC 5)")
+                       "capstans (§capstan-multiplier: 0.0237, PTFE)")
+        self.parameter("diameter", t.diameter, "m", "Wire diameter (§capstan-multiplier: 127 um)")
+        self.parameter("density", t.density, "kg/m3", "Density of NiTi (§sma-material)")
+        self.parameter("specific_heat", t.specific_heat, "J/(kg.K)", "Specific heat of NiTi (§sma-material)")
         self.parameter("rho_martensite", t.rho_martensite, "Ohm.m",
-                       "Resistivity of martensite, 80 uOhm cm (SPEC 5)")
+                       "Resistivity of martensite, 80 uOhm cm (§sma-material)")
         self.parameter("rho_austenite", t.rho_austenite, "Ohm.m",
-                       "Resistivity of austenite, 100 uOhm cm (SPEC 5)")
-        self.parameter("h", t.h, "W/(m2.K)", "Convection coefficient at 50 K excess (SPEC 5)")
+                       "Resistivity of austenite, 100 uOhm cm (§sma-material)")
+        self.parameter("h", t.h, "W/(m2.K)", "Convection coefficient at 50 K excess (§convection)")
         self.parameter("T_init", 293.15, "K", "Initial temperature of every segment; the wire "
-                       "starts fully martensitic and heated to it (SPEC 2.2 memory)")
+                       "starts fully martensitic and heated to it (§preisach memory)")
         self.parameter("drive_current", 0.0, "1",
                        "Electrical input u: 0 = voltage [V] across the whole wire (default), "
                        "1 = current [A] through it")
@@ -57,14 +57,14 @@ class CapstanMultiplier(Slave):
                    "through it [A] when drive_current = 1")
         self.input("T_amb", 293.15, "K", "Ambient air temperature")
         self.input("flange.f", LOAD_150G, "N", "Tensile load at the wire's load end, positive "
-                   "pulling (start: a 150 g weight, SPEC 3.1 b)")
+                   "pulling (start: a 150 g weight, §capstan-multiplier")
         self.output("flange.s", "m", "End displacement: sum of the segments' contractions; "
                     "positive = the load end moves toward the clamp")
         self.output("strain", "1", "Mean strain flange.s / length")
         self.output("T", "K", "Length-weighted mean temperature of the segments")
         self.output("stress", "Pa", "Stress at the load end flange.f / cross-section over the "
                     "last step")
-        self.output("R", "Ohm", "Series resistance of the segments (SPEC 5 per-metre values)")
+        self.output("R", "Ohm", "Series resistance of the segments (§sma-material per-metre values)")
         self.output("P", "W", "Joule heating power over the last step (input held, resistances "
                     "at its start)")
         for i in range(1, N + 1):

@@ -1,4 +1,4 @@
-"""Pneumatic soft actuator (SPEC 1.1, 1.5, 5): a silicone chamber filled from an inflation pump and
+"""Pneumatic soft actuator (§crawler-hardware, §gait, §chamber): a silicone chamber filled from an inflation pump and
 emptied into an exhaust pump, each line through a PWM-driven solenoid valve (ISO 6358 orifice).
 
 Pressures are gauge [Pa] everywhere except in the ISO 6358 flow law, which takes absolute ones.
@@ -18,32 +18,32 @@ V_MIN = 0.1  # share of V0 a chamber squeezed flat keeps (assumption: walls, con
 
 @dataclass(frozen=True)
 class ActuatorParams:
-    """One soft actuator with its valves and pumps; defaults: the central one (SPEC 1.1, 1.2)."""
+    """One soft actuator with its valves and pumps; defaults: the central one (§crawler-hardware, §two-mass)."""
 
-    central: float = 1.0  # 1 = central longitudinal actuator, 0 = extremal friction one (SPEC 1.1)
-    s_a: float = 9.62e-4  # m^2, cross-section: f_a = s_a p (SPEC 1.2)
-    V0: float = 5.87e-5  # m^3, 30 mm inner diameter (35 mm OD, 2.5 mm walls) x 83 mm (SPEC 1.1)
+    central: float = 1.0  # 1 = central longitudinal actuator, 0 = extremal friction one (§crawler-hardware)
+    s_a: float = 9.62e-4  # m^2, cross-section: f_a = s_a p (§two-mass)
+    V0: float = 5.87e-5  # m^3, 30 mm inner diameter (35 mm OD, 2.5 mm walls) x 83 mm (§crawler-hardware)
     dV_contact: float = 3e-6  # m^3, extremal chamber's growth from casing to silicone contact
     #                           (assumption: a few mm of bulge on a 30 mm chamber)
     p_supply: float = 40e3  # Pa gauge, inflation pump (assumption: above the 20.7 kPa the
-    #                         study reaches, SPEC 1.4)
+    #                         study reaches, §ideal-actuation)
     p_exhaust: float = -20e3  # Pa gauge, exhaust pump (assumption: a small vacuum pump)
     C_in: float = 5e-10  # m^3/(s Pa), inflation valve (assumption: a miniature solenoid valve)
     C_out: float = 5e-10  # m^3/(s Pa), exhaust valve (assumption: the same valve)
-    b: float = 0.3  # critical pressure ratio of the valves (assumption: a typical valve, SPEC 5)
+    b: float = 0.3  # critical pressure ratio of the valves (assumption: a typical valve, §valves)
     T: float = T_0  # K, air temperature (room temperature, the ISO 6358 reference)
     kappa: float = 1.2  # polytropic exponent (assumption: between 1 isothermal and 1.4
-    #                     adiabatic, SPEC 5)
+    #                     adiabatic, §valves)
     f_pwm: float = 50.0  # Hz, PWM carrier (assumption: the study gives none)
     pwm_phase: float = 0.0  # of a period: where the carrier's periods start on the master's
     #                         clock (assumption: the study gives none); a bench's own PWM
     #                         timer starts anywhere, which matters when its duties are replayed;
     #                         periodic: 1.25 is 0.25
-    p_contact: float = 8e3  # Pa gauge, firm ground contact above it (assumption; SPEC 1.5 by eye)
-    t_contact: float = 0.2  # s, contact 0 -> 1 (assumption: SPEC 1.1's up to 0.4 s switching
+    p_contact: float = 8e3  # Pa gauge, firm ground contact above it (assumption; §gait by eye)
+    t_contact: float = 0.2  # s, contact 0 -> 1 (assumption: §crawler-hardware's up to 0.4 s switching
     #                         includes the pressure build-up); <= 0: at once (bulge_contact)
-    dt_sub: float = 1e-4  # s, internal step (assumption: 10 per 1 ms step, SPEC 1.1 DAQ at 1 kHz)
-    # effects, off by default (SPEC 4: pneumatic actuation; SPEC 5: valve delays of a few ms)
+    dt_sub: float = 1e-4  # s, internal step (assumption: 10 per 1 ms step, §crawler-hardware DAQ at 1 kHz)
+    # effects, off by default (§named-effects: pneumatic actuation; §valves: valve delays of a few ms)
     t_open_delay: float = 0.0  # s, valve opens this long after its command rises
     t_close_delay: float = 0.0  # s, valve closes this long after its command falls
     C_leak: float = 0.0  # m^3/(s Pa), leak of the chamber to the atmosphere (ISO 6358 orifice)

@@ -1,4 +1,4 @@
-"""The quadruped of SPEC.md 3.2 (b): four bending-actuator legs with anisotropic-friction feet on
+"""The quadruped of §quadruped: four bending-actuator legs with anisotropic-friction feet on
 a body moving along one axis, and the leg sequencer that pulses their wires.
 
 - `body`: the body and its four feet (each foot the crawler's stick-slip friction of

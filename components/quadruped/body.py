@@ -1,4 +1,4 @@
-"""The quadruped's body and feet (SPEC 3.2 b): a body of mass M moving along x on four legs, each
+"""The quadruped's body and feet (§quadruped: a body of mass M moving along x on four legs, each
 foot a point of the leg's modal mass m_f held by the leg's lateral stiffness k and damping c:
 
     F_i   = k (x_b + s_i(t) - x_i) + c (v_b + s_i'(t) - v_i)     (leg force on foot i)
@@ -9,13 +9,13 @@ held as s_i + s_i' tau over a communication step): the loaded leg deflects by su
 own dynamics (first mode, in the leg's FMU) give s_i, the foot's load adds F / k with the foot's
 own small mass m_f. The coupling is one way: the foot's load does not reach the leg's mode or its
 wires' stress (ground contact does not damp the leg's ringing; README). f_i is the crawler's stick-slip friction
-(`crawler.friction.friction_force`, SPEC 1.3) with coefficients chosen by direction: a foot
+(`crawler.friction.friction_force`, §friction) with coefficients chosen by direction: a foot
 sliding, or pushed, toward +x slides easily (hook trailing), toward -x it grips. Each foot
 carries a quarter of the weight. The body does not touch the ground.
 
 Numerics: semi-implicit Euler in sub-steps of at most ``max_substep``. A foot inside the stick
 band whose force stays below static friction stops (velocity 0), and a kinetic step that would
-reverse a foot's velocity stops it there: without these remedies (SPEC 5) a foot chatters at the
+reverse a foot's velocity stops it there: without these remedies (§stick-slip-numerics) a foot chatters at the
 per-step change of velocity, larger than any band narrow enough for feet moving at mm/s.
 """
 import math
@@ -27,7 +27,7 @@ from musclesim.components.crawler import friction
 
 G = 9.81  # m/s^2
 LEGS = 4
-FOOT_HEIGHT = 17e-3  # m, the foot point the body sees: where the study's laser reads (SPEC 3.2)
+FOOT_HEIGHT = 17e-3  # m, the foot point the body sees: where the study's laser reads (§quadruped)
 
 
 def leg_stiffness():
@@ -46,7 +46,7 @@ LEG_STIFFNESS = leg_stiffness()
 
 @dataclass(frozen=True)
 class QuadrupedParams:
-    """Body, legs and feet (SPEC 3.2 b leaves them open: defaults and reasons in
+    """Body, legs and feet (§quadruped leaves them open: defaults and reasons in
     components/quadruped/README.md)."""
 
     body_mass: float = 5e-3  # kg, FR4 frame and four actuators (open)
@@ -55,9 +55,9 @@ class QuadrupedParams:
     leg_stiffness: float = LEG_STIFFNESS  # N/m, a default leg's stiffness at its foot
     leg_damping_ratio: float = 0.03  # as the bending actuator's first mode (open)
     mu_s_forward: float = 0.2  # foot sliding toward +x, hook trailing, static (open)
-    mu_k_forward: float = 0.15  # kinetic = 0.75 static, as SPEC 1.3
+    mu_k_forward: float = 0.15  # kinetic = 0.75 static, as §friction
     mu_s_backward: float = 0.8  # foot sliding toward -x, hook gripping, static (open)
-    mu_k_backward: float = 0.6  # kinetic = 0.75 static, as SPEC 1.3
+    mu_k_backward: float = 0.6  # kinetic = 0.75 static, as §friction
     v_s: float = 1e-5  # m/s, stick band: far below the feet's mm/s (open)
     max_substep: float = 2e-5  # s, ~1/8 of a radian of the foot's mode
 

@@ -1,6 +1,6 @@
-"""The quadruped's leg sequencer (SPEC 3.2 b): which leg's wire is pulsed when.
+"""The quadruped's leg sequencer (§quadruped: which leg's wire is pulsed when.
 
-Every wire gets the study's pulse train (SPEC 3.2 a: 5 V, 5 % duty at 4 Hz) shifted in time:
+Every wire gets the study's pulse train (§quadruped: 5 V, 5 % duty at 4 Hz) shifted in time:
 leg i's wire A at the phase phi_i (a fraction of the period), its wire B wire_delay later (0.5:
 the alternating case of the bending actuator's test, 0.125 s at 4 Hz). A wire is at `voltage`
 while its shifted cycle is in the first `duty` of a period, else at 0:
@@ -19,12 +19,12 @@ LEGS = 4
 
 @dataclass(frozen=True)
 class SequencerParams:
-    """Pulse train and gait phasing (defaults: SPEC 3.2 a's pulses; phasing open, README)."""
+    """Pulse train and gait phasing (defaults: §quadruped's pulses; phasing open, README)."""
 
-    frequency: float = 4.0  # Hz (SPEC 3.2 a)
-    duty: float = 0.05  # 12.5 ms on per 250 ms (SPEC 3.2 a)
-    voltage: float = 5.0  # V (SPEC 3.2 a)
-    wire_delay: float = 0.5  # periods from a leg's wire A to its wire B (SPEC 3.2 a: 0.125 s)
+    frequency: float = 4.0  # Hz (§quadruped
+    duty: float = 0.05  # 12.5 ms on per 250 ms (§quadruped
+    voltage: float = 5.0  # V (§quadruped
+    wire_delay: float = 0.5  # periods from a leg's wire A to its wire B (§quadruped: 0.125 s)
     phase1: float = 0.0  # periods, leg 1 (front left) (open: a trot, diagonal pairs together)
     phase2: float = 0.5  # leg 2 (front right)
     phase3: float = 0.5  # leg 3 (rear left)

@@ -1,4 +1,4 @@
-"""FMU slaves of the quadruped (SPEC 3.2 b): thin adapters over `body.Quadruped` and
+"""FMU slaves of the quadruped (§quadruped: thin adapters over `body.Quadruped` and
 `sequencer.voltages`."""
 import math
 
@@ -7,14 +7,14 @@ from musclesim.fmu import Slave
 
 
 class QuadrupedBody(Slave):
-    """Quadruped body on four legs with anisotropic-friction feet, moving along x (SPEC 3.2 b).
+    """Quadruped body on four legs with anisotropic-friction feet, moving along x (§quadruped.
 
     Inputs: each leg's unloaded deflection at its foot and its rate (a BendingActuator's tip.s,
     tip.v), held as a first-order hold over the step. Equations: components/quadruped/README.md.
     """
 
     description = ("Quadruped body on four bending-actuator legs, feet with direction-dependent "
-                   "stick-slip friction (SPEC 3.2, friction of SPEC 1.3)")
+                   "stick-slip friction (§quadruped, friction of §friction)")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
@@ -32,7 +32,7 @@ class QuadrupedBody(Slave):
         self.parameter("mu_s_backward", d.mu_s_backward, "1", "Static friction of a foot toward "
                        "-x, hook gripping (open, README)")
         self.parameter("mu_k_backward", d.mu_k_backward, "1", "Kinetic friction of a foot toward -x")
-        self.parameter("v_s", d.v_s, "m/s", "Stick velocity band of the feet (SPEC 1.3 form)")
+        self.parameter("v_s", d.v_s, "m/s", "Stick velocity band of the feet (§friction form)")
         self.parameter("max_substep", d.max_substep, "s", "Longest internal sub-step")
         for i in range(1, body.LEGS + 1):
             self.input(f"leg{i}.s", 0.0, "m", f"Unloaded deflection of leg {i} at its foot, +x "
@@ -71,19 +71,19 @@ class QuadrupedBody(Slave):
 
 
 class LegSequencer(Slave):
-    """Pulse voltages of the quadruped's eight wires: which leg's wire is pulsed when (SPEC 3.2)."""
+    """Pulse voltages of the quadruped's eight wires: which leg's wire is pulsed when (§quadruped)."""
 
     description = ("Leg sequencer of the quadruped: the study's heating pulses (5 V, 5 % at "
-                   "4 Hz, SPEC 3.2) per wire, phased per leg")
+                   "4 Hz, §quadruped) per wire, phased per leg")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         d = sequencer.SequencerParams()
-        self.parameter("frequency", d.frequency, "Hz", "Pulse frequency of every wire (SPEC 3.2)")
-        self.parameter("duty", d.duty, "1", "Share of a period a wire is heated (SPEC 3.2: 5 %)")
-        self.parameter("voltage", d.voltage, "V", "Pulse voltage (SPEC 3.2: 5 V)")
+        self.parameter("frequency", d.frequency, "Hz", "Pulse frequency of every wire (§quadruped)")
+        self.parameter("duty", d.duty, "1", "Share of a period a wire is heated (§quadruped: 5 %)")
+        self.parameter("voltage", d.voltage, "V", "Pulse voltage (§quadruped: 5 V)")
         self.parameter("wire_delay", d.wire_delay, "1", "Periods from a leg's wire A pulse to its "
-                       "wire B pulse (SPEC 3.2: 0.5)")
+                       "wire B pulse (§quadruped: 0.5)")
         for i, phase in enumerate(sequencer.phases(d), start=1):
             self.parameter(f"phase{i}", phase, "1", f"Phase of leg {i}'s wire A in periods "
                            "(open; default: a trot, legs 1 and 4 with each other)")

@@ -1,1 +1,1 @@
-"""Sensors with their imperfections as parameters, off by default (SPEC.md 2.1, 4)."""
+"""Sensors with their imperfections as parameters, off by default (§sma-bench, §named-effects)."""

@@ -61,36 +61,36 @@ class _ScalarSensor(Slave):
 
 
 class Thermocouple(_ScalarSensor):
-    """Temperature sensor with lag, bias, noise and quantisation, all off by default (SPEC 2.1)."""
+    """Temperature sensor with lag, bias, noise and quantisation, all off by default (§sma-bench)."""
 
-    description = "Thermocouple: first-order lag, bias, seeded noise, quantisation (SPEC 2.1, 4)"
+    description = "Thermocouple: first-order lag, bias, seeded noise, quantisation (§sma-bench, §named-effects)"
     signal, measured, unit, start = "T", "T_meas", "K", 293.15
     origin = 273.15  # K: a thermocouple's gain error is a share of the reading in C
     element, signal_description = "junction", "Temperature of the wire"
 
 
 class LoadCell(_ScalarSensor):
-    """Load cell on the wire's load with lag, bias, noise and quantisation, all off (SPEC 2.1)."""
+    """Load cell on the wire's load with lag, bias, noise and quantisation, all off (§sma-bench)."""
 
     description = ("Load cell: tension on the wire with first-order lag, bias, seeded noise, "
-                   "quantisation (SPEC 2.1, 4)")
+                   "quantisation (§sma-bench, §named-effects)")
     signal, measured, unit = "f", "f_meas", "N"
     element, signal_description = "load cell and its amplifier", "Tension on the wire"
 
 
 class LaserSensor(_ScalarSensor):
-    """Laser displacement sensor on the wire's contraction, imperfections off (SPEC 2.1)."""
+    """Laser displacement sensor on the wire's contraction, imperfections off (§sma-bench)."""
 
     description = ("Laser displacement sensor: wire contraction with first-order lag, bias, "
-                   "seeded noise, quantisation (SPEC 2.1, 4)")
+                   "seeded noise, quantisation (§sma-bench, §named-effects)")
     signal, measured, unit = "s", "s_meas", "m"
     element, signal_description = "sensor's filter", "Contraction of the wire (SmaWire flange.s)"
 
 
 class PressureSensor(_ScalarSensor):
-    """Pressure sensor on a soft actuator's chamber, imperfections off by default (SPEC 1.1)."""
+    """Pressure sensor on a soft actuator's chamber, imperfections off by default (§crawler-hardware)."""
 
     description = ("Pressure sensor: chamber gauge pressure with first-order lag, bias, seeded "
-                   "noise, quantisation (SPEC 1.1, 4)")
+                   "noise, quantisation (§crawler-hardware, §named-effects)")
     signal, measured, unit = "p", "p_meas", "Pa"
     element, signal_description = "pressure sensor", "Gauge pressure of the chamber"

@@ -1,6 +1,6 @@
-"""Thermocouple: first-order lag, bias, seeded noise and quantisation (SPEC 2.1), all off by default.
+"""Thermocouple: first-order lag, bias, seeded noise and quantisation (§sma-bench), all off by default.
 
-The junction follows the wire with time constant tau (contact and coat, SPEC 2.1: a bare single
+The junction follows the wire with time constant tau (contact and coat, §sma-bench: a bare single
 thermocouple gave 6-8 C RMS error); the reading adds a bias and Gaussian noise and is rounded to
 the quantisation step. The generic scalar-sensor core in `sensor` does it; kept under this name.
 """

@@ -1,1 +1,1 @@
-"""The SMA wire of SPEC.md section 2: modified Preisach hysteresis, its inverse, the thermal model."""
+"""The SMA wire of §thermal-model: modified Preisach hysteresis, its inverse, the thermal model."""

@@ -19,16 +19,16 @@ class SmaLikeParams:
     non-negative, so F is a valid FORC surface; heating follows S_h, cooling S_c.
     """
 
-    eps_max: float = 0.0376  # strain, F(130 C, 30 C) at sigma_ref (SPEC 2.3)
-    sigma_ref: float = 105e6  # Pa, stress of eps_max (SPEC 2.3)
-    growth: float = 1.5e-9  # 1/Pa, relative amplitude growth (~4 % at 155 MPa, SPEC 2.3)
-    T_heat: float = 93.0  # C, heating transition centre, (As + Af) / 2 of a 90 C wire (SPEC 5)
-    T_cool: float = 67.0  # C, cooling transition centre, (Ms + Mf) / 2 (SPEC 5)
-    width: float = 4.0  # C, logistic scale of both transitions (~10 C from start to finish, SPEC 5)
-    sigma_mid: float = 125e6  # Pa, stress of T_heat and T_cool (the middle of SPEC 2.2's levels)
-    slope: float = 7e6  # Pa/C, Clausius-Clapeyron shift of both transitions (SPEC 5)
-    lo: float = 30.0  # C, lower saturation (SPEC 2.1)
-    hi: float = 130.0  # C, upper saturation (SPEC 2.1)
+    eps_max: float = 0.0376  # strain, F(130 C, 30 C) at sigma_ref (§forc-identification)
+    sigma_ref: float = 105e6  # Pa, stress of eps_max (§forc-identification)
+    growth: float = 1.5e-9  # 1/Pa, relative amplitude growth (~4 % at 155 MPa, §forc-identification)
+    T_heat: float = 93.0  # C, heating transition centre, (As + Af) / 2 of a 90 C wire (§sma-material)
+    T_cool: float = 67.0  # C, cooling transition centre, (Ms + Mf) / 2 (§sma-material)
+    width: float = 4.0  # C, logistic scale of both transitions (~10 C from start to finish, §sma-material)
+    sigma_mid: float = 125e6  # Pa, stress of T_heat and T_cool (the middle of §preisach's levels)
+    slope: float = 7e6  # Pa/C, Clausius-Clapeyron shift of both transitions (§sma-material)
+    lo: float = 30.0  # C, lower saturation (§sma-wire)
+    hi: float = 130.0  # C, upper saturation (§sma-wire)
 
     def F(self, a, b, sigma):
         """The FORC increment [strain] at a >= b [C] and stress sigma [Pa]."""
@@ -44,7 +44,7 @@ class SmaLikeParams:
 
 
 def sma_like_surface(params=None, temps=GRID_TEMPS, stresses=STRESSES):
-    """`SmaLikeParams` tabulated on the SPEC 2.2 grid (21 x 21, five stresses by default).
+    """`SmaLikeParams` tabulated on the §preisach grid (21 x 21, five stresses by default).
 
     Examples
     --------

@@ -1,7 +1,7 @@
-"""Training/fatigue drift of an SMA wire over transformation cycles (SPEC 2.6), off by default.
+"""Training/fatigue drift of an SMA wire over transformation cycles (§drift), off by default.
 
 A new wire's major loop changes markedly over its first ~13 tests of 20 cycles each, then settles
-(SPEC 2.6). The drift saturates with the accumulated cycles N (one cycle = xi swept 1 -> 0 -> 1):
+(§drift). The drift saturates with the accumulated cycles N (one cycle = xi swept 1 -> 0 -> 1):
 
     progress(N) = 1 - exp(-N / N_settle)
     eps  = (1 + amplitude_change progress) eps_model(T - shift progress, sigma)
@@ -17,11 +17,11 @@ from musclesim.components.checks import require
 
 @dataclass(frozen=True)
 class DriftParams:
-    """Settled drift and its pace (defaults: no drift; pace from SPEC 2.6)."""
+    """Settled drift and its pace (defaults: no drift; pace from §drift)."""
 
     amplitude_change: float = 0.0  # relative change of the strain amplitude once settled; 0 = off
     shift: float = 0.0  # K, settled shift of the transformation temperatures; 0 = off
-    cycles_to_settle: float = 87.0  # cycles, e-folding: 95 % after 13 tests x 20 cycles (SPEC 2.6)
+    cycles_to_settle: float = 87.0  # cycles, e-folding: 95 % after 13 tests x 20 cycles (§drift)
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""

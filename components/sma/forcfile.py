@@ -9,7 +9,7 @@ Format (UTF-8 text, '#' lines are comments)::
     ...
 
 One row for every grid pair a >= b (diagonal included, where F = 0) at every stress: 231 rows per
-stress on the 21-point grid of SPEC 2.2. Stress in Pa, temperatures a (peak) and b (end of the
+stress on the 21-point grid of §preisach. Stress in Pa, temperatures a (peak) and b (end of the
 reversal) in degrees C, F the dimensionless strain increment of the first-order reversal curve.
 Rows may come in any order; the temperature grid (uniform) and the stresses are read from the rows.
 """
@@ -20,11 +20,11 @@ import numpy as np
 
 HEADER = ("stress_Pa", "a_C", "b_C", "F")
 # physical bounds of each column: stress up to 10 GPa, temperatures from absolute zero to 1000 C,
-# strain increments within +-100 % (the study's wire transforms by about 4 %, SPEC 2.3)
+# strain increments within +-100 % (the study's wire transforms by about 4 %, §forc-identification)
 _RANGES = ((0.0, 1e10), (-273.15, 1000.0), (-273.15, 1000.0), (-1.0, 1.0))
 _PREAMBLE = ("# musclesim FORC data set: F(a, b; stress) = strain increment of the first-order "
              "reversal curve heated from the lower saturation temperature to a, cooled to b "
-             "(SPEC 2.2)",
+             "(§preisach)",
              "# units: stress_Pa in Pa, a_C and b_C in degrees C, F dimensionless strain; "
              "one row per grid pair a >= b at every stress")
 

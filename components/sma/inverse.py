@@ -1,4 +1,4 @@
-"""Inverse of the modified Preisach model (SPEC 2.4): strain and stress in, temperature out."""
+"""Inverse of the modified Preisach model (§preisach-inverse): strain and stress in, temperature out."""
 import copy
 import math
 
@@ -6,11 +6,11 @@ import numpy as np
 
 from .preisach import MemoryParams, StressInput, clamp, push_extremum
 
-N_DENSE = 201  # points per axis of the densified surfaces and of the inverse bases (SPEC 2.4)
+N_DENSE = 201  # points per axis of the densified surfaces and of the inverse bases (§preisach-inverse)
 
 
 class InverseBases:
-    """The a- and b-inverse bases of SPEC 2.4, built once from a `Hypersurface`.
+    """The a- and b-inverse bases of §preisach-inverse, built once from a `Hypersurface`.
 
     Each constant-stress surface is densified to n x n temperatures (exactly: the dense points
     include the grid, and the surface is piecewise linear along each grid line) and inverted
@@ -20,7 +20,7 @@ class InverseBases:
     branches flatten towards saturation and the inverse bends most (this cuts the worst
     constant-stress error about fivefold against uniform levels). Where F is flat the inverse
     takes the least heating (smallest a') or the least cooling (largest b'). Between stresses the
-    inverse temperatures and F_max are interpolated linearly (SPEC 2.4), which differs from the
+    inverse temperatures and F_max are interpolated linearly (§preisach-inverse), which differs from the
     forward model's linear interpolation of F by a fraction of a percent of the strain where a
     transition shifts with stress. A step costs one bilinear interpolation per stress level.
 
@@ -54,7 +54,7 @@ class InverseBases:
 
 
 class PreisachInverse(StressInput):
-    """Feed-forward inverse of `PreisachModel` (SPEC 2.4): step(eps_r, sigma_r) -> T_out.
+    """Feed-forward inverse of `PreisachModel` (§preisach-inverse): step(eps_r, sigma_r) -> T_out.
 
     It keeps the forward model's memory (the same extrema stack, frozen terms and rules of
     `MemoryParams`) as if the forward model were driven by the temperatures it outputs, so that
@@ -67,7 +67,7 @@ class PreisachInverse(StressInput):
     - a T_out beyond an older extremum wipes it out (the pair is dropped, T_out recomputed, and
       kept at least at that extremum so that the forward model wipes it out too).
 
-    The direction is that of the reference (SPEC 2.4: the sign of d eps_r / dt, stress changes
+    The direction is that of the reference (§position-control: the sign of d eps_r / dt, stress changes
     ignored): the inverse turns only when eps_r moves back, and only if the branch at the turning
     point X lies across it. When the stress alone would move T_out back (eps_r still rising, but the
     ascending branch under the new stress lies above it), or forward while eps_r moves back, T_out
@@ -80,7 +80,7 @@ class PreisachInverse(StressInput):
     inverse's memory.
 
     Under time-varying stress the forward strain jumps where a wipe-out joins terms frozen at
-    other stresses (SPEC 2.2's rule); a reference inside such a jump holds T_out until it is
+    other stresses (§preisach's rule); a reference inside such a jump holds T_out until it is
     passed.
 
     Out-of-range policy: stress as `PreisachModel`; eps_r outside [0, max F(a0, b0)] is clamped

@@ -1,4 +1,4 @@
-"""Modified Preisach forward model of SPEC 2.2: temperature in, strain out, stress a correction."""
+"""Modified Preisach forward model of §preisach: temperature in, strain out, stress a correction."""
 import sys
 from bisect import bisect_right
 from dataclasses import dataclass
@@ -13,7 +13,7 @@ __all__ = ["GRID_TEMPS", "STRESSES", "Hypersurface", "MemoryParams", "PreisachMo
 
 @dataclass(frozen=True)
 class MemoryParams:
-    """Numerics of the input memory (the extrema stack); SPEC 2.2 leaves them open."""
+    """Numerics of the input memory (the extrema stack); §preisach leaves them open."""
 
     tol: float = 0.01  # C, reversals smaller than this make no stack entry (real-time noise guard)
     max_extrema: int = 64  # stack bound incl. b0; beyond it the least important pair is forgotten
@@ -71,7 +71,7 @@ class StressInput:
 
 
 class PreisachModel(StressInput):
-    """Forward model of SPEC 2.2 on a `Hypersurface`, stepped sample by sample in O(1).
+    """Forward model of §preisach on a `Hypersurface`, stepped sample by sample in O(1).
 
     The memory is the alternating stack ``extrema = [m_0 = b0, M_1, m_1, M_2, ...]`` with wiping-out
     on every input. Each completed term (F(M_k, m_k-1) when M_k is recorded, -F(M_k, m_k) when m_k
@@ -89,7 +89,7 @@ class PreisachModel(StressInput):
     State: plain attributes (lists, floats, a bool), so ``copy.deepcopy`` saves it; the surface is
     shared, not copied. Out-of-range policy: that of `Hypersurface` (clamp, warn once per model).
     With time-varying stress the strain can leave [0, F(a0, b0)], since frozen terms keep their
-    stresses (SPEC 2.2).
+    stresses (§preisach).
 
     Parameters
     ----------
@@ -138,13 +138,13 @@ class PreisachModel(StressInput):
         if self.rising:
             if T >= X:
                 X = T
-                while len(E) > 2 and T >= E[-2]:  # wiping-out: a larger maximum (SPEC 2.2)
+                while len(E) > 2 and T >= E[-2]:  # wiping-out: a larger maximum (§preisach)
                     self._wipe_pair()
             a, b = X, E[-1]
         else:
             if T <= X:
                 X = T
-                while T <= E[-2]:  # wiping-out: a smaller minimum (SPEC 2.2)
+                while T <= E[-2]:  # wiping-out: a smaller minimum (§preisach)
                     if len(E) == 2:
                         return self._all_off()
                     self._wipe_pair()
@@ -261,7 +261,7 @@ def stress_grid(surface):
 
 
 def stack_strain(surface, extrema, stresses, T, sigma):
-    """Strain of an extrema stack summed term by term (the O(stack) form of SPEC 2.2).
+    """Strain of an extrema stack summed term by term (the O(stack) form of §preisach).
 
     Parameters
     ----------
@@ -286,7 +286,7 @@ def stack_strain(surface, extrema, stresses, T, sigma):
 
 
 def strain_rising(F, maxima, minima):
-    """SPEC 2.2, temperature rising (T = M_n, the last maximum), at one stress:
+    """§preisach, temperature rising (T = M_n, the last maximum), at one stress:
 
     eps = sum_{k=1}^{n-1} [F(M_k, m_{k-1}) - F(M_k, m_k)] + F(M_n, m_{n-1})
 
@@ -307,7 +307,7 @@ def strain_rising(F, maxima, minima):
 
 
 def strain_falling(F, maxima, minima):
-    """SPEC 2.2, temperature falling (T = m_n, the last minimum), at one stress:
+    """§preisach, temperature falling (T = m_n, the last minimum), at one stress:
 
     eps = sum_{k=1}^{n} [F(M_k, m_{k-1}) - F(M_k, m_k)]
 

@@ -1,12 +1,12 @@
-"""Reference strain profiles SP I-IV and loading profiles LP I-VI of SPEC 2.4: signal generators."""
+"""Reference strain profiles SP I-IV and loading profiles LP I-VI of §reference-profiles: signal generators."""
 import math
 
 import numpy as np
 
-EPS_MAX = 0.0376  # strain, top of the reference strain profiles (SPEC 2.4)
-SIGMA_LO, SIGMA_HI = 105e6, 145e6  # Pa, range of the loading profiles (SPEC 2.4)
-DURATION = 550.0  # s, length of a run (SPEC 2.4)
-F_FAST, F_SLOW = 1 / 17, 1 / 47  # Hz, the sinusoids of SP I, LP I and LP II (SPEC 2.4)
+EPS_MAX = 0.0376  # strain, top of the reference strain profiles (§reference-profiles)
+SIGMA_LO, SIGMA_HI = 105e6, 145e6  # Pa, range of the loading profiles (§reference-profiles)
+DURATION = 550.0  # s, length of a run (§position-control)
+F_FAST, F_SLOW = 1 / 17, 1 / 47  # Hz, the sinusoids of SP I, LP I and LP II (§reference-profiles)
 STRAIN_PROFILES = ("SP I", "SP II", "SP III", "SP IV")
 LOADING_PROFILES = ("LP I", "LP II", "LP III", "LP IV", "LP V", "LP VI")
 
@@ -30,7 +30,7 @@ class Profile:
 
 
 def strain_profile(name, lo=0.0, hi=EPS_MAX, duration=DURATION, seed=0):
-    """Reference strain profile SP I-IV of SPEC 2.4 within [lo, hi].
+    """Reference strain profile SP I-IV of §reference-profiles within [lo, hi].
 
     SP I: sinusoid at 1/17 Hz over the whole range, starting at lo. SP II: sinusoid at 1/17 Hz
     about the middle, its amplitude decaying from the full range with time constant duration / 4
@@ -56,7 +56,7 @@ def strain_profile(name, lo=0.0, hi=EPS_MAX, duration=DURATION, seed=0):
 
 
 def loading_profile(name, lo=SIGMA_LO, hi=SIGMA_HI, duration=DURATION, seed=0):
-    """Loading (stress) profile LP I-VI of SPEC 2.4 within [lo, hi] [Pa].
+    """Loading (stress) profile LP I-VI of §reference-profiles within [lo, hi] [Pa].
 
     LP I and LP II: sinusoids at 1/17 Hz and 1/47 Hz over the range, starting at the middle.
     LP III: linear increase lo -> hi over `duration`; LP IV: linear decrease hi -> lo (held after).

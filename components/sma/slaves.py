@@ -10,7 +10,7 @@ from musclesim.components.sma.surface import clamp
 from musclesim.fmu import Slave
 
 ZERO_C = 273.15  # K; the FMU speaks K, the cores C
-LOAD_150G = 0.150 * 9.80665  # N, the 150 g weight of the multiplier tests (SPEC 3.1): 116 MPa
+LOAD_150G = 0.150 * 9.80665  # N, the 150 g weight of the multiplier tests (§capstan-multiplier): 116 MPa
 HYSTERESIS = ("Hysteresis data set: 0 = reference wire (1 C grid, 60-200 MPa); k >= 1 = FORC "
               "data set k of sma/data/forc-sets.toml shipped in the FMU")
 
@@ -18,7 +18,7 @@ _BASES = {}  # id(surface) -> (surface, its InverseBases); the surface is held, 
 
 
 class SmaWire(Slave):
-    """SMA wire: Joule heating and convection (SPEC 2.1) drive the modified Preisach model (2.2).
+    """SMA wire: Joule heating and convection (§thermal-model) drive the modified Preisach model (2.2).
 
     Per communication step, with the inputs held from its start: the temperature advances by the
     lumped thermal model (resistance from the martensite fraction at the start of the step), then
@@ -26,7 +26,7 @@ class SmaWire(Slave):
     the martensite fraction for the next step. No output depends directly on an input (stress and
     power are those of the step just taken), so the wire closes loops with controllers and loads
     without an algebraic loop. Temperatures outside the data set's grid (30..130 C)
-    saturate the hysteresis (SPEC 2.1); stresses outside its stresses are clamped with one warning
+    saturate the hysteresis (§thermal-model); stresses outside its stresses are clamped with one warning
     in the FMU log. Effects (latent heat, cold ends, h(T), drift, stress ignored and partly
     restored) are off by default. With cold ends (`end_cooling` > 0, `ends`) the temperature T is
     the core's, and each end zone has its own hysteresis memory at its own temperature; strain,
@@ -35,66 +35,66 @@ class SmaWire(Slave):
     """
 
     description = ("SMA wire: lumped thermal model with phase-dependent resistance and modified "
-                   "Preisach hysteresis under stress (SPEC 2.1, 2.2)")
+                   "Preisach hysteresis under stress (§thermal-model, §preisach)")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         t, d = thermal.ThermalParams(), drift.DriftParams()
-        self.parameter("length", t.length, "m", "Wire length (SPEC 2.1)")
-        self.parameter("diameter", t.diameter, "m", "Wire diameter (SPEC 2.1)")
-        self.parameter("density", t.density, "kg/m3", "Density of NiTi (SPEC 5)")
-        self.parameter("specific_heat", t.specific_heat, "J/(kg.K)", "Specific heat of NiTi (SPEC 5)")
+        self.parameter("length", t.length, "m", "Wire length (§thermal-model)")
+        self.parameter("diameter", t.diameter, "m", "Wire diameter (§sma-wire)")
+        self.parameter("density", t.density, "kg/m3", "Density of NiTi (§sma-material)")
+        self.parameter("specific_heat", t.specific_heat, "J/(kg.K)", "Specific heat of NiTi (§sma-material)")
         self.parameter("rho_martensite", t.rho_martensite, "Ohm.m",
-                       "Resistivity of martensite, 80 uOhm cm (SPEC 5)")
+                       "Resistivity of martensite, 80 uOhm cm (§sma-material)")
         self.parameter("rho_austenite", t.rho_austenite, "Ohm.m",
-                       "Resistivity of austenite, 100 uOhm cm (SPEC 5)")
-        self.parameter("h", t.h, "W/(m2.K)", "Convection coefficient at 50 K excess (SPEC 5)")
+                       "Resistivity of austenite, 100 uOhm cm (§sma-material)")
+        self.parameter("h", t.h, "W/(m2.K)", "Convection coefficient at 50 K excess (§convection)")
         self.parameter("T_init", 293.15, "K", "Initial wire temperature; the wire starts fully "
-                       "martensitic and heated to it (SPEC 2.2 memory)")
+                       "martensitic and heated to it (§preisach memory)")
         self.parameter("drive_current", 0.0, "1",
-                       "Electrical input u: 0 = voltage [V] (default), 1 = current [A] (SPEC 2.1)")
+                       "Electrical input u: 0 = voltage [V] (default), 1 = current [A] (§thermal-model)")
         self.parameter("hysteresis", 0.0, "1", HYSTERESIS)
         self.parameter("sigma_surface", 0.0, "Pa",
                        "Stress ignored (effect, 0 = off): > 0 uses the single surface at this "
-                       "stress for every stress (SPEC 2.4)")
+                       "stress for every stress (§position-control)")
         self.parameter("stress_blend", 0.0, "1",
                        "With sigma_surface > 0, how much the hysteresis follows the stress "
                        "(effect 'stress dependence ignored', 0 = off): it sees sigma_surface + "
                        "stress_blend (stress - sigma_surface) on the stress-aware data set")
         self.parameter("latent_heat", t.latent_heat, "J/kg",
-                       "Latent heat of transformation (effect, 0 = off; 12e3-24e3 on, SPEC 5)")
+                       "Latent heat of transformation (effect, 0 = off; 12e3-24e3 on, §sma-material)")
         self.parameter("end_cooling", 0.0, "1", "Cold ends: share of the core's excess "
                        "temperature lost at the clamps, G_c / (G_c + G_fin) (effect, 0 = off: "
-                       "insulating clamps; metal clamps ~0.9; SPEC 4, 5)")
+                       "insulating clamps; metal clamps ~0.9; §named-effects, §sma-material)")
         self.parameter("conductivity", 18.0, "W/(m.K)", "Thermal conductivity of NiTi, sets "
-                       "the cold ends' fin length (SPEC 5)")
+                       "the cold ends' fin length (§sma-material)")
         self.parameter("h_exponent", t.h_exponent, "1", "Convection h (|T - T_amb| / 50 K)^n "
-                       "(effect, 0 = off; 0.06-0.15 on, SPEC 5)")
+                       "(effect, 0 = off; 0.06-0.15 on, §sma-material)")
         self.parameter("drift_amplitude", d.amplitude_change, "1", "Training/fatigue drift: "
-                       "settled relative change of the strain (effect, 0 = off, SPEC 2.6)")
+                       "settled relative change of the strain (effect, 0 = off, §drift)")
         self.parameter("drift_shift", d.shift, "K", "Training/fatigue drift: settled shift of "
-                       "the transformation temperatures (effect, 0 = off, SPEC 2.6)")
+                       "the transformation temperatures (effect, 0 = off, §drift)")
         self.parameter("drift_settle_cycles", d.cycles_to_settle, "1",
-                       "Training/fatigue drift: e-folding number of cycles (SPEC 2.6)")
+                       "Training/fatigue drift: e-folding number of cycles (§drift)")
         self.parameter("drift_cycles_start", 0.0, "1",
                        "Training/fatigue drift: transformation cycles done before the run")
         self.parameter("hysteresis_shift", 0.0, "K", "Static shift of the transformation "
                        "temperatures: the hysteresis sees T - shift (calibration: composition, "
-                       "heat treatment, a core hotter than the mean; SPEC 2.2, 4, 5)")
+                       "heat treatment, a core hotter than the mean; §preisach, §named-effects, §sma-material)")
         self.parameter("strain_scale", 1.0, "1", "Factor on the transformation strain "
-                       "(calibration: the wire's recoverable strain, its gauge length; SPEC 2.3, 5)")
+                       "(calibration: the wire's recoverable strain, its gauge length; §forc-identification, §sma-material)")
         self.input("u", 0.0, "1", "Electrical input: voltage across the wire [V], or current "
                    "through it [A] when drive_current = 1")
         self.input("T_amb", 293.15, "K", "Ambient air temperature")
         self.input("flange.f", LOAD_150G, "N", "Tensile load on the wire, positive pulling "
-                   "(start: a 150 g weight, SPEC 3.1)")
+                   "(start: a 150 g weight, §capstan-multiplier)")
         self.output("T", "K", "Wire temperature")
-        self.output("strain", "1", "Strain: contraction / length, positive = contraction (SPEC 2.1)")
+        self.output("strain", "1", "Strain: contraction / length, positive = contraction (§sma-wire)")
         self.output("flange.s", "m", "Contraction strain x length; positive = the wire shortens, "
                     "pulling its load toward the fixed clamp")
         self.output("stress", "Pa", "Tensile stress flange.f / cross-section over the last "
-                    "step (SPEC 2.1)")
-        self.output("R", "Ohm", "Electrical resistance R(xi) (SPEC 2.1)")
+                    "step (§sma-wire)")
+        self.output("R", "Ohm", "Electrical resistance R(xi) (§thermal-model)")
         self.output("P", "W", "Joule heating power over the last step (input held, resistance "
                     "at its start)")
         self.output("xi", "1", "Martensite fraction, 1 - hysteresis strain / its maximum")
@@ -226,7 +226,7 @@ class SmaWire(Slave):
 
 
 class PreisachInverse(Slave):
-    """Inverse of the modified Preisach model (SPEC 2.4): reference strain and stress in, the
+    """Inverse of the modified Preisach model (§preisach-inverse): reference strain and stress in, the
     temperature reference that makes the wire produce that strain out (feed-forward).
 
     A thin adapter over `inverse.PreisachInverse`. T_ref is direct feedthrough: at every
@@ -239,14 +239,14 @@ class PreisachInverse(Slave):
     """
 
     description = ("Feed-forward inverse of the modified Preisach model: reference strain and "
-                   "stress in, temperature reference out (SPEC 2.4)")
+                   "stress in, temperature reference out (§position-control)")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self.parameter("hysteresis", 0.0, "1", HYSTERESIS)
         self.parameter("sigma_surface", 0.0, "Pa",
                        "0 = stress-aware inverse over the hypersurface; > 0 = the single surface "
-                       "at this stress for every stress, stress ignored (SPEC 2.4)")
+                       "at this stress for every stress, stress ignored (§position-control)")
         self.input("eps_ref", 0.0, "1", "Reference strain: contraction / length, positive = "
                    "contraction, within [0, maximum strain of the data set]")
         self.input("sigma_ref", LOAD_150G / thermal.cross_section(thermal.ThermalParams()), "Pa",

@@ -1,4 +1,4 @@
-"""The Preisach hypersurface of SPEC 2.2: FORC increments F(a, b; stress) on a grid."""
+"""The Preisach hypersurface of §preisach: FORC increments F(a, b; stress) on a grid."""
 import bisect
 import math
 import warnings
@@ -7,8 +7,8 @@ import numpy as np
 
 from . import forcfile
 
-GRID_TEMPS = tuple(30.0 + 5.0 * i for i in range(21))  # C, the Preisach triangle grid (SPEC 2.2)
-STRESSES = (105e6, 115e6, 125e6, 135e6, 145e6)  # Pa, the identified constant stresses (SPEC 2.2)
+GRID_TEMPS = tuple(30.0 + 5.0 * i for i in range(21))  # C, the Preisach triangle grid (§preisach)
+STRESSES = (105e6, 115e6, 125e6, 135e6, 145e6)  # Pa, the identified constant stresses (§preisach)
 _ATOL = 1e-12  # strain; round-off allowed in the monotonicity and zero-diagonal checks
 
 
@@ -18,7 +18,7 @@ class RangeWarning(UserWarning):
 
 
 class Hypersurface:
-    """FORC-increment surfaces F(a, b; stress) at several constant stresses (SPEC 2.2).
+    """FORC-increment surfaces F(a, b; stress) at several constant stresses (§preisach).
 
     Inside a grid cell of the Preisach triangle F is bilinear in (a, b); a cell on the diagonal is
     half a square, and its missing corner (a = t_i, b = t_i+1) is taken as -F(t_i+1, t_i), which
@@ -34,7 +34,7 @@ class Hypersurface:
     Parameters
     ----------
     temps : sequence of float
-        Uniform, increasing temperature grid [C] (SPEC 2.2: 30..130 C at 5 C).
+        Uniform, increasing temperature grid [C] (§preisach: 30..130 C at 5 C).
     stresses : sequence of float
         Increasing stresses [Pa] of the surfaces.
     F : array_like, shape (len(stresses), len(temps), len(temps))
@@ -74,7 +74,7 @@ class Hypersurface:
 
     @classmethod
     def from_function(cls, f, temps=GRID_TEMPS, stresses=STRESSES):
-        """Tabulate f(a, b, sigma) [strain] on the grid (defaults: SPEC 2.2) and validate it."""
+        """Tabulate f(a, b, sigma) [strain] on the grid (defaults: §preisach) and validate it."""
         temps = [float(t) for t in temps]
         table = np.zeros((len(stresses), len(temps), len(temps)))
         for s, sigma in enumerate(stresses):
@@ -105,7 +105,7 @@ class Hypersurface:
 
     def at_stress(self, sigma):
         """The single constant-stress surface at sigma [Pa]: a model on it ignores stress (the
-        comparison case of SPEC 2.4)."""
+        comparison case of §position-control)."""
         k, w = self.stress_weights(self.clamp_stress(sigma))
         upper = min(k + 1, len(self.stresses) - 1)
         G = (1 - w) * self.table[k] + w * self.table[upper]

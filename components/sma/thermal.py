@@ -1,4 +1,4 @@
-"""Lumped thermal model of an SMA wire (SPEC 2.1, data SPEC 5), candidate effects off by default.
+"""Lumped thermal model of an SMA wire (§thermal-model, data §sma-material), candidate effects off by default.
 
     m c_p dT/dt = P(u, xi) + m L xi_rate - h(T) A_s (T - T_amb)
 
@@ -22,20 +22,20 @@ DRIVES = ("voltage", "current")
 
 @dataclass(frozen=True)
 class ThermalParams:
-    """Wire geometry, material data and effects (defaults: SPEC 2.1 and 5; effects off)."""
+    """Wire geometry, material data and effects (defaults: §sma-wire, §sma-material; effects off)."""
 
-    length: float = 58.42e-3  # m, main wire (SPEC 2.1)
-    diameter: float = 127e-6  # m, main wire (SPEC 2.1)
-    density: float = 6450.0  # kg/m^3, NiTi (SPEC 5)
-    specific_heat: float = 837.0  # J/(kg K), NiTi (SPEC 5)
-    rho_martensite: float = 80e-8  # Ohm m, 80 uOhm cm (SPEC 5)
-    rho_austenite: float = 100e-8  # Ohm m, 100 uOhm cm (SPEC 5)
-    h: float = 100.0  # W/(m^2 K), natural convection, 127 um wire at 50 K excess (SPEC 5)
-    drive: str = "voltage"  # electrical input: "voltage" [V] or "current" [A] (SPEC 2.1)
+    length: float = 58.42e-3  # m, main wire (§sma-wire)
+    diameter: float = 127e-6  # m, main wire (§sma-wire)
+    density: float = 6450.0  # kg/m^3, NiTi (§sma-material)
+    specific_heat: float = 837.0  # J/(kg K), NiTi (§sma-material)
+    rho_martensite: float = 80e-8  # Ohm m, 80 uOhm cm (§sma-material)
+    rho_austenite: float = 100e-8  # Ohm m, 100 uOhm cm (§sma-material)
+    h: float = 100.0  # W/(m^2 K), natural convection, 127 um wire at 50 K excess (§convection)
+    drive: str = "voltage"  # electrical input: "voltage" [V] or "current" [A] (§thermal-model)
     max_substep: float = 1e-3  # s, sub-step of h(T) (second order: about 1e-6 K off at 50 Hz)
-    latent_heat: float = 0.0  # J/kg, effect: 12e3-24e3 when on (SPEC 5); 0 = off
+    latent_heat: float = 0.0  # J/kg, effect: 12e3-24e3 when on (§sma-material); 0 = off
     h_exponent: float = 0.0  # effect: n of h(T) (thin-wire correlations give 0.06-0.15); 0 = off
-    h_dT_ref: float = 50.0  # K, excess temperature at which h holds (SPEC 5)
+    h_dT_ref: float = 50.0  # K, excess temperature at which h holds (§convection)
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
@@ -61,7 +61,7 @@ def cross_section(p):
 
 
 def lateral_surface(p):
-    """Lateral surface A_s = pi d L [m^2] (SPEC 2.1)."""
+    """Lateral surface A_s = pi d L [m^2] (§sma-wire)."""
     return math.pi * p.diameter * p.length
 
 
@@ -71,12 +71,12 @@ def heat_capacity(p):
 
 
 def time_constant(p):
-    """Free-cooling time constant m c_p / (h A_s) = rho c d / 4h [s] (SPEC 5)."""
+    """Free-cooling time constant m c_p / (h A_s) = rho c d / 4h [s] (§convection)."""
     return heat_capacity(p) / (p.h * lateral_surface(p))
 
 
 def resistance(xi, p):
-    """Electrical resistance R(xi) = L (xi rho_M + (1 - xi) rho_A) / A [Ohm] (SPEC 2.1).
+    """Electrical resistance R(xi) = L (xi rho_M + (1 - xi) rho_A) / A [Ohm] (§thermal-model).
 
     Examples
     --------
@@ -102,7 +102,7 @@ def convection_coefficient(T, T_amb, p):
 
 
 def martensite_fraction(eps, eps_max):
-    """xi = 1 - eps / eps_max clipped to [0, 1]: a hysteron switched on is austenite (SPEC 2.2)."""
+    """xi = 1 - eps / eps_max clipped to [0, 1]: a hysteron switched on is austenite (§preisach)."""
     return min(1.0, max(0.0, 1.0 - eps / eps_max))
 
 

@@ -3,10 +3,10 @@
 Each hysteron is a piece of wire that turns austenite (contracts) when heated to a and martensite
 again when cooled to b. Its centre c = (a + b) / 2 is its local transformation temperature and its
 width w = a - b its local hysteresis. Centres follow a sharp logistic population plus a diffuse
-Gaussian one, both moved by stress along the Clausius-Clapeyron slope (SPEC 5); widths are
+Gaussian one, both moved by stress along the Clausius-Clapeyron slope (§sma-material); widths are
 Gaussian. The strain amplitude grows with stress as martensite detwins. The density is zero
-outside the Preisach triangle T_low <= b <= a <= T_high (SPEC 2.1), so the wire saturates there.
-Temperatures in degrees C, stresses in Pa, strains as contraction / length (SPEC 2.1).
+outside the Preisach triangle T_low <= b <= a <= T_high (§thermal-model), so the wire saturates there.
+Temperatures in degrees C, stresses in Pa, strains as contraction / length (§thermal-model).
 """
 import math
 import tomllib
@@ -29,18 +29,18 @@ _WIDTH_SDS = 4.0  # the width density is a Gaussian truncated at this many stand
 class WireParams:
     """Hysteron density parameters; values and their sources live in the parameter file."""
 
-    T_low: float  # C, lower saturation temperature b0 (SPEC 2.1)
-    T_high: float  # C, upper saturation temperature a0 (SPEC 2.1)
-    eps_sat: float  # saturated transformation strain (SPEC 2.3)
-    sigma_det: float  # Pa, detwinning stress scale of the strain amplitude (SPEC 2.3)
-    sigma_ref: float  # Pa, stress at which centre_ref holds (SPEC 2.3)
-    centre_ref: float  # C, median hysteron centre at sigma_ref (SPEC 2.3)
-    cc_slope: float  # Pa/K, Clausius-Clapeyron slope (SPEC 5)
-    width_mean: float  # K, mean hysteron width a - b (SPEC 2.3)
+    T_low: float  # C, lower saturation temperature b0 (§sma-wire)
+    T_high: float  # C, upper saturation temperature a0 (§sma-wire)
+    eps_sat: float  # saturated transformation strain (§forc-identification)
+    sigma_det: float  # Pa, detwinning stress scale of the strain amplitude (§forc-identification)
+    sigma_ref: float  # Pa, stress at which centre_ref holds (§forc-identification)
+    centre_ref: float  # C, median hysteron centre at sigma_ref (§forc-identification)
+    cc_slope: float  # Pa/K, Clausius-Clapeyron slope (§sma-material)
+    width_mean: float  # K, mean hysteron width a - b (§forc-identification)
     width_sd: float  # K, spread of the width
-    sharp_scale: float  # K, logistic scale of the sharp population (SPEC 5)
-    diffuse_fraction: float  # share of the diffuse population (SPEC 2.3)
-    diffuse_sd: float  # K, spread of the diffuse population (SPEC 2.3)
+    sharp_scale: float  # K, logistic scale of the sharp population (§sma-material)
+    diffuse_fraction: float  # share of the diffuse population (§forc-identification)
+    diffuse_sd: float  # K, spread of the diffuse population (§forc-identification)
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
@@ -86,12 +86,12 @@ def load_params(path=DEFAULT_PARAMS):
 
 
 def max_strain(sigma, p):
-    """Strain of the fully transformed wire, eps_sat (1 - exp(-sigma / sigma_det)) (SPEC 2.3)."""
+    """Strain of the fully transformed wire, eps_sat (1 - exp(-sigma / sigma_det)) (§forc-identification)."""
     return p.eps_sat * -np.expm1(-np.asarray(sigma, dtype=float) / p.sigma_det)
 
 
 def centre(sigma, p):
-    """Median hysteron centre [C] at stress sigma: moves up 1 / cc_slope K per Pa (SPEC 5)."""
+    """Median hysteron centre [C] at stress sigma: moves up 1 / cc_slope K per Pa (§sma-material)."""
     return p.centre_ref + (np.asarray(sigma, dtype=float) - p.sigma_ref) / p.cc_slope
 
 
@@ -150,7 +150,7 @@ def _as_arrays(a, b, sigma):
 
 
 def forc_increment(a, b, sigma, p):
-    """FORC increment F(a, b; sigma): strain of all hysterons in {b <= b_h <= a_h <= a} (SPEC 2.2).
+    """FORC increment F(a, b; sigma): strain of all hysterons in {b <= b_h <= a_h <= a} (§preisach).
 
     Parameters
     ----------

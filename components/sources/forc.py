@@ -1,4 +1,4 @@
-"""Temperature reference of the FORC identification experiments (SPEC 2.3).
+"""Temperature reference of the FORC identification experiments (§forc-identification).
 
 Run j = 0 .. n-1 (n = (T_high - T_low) / T_step + 1, 21 on the study's 5 K grid) occupies
 [t_start + j P, t_start + (j + 1) P) and heats from T_low to its peak a_j = T_low + j T_step along a

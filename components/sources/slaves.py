@@ -1,5 +1,5 @@
 """FMU slaves of the sources: thin adapters over musclesim.components.sources.signals and .forc,
-and the reference profiles of SPEC 2.4 (musclesim.components.sma.profiles)."""
+and the reference profiles of §reference-profiles (musclesim.components.sma.profiles)."""
 import math
 
 from musclesim.components.sma import profiles
@@ -35,16 +35,16 @@ class SignalSource(Slave):
 class ForcReference(Slave):
     """Temperature reference of the FORC identification runs with run index and phase markers."""
 
-    description = ("FORC experiment reference (SPEC 2.3): run j heats from T_low to T_low + j "
+    description = ("FORC experiment reference (§forc-identification): run j heats from T_low to T_low + j "
                    "T_step along a raised cosine and cools back; outputs run index and phase")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         d = forc.ForcParams()
         self.parameter("T_low", d.T_low, "K", "Lower grid temperature b0, start and end of every "
-                       "run (SPEC 2.3: 30 C)")
-        self.parameter("T_high", d.T_high, "K", "Peak of the last run a0 (SPEC 2.3: 130 C)")
-        self.parameter("T_step", d.T_step, "K", "Grid step between the runs' peaks (SPEC 2.2: 5 K)")
+                       "run (§forc-identification: 30 C)")
+        self.parameter("T_high", d.T_high, "K", "Peak of the last run a0 (§forc-identification: 130 C)")
+        self.parameter("T_step", d.T_step, "K", "Grid step between the runs' peaks (§preisach: 5 K)")
         self.parameter("period", d.period, "s", "Duration of one run (heating half + cooling "
                        "half); must not outrun free cooling")
         self.parameter("t_start", d.t_start, "s", "Start of the first run (T_low held before)")
@@ -59,11 +59,11 @@ class ForcReference(Slave):
         self.T_ref, self.run, self.phase = forc.value(self.time, self.p)
 
 
-AREA_127UM = math.pi * 63.5e-6 ** 2  # m2, the 127 um wire's cross-section (SPEC 2.1)
+AREA_127UM = math.pi * 63.5e-6 ** 2  # m2, the 127 um wire's cross-section (§sma-wire)
 
 
 class _ProfileSlave(Slave):
-    """A reference profile of SPEC 2.4 (components/sma/profiles.py) as an output signal."""
+    """A reference profile of §reference-profiles (components/sma/profiles.py) as an output signal."""
 
     names = ()  # profile names, indexed from 1 by the `profile` parameter
     make = None  # profiles.strain_profile or profiles.loading_profile
@@ -72,10 +72,10 @@ class _ProfileSlave(Slave):
         super().__init__(**kwargs)
         self.parameter("profile", 1.0, "1", "Profile number: " + ", ".join(
             f"{i} = {n}" for i, n in enumerate(self.names, 1)))
-        self.parameter("lo", lo, unit, "Bottom of the profile's range (SPEC 2.4)")
-        self.parameter("hi", hi, unit, "Top of the profile's range (SPEC 2.4; = lo: constant)")
+        self.parameter("lo", lo, unit, "Bottom of the profile's range (§reference-profiles)")
+        self.parameter("hi", hi, unit, "Top of the profile's range (§reference-profiles; = lo: constant)")
         self.parameter("duration", profiles.DURATION, "s",
-                       "Length of the run the profile is laid out over (SPEC 2.4: 550 s)")
+                       "Length of the run the profile is laid out over (§reference-profiles: 550 s)")
         self.parameter("seed", 0.0, "1", "Seed of the random peaks and troughs")
 
     def setup(self):
@@ -92,9 +92,9 @@ class _ProfileSlave(Slave):
 
 
 class StrainProfile(_ProfileSlave):
-    """Reference strain SP I-IV of SPEC 2.4."""
+    """Reference strain SP I-IV of §reference-profiles."""
 
-    description = "Reference strain profile SP I-IV of SPEC 2.4 (contraction, within [lo, hi])"
+    description = "Reference strain profile SP I-IV of §reference-profiles (contraction, within [lo, hi])"
     names = profiles.STRAIN_PROFILES
     make = staticmethod(profiles.strain_profile)
 
@@ -107,16 +107,16 @@ class StrainProfile(_ProfileSlave):
 
 
 class LoadingProfile(_ProfileSlave):
-    """Reference stress LP I-VI of SPEC 2.4."""
+    """Reference stress LP I-VI of §reference-profiles."""
 
-    description = "Loading (stress) profile LP I-VI of SPEC 2.4, within [lo, hi] Pa"
+    description = "Loading (stress) profile LP I-VI of §reference-profiles, within [lo, hi] Pa"
     names = profiles.LOADING_PROFILES
     make = staticmethod(profiles.loading_profile)
 
     def __init__(self, **kwargs):
         super().__init__(profiles.SIGMA_LO, profiles.SIGMA_HI, "Pa", **kwargs)
         self.parameter("area", AREA_127UM, "m2", "Wire cross-section the force reference is for "
-                       "(SPEC 2.1: 127 um diameter)")
+                       "(§sma-wire: 127 um diameter)")
         self.output("sigma_ref", "Pa", "Reference stress")
         self.output("f_ref", "N", "Reference tension sigma_ref x area")
 

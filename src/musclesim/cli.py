@@ -274,7 +274,7 @@ def _parser():
     q.add_argument("--json", action="store_true", help="print JSON instead of text")
     q.set_defaults(func=_cmd_loops)
 
-    q = sub.add_parser("drift", help="the long-duration drift test (SPEC 3.3): RMSE between the "
+    q = sub.add_parser("drift", help="the long-duration drift test (§drift): RMSE between the "
                                      "averaged loops of tests 1, 13 and 25 per stress")
     q.add_argument("scenario", nargs="?", default="scenarios/sma-drift.toml",
                    help="scenario whose instance 'wire' sets the drift (default: "
@@ -293,7 +293,7 @@ def _parser():
                    help="sweep output folder, run folders or results.csv files (one per stress)")
     q.add_argument("--out", required=True, help="the FORC data file to write")
     q.add_argument("--validate", action="store_true",
-                   help="also report errors against the virtual wire (SPEC 2.3)")
+                   help="also report errors against the virtual wire (§forc-identification)")
     q.add_argument("--json", action="store_true", help="print JSON instead of text")
     q.set_defaults(func=_cmd_identify)
 
@@ -336,16 +336,16 @@ def _parser():
     q.add_argument("--duration", type=_duration, default=None,
                    help="independent bench: seconds recorded per SMA case (default 120)")
     q.add_argument("--multiplier", type=_positive, default=0, metavar="N",
-                   help="own bench: N extra cases on the capstan multiplier's bench (SPEC 3.1; "
+                   help="own bench: N extra cases on the capstan multiplier's bench (§capstan-multiplier; "
                         "default none)")
     q.add_argument("--crawler", type=_positive, default=0, metavar="N",
                    help="independent bench: N extra cases on its pneumatic crawler, 12 s each "
-                        "(SPEC 1.5; default none; scores also per bench)")
+                        "(§gait; default none; scores also per bench)")
     dask_args(q)
     common(q)
     q.set_defaults(func=_cmd_benchmark_diagnosis, subparser=q)
 
-    q = sub.add_parser("table", help="the study's tables: sma-position (SPEC 2.4 matrix on Dask)")
+    q = sub.add_parser("table", help="the study's tables: sma-position (§position-control matrix on Dask)")
     q.add_argument("table", choices=["sma-position"], help="which tables")
     q.add_argument("--out", required=True, help="folder for the cases, tables and figures")
     q.add_argument("--scenario", default="scenarios/sma-position-control.toml",
@@ -366,7 +366,7 @@ def _parser():
     q.set_defaults(func=_cmd_bench)
 
     q = sub.add_parser("characterise", help="the crawler's characterisation: the gait's pressure "
-                                            "references (SPEC 1.5)")
+                                            "references (§gait)")
     q.add_argument("scenario", nargs="?", default="scenarios/crawler-characterisation.toml",
                    help="the characterisation scenario (default: %(default)s)")
     q.add_argument("--out", default="results/crawler-characterisation",

@@ -1,4 +1,4 @@
-"""Linear analysis of the crawler (SPEC 1.2) with python-control, API and command line."""
+"""Linear analysis of the crawler (§two-mass) with python-control, API and command line."""
 import json
 
 import numpy as np
@@ -14,7 +14,7 @@ def test_controllability_ranks_and_subspace(m1, m2):
     r = linear_crawler.crawler(BodyParams(m1=m1, m2=m2))
     assert r["rank_fa_only"] == 2
     assert r["rank_all_inputs"] == 4
-    expected = [[1, 0, -m1 / m2, 0], [0, 1, 0, -m1 / m2]]  # SPEC 1.2
+    expected = [[1, 0, -m1 / m2, 0], [0, 1, 0, -m1 / m2]]  # §two-mass
     np.testing.assert_allclose(r["controllable_subspace_fa_only"], expected, atol=1e-9)
     assert r["centre_of_mass_reachable_fa_only"] is False
 
@@ -28,7 +28,7 @@ def test_cli_json_and_text(capsys):
     assert "2 of 4" in text and "4 of 4" in text and "no locomotion without friction" in text
 
 
-# ---- SMA wire temperature loop (SPEC 2.5) -----------------------------------------------------
+# ---- SMA wire temperature loop (§temperature-control) -----------------------------------------------------
 @pytest.fixture(scope="module")
 def sma_report():
     return linear_sma_thermal.sma_thermal()
@@ -41,10 +41,10 @@ def test_sma_thermal_plants_and_designed_poles(sma_report):
 
     points = sma_report["points"]
     assert [q["T_op"] for q in points] == pytest.approx([30 + 5 * i for i in range(21)])
-    # near room temperature the plant is the free-cooling lump: tau = rho c d / 4h (SPEC 5)
+    # near room temperature the plant is the free-cooling lump: tau = rho c d / 4h (§sma-material)
     assert points[0]["time_constant"] == pytest.approx(thermal.time_constant(thermal.ThermalParams()),
                                                        rel=0.01)
-    # the plant gain grows with the operating voltage: why the gains are scheduled (SPEC 2.5)
+    # the plant gain grows with the operating voltage: why the gains are scheduled (§temperature-control)
     assert points[-1]["plant_gain"] > 2.5 * points[0]["plant_gain"]
     d = sma_report["design"]
     for q in points:

@@ -1,4 +1,4 @@
-"""The bending actuator's linear model (SPEC 3.2 a): its resonance against the hand formula, the
+"""The bending actuator's linear model (§bending-actuator: its resonance against the hand formula, the
 pulse-follow frequency against the first-order thermal corner by hand, its band against the
 nonlinear actuator's, and the command line."""
 import json

@@ -1,4 +1,4 @@
-"""The crawler's pressure loops (SPEC 1.1, 1.5, 5) and the gait's pressure references (SPEC 1.5):
+"""The crawler's pressure loops (§crawler-hardware, §gait, §valves) and the gait's pressure references (§gait):
 the identified plants against the ISO 6358 law by hand, the designed PIs, the gain and reference
 files the scenarios read (reproducible from a fresh design / characterisation), and
 `characterise.references` on hand-made results."""
@@ -35,7 +35,7 @@ def actuator_params(kind):
 
 def hand_rates(params, p_op, volume):
     """(inflation, exhaust) pressure rates [Pa/s] at gauge p_op with a valve fully open, from the
-    unchoked ISO 6358 law (SPEC 5) and dp/dt = kappa R T / V mdot at a constant volume."""
+    unchoked ISO 6358 law (§chamber) and dp/dt = kappa R T / V mdot at a constant volume."""
     p_atm, rho_0, R = 101325.0, 1.185, 287.05  # Pa; kg/m^3 (ISO 6358 reference); J/(kg K)
 
     def flow(p_up, p_down, C):  # absolute pressures; T = T_0 (the defaults)
@@ -209,7 +209,7 @@ def test_committed_gait_references_are_what_characterise_computes_now(fmu_dir, t
     for key in fresh:
         assert committed[key] == pytest.approx(fresh[key], rel=0.02), key
     # plausibility: the blocks slide on their casings, so the elongation is the spring's
-    # s_a p / k less a little friction lag (SPEC 1.2, 1.3)
+    # s_a p / k less a little friction lag (§two-mass, §friction)
     body = load_scenario(SCENARIOS / "crawler-pneumatic.toml").instances["body"].parameters
     stretch = ActuatorParams().s_a * fresh["p_central"] / body["k"]
     assert characterise.ELONGATION_TARGET < stretch < characterise.ELONGATION_TARGET * 1.05

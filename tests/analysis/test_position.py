@@ -1,4 +1,4 @@
-"""SMA position control (issue 5, SPEC 2.4): short runs of each kind of the study's matrix, the
+"""SMA position control (issue 5, §position-control): short runs of each kind of the study's matrix, the
 stress loop's design on the identified load path, the tables' computation."""
 import math
 
@@ -36,7 +36,7 @@ def test_each_kind_of_the_matrix_runs_and_tracks(fmu_dir, kind):
 def test_the_tables_strain_is_the_lasers_contraction_over_the_wires_length(fmu_dir):
     s = load_scenario(POSITION, (), 2.0)
     length = table.wire_length(s, fmu_dir)
-    assert length == 58.42e-3  # the SmaWire's own (SPEC 2.1)
+    assert length == 58.42e-3  # the SmaWire's own (§thermal-model)
     res = Master(s, fmu_dir).run()
     laser_strain = res["laser.s_meas"] / length  # laser effects off
     assert np.max(res["wire.strain"]) > 0.004

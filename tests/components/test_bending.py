@@ -1,6 +1,6 @@
-"""The bending actuator (SPEC 3.2 a): the beam pair against Euler-Bernoulli by hand, the whole
+"""The bending actuator (§bending-actuator: the beam pair against Euler-Bernoulli by hand, the whole
 actuator settling at the static balance worked out by hand, its first mode ringing at the
-resonance, the wires' sides and slack, the 50 um wire's data (SPEC 5), and the FMU: its core
+resonance, the wires' sides and slack, the 50 um wire's data (§sma-material), and the FMU: its core
 stepped by hand, and its errors."""
 import math
 
@@ -111,10 +111,10 @@ def test_wires_mirror_each_other_and_slack_wires_pull_nothing():
 
 def test_fifty_micron_wire_has_the_data_sheet_values():
     w = actuator.wire_thermal(1.0)
-    assert thermal.resistance(1.0, w) == pytest.approx(470.0)  # Ohm/m (SPEC 5)
+    assert thermal.resistance(1.0, w) == pytest.approx(470.0)  # Ohm/m (§sma-material)
     assert thermal.resistance(0.0, w) == pytest.approx(490.0)
-    assert thermal.time_constant(w) == pytest.approx(0.29, abs=0.01)  # SPEC 5: about 0.3 s
-    # the hysteresis is the 127 um wire's against stress: at 0.35 N (SPEC 5's 172 MPa) the
+    assert thermal.time_constant(w) == pytest.approx(0.29, abs=0.01)  # §sma-material: about 0.3 s
+    # the hysteresis is the 127 um wire's against stress: at 0.35 N (§sma-material's 172 MPa) the
     # 50 um wire's full strain is the 127 um wire's at 2.2 N
     s50 = actuator.hysteresis_surface(load_params(), 0.35 / AREA)
     s127 = actuator.hysteresis_surface(load_params(), 2.2 / (math.pi * 63.5e-6 ** 2))

@@ -1,4 +1,4 @@
-"""Discrete PID and gain scheduling (SPEC 2.5) against hand-derived closed loops and invariants."""
+"""Discrete PID and gain scheduling (§temperature-control) against hand-derived closed loops and invariants."""
 import math
 
 import pytest

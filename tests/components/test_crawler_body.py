@@ -1,4 +1,4 @@
-"""Crawler body plant (SPEC 1.2): matrices, zero-order hold, momentum and gravity invariants."""
+"""Crawler body plant (§two-mass): matrices, zero-order hold, momentum and gravity invariants."""
 import math
 
 import control as ct

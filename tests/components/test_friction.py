@@ -1,4 +1,4 @@
-"""Friction function of SPEC 1.3 against hand-derived cases, the contact switching, the anchoring
+"""Friction function of §friction against hand-derived cases, the contact switching, the anchoring
 slip and the effects on the high coefficients (bending on an incline, decay over time)."""
 import math
 
@@ -26,7 +26,7 @@ V_S = HIGH.v_s
     pytest.param(-0.01, 0.0, 0.75, id="kinetic-backward"),
 ])
 def test_friction_cases(v, f_n, expected):
-    # normal force 1 N, mu_s = 1.0, mu_k = 0.75 (SPEC 1.3 high friction)
+    # normal force 1 N, mu_s = 1.0, mu_k = 0.75 (§friction high friction)
     assert friction_force(v, f_n, 1.0, 1.0, 0.75, V_S) == pytest.approx(expected, abs=1e-15)
 
 
@@ -44,7 +44,7 @@ def test_breakaway_threshold_is_static_coefficient():
     pytest.param(46.0, 1.0, False, id="silicone-slides-above-45deg"),
 ])
 def test_incline_hold_or_slide(theta_deg, contact, holds):
-    """A block at rest on an incline holds while tan(theta) <= mu_s (SPEC 1.3 slip angles)."""
+    """A block at rest on an incline holds while tan(theta) <= mu_s (§friction slip angles)."""
     p = body.BodyParams(theta=math.radians(theta_deg), k=0.0, c=0.0)
     f_n1, _ = body.nonfriction_forces([0.0, 0.0, 0.0, 0.0], 0.0, p)
     N1, _ = body.normal_forces(p)
@@ -67,7 +67,7 @@ def test_contact_jumps_without_switching_time_and_ramps_with_it():
     while s < 1.0:
         s = advance_contact(s, 1.0, 1e-3, 0.4)
         steps += 1
-    assert steps == pytest.approx(400, abs=1)  # 0.4 s at 1 ms steps (SPEC 1.1)
+    assert steps == pytest.approx(400, abs=1)  # 0.4 s at 1 ms steps (§crawler-hardware)
     assert advance_contact(0.3, 0.0, 0.1, 0.4) == pytest.approx(0.05)
     assert advance_contact(0.05, 0.0, 0.1, 0.4) == 0.0
 

@@ -1,4 +1,4 @@
-"""Peristaltic gait sequencer (SPEC 1.5): phase order and durations, mirror image, reversal, FMU."""
+"""Peristaltic gait sequencer (§gait): phase order and durations, mirror image, reversal, FMU."""
 import numpy as np
 import pytest
 from fmpy import simulate_fmu
@@ -7,7 +7,7 @@ from musclesim.components.crawler.gait import GaitParams, references
 
 P = GaitParams(p_central=5e3, p_anchor1=2e3, p_anchor2=3e3, p_off=-100.0)
 OFF = P.p_off
-# forward stride (SPEC 1.5): (p_ref1, p_ref_c, p_ref2) per phase
+# forward stride (§gait): (p_ref1, p_ref_c, p_ref2) per phase
 FORWARD = {1: (2e3, OFF, OFF), 2: (2e3, 5e3, OFF), 3: (2e3, 5e3, 3e3), 4: (OFF, OFF, 3e3)}
 BACKWARD = {1: (OFF, OFF, 3e3), 2: (OFF, 5e3, 3e3), 3: (2e3, 5e3, 3e3), 4: (2e3, OFF, OFF)}
 
@@ -49,7 +49,7 @@ def test_backward_is_mirror_image_of_forward():
 
 
 def test_reversal_flips_direction_and_restarts_at_phase_one():
-    """SPEC 1.5 bidirectional test: reversal every 32.5 s; the stride cut at 32.5 s is dropped."""
+    """§gait bidirectional test: reversal every 32.5 s; the stride cut at 32.5 s is dropped."""
     r = sample(GaitParams(**{**P.__dict__, "t_reverse": 32.5}), 100.0)
     assert runs(r[:, 4]) == [(1, 32500), (-1, 32500), (1, 32500), (-1, 2500)]
     for k in (32500, 65000, 97500):

@@ -1,4 +1,4 @@
-"""Inverse of the Preisach model (SPEC 2.4): the bases, tracking of the reference profiles SP I-IV
+"""Inverse of the Preisach model (§preisach-inverse): the bases, tracking of the reference profiles SP I-IV
 under constant stress and under LP I-VI, memory agreement with the forward model; the profiles."""
 import copy
 import math
@@ -50,7 +50,7 @@ def test_tracks_strain_profiles_at_constant_stress(sp, sigma):
 @pytest.mark.parametrize("lp", LOADING_PROFILES)
 @pytest.mark.parametrize("sp", STRAIN_PROFILES)
 def test_t_out_follows_the_direction_of_the_reference_under_loading_profiles(sp, lp):
-    """SPEC 2.4: the direction comes from d eps_r / dt, stress changes ignored. T_out never moves
+    """§position-control: the direction comes from d eps_r / dt, stress changes ignored. T_out never moves
     against the reference (where the stress alone would push it back, it holds), and the forward
     model fed with it keeps the inverse's memory."""
     eps_r = strain_profile(sp)(TIMES)
@@ -72,7 +72,7 @@ def test_a_lagging_wire_tracks_under_a_loading_profile_as_at_constant_stress():
 
 
 def test_stress_aware_inverse_beats_a_single_surface():
-    """SPEC 2.4's comparison: an inverse that ignores stress (the 125 MPa surface) tracks worse."""
+    """§preisach-inverse's comparison: an inverse that ignores stress (the 125 MPa surface) tracks worse."""
     eps_r, sigma = strain_profile("SP I")(TIMES), loading_profile("LP I")(TIMES)
     aware = rmse_percent(track(eps_r, sigma)[0], eps_r)
     ignoring = rmse_percent(track(eps_r, sigma, SMA.at_stress(125e6))[0], eps_r)
@@ -82,7 +82,7 @@ def test_stress_aware_inverse_beats_a_single_surface():
 @pytest.mark.parametrize("sigma, tol", [
     pytest.param(105e6, 0.002, id="105MPa-level"),
     pytest.param(145e6, 0.002, id="145MPa-level"),
-    # between levels the inverse interpolates temperatures, the forward model F (SPEC 2.4)
+    # between levels the inverse interpolates temperatures, the forward model F (§preisach-inverse)
     pytest.param(118e6, 0.006, id="118MPa-between-levels"),
 ])
 def test_bases_invert_the_surface(sigma, tol):

@@ -1,4 +1,4 @@
-"""The PreisachInverse FMU slave (SPEC 2.4) in-process: its T_ref is the inverse core stepped by
+"""The PreisachInverse FMU slave (§preisach-inverse) in-process: its T_ref is the inverse core stepped by
 hand, bit for bit; stress-aware and stress-ignored modes; parameter errors; the round trip through
 the forward model."""
 import math
@@ -129,7 +129,7 @@ def test_single_surface_equals_the_aware_inverse_at_its_stress_level():
 
 def test_single_surface_and_aware_inverse_between_stress_levels():
     """Data set 0 has levels at 120 and 130 MPa: at 125 MPa the single surface interpolates F,
-    the aware inverse the inverse temperatures (SPEC 2.4), which differ where F saturates
+    the aware inverse the inverse temperatures (§preisach-inverse), which differ where F saturates
     (several K for the same strain). Compared where it matters, in strain through the forward
     model: both within the bases' error between levels (0.6 % of the maximum strain,
     tests/components/test_inverse.py::test_bases_invert_the_surface) of each other."""
@@ -204,9 +204,9 @@ def test_round_trip_at_constant_stress(sp, hysteresis):
 @pytest.mark.parametrize("lp", ["LP I", "LP V"])
 @pytest.mark.parametrize("hysteresis", [0.0, 1.0])
 def test_round_trip_under_time_varying_stress(hysteresis, lp):
-    """Stress-aware: T_ref only moves the way eps_r does (SPEC 2.4's direction, where the stress
+    """Stress-aware: T_ref only moves the way eps_r does (§position-control's direction, where the stress
     alone would push it back it holds, tests/components/test_inverse.py), and the wire it drives
-    tracks several times better than with the single 125 MPa surface (SPEC 2.4's comparison)."""
+    tracks several times better than with the single 125 MPa surface (§position-control's comparison)."""
     eps_r, sigma = strain_profile("SP IV")(TIMES), loading_profile(lp)(TIMES)
     T_ref = run(eps_r, sigma, hysteresis=hysteresis)
     assert np.all(np.diff(T_ref) * np.diff(eps_r) >= 0.0)

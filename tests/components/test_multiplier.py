@@ -1,5 +1,5 @@
-"""The capstan multiplier (SPEC 3.1 b): capstan tensions by hand, the straight wire it must reduce
-to, segments in series, and the bang-bang relay of SPEC 3.1 c on a hand-made trace."""
+"""The capstan multiplier (§capstan-multiplier: capstan tensions by hand, the straight wire it must reduce
+to, segments in series, and the bang-bang relay of §multiplier-experiments on a hand-made trace."""
 import math
 
 import numpy as np
@@ -44,7 +44,7 @@ def heat_cool(volts, on=0.6, total=3.0, dt=DT):
 # --- capstan equation -------------------------------------------------------------------------
 
 def test_tension_steps_by_exp_mu_theta_at_each_contact_by_hand():
-    # SPEC 3.1 b: mu_f 0.0237 on PTFE, about pi per tube: 1.0773 per contact (1.060-1.085)
+    # §capstan-multiplier: mu_f 0.0237 on PTFE, about pi per tube: 1.0773 per contact (1.060-1.085)
     p = capstan.CapstanParams()
     ratios = capstan.tension_ratios(p)
     by_hand = math.exp(0.0237 * math.pi)
@@ -109,7 +109,7 @@ def test_series_segments_share_the_voltage_by_resistance():
 
 
 def test_capstan_friction_changes_the_displacement_not_the_heating():
-    # friction raises the clamp-side stresses, which shifts their transformation (SPEC 2.2)
+    # friction raises the clamp-side stresses, which shifts their transformation (§preisach)
     u, f = heat_cool(6.0, on=0.25, total=1.0), np.full(1000, 1.47)
     base = run(in_process(CapstanMultiplier, "m0", mu_f=0.0), u, f)
     fric = run(in_process(CapstanMultiplier, "m1"), u, f)
@@ -148,7 +148,7 @@ def test_unequal_segments_add_up():
     assert capstan.segment_lengths(p) == pytest.approx([0.05, 0.064, 0.1])
 
 
-# --- bang-bang relay (SPEC 3.1 c) -------------------------------------------------------------
+# --- bang-bang relay (§multiplier-experiments -------------------------------------------------------------
 
 def test_relay_switching_sequence_on_a_hand_made_trace():
     C = 273.15

@@ -1,4 +1,4 @@
-"""Soft pneumatic actuator (SPEC 1.1, 1.5, 5) against hand solutions: the ISO 6358 valve law,
+"""Soft pneumatic actuator (§crawler-hardware, §gait, §valves) against hand solutions: the ISO 6358 valve law,
 choked filling at constant volume, PWM-averaged flow, valve delays, polytropic compression,
 contact build-up, effects off = nominal exactly; the SoftActuator and PressureSensor FMUs."""
 import math

@@ -1,4 +1,4 @@
-"""Preisach hypersurface and forward model (SPEC 2.2): hand-derived cases, Preisach properties,
+"""Preisach hypersurface and forward model (§preisach): hand-derived cases, Preisach properties,
 memory rules, out-of-range policy and the FORC data file."""
 import copy
 import math
@@ -64,7 +64,7 @@ def test_uniform_density_off_grid_within_interpolation_error():
 
 @given(st.lists(temps, min_size=1, max_size=40))
 def test_linear_surface_has_no_hysteresis(path):
-    """F = k (a - b) is the density of reversible hysterons only: the SPEC 2.2 sums telescope
+    """F = k (a - b) is the density of reversible hysterons only: the §preisach sums telescope
     to eps = k (T - b0) after any history (checks the diagonal cells and both formulas)."""
     lin = Hypersurface.from_function(lambda a, b, s: 1e-4 * (a - b), GRID_TEMPS, [1e8])
     out = run(lin, path, 1e8, NO_TOL)
@@ -82,7 +82,7 @@ def test_interpolation_bilinear_in_cells_linear_in_stress():
     assert h.F(72.5, 70.0, 125e6) == pytest.approx(h.F(75.0, 70.0, 125e6) / 2)
 
 
-# --- the SPEC 2.2 formulas and the O(1) prefix sums ---------------------------------------
+# --- the §preisach formulas and the O(1) prefix sums ---------------------------------------
 
 @given(paths, stresses)
 def test_model_equals_spec_formulas_at_constant_stress(path, sigma):
@@ -103,7 +103,7 @@ def test_model_equals_spec_formulas_at_constant_stress(path, sigma):
 @given(st.lists(st.tuples(temps, stresses), min_size=1, max_size=60),
        st.sampled_from([0.0, 0.01, 2.0]))
 def test_prefix_sums_equal_direct_evaluation(inputs, tol):
-    """Under time-varying stress each term keeps the stress of its extremum (SPEC 2.2)."""
+    """Under time-varying stress each term keeps the stress of its extremum (§preisach)."""
     m = PreisachModel(SMA, MemoryParams(tol=tol))
     for T, sigma in inputs:
         eps = m.step(T, sigma)

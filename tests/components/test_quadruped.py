@@ -1,4 +1,4 @@
-"""The quadruped (SPEC 3.2 b) at the level of its cores: four bending-actuator legs pulsed by the
+"""The quadruped (§quadruped at the level of its cores: four bending-actuator legs pulsed by the
 leg sequencer move the body only when the feet's friction depends on direction, and the way the
 hooks point; the sequencer's pulses; the FMUs against their cores. About 0.5 s of wall time per simulated second."""
 import math
@@ -84,7 +84,7 @@ def test_sequencer_pulses_each_wire_at_its_phase():
     on = [[sum(sequencer.voltages(tk, p)[leg][w] > 0 for tk in t) * 1e-4 for w in (0, 1)]
           for leg in range(4)]
     for leg in range(4):
-        assert on[leg] == [pytest.approx(0.0125, abs=2e-4)] * 2  # 12.5 ms per wire (SPEC 3.2)
+        assert on[leg] == [pytest.approx(0.0125, abs=2e-4)] * 2  # 12.5 ms per wire (§quadruped)
     first = [[next(tk for tk in t if sequencer.voltages(tk, p)[leg][w] > 0 or tk == t[-1])
               for w in (0, 1)] for leg in range(4)]
     assert first[0] == [0.0, pytest.approx(0.125)]  # wire B half a period after wire A

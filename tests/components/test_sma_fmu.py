@@ -1,4 +1,4 @@
-"""The SmaWire FMU (SPEC 2.1, 2.2, 5) against its cores stepped by hand, its effects (off: nominal
+"""The SmaWire FMU (§sma-wire, §preisach, §sma-material) against its cores stepped by hand, its effects (off: nominal
 bit for bit; on: the change the physics predicts), its response to heating, and its errors."""
 import math
 from types import SimpleNamespace
@@ -20,7 +20,7 @@ from musclesim.components.sma.wire import ReferenceWire
 
 from conftest import in_process
 
-DT = 4e-4  # s, the study's 2.5 kHz loop (SPEC 2.1)
+DT = 4e-4  # s, the study's 2.5 kHz loop (§sma-bench)
 ZERO_C = 273.15
 AREA = cross_section(ThermalParams())
 OUTPUTS = ("T", "strain", "flange.s", "stress", "R", "P", "xi")
@@ -144,7 +144,7 @@ def test_voltage_step_contracts_the_wire_and_cooling_returns_it(wire_fmu):
     assert r["strain"][heating][-1] > 0.95 * eps_max  # fully contracted: 3.8 % at 116 MPa
     assert np.all(np.diff(r["strain"][heating]) >= 0)
     assert r["T"][-1] < 303.15 and r["strain"][-1] == 0.0  # cooled below 30 C: all martensite
-    # about 63-79 Ohm/m between martensite and austenite (SPEC 5)
+    # about 63-79 Ohm/m between martensite and austenite (§sma-material)
     assert r["R"][0] / length == pytest.approx(63.2, abs=0.1)
     assert r["R"][heating][-1] / length == pytest.approx(78.9, abs=0.2)
     assert np.all((r["R"] >= r["R"][0]) & (r["R"] / length <= 78.95))
@@ -152,7 +152,7 @@ def test_voltage_step_contracts_the_wire_and_cooling_returns_it(wire_fmu):
 
 
 def test_current_drive_contracts_in_about_a_second_at_0_3_A(wire_fmu):
-    # SPEC 5: roughly 0.3 A for a 1 s contraction of the 127 um wire
+    # §sma-material: roughly 0.3 A for a 1 s contraction of the 127 um wire
     r = simulate(wire_fmu, np.full(round(1.0 / DT), 0.3), {"drive_current": 1.0})
     eps_max = float(ReferenceWire().eps_max(LOAD_150G / AREA))
     assert r["strain"][round(0.5 / DT)] < 0.1 * eps_max < 0.75 * eps_max < r["strain"][-1]
@@ -174,7 +174,7 @@ def test_effects_off_are_the_nominal_model_bit_for_bit(wire_fmu):
 def test_latent_heat_slows_heating_through_the_transformation(wire_fmu):
     u = pulse(2.0, 0.5, 0.5)
     base = simulate(wire_fmu, u)
-    latent = simulate(wire_fmu, u, {"latent_heat": 20e3})  # SPEC 5: 12-24 kJ/kg
+    latent = simulate(wire_fmu, u, {"latent_heat": 20e3})  # §sma-material: 12-24 kJ/kg
     before = base["T"] < 303.15  # below 30 C nothing transforms: the same heating
     assert np.max(np.abs(latent["T"][before] - base["T"][before])) < 1e-8
     half = np.argmax(base["xi"] < 0.5)  # the nominal wire half transformed

@@ -1,4 +1,4 @@
-"""The lumped thermal model of the SMA wire against hand solutions (SPEC 2.1, 5), and its effects:
+"""The lumped thermal model of the SMA wire against hand solutions (§thermal-model, §sma-material), and its effects:
 off they change nothing bit for bit, on they move the temperature the way the physics says."""
 import math
 
@@ -14,7 +14,7 @@ from musclesim.components.sma.thermal import (
 
 NOMINAL = ThermalParams()
 CURRENT = ThermalParams(drive="current")
-DT = 4e-4  # s, the study's 2.5 kHz loop (SPEC 2.1)
+DT = 4e-4  # s, the study's 2.5 kHz loop (§sma-bench)
 T_AMB = 20.0
 
 
@@ -30,7 +30,7 @@ def run(T, inputs, p, seconds, dt=DT):
 def test_time_constant_is_rho_c_d_over_4h():
     p = NOMINAL
     assert time_constant(p) == pytest.approx(p.density * p.specific_heat * p.diameter / (4 * p.h))
-    assert 1.5 <= time_constant(p) <= 1.8  # ~1.6 s by SPEC 5, 1.5 s data-sheet cooling
+    assert 1.5 <= time_constant(p) <= 1.8  # ~1.6 s by §sma-material, §gait s data-sheet cooling
 
 
 def test_resistance_per_metre_matches_the_data_sheet():
@@ -61,7 +61,7 @@ def test_heating_approaches_the_steady_state_exponentially(p, u, xi):
 
 
 def test_fast_heating_at_2_5V_is_stable_at_2_5kHz():
-    # 2.5 V (SPEC 2.1) over 3.7 Ohm heats at ~420 K/s: 0.17 K per 0.4 ms step
+    # 2.5 V (§thermal-model) over 3.7 Ohm heats at ~420 K/s: 0.17 K per 0.4 ms step
     inputs = ThermalInputs(u=2.5, T_amb=T_AMB)
     trace = run(T_AMB, inputs, NOMINAL, 0.25)
     assert np.all(np.diff(trace) > 0)

@@ -1,4 +1,4 @@
-"""The reference wire: calibration to the study's figures (SPEC 2.3), saturation, stress dependence,
+"""The reference wire: calibration to the study's figures (§forc-identification), saturation, stress dependence,
 and a FORC increment that is a valid Preisach surface and the integral of the density."""
 import numpy as np
 import pytest
@@ -13,7 +13,7 @@ WIRE = wire.ReferenceWire(P)
 GRID = np.linspace(30.0, 130.0, 101)
 STRESSES = (0.0, 50e6, 105e6, 125e6, 145e6, 155e6, 200e6)
 
-# (stress Pa, T_hi C, T_lo C, strain, tolerance): SPEC 2.3 and issue 3 item 2
+# (stress Pa, T_hi C, T_lo C, strain, tolerance): §forc-identification and issue 3 item 2
 FIGURES = [(105e6, 130, 30, 0.0376, 0.001),
            (155e6, 130, 30, 0.040, 0.002),
            (155e6, 100, 50, 0.033, 0.002),
@@ -35,7 +35,7 @@ def test_cycled_loop_reaches_the_figure_in_simulation(sigma, hi, lo, target, tol
 
 
 def test_identified_style_surface_on_the_5C_grid_gives_the_same_loops():
-    h = Hypersurface.from_function(WIRE.F)  # SPEC 2.2 grid and stresses, as `identify` will write
+    h = Hypersurface.from_function(WIRE.F)  # §preisach grid and stresses, as `identify` will write
     (loop,) = loops(h, 125e6, ["50:100"])
     assert loop["peak_to_peak"] == pytest.approx(float(WIRE.F(100, 50, 125e6)), rel=1e-9)
 
@@ -116,7 +116,7 @@ def test_parameter_file_entries_each_name_their_source():
              if "=" in ln and not ln.startswith("#")]
     assert len(lines) == 12
     for line in lines:
-        assert "SPEC" in line.split("#", 1)[1], line
+        assert "§" in line.split("#", 1)[1], line
 
 
 @pytest.mark.parametrize("edit, message", [

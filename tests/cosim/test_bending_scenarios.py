@@ -1,4 +1,4 @@
-"""The fast-actuation scenarios of SPEC 3.2 through the FMUs and the master: the bending actuator
+"""The fast-actuation scenarios of §bending-actuator through the FMUs and the master: the bending actuator
 with one wire pulsed and with both alternating, and the quadruped walking.
 
     driveA --u--> actuator <--u-- driveB          sequencer --8 x u--> leg1..leg4 --tip--> body

@@ -41,7 +41,7 @@ def assert_matches(res, times, states, tol=1e-9):
 def test_nominal_scenario_equals_monolithic_model(fmu_dir):
     res = cosim(fmu_dir)
     assert_matches(res, *simulate_ideal())
-    # the crawler moves forward at 1 Hz, phi = 1.64 rad (SPEC 1.4)
+    # the crawler moves forward at 1 Hz, phi = 1.64 rad (§ideal-actuation)
     assert res["body.x_cm"][-1] > 1.0
 
 

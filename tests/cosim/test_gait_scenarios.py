@@ -1,4 +1,4 @@
-"""The pneumatic crawler's gait scenarios (SPEC 1.5) on short runs: the direction of travel,
+"""The pneumatic crawler's gait scenarios (§gait) on short runs: the direction of travel,
 the mirror image backward, reversal, the incline, pressure tracking, anchoring slip, metrics.
 
 Each run is cut to a few strides (about 0.4 s of wall time per simulated second)."""
@@ -9,7 +9,7 @@ from musclesim.cosim import master, results, scenario
 
 from conftest import SCENARIOS
 
-STRIDE = 3.0  # s, 1.2 s protrusion + 1.8 s stance (SPEC 1.5)
+STRIDE = 3.0  # s, 1.2 s protrusion + 1.8 s stance (§gait)
 PHASE = 0.6  # s, each of phases 1, 3 and 4 (stance split equally)
 SETTLE = 0.2  # s, into a phase before the pressure counts as settled
 
@@ -77,7 +77,7 @@ def test_incline_advances_less_than_flat_ground(runs):
 @pytest.mark.parametrize("name", ["forward", "backward"])
 def test_anchoring_extremal_actuators_hold_and_grip_in_time(runs, name):
     """In phase 3 (strides 2 and 3) the actuator that anchored first holds its reference to 1 %;
-    the second one's contact is firm within the 0.4 s SPEC 1.1 gives for switching, after
+    the second one's contact is firm within the 0.4 s §crawler-hardware gives for switching, after
     which its loop, wound up while the bulging chamber held the pressure at the contact
     threshold, overshoots (at most 30 %)."""
     res = runs[name][0]
@@ -121,7 +121,7 @@ def test_stride_length_and_speed_metrics_count_along_the_direction_of_travel(run
     per_stride = (at(res, "body.x_cm", 9.0) - at(res, "body.x_cm", 3.0)) / 2
     assert m["stride_length"] == pytest.approx(per_stride, rel=1e-9)
     assert m["stride_length"] == pytest.approx(m["mean_speed"] * STRIDE, rel=1e-12)
-    assert 0.015 < m["stride_length"] < 0.035  # the real robot: about 0.028 m (SPEC 1.5)
+    assert 0.015 < m["stride_length"] < 0.035  # the real robot: about 0.028 m (§gait)
     slip_per_stride = (at(res, "friction2.slip", 9.0) - at(res, "friction2.slip", 3.0)) / 2
     assert m["slip2_per_stride"] == pytest.approx(slip_per_stride, rel=1e-9)
     _, back = runs["backward"]

@@ -114,7 +114,7 @@ def test_replayed_inputs_are_checked(fmu_dir):
 def test_an_unconnected_input_holds_the_value_a_scenario_sets(fmu_dir, tmp_path):
     """A bench condition (issue 20 item 1): the ambient temperature, an input nothing feeds, set
     like a parameter. With no heating the wire relaxes from T_init to it, as the lumped thermal
-    model (SPEC 2.1) says; the same input connected or replayed cannot also be set."""
+    model (§sma-wire) says; the same input connected or replayed cannot also be set."""
     path = tmp_path / "wire.toml"
     path.write_text('step = 0.01\nstop_time = 30.0\nrecord = ["wire.T"]\n'
                     '[instances.wire]\ncomponent = "SmaWire"\n'

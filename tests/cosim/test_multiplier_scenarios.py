@@ -1,4 +1,4 @@
-"""The fast-actuation scenarios of SPEC 3.1 c, shortened, and the metric ops they report with.
+"""The fast-actuation scenarios of §multiplier-experiments, shortened, and the metric ops they report with.
 
 Topologies::
 
@@ -32,7 +32,7 @@ def run(name, fmu_dir, stop_time, overrides=()):
 @pytest.mark.parametrize("name", NEW)
 def test_scenarios_load_and_name_their_spec(name):
     s = scenario.load(SCENARIOS / f"{name}.toml")
-    assert s.spec.startswith("SPEC.md") and s.metrics
+    assert s.reference.startswith("§") and s.metrics
 
 
 # --- metric ops -------------------------------------------------------------------------------
@@ -75,7 +75,7 @@ def test_a_periodic_op_without_a_period_is_refused(tmp_path):
 
 def test_without_friction_the_multiplier_moves_the_length_ratio_times_more(fmu_dir):
     # current drive: a frictionless fold is the straight wire per unit length, so the ratio of
-    # the displacements is the ratio of the lengths, n = 214 / 56 (SPEC 3.1 b)
+    # the displacements is the ratio of the lengths, n = 214 / 56 (§capstan-multiplier
     _, res, m = run("sma-multiplier-band-60-90", fmu_dir, 40.0, ["mult.mu_f=0.0"])
     assert m["ratio"] == pytest.approx(0.214 / 0.056, rel=1e-6)
     assert m["ratio"] == pytest.approx(m["multiplier_p2p"] / m["straight_p2p"], rel=1e-12)
@@ -87,7 +87,7 @@ def test_with_friction_the_clamp_segments_carry_more_and_move_more(fmu_dir):
     ratio = math.exp(0.0237 * math.pi)
     np.testing.assert_allclose(res["mult.segment[1].stress"], res["mult.segment[3].stress"]
                                * ratio ** 2, rtol=1e-14)
-    # the minor loop 60-90 C grows with stress (SPEC 2.3): more than n
+    # the minor loop 60-90 C grows with stress (§forc-identification): more than n
     assert m["ratio"] > 0.214 / 0.056 * 1.02
     late = res.time >= 20.0
     assert np.ptp(res["mult.segment[1].strain"][late]) > np.ptp(res["mult.segment[3].strain"][late])

@@ -1,4 +1,4 @@
-"""Temperature control of the SMA wire (SPEC 2.5): the shipped scenarios, shortened.
+"""Temperature control of the SMA wire (§temperature-control): the shipped scenarios, shortened.
 
 Topology::
 

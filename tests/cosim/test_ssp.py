@@ -212,7 +212,7 @@ def test_libcosim_runs_the_archive_as_a_jacobi_master_that_delays_feedthrough(
     read after step k with t_k (from its integer-nanosecond clock), as ours does, so rows line up.
 
     Our master resolves feedthrough at each communication point (friction from the body's state
-    at t_k), the zero-order-hold model the study uses (SPEC 1.4). The two results therefore
+    at t_k), the zero-order-hold model the study uses (§ideal-actuation). The two results therefore
     differ once a block sticks or slips (nominal case: from 73 ms on, by 5-8 % of the block
     positions after 2 s and 1 % of x_cm after 60 s), and for a second reason: our time
     accumulates t += h, so u1's edges, which fall on samples (t = 0.5 s, 1 s, ...), can switch

@@ -44,7 +44,7 @@ def test_library_covers_the_issue_list():
 
 @pytest.mark.parametrize("effect", effects.EFFECTS, ids=IDS)
 def test_off_values_are_the_fmu_defaults(fmu_dir, effect):
-    assert effect.component in CATALOGUE and effect.spec.startswith("SPEC")
+    assert effect.component in CATALOGUE and effect.reference.startswith("§")
     assert effect.regime in effects.REGIMES
     md = read_model_description(str(fmu_dir / f"{effect.component}.fmu"))
     variables = {v.name: v for v in md.modelVariables}
@@ -77,7 +77,7 @@ def test_off_is_nominal_exactly_and_on_changes_the_run(fmu_dir, effect):
 
 def test_calibration_parameters_are_nominal_values_of_their_component(fmu_dir):
     """Every calibration parameter is a parameter (or the SmaWire's ambient input) of its
-    component, owned by no effect, with bounds around its nominal value and a SPEC section."""
+    component, owned by no effect, with bounds around its nominal value and a model reference section."""
     assert {c.name for c in effects.calibration_of("SmaWire")} >= {
         "T_amb", "h", "specific_heat", "rho_austenite", "rho_martensite", "hysteresis_shift",
         "strain_scale"}
@@ -87,7 +87,7 @@ def test_calibration_parameters_are_nominal_values_of_their_component(fmu_dir):
         effect_params = {p.name for e in effects.by_component(c.component) for p in e.parameters}
         assert v.causality in ("parameter", "input") and c.name not in effect_params
         lo, hi = c.bounds(float(v.start))
-        assert lo < float(v.start) < hi and c.spec.startswith("SPEC") and c.why
+        assert lo < float(v.start) < hi and c.reference.startswith("§") and c.why
 
 
 @pytest.mark.parametrize("name, value", [("hysteresis_shift", 5.0), ("strain_scale", 1.1)])

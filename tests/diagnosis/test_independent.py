@@ -121,7 +121,7 @@ def test_draught_cools_latent_heat_absorbs_clamps_cool_the_ends():
 
 def test_natural_convection_grows_with_the_excess_temperature():
     h = ib.air_convection(np.array([25.0, 50.0, 85.0]), 293.15, ib.DIAMETER)
-    assert 90 < h[1] < 130  # SPEC 5: about 100 W/(m^2 K) at 50 K for the 127 um wire
+    assert 90 < h[1] < 130  # §convection: about 100 W/(m^2 K) at 50 K for the 127 um wire
     exponent = math.log(h[2] / h[0]) / math.log(85 / 25)
     assert 0.06 < exponent < 0.2  # the library's hidden h_exponent range is 0.06-0.15
 

@@ -88,7 +88,7 @@ def test_the_bench_climbs_with_its_pressures_tracking_the_gait(walk):
     assert np.allclose(p[i], [ic.P_ANCHOR, ic.P_CENTRAL, 0.0], atol=500.0)
     assert np.max(p[np.searchsorted(t, 1.8):np.searchsorted(t, 2.4), 2]) > ic.P_ANCHOR  # anchored
     gain = (x[-1] - x[np.searchsorted(t, 3.0)]).mean()  # one stride, climbing
-    assert 0.01 < gain < 0.04  # SPEC 1.5's real strides are 0.022-0.028 m on the flat
+    assert 0.01 < gain < 0.04  # §gait's real strides are 0.022-0.028 m on the flat
     assert np.max(np.abs(walk["x"] - x)) < 1e-3  # 30 frames/s interpolated: within a mm
     assert np.all(np.abs(walk["duty"]) <= 1.0)
 

@@ -1,4 +1,4 @@
-"""The blind benchmark's multiplier cases (SPEC 3.1, 4): drawn apart from the other cases, each
+"""The blind benchmark's multiplier cases (§capstan-multiplier, §named-effects): drawn apart from the other cases, each
 hidden effect recorded on the multiplier bench changes what the bench measures."""
 import numpy as np
 import pytest

@@ -1,4 +1,4 @@
-"""The long-duration drift test (SPEC 2.6, 3.3), shortened: the core runner against the
+"""The long-duration drift test (§drift), shortened: the core runner against the
 co-simulated test, no drift = identical loops, settling drift = later tests closer, and the CLI."""
 import numpy as np
 import pytest

@@ -1,4 +1,4 @@
-"""Identification from FORC experiments (SPEC 2.3): the ForcReference profile, `identify` on
+"""Identification from FORC experiments (§forc-identification): the ForcReference profile, `identify` on
 synthetic records from a known surface (no FMUs), its errors, a reduced closed-loop run on the
 FMUs, and the validation numbers (surface error, validation runs, memory checks)."""
 import json
@@ -197,7 +197,7 @@ def test_identify_from_the_closed_loop_on_the_virtual_wire(fmu_dir, tmp_path):
     assert np.abs(again.table[0] - surface.table[0]).max() < 5e-5
 
 
-# ---- validation (SPEC 2.3) ---------------------------------------------------------------------
+# ---- validation (§forc-identification) ---------------------------------------------------------------------
 
 def test_the_virtual_wire_is_rate_independent_wipes_out_and_has_congruent_loops():
     checks = validation.memory_checks()

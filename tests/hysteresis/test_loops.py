@@ -14,7 +14,7 @@ BANDS = ["30:130", "50:100", "60:85"]
 
 @pytest.fixture(scope="module")
 def forc_file(tmp_path_factory):
-    """The reference wire tabulated like an identified data set (SPEC 2.2 grid and stresses)."""
+    """The reference wire tabulated like an identified data set (§preisach grid and stresses)."""
     path = tmp_path_factory.mktemp("forc") / "wire.csv"
     Hypersurface.from_function(WIRE.F).save(path)
     return path

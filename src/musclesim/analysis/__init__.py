@@ -1,18 +1,18 @@
 """The study's analyses: linear analysis and controller design with python-control, the
 crawler's characterisation and the position-control study's tables.
 
-- `linear_crawler`: the crawler body's controllability (SPEC 1.2);
+- `linear_crawler`: the crawler body's controllability (§two-mass);
 - `linear_sma_thermal`: the SMA wire's thermal models and the gain-scheduled temperature PI
-  (SPEC 2.5);
+  (§temperature-control);
 - `linear_sma_load`: the SMA bench's load path identified on its FMUs and the stress loop's PI
-  (SPEC 2.1, 2.4);
+  (§sma-wire, §position-control);
 - `linear_pneumatic`: the crawler's pressure loops identified on its FMUs and their PIs
-  (SPEC 1.1, 1.5);
+  (§crawler-hardware, §gait);
 - `linear_bending`: the bending actuator's linearised thermal and beam model, its first
-  resonance and the pulse frequency the tip still follows (SPEC 3.2);
+  resonance and the pulse frequency the tip still follows (§bending-actuator);
 - `design`: the PI designs and margins the linear analyses share;
-- `characterise`: the gait's pressure references from the characterisation run (SPEC 1.5);
-- `position`: the position-control matrix (SPEC 2.4) run as case folders (``musclesim.batch``)
+- `characterise`: the gait's pressure references from the characterisation run (§pressure-control);
+- `position`: the position-control matrix (§position-control) run as case folders (``musclesim.batch``)
   and written as tables.
 
 Each linear analysis gives a report (a dict), its text (``format_*``) and, for the controllers,

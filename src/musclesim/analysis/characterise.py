@@ -1,4 +1,4 @@
-"""The crawler's off-line characterisation (SPEC 1.5): the gait's pressure references.
+"""The crawler's off-line characterisation (§pressure-control): the gait's pressure references.
 
 `scenarios/crawler-characterisation.toml` ramps the central actuator's pressure reference with
 both extremal actuators deflated, then the extremal actuators' references. From its results:
@@ -14,11 +14,11 @@ import numpy as np
 
 from musclesim.errors import UserError
 
-# m: assumption, about half the central actuator's 83 mm length (SPEC 1.1); the study names no
-# elongation, only that the references came from the pressure-elongation curve (SPEC 1.5)
+# m: assumption, about half the central actuator's 83 mm length (§crawler-hardware); the study names no
+# elongation, only that the references came from the pressure-elongation curve (§gait)
 ELONGATION_TARGET = 0.04
 FIRM = 0.99  # contact indicator counted as firm ground contact
-# assumption: the study set its anchoring references by eye (SPEC 1.5); a quarter above the
+# assumption: the study set its anchoring references by eye (§gait); a quarter above the
 # lowest firm-contact pressure keeps the contact firm through the loop's ripple and overshoot
 ANCHOR_MARGIN = 0.25
 CENTRAL_RAMP_END = 20.0  # s, end of the central ramp in the characterisation scenario
@@ -56,7 +56,7 @@ def references(res, elongation_target=ELONGATION_TARGET):
 def references_toml(refs, scenario_path):
     """The GaitSequencer parameters of `refs`, as the TOML the gait scenarios read."""
     return "\n".join([
-        "# Pressure references of the four-phase gait (SPEC 1.5), written by",
+        "# Pressure references of the four-phase gait (§gait), written by",
         f"# `musclesim characterise` from {scenario_path}: do not edit, rerun it.",
         f"p_central = {refs['p_central']!r}  # Pa: elongation {ELONGATION_TARGET:g} m on the "
         "pressure-elongation curve",

@@ -1,11 +1,11 @@
-"""The bending actuator's linear model (SPEC 3.2 a) with python-control: heating power of wire A
+"""The bending actuator's linear model (§bending-actuator with python-control: heating power of wire A
 to the deflection at the laser, for design: its first resonance, and the heating-pulse frequency
 up to which the tip still follows the pulses.
 
-    C dT/dt = P - G T                                  (wire A's lumped thermal model, SPEC 2.1)
+    C dT/dt = P - G T                                  (wire A's lumped thermal model, §thermal-model)
     eps = g T                                          (its hysteresis, linearised: g the secant
                                                         of the steady minor loop, F(T_hi, T_lo) /
-                                                        (T_hi - T_lo), SPEC 2.3)
+                                                        (T_hi - T_lo), §forc-identification)
     J theta'' + c theta' + K theta = e E_A A g T       (beams and both wires, `bending.actuator`)
     y = lever(z) theta
 
@@ -25,10 +25,10 @@ from musclesim.components.sma.wire import ReferenceWire
 
 BENDING_DESIGN = {
     "T_amb": 20.0,  # C, room temperature
-    "voltage": 5.0,  # V, pulse amplitude (SPEC 3.2)
-    "frequency": 4.0,  # Hz, the study's pulse frequency (SPEC 3.2)
-    "duty": 0.05,  # 12.5 ms per 250 ms (SPEC 3.2)
-    "height": 17e-3,  # m, the laser (SPEC 3.2)
+    "voltage": 5.0,  # V, pulse amplitude (§bending-actuator)
+    "frequency": 4.0,  # Hz, the study's pulse frequency (§bending-actuator)
+    "duty": 0.05,  # 12.5 ms per 250 ms (§bending-actuator)
+    "height": 17e-3,  # m, the laser (§bending-actuator)
     # the tip "follows" the pulses while the swing of its first harmonic (peak to peak) is at
     # least this share of its mean deflection: at 1 it comes back to rest between pulses
     "follow_ratio": 1.0,
@@ -130,7 +130,7 @@ def bending(design=None, beam_p=None, layout=None):
     mag = np.abs(sys(1j * omega)).ravel()
     tau = thermal.time_constant(wire_p)
     return {
-        "system": "bending", "spec": "SPEC.md 3.2", "design": d,
+        "system": "bending", "reference": "§bending-actuator", "design": d,
         "resonance": {
             "cold_undamped": beam.natural_frequency(cold_stiffness(beam_p, layout, area), beam_p),
             "undamped": float(wn[k]) / (2 * math.pi), "damping_ratio": float(zeta[k]),
@@ -149,7 +149,7 @@ def format_bending(report):
     d, r, th, fo = report["design"], report["resonance"], report["thermal"], report["follow"]
     follow = "none below 10 kHz" if fo["frequency"] is None else f"{fo['frequency']:.2f} Hz"
     return "\n".join([
-        f"Bending actuator (SPEC 3.2): wire A's heating power -> deflection at "
+        f"Bending actuator (§bending-actuator): wire A's heating power -> deflection at "
         f"{d['height'] * 1e3:g} mm; pulses {d['voltage']:g} V, {d['duty'] * 100:g} % at "
         f"{d['frequency']:g} Hz",
         f"  first resonance: {r['cold_undamped']:.1f} Hz (wires cold), {r['undamped']:.1f} Hz "

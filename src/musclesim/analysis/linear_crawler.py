@@ -1,4 +1,4 @@
-"""Linear analysis of the crawler body (SPEC 1.2): its controllability with the actuator force
+"""Linear analysis of the crawler body (§two-mass): its controllability with the actuator force
 only and with all three inputs, with python-control."""
 import control as ct
 import numpy as np
@@ -17,7 +17,7 @@ def crawler_system(p=BodyParams()):
 
 
 def _row_echelon_basis(Q, tol=1e-9):
-    """Basis of the column space of Q in reduced row-echelon form (leading ones, like SPEC 1.2)."""
+    """Basis of the column space of Q in reduced row-echelon form (leading ones, like §two-mass)."""
     M = Q.T
     pivots = []
     for j in range(M.shape[1]):
@@ -59,7 +59,7 @@ def crawler(p=BodyParams()):
     cm_gain = float(np.abs(cm @ ctrb_fa).max())
     return {
         "system": "crawler",
-        "spec": "SPEC.md 1.2",
+        "reference": "§two-mass",
         "parameters": {"m1": p.m1, "m2": p.m2, "k": p.k, "c": p.c},
         "states": STATES,
         "inputs": INPUTS,
@@ -74,7 +74,7 @@ def format_crawler(report):
     """Human-readable text of a `crawler` report."""
     vec = lambda v: "[" + ", ".join(f"{x:g}" for x in v) + "]"
     lines = [
-        f"Crawler body (SPEC 1.2), states [{', '.join(report['states'])}], "
+        f"Crawler body (§two-mass), states [{', '.join(report['states'])}], "
         f"m1 = {report['parameters']['m1']:g} kg, m2 = {report['parameters']['m2']:g} kg",
         f"controllability rank, f_a only:        {report['rank_fa_only']} of {len(report['states'])}",
         f"controllability rank, f_a, f1 and f2:  {report['rank_all_inputs']} of {len(report['states'])}",

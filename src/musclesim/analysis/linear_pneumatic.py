@@ -1,4 +1,4 @@
-"""The pressure loops of the pneumatic crawler (SPEC 1.1, 1.5): discrete models duty -> measured
+"""The pressure loops of the pneumatic crawler (§crawler-hardware, §gait): discrete models duty -> measured
 pressure identified on the FMUs from a PRBS, and a PI per actuator kind with its margins."""
 import math
 
@@ -23,7 +23,7 @@ PNEUMATIC_DESIGN = {
     "max_delay": 20,  # samples of input delay tried in the fit
     "crossover": 20.0,  # rad/s: pressures settle within ~0.2 s, well inside the 0.6 s phases
     "zero_ratio": 4.0,  # the PI zero sits this factor below the crossover
-    "step": 1e-3,  # s, the DAQ's 1 kHz (SPEC 1.1)
+    "step": 1e-3,  # s, the DAQ's 1 kHz (§crawler-hardware)
 }
 ACTUATORS = ("central", "extremal")  # instance names in the identification scenario
 
@@ -107,13 +107,13 @@ def pneumatic(fmu_dir="fmus", design=None):
                     "Kp": Kp, "Ki": Ki, "gain_margin": None if math.isinf(gm) else float(gm),
                     "phase_margin_deg": float(pm), "crossover": float(wc),
                     "closed_loop_pole_radius": float(np.abs(ct.poles(ct.feedback(loop))).max())}
-    return {"system": "pneumatic", "spec": "SPEC.md 1.1, 1.5", "design": d, "loops": loops}
+    return {"system": "pneumatic", "reference": "§crawler-hardware, §gait", "design": d, "loops": loops}
 
 
 def format_pneumatic(report):
     """Human-readable summary of a `pneumatic` report."""
     d = report["design"]
-    lines = [f"Pressure loops (SPEC 1.1, 1.5): duty -> measured pressure identified at "
+    lines = [f"Pressure loops (§crawler-hardware, §gait): duty -> measured pressure identified at "
              f"{d['p_op'] / 1e3:g} kPa from a PRBS of +-{d['amplitude']['central']:g} (central), "
              f"+-{d['amplitude']['extremal']:g} (extremal) duty "
              f"({d['bits']} bits of {d['bit'] * 1e3:g} ms); PI with loop crossover "
@@ -135,7 +135,7 @@ def pneumatic_gains_toml(report, actuator):
     """The PID parameters of one actuator kind's loop, as the TOML a scenario's instance reads."""
     q = report["loops"][actuator]
     return "\n".join([
-        f"# PID gains of the {actuator} soft actuator's pressure loop (SPEC 1.1), written by",
+        f"# PID gains of the {actuator} soft actuator's pressure loop (§crawler-hardware), written by",
         "# `musclesim linear pneumatic --write DIR`: do not edit, rerun the design.",
         f"Kp = {float(q['Kp'])!r}  # duty per Pa", f"Ki = {float(q['Ki'])!r}  # duty per Pa s",
         "Kd = 0.0",

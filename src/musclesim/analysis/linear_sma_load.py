@@ -1,4 +1,4 @@
-"""The load path of the SMA position-control bench (SPEC 2.1, 2.4): the duty -> load-cell force
+"""The load path of the SMA position-control bench (§sma-bench, §position-control): the duty -> load-cell force
 model identified on the Electromagnet and LoadCell FMUs, and the stress loop's PI placed on it."""
 import control as ct
 import numpy as np
@@ -11,7 +11,7 @@ LOAD_DESIGN = {
                        # coil's ~2 ms), below which the placed Kp turns negative
     "zeta": 0.9,
     "duty": (0.2, 0.7),  # the identification step of the PWM duty
-    "step": 4e-4,  # s, the stress loop's 2.5 kHz (SPEC 2.1)
+    "step": 4e-4,  # s, the stress loop's 2.5 kHz (§sma-bench)
     "duration": 0.05,  # s, recorded after the step
 }
 
@@ -61,7 +61,7 @@ def sma_load(fmu_dir="fmus", design=None):
     d = {**LOAD_DESIGN, **(design or {})}
     plant, K, tau, rms = identify_load_path(fmu_dir, d)
     Kp, Ki = design_pi(plant, d["omega_n"], d["zeta"])
-    return {"system": "sma-load", "spec": "SPEC.md 2.1, 2.4", "design": d,
+    return {"system": "sma-load", "reference": "§sma-wire, §position-control", "design": d,
             "identified": {"K": K, "tau": tau, "fit_rms": rms},
             "Kp": Kp, "Ki": Ki, **pi_margins(plant, Kp, Ki, d["step"])}
 
@@ -69,7 +69,7 @@ def sma_load(fmu_dir="fmus", design=None):
 def format_sma_load(report):
     """Human-readable summary of an `sma_load` report."""
     i, d = report["identified"], report["design"]
-    return (f"SMA load path (SPEC 2.1, 2.4): duty -> load-cell force identified from a duty step "
+    return (f"SMA load path (§thermal-model, §position-control): duty -> load-cell force identified from a duty step "
             f"{d['duty'][0]:g} -> {d['duty'][1]:g}: K = {i['K']:.4g} N, tau = {i['tau'] * 1e3:.3g} "
             f"ms (fit RMS {i['fit_rms']:.2g} N)\n"
             f"PI with closed-loop poles at omega_n = {d['omega_n']:g} rad/s, zeta = {d['zeta']:g}: "
@@ -82,7 +82,7 @@ def format_sma_load(report):
 def load_gains_toml(report):
     """The PID parameters of an `sma_load` report, as the TOML a scenario's instance reads."""
     return "\n".join([
-        "# PID gains of the SMA bench's stress loop (SPEC 2.4), written by",
+        "# PID gains of the SMA bench's stress loop (§position-control), written by",
         "# `musclesim linear sma-load --write FILE`: do not edit, rerun the design.",
         f"Kp = {report['Kp']!r}  # duty per N", f"Ki = {report['Ki']!r}  # duty per N s",
         "Kd = 0.0", "u_min = 0.0  # PWM duty", "u_max = 1.0", ""])

@@ -1,5 +1,5 @@
 """The SMA wire's thermal models and the gain-scheduled temperature controller designed on them
-(SPEC 2.5), with python-control: a PI per scheduling point of the GainScheduledPID."""
+(§temperature-control), with python-control: a PI per scheduling point of the GainScheduledPID."""
 import math
 
 import control as ct
@@ -11,18 +11,18 @@ from musclesim.components.sma.wire import ReferenceWire
 
 SMA_DESIGN = {
     "T_amb": 20.0,  # C, room temperature of the bench
-    "sigma": 125e6,  # Pa, middle of the identified stresses 105..145 MPa (SPEC 2.3)
+    "sigma": 125e6,  # Pa, middle of the identified stresses 105..145 MPa (§forc-identification)
     "omega_n": 8.0,  # rad/s, closed-loop natural frequency, ~14x the free-cooling pole
     "zeta": 0.9,  # closed-loop damping
-    "u_max": 2.5,  # V, Joule heating range of the bench (SPEC 2.1)
-    "step": 4e-4,  # s, the position loop's 2.5 kHz (SPEC 2.1)
+    "u_max": 2.5,  # V, Joule heating range of the bench (§sma-bench)
+    "step": 4e-4,  # s, the position loop's 2.5 kHz (§sma-bench)
 }
 
 
 def sma_thermal_plant(T_op, p=thermal.ThermalParams(), wire=None, T_amb=20.0, sigma=125e6):
     """Linear thermal model of the wire around temperature T_op [C] under voltage drive.
 
-    The lumped balance C dT/dt = u^2 / R(xi(T)) - h A_s (T - T_amb) (SPEC 2.1) is linearised at the
+    The lumped balance C dT/dt = u^2 / R(xi(T)) - h A_s (T - T_amb) (§thermal-model) is linearised at the
     equilibrium voltage u_op; xi(T) follows the heating branch of the reference wire at `sigma`
     (the resistance falls as austenite forms). Returns (python-control system from du [V] to dT
     [K], u_op [V]).
@@ -64,13 +64,13 @@ def sma_thermal(design=None):
         points.append({"T_op": T_op, "u_op": u_op, "plant_gain": float(ct.dcgain(plant)),
                        "time_constant": -1.0 / plant.A[0, 0], "Kp": Kp, "Ki": Ki, "Kd": 0.0,
                        **pi_margins(plant, Kp, Ki, d["step"])})
-    return {"system": "sma-thermal", "spec": "SPEC.md 2.5", "design": d, "points": points}
+    return {"system": "sma-thermal", "reference": "§temperature-control", "design": d, "points": points}
 
 
 def format_sma_thermal(report):
     """Human-readable table of an `sma_thermal` report."""
     d = report["design"]
-    lines = [f"SMA wire temperature loop (SPEC 2.5): PI per operating point, poles at "
+    lines = [f"SMA wire temperature loop (§temperature-control): PI per operating point, poles at "
              f"omega_n = {d['omega_n']:g} rad/s, zeta = {d['zeta']:g}; T_amb = {d['T_amb']:g} C, "
              f"{d['sigma'] / 1e6:g} MPa, sampled at {d['step'] * 1e3:g} ms",
              "  T_op C   u_op V   K K/V   tau s    Kp V/K   Ki V/Ks   PM deg   wc rad/s"]
@@ -83,7 +83,7 @@ def format_sma_thermal(report):
 
 def gain_table_toml(report):
     """The GainScheduledPID parameters of a report, as the TOML a scenario's instance reads."""
-    lines = ["# GainScheduledPID gains for the SMA wire's temperature (SPEC 2.5), written by",
+    lines = ["# GainScheduledPID gains for the SMA wire's temperature (§temperature-control), written by",
              "# `musclesim linear sma-thermal --write FILE`: do not edit, rerun the design.",
              "u_min = 0.0  # V: the wire is only heated", f"u_max = {report['design']['u_max']!r}  # V"]
     for i, (x, q) in enumerate(zip(SCHEDULE_K, report["points"]), start=1):

@@ -1,4 +1,4 @@
-"""`musclesim table sma-position`: the study's position-control matrix (SPEC 2.4) as tables.
+"""`musclesim table sma-position`: the study's position-control matrix (§position-control) as tables.
 
 Three tables, each cell one run of scenarios/sma-position-control.toml with ``--set`` overrides:
 
@@ -25,7 +25,7 @@ from musclesim.components.sma import profiles
 from musclesim.cosim import replace_file, save_figure
 from musclesim.errors import UserError
 
-STRESSES = (105e6, 115e6, 125e6, 135e6, 145e6)  # Pa (SPEC 2.4)
+STRESSES = (105e6, 115e6, 125e6, 135e6, 145e6)  # Pa (§position-control)
 SP = profiles.STRAIN_PROFILES
 LP = profiles.LOADING_PROFILES
 

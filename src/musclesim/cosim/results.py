@@ -171,7 +171,7 @@ class RunWriter:
         if self.with_plot and len(results.time) > 1:
             s = self.scenario
             plot(self.out / "results.png", results, s.plots, self.units,
-                 title=f"{s.name} ({s.spec})" if s.spec else s.name)
+                 title=f"{s.name} ({s.reference})" if s.reference else s.name)
         return self._summary({
             **metrics,
             "units": {name: metric_unit(self.units.get(m.signal), m.op, m.over is not None)
@@ -184,7 +184,7 @@ class RunWriter:
     def _summary(self, state):
         s = self.scenario
         summary = {**state, "run_id": self.run_id, "scenario": s.name,
-                   "description": s.description, "scenario_file": str(s.path), "spec": s.spec,
+                   "description": s.description, "scenario_file": str(s.path), "reference": s.reference,
                    "algorithm": s.algorithm, "step": s.step, "start_time": s.start_time,
                    "stop_time": s.stop_time,
                    "parameters": {n: i.parameters for n, i in s.instances.items()}}

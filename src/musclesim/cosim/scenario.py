@@ -26,7 +26,7 @@ ALGORITHMS = ("gauss-seidel", "jacobi")
 METRIC_OPS = ("final", "initial", "mean", "min", "max", "max_abs", "rms", "rate", "peak_to_peak",
               "per_period", "frequency", "cycle_peak_to_peak")
 _PERIODIC = ("per_period", "cycle_peak_to_peak")  # ops that need a period
-_TOP_KEYS = {"name", "description", "spec", "step", "start_time", "stop_time", "algorithm",
+_TOP_KEYS = {"name", "description", "reference", "step", "start_time", "stop_time", "algorithm",
              "connections", "record", "instances", "metrics", "plots"}
 MIN_STEP = 1e-7  # s: a communication step shorter than any physics here needs
 MAX_STEPS = 100_000_000  # communication steps of one run (hours of compute at the fastest)
@@ -76,7 +76,7 @@ class Scenario:
     metrics: dict = field(default_factory=dict)  # name -> Metric
     plots: tuple = ()  # ({"title": str, "signals": [..]}, ...)
     description: str = ""
-    spec: str = ""
+    reference: str = ""
 
     @property
     def n_steps(self):
@@ -248,7 +248,7 @@ def _parse(data, path, problems):
         connections=tuple(connections), step=float(data["step"]),
         stop_time=float(data["stop_time"]), start_time=float(data.get("start_time", 0.0)),
         algorithm=algorithm, record=tuple(record), metrics=metrics, plots=tuple(plots),
-        description=str(data.get("description", "")), spec=str(data.get("spec", "")))
+        description=str(data.get("description", "")), reference=str(data.get("reference", "")))
 
 
 def _parameters_file(scenario_path, instance, name, problems):

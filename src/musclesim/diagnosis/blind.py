@@ -2,7 +2,7 @@
 
 Each case is a measured data set made by running one of the SMA benches with hidden changes:
 
-- ``effect``: one library effect at a random magnitude (SPEC ranges, `MAGNITUDES`);
+- ``effect``: one library effect at a random magnitude (ranges from the model reference, `MAGNITUDES`);
 - ``decoy``: an effect with a look-alike in the library (`DECOYS`: both act at high
   temperatures, or both make the reading trail the model);
 - ``none``: no change at all;
@@ -13,7 +13,7 @@ all with nuisances: thermocouple noise and quantisation inside the loop, strain-
 quantisation, and an acquisition latency of the strain gauge of 0 or 1 sample behind the
 controller's log. A quarter of the effect cases (drawn from a stream of their own) run on a load
 bench instead: the magnet bench hiding an electromagnet force nonlinearity or a load-cell lag, or
-the weight bench (SPEC 3.1's 150 g weight lifted by fast heating pulses) hiding the weight's
+the weight bench (§capstan-multiplier's 150 g weight lifted by fast heating pulses) hiding the weight's
 inertia; with laser and load-cell noise and quantisation (the library's "laser noise" as the
 nuisance it is: noise raises the floor, no fit of it can shrink a gap). Another quarter (a third
 stream; it wins over the load-bench draw) runs on the pneumatic crawler climbing 7.5 deg (12 s of
@@ -64,7 +64,7 @@ BENCHES = {
     "magnet": ("sma-bench-magnet", ["wire.u", "magnet.duty"],
                ["loadcell.f_meas", "thermocouple.T_meas", "laser.s_meas"],
                ["electromagnet force nonlinearity", "load-cell lag"]),
-    # SPEC 3.1's 150 g weight lifted by fast heating pulses, the laser on the weight
+    # §capstan-multiplier's 150 g weight lifted by fast heating pulses, the laser on the weight
     "weight": ("sma-dead-weight", ["wire.u"], ["laser.s_meas"], ["load inertia"]),
     # the pneumatic crawler climbing 7.5 deg (where bending shows): the controllers' logged
     # duties replayed, the pressure sensors and the blocks' positions from video observed
@@ -74,7 +74,7 @@ BENCHES = {
                 ["valve delay", "supply-pressure drop", "chamber leakage",
                  "pressure-dependent stiffness", "actuator bending on an incline",
                  "friction decay"]),
-    # SPEC 3.1's capstan multiplier under the 150 g weight, bang-bang heated: the relay's
+    # §multiplier-experiments's capstan multiplier under the 150 g weight, bang-bang heated: the relay's
     # voltage replayed, the middle segment's thermocouple and the laser on the weight observed
     # (only in the extra multiplier cases, `plan_multiplier`)
     "multiplier": ("sma-bench-multiplier", ["mult.u"], ["thermocouple.T_meas", "laser.s_meas"],
@@ -89,7 +89,7 @@ LOAD_BENCHES = ("magnet", "weight")
 CRAWLER_SHARE = 0.25  # ... and, drawn from a third stream, to the crawler bench
 # Not in the tracking bench's pool, so without a magnitude here: clamp heat loss (cold ends), the
 # look-alike of the decoy pair below; the independent bench hides it (`independent_plan`).
-# hidden magnitudes: (instance, parameter, low, high), drawn uniformly (SPEC 2.1, 2.6, 5)
+# hidden magnitudes: (instance, parameter, low, high), drawn uniformly (§sma-wire, §drift, §sma-material)
 MAGNITUDES = {
     "thermocouple lag": [("thermocouple", "tau", 0.1, 0.6)],
     "thermocouple bias": [("thermocouple", "bias", 1.5, 5.0)],  # sign drawn too
@@ -109,7 +109,7 @@ MAGNITUDES = {
     "pressure-dependent stiffness": [("body", "k_slope", 0.015, 0.04)],
     "actuator bending on an incline": [(("friction1", "friction2"), "bending", 1.5, 4.0)],
     "friction decay": [(("friction1", "friction2"), "mu_decay", 0.01, 0.02)],
-    # a groove worn or dirty: 2-4 times SPEC 3.1's 0.0237 +/- 0.0037
+    # a groove worn or dirty: 2-4 times §capstan-multiplier's 0.0237 +/- 0.0037
     "capstan friction": [("mult", "mu_f", 0.05, 0.1)],
     # transformation temperatures of NiTi move ~10 K per 0.1 at.% Ni; a few K between batches
     "composition difference": [("mult", "composition_shift", 3.0, 8.0)],  # sign drawn too
@@ -130,7 +130,7 @@ OUTSIDE = {
     "clamp slip": (3e-4, 8e-4),
     "gauge drift": (1e-3, 2e-3),
 }
-# nuisances (the same for every case; magnitudes of a bench like SPEC 2.1's)
+# nuisances (the same for every case; magnitudes of a bench like §sma-bench's)
 TC_NOISE, TC_QUANTUM = 0.08, 0.05  # K
 STRAIN_NOISE, STRAIN_QUANTUM = 2e-5, 1e-5
 LASER_NOISE, LASER_QUANTUM = 2e-6, 1e-6  # m (the laser-noise effect of the library as nuisance)

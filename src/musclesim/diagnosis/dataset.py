@@ -42,7 +42,7 @@ from musclesim.errors import UserError
 
 MANIFEST = "manifest.toml"
 DATA = "data.csv"
-_TOP_KEYS = {"description", "spec", "scenario", "inputs", "outputs", "units", "conditions",
+_TOP_KEYS = {"description", "reference", "scenario", "inputs", "outputs", "units", "conditions",
              "experiments", "split"}
 _EXPERIMENT_KEYS = {"span", "scenario", "description", "metrics", "stop_time"}
 _METRIC_KEYS = {"value", "unit", "uncertainty", "description"}
@@ -103,7 +103,7 @@ class DataSet:
     columns: tuple = ()
     data: np.ndarray = None
     description: str = ""
-    spec: str = ""
+    reference: str = ""
     conditions: dict = field(default_factory=dict)  # "instance.variable" -> known constant value
 
     @property
@@ -320,7 +320,7 @@ def _build(path, m, table, has_data, scenarios_dir, problems):
     return DataSet(path=path, scenario=reference, scenario_path=scenario_path, inputs=inputs,
                    outputs=outputs, units={c: units.get(c) for c in columns},
                    experiments=experiments, split=split, time=time, columns=columns, data=data,
-                   description=str(m.get("description", "")), spec=str(m.get("spec", "")),
+                   description=str(m.get("description", "")), reference=str(m.get("reference", "")),
                    conditions=conditions)
 
 

@@ -4,7 +4,7 @@ The independent virtual hardware of the blind benchmark (`musclesim.diagnosis.in
 draws its cases). Nothing here comes from `musclesim.components`; the physics is another
 representation than the library's, so that model and bench never differ by one effect alone:
 
-- Heat (SPEC 2.1, 5): the 1-D heat equation along the wire on `CELLS` finite volumes, graded
+- Heat (§thermal-model, §sma-material): the 1-D heat equation along the wire on `CELLS` finite volumes, graded
   toward the clamps (Chebyshev edges), per volume
   ``rho c A dx dT/dt = I^2 R_i - h pi d dx (T - T_amb) - eps sigma pi d dx (T^4 - T_amb^4)
   + conduction + rho A dx L dxi/dt``, with R_i = rho_e(xi_i) dx / A in series (one current),
@@ -20,7 +20,7 @@ representation than the library's, so that model and bench never differ by one e
   E(xi) = E_A + xi (E_M - E_A) (Liang & Rogers' mixture rule).
 - Convection: h constant as the model's, or (a hidden effect) natural convection by the
   Churchill-Chu correlation (`air_convection`), or a draught that steps h up part-way through;
-  radiation at an emissivity the case draws (SPEC gives none).
+  radiation at an emissivity the case draws (the study gives none).
 - Thermocouple: junction behind a coat, two first-order stages (tau_sheath, tau_junction) on
   one volume near the middle; gain, offset, bias, noise, quantisation. Strain sensor: a
   first-order stage, gain, offset (drifting, an outside case), noise, quantisation, an
@@ -39,35 +39,35 @@ import numpy as np
 from scipy import linalg
 
 ZERO_C = 273.15  # K
-# the wire (SPEC 2.1, 5)
-DIAMETER = 127e-6  # m, SPEC 2.1
-LENGTH = 58.42e-3  # m, SPEC 2.1
-DENSITY = 6450.0  # kg/m^3, SPEC 5
-SPECIFIC_HEAT = 837.0  # J/(kg K), SPEC 5
-CONDUCTIVITY = 18.0  # W/(m K), SPEC 5
-RHO_MARTENSITE, RHO_AUSTENITE = 80e-8, 100e-8  # Ohm m, SPEC 5
-H_NOMINAL = 100.0  # W/(m^2 K) at 50 K excess, SPEC 5
-AREA = math.pi * DIAMETER ** 2 / 4  # m^2; 1.26677e-8 as the scenarios' load (SPEC 2.3)
-STRESS = 125e6  # Pa: the tracking bench's constant load (SPEC 2.3's stresses, the scenario's)
-CC_SLOPE = 7e6  # Pa/K: Clausius-Clapeyron, the low end of SPEC 5's 7-14 MPa/K
+# the wire (§sma-wire, §sma-material)
+DIAMETER = 127e-6  # m, §sma-wire
+LENGTH = 58.42e-3  # m, §thermal-model
+DENSITY = 6450.0  # kg/m^3, §sma-material
+SPECIFIC_HEAT = 837.0  # J/(kg K), §sma-material
+CONDUCTIVITY = 18.0  # W/(m K), §sma-material
+RHO_MARTENSITE, RHO_AUSTENITE = 80e-8, 100e-8  # Ohm m, §sma-material
+H_NOMINAL = 100.0  # W/(m^2 K) at 50 K excess, §convection
+AREA = math.pi * DIAMETER ** 2 / 4  # m^2; 1.26677e-8 as the scenarios' load (§forc-identification)
+STRESS = 125e6  # Pa: the tracking bench's constant load (§forc-identification's stresses, the scenario's)
+CC_SLOPE = 7e6  # Pa/K: Clausius-Clapeyron, the low end of §sma-material's 7-14 MPa/K
 # Two populations of grains with their own transformation bands [C] at STRESS (weight, As, Af,
 # Ms, Mf) and the transformation strain: a least-squares match (rounded) of the strain-temperature
-# loop of the tracking scenario's wire under 125 MPa (SPEC 2.3: ~3.8 % over 30-130 C; half-way at
+# loop of the tracking scenario's wire under 125 MPa (§forc-identification: ~3.8 % over 30-130 C; half-way at
 # ~78 C heating, ~64 C cooling), 1.3e-4 RMS apart over its 45-105 C cycles (one population:
-# 1.5e-3, without the loop's tails). SPEC 5's data-sheet 88/98/72/62 C at low stress cannot meet
-# SPEC 2.3's figures (the measured behaviour wins, SPEC 5)
+# 1.5e-3, without the loop's tails). §sma-material's data-sheet 88/98/72/62 C at low stress cannot meet
+# §forc-identification's figures (the measured behaviour wins, §sma-material)
 POPULATIONS = ((0.45, 70.0, 85.0, 70.0, 55.5),  # sharp: the steep middle of the loop
                (0.55, 53.0, 108.0, 95.0, 30.0))  # diffuse: the slow approach to saturation
 EPS_L = 0.036
-E_AUSTENITE, E_MARTENSITE = 75e9, 28e9  # Pa: Flexinol data sheet (SPEC 5 names data sheets)
-ALPHA = 11e-6  # 1/K: thermal expansion, Flexinol data sheet (SPEC 2.1 names the term)
-T_REF = 20.0  # C: strain is contraction from the length at room temperature (SPEC 2.1)
-SIGMA_SB = 5.670374419e-8  # W/(m^2 K^4): Stefan-Boltzmann (radiation; SPEC gives none)
-U_MAX = 2.5  # V: the heating voltage's range (SPEC 2.1; scenarios/params/sma-thermal-gains.toml)
+E_AUSTENITE, E_MARTENSITE = 75e9, 28e9  # Pa: Flexinol data sheet (§sma-material names data sheets)
+ALPHA = 11e-6  # 1/K: thermal expansion, Flexinol data sheet (§thermal-model names the term)
+T_REF = 20.0  # C: strain is contraction from the length at room temperature (§thermal-model)
+SIGMA_SB = 5.670374419e-8  # W/(m^2 K^4): Stefan-Boltzmann (radiation; the study gives none)
+U_MAX = 2.5  # V: the heating voltage's range (§thermal-model; scenarios/params/sma-thermal-gains.toml)
 CELLS = 18
 FRAME = 0.02  # s: the data's and the controller's period (the scenario's 50 Hz)
 SUBSTEPS = 2  # internal steps per frame (10 ms)
-# the bench's reference: the tracking scenario's 75 C +- 30 K at 0.1 Hz from 45 C (SPEC 2.5)
+# the bench's reference: the tracking scenario's 75 C +- 30 K at 0.1 Hz from 45 C (§temperature-control)
 REF_MEAN, REF_AMPLITUDE, REF_FREQUENCY = 348.15, 30.0, 0.1
 PREROLL = 10.0  # s held at the reference's start before recording, from ambient
 
@@ -95,7 +95,7 @@ class Bench:
     draught_factor: float = 1.0
     latent_heating: float = 0.0  # J/kg absorbed as austenite forms
     latent_cooling: float = 0.0  # J/kg released as martensite forms
-    # the bench's own PI, stable with a 0.5 s thermocouple lag inside its loop (SPEC 2.5's
+    # the bench's own PI, stable with a 0.5 s thermocouple lag inside its loop (§temperature-control's
     # scheduled gains, 0.12-0.35 V/K, are the model's design)
     kp: float = 0.07  # V/K
     ki: float = 0.1  # V/(K s)
@@ -138,7 +138,7 @@ def branch(T, lo, hi):
 
 def bands(stress):
     """Per population (As, Af, Ms, Mf) [C] at `stress` [Pa], arrays: shifted from `STRESS` by
-    the Clausius-Clapeyron slope `CC_SLOPE` (SPEC 5)."""
+    the Clausius-Clapeyron slope `CC_SLOPE` (§sma-material)."""
     shift = (stress - STRESS) / CC_SLOPE
     return tuple(np.array([p[i] for p in POPULATIONS]) + shift for i in range(1, 5))
 
@@ -211,7 +211,7 @@ class Kinetics:
 
 def contraction(xi, T, stress):
     """Contraction strain of volumes at fractions `xi`, temperatures `T` [C], `stress` [Pa]
-    (positive = shorter than at room temperature under the load, SPEC 2.1)."""
+    (positive = shorter than at room temperature under the load, §sma-wire)."""
     modulus = E_AUSTENITE + xi * (E_MARTENSITE - E_AUSTENITE)
     return EPS_L * (1 - xi) + stress / E_MARTENSITE - stress / modulus - ALPHA * (T - T_REF)
 
@@ -233,7 +233,7 @@ def centres(length, cells=CELLS):
 
 def thermal_system(bench, cells=CELLS):
     """(A, capacity, loss_to_ambient, clamp_conductance) of the linear part dT/dt = A T + ...:
-    conduction between volumes and into the clamps, convection at the bench's h (SPEC 2.1, 5)."""
+    conduction between volumes and into the clamps, convection at the bench's h (§sma-bench, §convection)."""
     w = widths(bench.length, cells)
     cap = DENSITY * SPECIFIC_HEAT * AREA * w  # J/K per volume
     g = CONDUCTIVITY * AREA / ((w[:-1] + w[1:]) / 2)  # W/K between neighbours
@@ -256,7 +256,7 @@ def propagator(A, dt):
 def air_convection(dT, T_amb, diameter):
     """Natural convection h [W/(m^2 K)] of a horizontal cylinder by the Churchill-Chu correlation
     (Int. J. Heat Mass Transfer 18, 1975), air properties at the film temperature (power laws
-    around 300 K). Not in SPEC; SPEC 5's 100 W/(m^2 K) at 50 K is this law's size."""
+    around 300 K). Not in the study; §convection's 100 W/(m^2 K) at 50 K is this law's size."""
     dT = np.maximum(np.abs(dT), 1e-3)
     Tf = T_amb + dT / 2
     k = 0.0263 * (Tf / 300) ** 0.8

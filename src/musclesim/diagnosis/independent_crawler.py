@@ -5,7 +5,7 @@ The independent virtual hardware of the crawler cases of the blind benchmark
 (`musclesim.diagnosis.independent_plan` draws them). Nothing here comes from
 `musclesim.components`; each part is another representation than the library's:
 
-- Valves (SPEC 1.1, 5): PWM on a carrier of its own phase; the spool's opening follows the command
+- Valves (§crawler-hardware, §valves): PWM on a carrier of its own phase; the spool's opening follows the command
   with a first-order lag; flow by the isentropic nozzle law (Saint-Venant-Wantzel, critical ratio
   ``(2 / (kappa + 1)) ** (kappa / (kappa - 1))``, laminar within 0.1 % of equal pressures), not
   the ISO 6358 conductance.
@@ -13,15 +13,15 @@ The independent virtual hardware of the crawler cases of the blind benchmark
   wall over ``tau_wall``, not a polytropic law; the central chamber grows with the elongation and
   bulges with its pressure; an extremal chamber grows as its silicone spreads on the ground.
 - Contact: an extremal actuator's share of silicone on the ground is a logistic function of its
-  pressure about its own threshold (the front one's higher, SPEC 1.5), reached over a spreading
+  pressure about its own threshold (the front one's higher, §gait), reached over a spreading
   time, not a ramp at a threshold.
-- Friction (SPEC 1.3): the LuGre model (Canudas de Wit et al., IEEE TAC 40, 1995) per block, its
+- Friction (§friction): the LuGre model (Canudas de Wit et al., IEEE TAC 40, 1995) per block, its
   coefficients blended by the contact share, the bristles' stiffness proportional to the normal
   force; not Karnopp.
-- Body (SPEC 1.2): two masses, the central actuator a hardening spring ``k d (1 + k3 d^2)`` and a
+- Body (§two-mass): two masses, the central actuator a hardening spring ``k d (1 + k3 d^2)`` and a
   damper, its force on an effective area of its own; the board's incline as drawn.
 - Controller: a PI per actuator on its sensor at 1 kHz (the duties logged, as the diagnosis
-  replays them) following SPEC 1.5's four-phase gait.
+  replays them) following §gait's four-phase gait.
 - Sensors: pressure sensors behind a short tube (a first-order lag), gain, noise,
   quantisation; the blocks' positions from video at `VIDEO_FPS`, scaled by the camera, tracked to
   a pixel with noise, delayed, and interpolated onto the DAQ's clock.
@@ -49,17 +49,17 @@ CV = R_AIR / (KAPPA - 1)  # J/(kg K)
 CP = KAPPA * CV
 T_ROOM = 293.15  # K
 R_CRIT = (2 / (KAPPA + 1)) ** (KAPPA / (KAPPA - 1))  # 0.528
-S_A = 9.62e-4  # m^2: the central actuator's 35 mm section (SPEC 1.2)
-V_CENTRAL = 5.87e-5  # m^3: 30 mm bore x 83 mm (SPEC 1.1)
-V_EXTREMAL = 1.41e-5  # m^3: 30 mm bore x 20 mm (SPEC 1.1, 26 mm with the connector)
-# a miniature solenoid valve: Cd A of a 0.55 mm orifice (SPEC 1.1 names none)
+S_A = 9.62e-4  # m^2: the central actuator's 35 mm section (§two-mass)
+V_CENTRAL = 5.87e-5  # m^3: 30 mm bore x 83 mm (§crawler-hardware)
+V_EXTREMAL = 1.41e-5  # m^3: 30 mm bore x 20 mm (§crawler-hardware, §thermal-model6 mm with the connector)
+# a miniature solenoid valve: Cd A of a 0.55 mm orifice (§crawler-hardware names none)
 VALVE_AREA = 2.5e-7  # m^2
-THETA = math.radians(7.5)  # SPEC 1.5's board
-# gait (SPEC 1.5): 1.2 s protrusion, 1.8 s stance split over phases 1, 3, 4; references as
+THETA = math.radians(7.5)  # §gait's board
+# gait (§gait): 1.2 s protrusion, 1.8 s stance split over phases 1, 3, 4; references as
 # the scenarios' characterisation gave them (scenarios/params/crawler-gait-references.toml)
 T_PROTRUSION, T_STANCE = 1.2, 1.8
 P_CENTRAL, P_ANCHOR = 8.59e3, 10.3e3  # Pa
-DAQ = 1e-3  # s: the controllers' and the log's period (SPEC 1.1)
+DAQ = 1e-3  # s: the controllers' and the log's period (§crawler-hardware)
 SUBSTEPS = 5  # internal steps per DAQ period
 VIDEO_FPS = 30.0
 V_STRIBECK = 2e-3  # m/s: the static coefficient fades above it (LuGre's Stribeck velocity)
@@ -73,16 +73,16 @@ class Crawler:
     coefficient) or None."""
 
     theta: float = THETA
-    m1: float = 0.2  # kg, back block (SPEC 1.4)
+    m1: float = 0.2  # kg, back block (§ideal-actuation)
     m2: float = 0.2  # kg, front block
-    k: float = 200.0  # N/m (SPEC 1.4)
+    k: float = 200.0  # N/m (§ideal-actuation)
     k3: float = 0.0  # 1/m^2: hardening of the central actuator
-    c: float = 1.3  # N s/m (SPEC 1.4)
+    c: float = 1.3  # N s/m (§ideal-actuation)
     area: float = S_A  # m^2: the effective area the central pressure pushes on
     bulge: float = 0.0  # 1/Pa: the central chamber's volume grows by this share per Pa
-    mu_s_high: float = 1.0  # SPEC 1.3
+    mu_s_high: float = 1.0  # §friction
     mu_s_low: float = 0.13
-    mu_ratio: float = 0.75  # kinetic / static (SPEC 1.3)
+    mu_ratio: float = 0.75  # kinetic / static (§friction)
     bristle: float = 2e4  # 1/m: LuGre stiffness per newton of normal force
     p_contact_back: float = 8e3  # Pa: half the silicone on the ground
     p_contact_front: float = 8e3
@@ -123,7 +123,7 @@ class Crawler:
 
 
 def gait(t):
-    """Pressure references (back, central, front) [Pa] of the forward gait at time t (SPEC 1.5).
+    """Pressure references (back, central, front) [Pa] of the forward gait at time t (§gait).
 
     >>> gait(0.0), gait(2.0)[1], gait(2.9)
     ((10300.0, 0.0, 0.0), 8590.0, (0.0, 0.0, 10300.0))

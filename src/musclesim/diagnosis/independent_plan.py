@@ -85,7 +85,7 @@ def hidden(effect, rng, duration):
         return {"tc_tau_sheath": u(0.1, 0.5), "tc_tau_junction": u(0.02, 0.08)}
     if effect == "thermocouple bias":  # the cold-junction compensation off
         return {"tc_bias": float(rng.choice([-1, 1]) * u(1.5, 5.0))}
-    if effect == "latent heat":  # SPEC 5: 12-24 kJ/kg, heating and cooling differ
+    if effect == "latent heat":  # §sma-material: 12-24 kJ/kg, heating and cooling differ
         heat = u(12e3, 24e3)
         return {"latent_heating": heat, "latent_cooling": heat * u(0.8, 1.0)}
     if effect == "convection change":  # natural convection grows with the excess temperature
@@ -169,7 +169,7 @@ CRAWLER_OUTSIDE = ("sensor tube", "surface change", "camera scale", "two effects
 def crawler_conditions(rng):
     """The crawler bench's conditions drawn around the model's values: {Crawler field: value}."""
     u = rng.uniform
-    back = u(6e3, 8.5e3)  # Pa: the front actuator needs more to grip (SPEC 1.5)
+    back = u(6e3, 8.5e3)  # Pa: the front actuator needs more to grip (§gait)
     return {
         "theta": math.radians(7.5 + u(-0.5, 0.5)), "m1": 0.2 * u(0.95, 1.05),
         "m2": 0.2 * u(0.95, 1.05), "k": 200.0 * u(0.85, 1.15),
@@ -195,7 +195,7 @@ def crawler_hidden(effect, rng, duration):
     """{Crawler field: value} of `effect` (a `CRAWLER_LIBRARY` or `CRAWLER_OUTSIDE` name) at a
     random magnitude; "two effects" also gives "pair"."""
     u = rng.uniform
-    if effect == "valve delay":  # SPEC 5: a few ms each way
+    if effect == "valve delay":  # §valves: a few ms each way
         return {"open_delay": u(0.005, 0.015), "close_delay": u(0.005, 0.015)}
     if effect == "supply-pressure drop":  # a small pump: sags 25-50 % under a full valve's draw
         return {"pump_reserve": u(1.0, 3.0)}
@@ -209,7 +209,7 @@ def crawler_hidden(effect, rng, duration):
         return {"decay": u(0.15, 0.3), "decay_time": u(8.0, 20.0)}
     if effect == "sensor tube":  # long lines to the pressure sensors
         return {"sensor_tau": u(0.03, 0.08)}
-    if effect == "surface change":  # onto a slicker board part-way (SPEC 1.5's transitions)
+    if effect == "surface change":  # onto a slicker board part-way (§gait's transitions)
         return {"surface_change": [u(0.3, 0.8) * duration, u(0.6, 0.8)]}
     if effect == "camera scale":  # the camera's distance misjudged
         return {"video_scale": 1 + float(rng.choice([-1, 1])) * u(0.04, 0.08)}

@@ -272,7 +272,7 @@ def score(unit, base, cand, f, masks, calib=()):
     k = len(cand.free)
     res = f["residuals"]
     entry = {"name": cand.effect.name, "label": cand.label, "component": cand.effect.component,
-             "instances": list(cand.instances), "spec": cand.effect.spec,
+             "instances": list(cand.instances), "reference": cand.effect.reference,
              "parameters": {fr.name: {"value": x, "interval": list(iv), "lower": fr.lower,
                                       "upper": fr.upper, "off": fr.start}
                             for fr, x, iv in zip(cand.free, f["x"][:k], f["interval"][:k])},

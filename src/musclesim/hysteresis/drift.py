@@ -1,9 +1,9 @@
-"""The long-duration drift test of SPEC 2.6 / 3.3 on the wire's cores, with the temperature imposed.
+"""The long-duration drift test of §drift / 3.3 on the wire's cores, with the temperature imposed.
 
 A new wire is cycled sinusoidally 30-130 C at 0.05 Hz, 20 cycles per test; the five stresses in
 the order 125, 135, 115, 145, 105 MPa make a round, repeated 25 times (50 000 s). Each test's 20
 cycles are averaged into one loop (strain against the phase of the cycle); reported per stress
-is the RMSE between the averaged loops of tests 1 and 13 and of tests 13 and 25 (SPEC 3.3).
+is the RMSE between the averaged loops of tests 1 and 13 and of tests 13 and 25 (§drift).
 
 The wire is the SmaWire FMU's hysteresis and drift cores (`musclesim.components.sma.preisach`,
 `.drift`), stepped exactly as the FMU steps them but with the temperature imposed (an ideal
@@ -23,7 +23,7 @@ from musclesim.components.sma.thermal import martensite_fraction
 from musclesim.cosim import load_scenario
 from musclesim.errors import UserError
 
-STRESS_ORDER = (125e6, 135e6, 115e6, 145e6, 105e6)  # Pa, one round (SPEC 3.3)
+STRESS_ORDER = (125e6, 135e6, 115e6, 145e6, 105e6)  # Pa, one round (§drift)
 WIRE_INSTANCE = "wire"  # the instance of the scenario whose drift parameters the test uses
 _DRIFT_PARAMETERS = {"drift_amplitude": "amplitude_change", "drift_shift": "shift",
                      "drift_settle_cycles": "cycles_to_settle"}
@@ -31,7 +31,7 @@ _DRIFT_PARAMETERS = {"drift_amplitude": "amplitude_change", "drift_shift": "shif
 
 @dataclass(frozen=True)
 class Protocol:
-    """The test's schedule (defaults SPEC 3.3)."""
+    """The test's schedule (defaults §drift)."""
 
     stresses: tuple = STRESS_ORDER  # Pa, in the order of one round
     rounds: int = 25
@@ -158,7 +158,7 @@ def drift_main(scenario, protocol, as_json=False):
     if as_json:
         return json.dumps(report, indent=2)
     pairs = list(next(iter(out["rmse"].values())))
-    lines = [f"drift test (SPEC 3.3): {protocol.rounds} rounds of {len(protocol.stresses)} tests, "
+    lines = [f"drift test (§drift): {protocol.rounds} rounds of {len(protocol.stresses)} tests, "
              f"{protocol.cycles} cycles {protocol.T_lo:g}-{protocol.T_hi:g} C at "
              f"{protocol.frequency:g} Hz each; wire of {scenario} (drift amplitude "
              f"{params.amplitude_change:g}, shift {params.shift:g} K, e-folding "

@@ -1,10 +1,10 @@
-"""`musclesim identify`: FORC surfaces from the recorded identification experiments (SPEC 2.3).
+"""`musclesim identify`: FORC surfaces from the recorded identification experiments (§forc-identification).
 
 Input: the records of ``scenarios/sma-forc-identification.toml`` at several constant stresses (the
 case folders of a sweep, each with results.csv and summary.json). Per stress level the
 `ForcReference` markers cut the record into the runs j = 0..n-1; run j heats from b0 to its peak
 a_j and cools back. Its descending branch holds every reversal curve with peak a_j, so for every
-grid b <= a_j (SPEC 2.3, no differentiation of data):
+grid b <= a_j (§forc-identification, no differentiation of data):
 
     F(a_j, b) = strain at the peak  -  strain on the descending branch where the measured
                 temperature first reaches b (linear interpolation between samples)
@@ -22,7 +22,7 @@ below its peak, a descending branch that rises more than `RISE_TOL` above its ru
 stops more than `END_TOL` above a grid temperature, a stress that is not constant, two records at
 one stress, and identified values that break the monotonicity of a FORC surface.
 
-Validation on the virtual bench (SPEC 2.3) lives in `musclesim.hysteresis.validation`.
+Validation on the virtual bench (§forc-identification) lives in `musclesim.hysteresis.validation`.
 """
 import json
 import os
@@ -67,7 +67,7 @@ class Record:
 
 
 def grid_from_parameters(params):
-    """Peak grid [C] of a ForcReference with these (partial) parameters (defaults: SPEC 2.3).
+    """Peak grid [C] of a ForcReference with these (partial) parameters (defaults: §forc-identification).
 
     Examples
     --------
@@ -181,7 +181,7 @@ def record_stress(rec):
 
 
 def branch_increments(T, strain, a, temps, where="record"):
-    """F(a, b) for every b in `temps` (<= a; 0 above) from one run's samples (SPEC 2.3).
+    """F(a, b) for every b in `temps` (<= a; 0 above) from one run's samples (§forc-identification).
 
     Parameters
     ----------
@@ -310,7 +310,7 @@ def identify(paths, out_path=None, columns=COLUMNS):
         out_path.parent.mkdir(parents=True, exist_ok=True)
         tmp = out_path.with_name(f".{out_path.name}.tmp")  # renamed in place: never half-written
         forcfile.write(tmp, temps, stresses, table, comments=[
-            "identified by `musclesim identify` from the FORC experiments (SPEC 2.3) in",
+            "identified by `musclesim identify` from the FORC experiments (§forc-identification) in",
             *(f"  {levels[s][0]} ({s:g} Pa)" for s in stresses)])
         os.replace(tmp, out_path)
     return surface

@@ -1,7 +1,7 @@
-"""Loop explorer: steady strain loops of temperature bands cycled at constant stress (SPEC 2.3, 3).
+"""Loop explorer: steady strain loops of temperature bands cycled at constant stress (§forc-identification, §capstan-multiplier).
 
 A band T_lo:T_hi is cycled along a cosine from T_lo a few times through the Preisach forward model
-(SPEC 2.2); from the second cycle on the loop repeats, and its peak-to-peak strain equals the FORC
+(§preisach); from the second cycle on the loop repeats, and its peak-to-peak strain equals the FORC
 increment F(T_hi, T_lo; sigma). The model is the reference wire (tabulated on a 1 C grid at the
 given stress) or an identified FORC data set.
 """

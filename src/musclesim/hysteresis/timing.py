@@ -5,7 +5,7 @@ import statistics
 import time
 
 GOAL_FORWARD_US = 2.0  # us per forward step on this machine (issue 3, item 7)
-GOAL_INVERSE_US = 3.0  # us per inverse step; the study quotes 8.6 us (SPEC 2.4)
+GOAL_INVERSE_US = 3.0  # us per inverse step; the study quotes 8.6 us (§preisach-inverse)
 CHUNK = 1000  # steps timed together; the median is taken over chunks
 
 
@@ -13,7 +13,7 @@ def preisach(n=20000, repeat=5):
     """Median time per step of the pure Preisach core, forward and inverse, in one process.
 
     The inverse follows SP IV (random peaks and troughs) under LP V (random stress) at 25 Hz on
-    the SMA-shaped analytic surface of the SPEC 2.2 grid; the forward model is fed the inverse's
+    the SMA-shaped analytic surface of the §preisach grid; the forward model is fed the inverse's
     temperatures. Steps are timed in chunks of `CHUNK` (garbage collector off); each figure is
     the median over all chunks of `repeat` runs of `n` steps. ``call_us`` times a trivial
     two-argument Python function in the same loop, so the ratios compare with the interpreter's

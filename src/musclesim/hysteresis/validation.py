@@ -1,4 +1,4 @@
-"""Validation of identified FORC surfaces on the virtual bench (SPEC 2.3).
+"""Validation of identified FORC surfaces on the virtual bench (§forc-identification).
 
 `surface_error` compares the identified F with the reference wire's exact F on the grid,
 `validation_runs` the identified model's strain with the virtual wire's on runs not used for
@@ -62,7 +62,7 @@ def validation_profiles(duration=550.0, dt=0.05):
       identified stresses);
     - ``random peaks, 130 MPa``: random temperature peaks and troughs over 30..130 C;
     - ``LP I``: a sine 35..125 C at 1/23 Hz under the loading profile LP I (105..145 MPa at
-      1/17 Hz, SPEC 2.4);
+      1/17 Hz, §position-control);
     - ``LP V``: random temperature peaks and troughs under LP V (random stress).
 
     Returns {name: (t, T, sigma)}.
@@ -107,7 +107,7 @@ def validation_runs(surface, truth=None, duration=550.0, dt=0.05):
 
 
 def memory_checks(surface=None, sigma=120e6):
-    """Rate independence, wiping-out and congruency of the virtual wire's hysteresis (SPEC 2.3)
+    """Rate independence, wiping-out and congruency of the virtual wire's hysteresis (§forc-identification)
     at constant stress; each number is a largest strain difference that must vanish.
 
     - ``rate_independence``: a sine path 30 -> 120 -> 45 -> 100 -> 30 C sampled at 0.1 s for one
@@ -169,7 +169,7 @@ def memory_checks(surface=None, sigma=120e6):
 
 
 def report(surface):
-    """All validation numbers of an identified surface (SPEC 2.3) as one dict.
+    """All validation numbers of an identified surface (§forc-identification) as one dict.
 
     ``grid_floor`` repeats the validation runs with the reference wire tabulated exactly on the
     identified grid and stresses (a perfect identification): the part of the error that comes
