@@ -34,7 +34,7 @@ POSITION = SCENARIOS / "sma-position-control.toml"
 MEASURED = SCENARIOS / "data" / "sma-stress-ignored"
 CRAWLER_FMUS = ("CrawlerBody", "FrictionBlock", "FrictionSwitchingInputs")  # what IDEAL uses
 PREVIOUS = {"summary.json": '{"run_id": "previous", "completed": true, "status": "completed"}\n',
-            "results.csv": "# musclesim run previous\ntime,body.x_cm\n0,0\n0.001,1e-06\n",
+            "results.csv": "time,previous.run\n0,0\n0.001,1e-06\n",
             "results.png": "not really a PNG\n"}
 
 
@@ -99,10 +99,9 @@ def half_written(root):
     return sorted(p for p in Path(root).rglob(".*") if ".tmp" in p.name or "probe" in p.name)
 
 
-def csv_run_id(path):
-    first = Path(path).read_text().splitlines()[0]
-    assert first.startswith("# musclesim run "), first
-    return first.removeprefix("# musclesim run ")
+def csv_header(path):
+    """The header of a results file: its first line, split (plain CSV, no comment line)."""
+    return Path(path).read_text().splitlines()[0].split(",")
 
 
 @pytest.fixture
@@ -482,14 +481,14 @@ def test_refused_by_the_argument_parser(case, ws, capsys):
 # ---- refused once the run has started: the run's own files say so ------------------------------
 
 def assert_stopped_run(out, error_part):
-    """out/ holds one run's files, stopped: same id in results.csv and summary.json, no rows,
+    """out/ holds one run's files, stopped: results.csv with this run's header and no row,
     ``completed: false``, ``status: stopped`` and the error; the previous run's files are gone
     (none of its plot beside this run's summary), nothing half-written."""
     summary = json.loads((out / "summary.json").read_text())
     assert summary["completed"] is False and summary["status"] == "stopped"
-    assert error_part in summary["error"]
-    assert summary["run_id"] == csv_run_id(out / "results.csv") != "previous"
-    assert len((out / "results.csv").read_text().splitlines()) == 2  # id and header: no row
+    assert error_part in summary["error"] and summary["run_id"] != "previous"
+    assert csv_header(out / "results.csv")[:2] == ["time", "body.flange1.s"]
+    assert len((out / "results.csv").read_text().splitlines()) == 1  # the header: no row
     assert sorted(p.name for p in out.iterdir()) == ["results.csv", "summary.json"]
     assert half_written(out) == []
 
@@ -583,8 +582,8 @@ def test_failed_run_names_the_culprit_and_keeps_its_rows(case, ws, capsys):
     summary = json.loads((ws.out / "summary.json").read_text())
     assert summary["completed"] is False and summary["status"] == "stopped"
     assert summary["error"] == sentence
-    run_id, rows = complete_rows(ws.out)
-    assert run_id == summary["run_id"] != "previous" and len(rows) == n_rows
+    rows = complete_rows(ws.out)
+    assert summary["run_id"] != "previous" and len(rows) == n_rows
     plotted = ["results.png"] if n_rows > 1 else []  # the previous run's plot is gone either way
     assert sorted(p.name for p in ws.out.iterdir()) == ["results.csv", *plotted, "summary.json"]
     assert ("results.png" in out) == bool(plotted)  # says it wrote only what it wrote
@@ -619,7 +618,7 @@ def test_metric_window_after_the_stop_time_is_a_warning(ws, capsys):
     assert "Traceback" not in err + out and "late = nan m" in out.splitlines()
     summary = json.loads((ws.out / "summary.json").read_text())
     assert summary["completed"] is True and summary["warnings"] == [warning]
-    assert summary["run_id"] == csv_run_id(ws.out / "results.csv")
+    assert summary["run_id"] != "previous" and csv_header(ws.out / "results.csv")[0] == "time"
     assert sorted(p.name for p in ws.out.iterdir()) == ["results.csv", "results.png",
                                                          "summary.json"]
     assert half_written(ws.root) == [] and run_folders() == []
@@ -629,30 +628,30 @@ def test_metric_window_after_the_stop_time_is_a_warning(ws, capsys):
 
 def start_long_run(ws, out):
     """`musclesim run` of the SMA position control for 30 s of model time (~20 s of wall time)
-    in a subprocess, returned once its results.csv holds rows."""
+    in a subprocess, returned once its results.csv.part holds rows."""
     proc = subprocess.Popen(
         [sys.executable, "-m", "musclesim.cli", "run", str(POSITION), "--stop-time", "30",
          "--out", str(out), "--fmus", str(ws.fmus_dir)],
         cwd=ws.root, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 60
-    csv = out / "results.csv"
+    csv = out / "results.csv.part"
     while time.monotonic() < deadline and proc.poll() is None:
         lines = csv.read_bytes().splitlines() if csv.is_file() else []
-        if len(lines) > 3 and lines[0] != b"# musclesim run previous":
+        if len(lines) > 3:
             return proc
         time.sleep(0.1)
     proc.kill()
     pytest.fail(f"no rows before the run ended or timed out: {proc.communicate()}")
 
 
-def complete_rows(out, allow_cut_last=False):
-    """The rows of out/results.csv, each checked to be complete (every column a number); with
-    `allow_cut_last` the last line may be a cut row without its line end. Returns (id, rows)."""
-    text = (out / "results.csv").read_text()
+def complete_rows(out, allow_cut_last=False, name="results.csv"):
+    """The rows of out/`name`, each checked to be complete (every column a number), below this
+    run's header (not the previous run's); with `allow_cut_last` the last line may be a cut row
+    without its line end."""
+    text = (out / name).read_text()
     lines = text.split("\n")
-    run_id, header, rows, last = lines[0].removeprefix("# musclesim run "), lines[1], lines[2:-1], \
-        lines[-1]
-    assert lines[0].startswith("# musclesim run ") and header.startswith("time,")
+    header, rows, last = lines[0], lines[1:-1], lines[-1]
+    assert header.startswith("time,") and header != "time,previous.run"
     if allow_cut_last:
         assert header.count(",") >= last.count(",")  # a prefix of a row, or nothing
     else:
@@ -661,7 +660,7 @@ def complete_rows(out, allow_cut_last=False):
         fields = row.split(",")
         assert len(fields) == header.count(",") + 1
         [float(f) for f in fields]
-    return run_id, rows
+    return rows
 
 
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM], ids=["SIGINT", "SIGTERM"])
@@ -677,8 +676,8 @@ def test_signal_stops_the_run_and_keeps_its_rows(signum, ws):
     summary = json.loads((ws.out / "summary.json").read_text())
     assert summary["completed"] is False and summary["status"] == "stopped"
     assert summary["error"].startswith(f"interrupted by {name} at t = ")
-    run_id, rows = complete_rows(ws.out)
-    assert run_id == summary["run_id"] != "previous"
+    rows = complete_rows(ws.out)
+    assert summary["run_id"] != "previous"
     assert len(rows) > 1 and float(rows[-1].split(",")[0]) == summary["end_time"] < 30
     assert sorted(p.name for p in ws.out.iterdir()) == ["results.csv", "results.png",
                                                          "summary.json"]
@@ -692,12 +691,14 @@ def test_sigkill_leaves_one_run_and_the_next_run_replaces_it(ws, capsys):
     proc.kill()
     proc.communicate(timeout=60)
     assert proc.returncode == -signal.SIGKILL
-    # what a killed run leaves: its own summary (running) and rows, nothing of the previous run
+    # what a killed run leaves: its own summary (running) and its rows so far in a file whose
+    # name says the run did not end, nothing of the previous run
     summary = json.loads((ws.out / "summary.json").read_text())
     assert summary["completed"] is False and summary["status"] == "running"
-    run_id, rows = complete_rows(ws.out, allow_cut_last=True)
-    assert run_id == summary["run_id"] != "previous" and rows
-    assert sorted(p.name for p in ws.out.iterdir()) == ["results.csv", "summary.json"]
+    run_id = summary["run_id"]
+    rows = complete_rows(ws.out, allow_cut_last=True, name="results.csv.part")
+    assert run_id != "previous" and rows
+    assert sorted(p.name for p in ws.out.iterdir()) == ["results.csv.part", "summary.json"]
     # the next run into the same folder replaces both files consistently and removes the orphaned
     # folder (unless a run of another process on this machine already has)
     code, out, err = run(capsys, "run", POSITION, "--stop-time", "0.02", "--out", ws.out,
@@ -705,8 +706,10 @@ def test_sigkill_leaves_one_run_and_the_next_run_replaces_it(ws, capsys):
     assert code == 0, err
     summary = json.loads((ws.out / "summary.json").read_text())
     assert summary["completed"] is True and summary["status"] == "completed"
-    new_id, rows = complete_rows(ws.out)
-    assert new_id == summary["run_id"] != run_id and len(rows) == 51  # 0.02 s / 0.4 ms + 1
+    rows = complete_rows(ws.out)
+    assert summary["run_id"] != run_id and len(rows) == 51  # 0.02 s / 0.4 ms + 1
+    assert sorted(p.name for p in ws.out.iterdir()) == ["results.csv", "results.png",
+                                                         "summary.json"]
     assert not orphans[0].exists() and run_folders() == []
     assert half_written(ws.root) == []
 

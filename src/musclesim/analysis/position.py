@@ -56,14 +56,11 @@ SIGNALS = ("strain.eps_ref", "laser.s_meas", "loading.sigma_ref", "wire.stress",
 
 def read_case(results_csv, names=SIGNALS):
     """(time, {name: values}) of the named columns of a run's results.csv (the master's own
-    output: plain numbers, so numpy's parser reads it; a missing column is the user's error).
-    Lines starting with ``#`` before the header (the run's id) are skipped."""
+    output: a header, then plain numbers, so numpy's parser reads it; a missing column is the
+    user's error)."""
     try:
         with open(results_csv, encoding="utf-8") as f:
-            skip, line = 1, f.readline()
-            while line.startswith("#"):
-                skip, line = skip + 1, f.readline()
-            header = [h.strip() for h in line.split(",")]
+            header = [h.strip() for h in f.readline().split(",")]
     except OSError as exc:
         raise UserError(f"{results_csv} cannot be read: {exc}") from None
     missing = [n for n in names if n not in header]
@@ -71,7 +68,7 @@ def read_case(results_csv, names=SIGNALS):
         raise UserError(f"{results_csv} has no column {', '.join(missing) or 'time'} "
                         f"(the scenario must record {', '.join(names)})")
     try:
-        data = np.loadtxt(results_csv, delimiter=",", skiprows=skip, ndmin=2,
+        data = np.loadtxt(results_csv, delimiter=",", skiprows=1, ndmin=2,
                           usecols=[0] + [header.index(n) for n in names])
     except ValueError as exc:
         raise UserError(f"{results_csv} is not a run's results: {exc}") from None

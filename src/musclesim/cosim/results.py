@@ -1,16 +1,24 @@
 """Run outputs: results.csv, summary.json (metrics) and a plot, written into one folder.
 
+results.csv is a plain CSV as the FMI cross-check rules ask of result files: the header on its
+first line (``time``, then ``<instance>.<variable>``), then one row per communication point; no
+comment line, so pandas, numpy, the csv module and FMPy read it as it is.
+
 A run's outputs are written as it goes and always belong together (`RunWriter`): the previous
-run's files are removed first (summary first), then summary.json says ``completed: false`` with a
-new run id, results.csv (its first line ``# musclesim run <id>``, the same id) grows by whole rows
-as the master hands them over, and only at the end do results.png and the final summary.json
-appear, each written under a temporary name and renamed in place. A run killed at any moment
-leaves either the previous run or this run's rows so far, never one run's results beside another
-run's summary; a killed write may cut the last row, which then has no line end.
+run's files are removed first (summary first), then summary.json says ``completed: false``
+(``status: running``) with a new run id, and the rows grow, whole rows at a time, in
+``results.csv.part``, a name that says the run is in progress. At the end, however the run ends
+(completed, failed, interrupted), results.png and the final summary.json are written under
+temporary names and renamed in place, and ``results.csv.part`` becomes ``results.csv``. A run
+killed at any moment (even by SIGKILL) leaves the previous run's files or only this run's (its
+summary saying ``running`` beside its rows so far in ``results.csv.part``), never one run's
+results beside another run's summary; a killed write may cut the last row, which then has no
+line end.
 """
 import io
 import json
 import math
+import os
 import uuid
 from pathlib import Path
 
@@ -19,7 +27,8 @@ import numpy as np
 from musclesim.cosim.outputs import replace_file, save_figure
 from musclesim.cosim.scenario import split_signal
 
-RUN_ID_PREFIX = "# musclesim run "
+PART = ".part"  # suffix of a file whose run is still writing it
+OUTPUTS = ("summary.json", "results.csv", "results.csv" + PART, "results.png")
 
 def _rate(t, y):
     return (y[-1] - y[0]) / (t[-1] - t[0]) if t[-1] > t[0] else math.nan
@@ -145,23 +154,29 @@ class RunWriter:
     def start(self):
         """Remove the previous run's outputs and open this run's (``completed: false``)."""
         self.out.mkdir(parents=True, exist_ok=True)
-        for name in ("summary.json", "results.csv", "results.png"):
+        for name in OUTPUTS:  # the summary first: without it, no file claims to be a whole run
             (self.out / name).unlink(missing_ok=True)
         self._summary({"completed": False, "error": None, "status": "running"})
-        header = f"{RUN_ID_PREFIX}{self.run_id}\n" + ",".join(["time", *self.columns]) + "\n"
-        replace_file(self.out / "results.csv", header)
-        self.csv = open(self.out / "results.csv", "ab", buffering=0)
+        replace_file(self.partial, ",".join(["time", *self.columns]) + "\n")
+        self.csv = open(self.partial, "ab", buffering=0)
+
+    @property
+    def partial(self):
+        """The file the rows grow in while the run goes: results.csv.part."""
+        return self.out / ("results.csv" + PART)
 
     def rows(self, time, data):
-        """Append whole rows to results.csv (one write)."""
+        """Append whole rows to results.csv.part (one write)."""
         if len(time):
             self.csv.write(csv_rows(time, data).encode())
 
     def finish(self, results):
-        """Close results.csv, draw the plot, write the final summary; return the summary."""
+        """Close the rows and name them results.csv, draw the plot, write the final summary;
+        return the summary."""
         if self.csv is not None:
             self.csv.close()
             self.csv = None
+            os.replace(self.partial, self.out / "results.csv")
         metrics = compute_metrics(results, self.scenario.metrics)
         warnings = list(results.warnings) + [
             f"metric {name}: no sample in its window ({m.start:g} to {m.stop:g} s) of a run "

@@ -2,8 +2,8 @@
 
 The format: a header ``time,<instance>.<variable>,...`` and one row per sample of comma-separated
 numbers; time increases strictly and every value is finite and at most `MAX_MAGNITUDE` in size.
-Lines starting with ``#`` before the header are comments (a run's results.csv names its run id in
-one).
+Lines starting with ``#`` before the header are comments, skipped (a run's results.csv has none:
+its header is its first line).
 """
 import csv
 import math
