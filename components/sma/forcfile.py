@@ -116,18 +116,22 @@ def _rows(path):
 
 
 def _numbers(path, line, fields):
-    """The four finite numbers of a data row."""
-    try:
-        values = [float(f) for f in fields]
-    except ValueError:
-        values = None
-    if values is None or len(values) != 4:
+    """The four finite numbers of a data row; a bad one is named by its line and column."""
+    if len(fields) != 4:
         raise ValueError(f"{path} line {line}: expected four numbers "
                          f"({','.join(HEADER)}), got {','.join(fields)!r}")
-    if not all(math.isfinite(v) for v in values):
-        raise ValueError(f"{path} line {line}: {','.join(fields)!r} is not finite")
-    for name, v, (lo, hi) in zip(HEADER, values, _RANGES):
+    values = []
+    for name, text, (lo, hi) in zip(HEADER, fields, _RANGES):
+        try:
+            v = float(text)
+        except ValueError:
+            raise ValueError(f"{path} line {line}, column {name}: {text.strip()!r} is not a "
+                             "number") from None
+        if not math.isfinite(v):
+            raise ValueError(f"{path} line {line}, column {name}: {text.strip()} is not a finite "
+                             "number")
         if not lo <= v <= hi:
-            raise ValueError(f"{path} line {line}: {name} = {v:g} lies outside {lo:g} to {hi:g}, "
-                             "which no SMA wire's FORC data leaves")
+            raise ValueError(f"{path} line {line}, column {name}: {v:g} lies outside {lo:g} to "
+                             f"{hi:g}, which no SMA wire's FORC data leaves")
+        values.append(v)
     return values

@@ -1,5 +1,5 @@
-"""The `musclesim` command line: build, run, export, sweep, loops, identify, drift, dataset, diagnose,
-benchmark-diagnosis, bench, linear, characterise, table.
+"""The `musclesim` command line: build, run, export, sweep, loops, identify, drift, dataset,
+diagnose, benchmark-diagnosis, bench, linear, characterise, table.
 
 The top layer: it parses arguments, calls the public interfaces of the layers below (cosim, batch,
 analysis, hysteresis, diagnosis) and prints; nothing imports it.
@@ -33,8 +33,9 @@ def _cmd_run(args):
     out = Path(args.out)
     if summary["description"]:  # the file's words: overrides may have changed what it says
         print(summary["description"] + (f" (with --set {', '.join(args.set)})" if args.set else ""))
-    for name, unit in summary["units"].items():
-        print(f"{name} = {summary[name]:.6g} {unit}")
+    for name, unit in summary["units"].items():  # a metric without a value: a warning says why
+        value = summary[name]
+        print(f"{name}: no value" if value is None else f"{name} = {value:.6g} {unit}")
     if (out / "results.png").is_file():  # the previous run's plot is gone: this run's, if drawn
         print(f"wrote {out / 'results.csv'}, {out / 'summary.json'} and {out / 'results.png'}")
     else:  # no plot of fewer than two rows
@@ -228,7 +229,12 @@ def _cmd_table(args):
 
 
 def _parser():
-    p = argparse.ArgumentParser(prog="musclesim", description=__doc__.splitlines()[0])
+    from musclesim import __version__
+
+    p = argparse.ArgumentParser(
+        prog="musclesim", description="Artificial-muscle physics as FMI co-simulation components: "
+        "build the FMUs, run and sweep scenarios, analyse, and diagnose a model's gap to a bench.")
+    p.add_argument("--version", action="version", version=f"musclesim {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
 
     def common(q):
@@ -274,7 +280,7 @@ def _parser():
     q.add_argument("--json", action="store_true", help="print JSON instead of text")
     q.set_defaults(func=_cmd_loops)
 
-    q = sub.add_parser("drift", help="the long-duration drift test (§drift): RMSE between the "
+    q = sub.add_parser("drift", help="the long-duration drift test: RMSE between the "
                                      "averaged loops of tests 1, 13 and 25 per stress")
     q.add_argument("scenario", nargs="?", default="scenarios/sma-drift.toml",
                    help="scenario whose instance 'wire' sets the drift (default: "
@@ -293,7 +299,7 @@ def _parser():
                    help="sweep output folder, run folders or results.csv files (one per stress)")
     q.add_argument("--out", required=True, help="the FORC data file to write")
     q.add_argument("--validate", action="store_true",
-                   help="also report errors against the virtual wire (§forc-identification)")
+                   help="also report errors against the virtual wire")
     q.add_argument("--json", action="store_true", help="print JSON instead of text")
     q.set_defaults(func=_cmd_identify)
 
@@ -336,16 +342,17 @@ def _parser():
     q.add_argument("--duration", type=_duration, default=None,
                    help="independent bench: seconds recorded per SMA case (default 120)")
     q.add_argument("--multiplier", type=_positive, default=0, metavar="N",
-                   help="own bench: N extra cases on the capstan multiplier's bench (§capstan-multiplier; "
-                        "default none)")
+                   help="own bench: N extra cases on the capstan multiplier's bench "
+                        "(default none)")
     q.add_argument("--crawler", type=_positive, default=0, metavar="N",
                    help="independent bench: N extra cases on its pneumatic crawler, 12 s each "
-                        "(§gait; default none; scores also per bench)")
+                        "(default none; scores also per bench)")
     dask_args(q)
     common(q)
     q.set_defaults(func=_cmd_benchmark_diagnosis, subparser=q)
 
-    q = sub.add_parser("table", help="the study's tables: sma-position (§position-control matrix on Dask)")
+    q = sub.add_parser("table", help="the study's tables: sma-position (the position-control "
+                                     "matrix, on Dask)")
     q.add_argument("table", choices=["sma-position"], help="which tables")
     q.add_argument("--out", required=True, help="folder for the cases, tables and figures")
     q.add_argument("--scenario", default="scenarios/sma-position-control.toml",
@@ -366,7 +373,7 @@ def _parser():
     q.set_defaults(func=_cmd_bench)
 
     q = sub.add_parser("characterise", help="the crawler's characterisation: the gait's pressure "
-                                            "references (§gait)")
+                                            "references")
     q.add_argument("scenario", nargs="?", default="scenarios/crawler-characterisation.toml",
                    help="the characterisation scenario (default: %(default)s)")
     q.add_argument("--out", default="results/crawler-characterisation",

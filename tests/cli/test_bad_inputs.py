@@ -235,6 +235,8 @@ def forc_file(ws, strain):
 
 SMA_MANIFEST = ('scenario = "{}"\ninputs = ["wire.u"]\noutputs = ["wire.strain"]\n'
                 "[split]\nheld_out_fraction = 0.5\n")
+CELSIUS_MANIFEST = (f'scenario = "{SCENARIOS / "sma-bench-stress.toml"}"\ninputs = ["wire.u"]\n'
+                    'outputs = ["wire.T"]\n[split]\nheld_out_fraction = 0.5\n')
 SMA_DATA = "time,wire.u,wire.strain\n0,0.1,0\n0.1,{},0\n0.2,0.1,0\n0.3,0.1,0\n"
 BIG_COMMENT = b"<!--" + b" " * (20 * 2**20) + b"-->"  # 20 MiB; deflates to ~20 kB
 
@@ -369,6 +371,20 @@ REFUSED = {
         ["dataset", "check", measured(ws, SMA_MANIFEST.format("sma-bench-stress"),
                                       SMA_DATA.format("1e308"))],
         [ws.root / "ds", "data.csv line 3, column 'wire.u'", "larger than 1e+12"]),
+    # a temperature in degrees Celsius where the model's unit is K: its values say so, --model
+    # or not (the units come from the scenario's FMUs whenever they can be read)
+    "dataset-temperature-in-celsius": lambda ws: (
+        ["dataset", "check", measured(ws, CELSIUS_MANIFEST, "time,wire.u,wire.T\n0,0.1,40\n"
+                                          "0.1,0.2,50\n0.2,0.1,60\n0.3,0.1,50\n"),
+         "--fmus", ws.fmus_dir],
+        [ws.root / "ds", "data.csv: column 'wire.T' is in K, but its values (40 to 60) are "
+         "degrees Celsius, not kelvin: add 273.15"]),
+    "dataset-condition-in-celsius": lambda ws: (
+        ["dataset", "check", measured(ws, CELSIUS_MANIFEST + '[conditions]\n"wire.T_amb" = 20\n',
+                                      "time,wire.u,wire.T\n0,0.1,313\n0.1,0.2,323\n0.2,0.1,333\n"
+                                      "0.3,0.1,323\n"), "--fmus", ws.fmus_dir],
+        [ws.root / "ds", "[conditions] 'wire.T_amb' = 20 is in K, but that value is degrees "
+         "Celsius, not kelvin: write 293.15"]),
     "dataset-scenario-not-found": lambda ws: (
         ["dataset", "check", measured(ws, SMA_MANIFEST.format("no-such-scenario"),
                                       SMA_DATA.format("0.1")), "--model", "--fmus", ws.fmus_dir],
@@ -380,7 +396,10 @@ REFUSED = {
         ["--model 'x='"]),
     "forc-file-strain-1e304": lambda ws: (
         ["loops", "--stress", "1e8", "--band", "30:35", "--model", forc_file(ws, "1e304")],
-        [f"{ws.root / 'forc.csv'} line 3", "F = 1e+304 lies outside -1 to 1"]),
+        [f"{ws.root / 'forc.csv'} line 3, column F: 1e+304 lies outside -1 to 1"]),
+    "forc-file-nan": lambda ws: (
+        ["loops", "--stress", "1e8", "--band", "30:35", "--model", forc_file(ws, "nan")],
+        [f"{ws.root / 'forc.csv'} line 3, column F: nan is not a finite number"]),
     "loops-band-malformed": lambda ws: (
         ["loops", "--stress", "1e8", "--band", "30-130"], ["band '30-130'"]),
     "identify-nothing-to-read": lambda ws: (
@@ -447,6 +466,44 @@ def test_refused_before_any_work(case, ws, capsys):
     assert snapshot(ws.fmus_dir) == fmus_before
     assert not Path("/proc/musclesim-x").exists() and not Path("/tmp/musclesim-evil.txt").exists()
     assert run_folders() == []
+
+
+# ---- an output file in a folder that does not exist yet: the folder is made, as --out's is ------
+# id -> ws -> (argv, the file written)
+NEW_FOLDER = {
+    "loops-plot": lambda ws: (
+        ["loops", "--stress", "1.25e8", "--band", "50:100", "--plot", ws.root / "new" / "x.png"],
+        ws.root / "new" / "x.png"),
+    "linear-write": lambda ws: (
+        ["linear", "sma-thermal", "--write", ws.root / "new" / "deeper" / "gains.toml"],
+        ws.root / "new" / "deeper" / "gains.toml"),
+    "export-ssp": lambda ws: (
+        ["export", IDEAL, "--ssp", ws.root / "new" / "x.ssp", "--fmus", ws.fmus_dir],
+        ws.root / "new" / "x.ssp"),
+    "build-fmus": lambda ws: (["build", "--fmus", ws.root / "new" / "fmus"],
+                              ws.root / "new" / "fmus" / "BUILD.json"),
+}
+
+
+@pytest.mark.parametrize("case", NEW_FOLDER)
+def test_an_output_file_in_a_new_folder_is_written(case, ws, capsys):
+    argv, written = NEW_FOLDER[case](ws)
+    code, out, err = run(capsys, *argv)
+    assert code == 0, err
+    assert written.is_file() and "Traceback" not in err + out
+    assert half_written(ws.root) == []
+
+
+def test_writers_make_the_folder_of_their_file(tmp_path):
+    # characterise --write and identify --out write through these too
+    from matplotlib.figure import Figure
+
+    from musclesim.cosim import replace_file, save_figure
+
+    replace_file(tmp_path / "a" / "b.toml", "x = 1\n")
+    save_figure(Figure(), tmp_path / "c" / "d.png")
+    assert (tmp_path / "a" / "b.toml").read_text() == "x = 1\n"
+    assert (tmp_path / "c" / "d.png").stat().st_size > 0
 
 
 # ---- refused by argparse: exit 2, usage and one error line naming the option --------------------
@@ -615,9 +672,10 @@ def test_metric_window_after_the_stop_time_is_a_warning(ws, capsys):
     warning = "metric late: no sample in its window (5 to inf s) of a run ending at 1.2 s"
     assert code == 0, err
     assert err.strip().splitlines() == [f"musclesim: warning from {warning}"]
-    assert "Traceback" not in err + out and "late = nan m" in out.splitlines()
+    assert "Traceback" not in err + out and "late: no value" in out.splitlines()
     summary = json.loads((ws.out / "summary.json").read_text())
     assert summary["completed"] is True and summary["warnings"] == [warning]
+    assert summary["late"] is None  # JSON null, not NaN (which no strict JSON reader takes)
     assert summary["run_id"] != "previous" and csv_header(ws.out / "results.csv")[0] == "time"
     assert sorted(p.name for p in ws.out.iterdir()) == ["results.csv", "results.png",
                                                          "summary.json"]

@@ -56,16 +56,19 @@ def ideal_with(tmp_path, old, new):
 CASES = {
     "missing-file": (lambda p: p / "nope.toml", [], "does not exist"),
     "malformed-toml": (lambda p: write(p, "step = [1,"), [], "not valid TOML"),
-    "unknown-component": (lambda p: ideal_with(p, 'component = "CrawlerBody"', 'component = "Crawler"'),
+    "unknown-component": (lambda p: ideal_with(p, 'component = "CrawlerBody"', 'component = '
+                                                                               '"Crawler"'),
                           [], "component 'Crawler' has no FMU"),
-    "unknown-instance": (lambda p: ideal_with(p, '["inputs.f_a", "body.f_a"]', '["input.f_a", "body.f_a"]'),
+    "unknown-instance": (lambda p: ideal_with(p, '["inputs.f_a", "body.f_a"]', '["input.f_a", '
+                                                                               '"body.f_a"]'),
                          [], "no instance 'input'"),
     "unknown-variable": (lambda p: ideal_with(p, '"body.x_cm", op', '"body.xcm", op'),
                          [], "has no variable 'xcm'"),
     "incompatible-units": (lambda p: ideal_with(p, '["inputs.f_a", "body.f_a"]',
                                                 '["inputs.f_a", "friction1.flange.v"]'),
                            [], "incompatible units 'N' and 'm/s'"),
-    "output-to-output": (lambda p: ideal_with(p, '["inputs.f_a", "body.f_a"]', '["inputs.f_a", "body.x_cm"]'),
+    "output-to-output": (lambda p: ideal_with(p, '["inputs.f_a", "body.f_a"]', '["inputs.f_a", '
+                                                                               '"body.x_cm"]'),
                          [], "body.x_cm is an output, not an input"),
     "non-positive-step": (lambda p: ideal_with(p, "step = 1e-3", "step = -1e-3"), [], "step must be positive"),
     "unknown-parameter": (lambda p: IDEAL, ["--set", "body.mass=1"], "has no variable 'mass'"),
@@ -135,7 +138,8 @@ def test_build_command_writes_every_fmu(tmp_path, capsys):
 
 def test_parameters_file_is_read_and_inline_values_win(fmu_dir, tmp_path, capsys):
     (tmp_path / "body.toml").write_text("m1 = 0.3\nk = 150.0\n")
-    path = ideal_with(tmp_path, "parameters = { m1 = 0.2, m2 = 0.2, k = 200.0, c = 1.3, theta = 0.0 }",
+    path = ideal_with(tmp_path,
+                      "parameters = { m1 = 0.2, m2 = 0.2, k = 200.0, c = 1.3, theta = 0.0 }",
                       'parameters_file = "body.toml"\nparameters = { m2 = 0.25 }')
     code, _, err = run(capsys, "run", path, "--out", tmp_path / "o", "--fmus", fmu_dir,
                        "--stop-time", "0.01")
@@ -202,3 +206,12 @@ def test_a_scenario_extends_another(fmu_dir, tmp_path, capsys):
     code, _, err = run(capsys, "run", tmp_path / "variant.toml", "--out", tmp_path / "o",
                        "--fmus", fmu_dir)
     assert code == 2 and "extends itself through" in err
+
+
+def test_version(capsys):
+    import musclesim
+
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["--version"])
+    assert exc.value.code == 0
+    assert capsys.readouterr().out == f"musclesim {musclesim.__version__}\n"

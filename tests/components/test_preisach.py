@@ -358,11 +358,18 @@ def _edit(path, line, text):
 
 @pytest.mark.parametrize("line, text, match", [
     pytest.param(3, "stress,a,b,F", "line 3: expected the header", id="header"),
-    pytest.param(10, "105000000.0,60.0,x,0.1", "line 10: expected four numbers", id="not-a-number"),
+    pytest.param(10, "105000000.0,60.0,x,0.1", "line 10, column b_C: 'x' is not a number",
+                 id="not-a-number"),
+    pytest.param(10, "105000000.0,60.0,0.1", "line 10: expected four numbers", id="three-fields"),
     pytest.param(10, "105000000.0,60.0,70.0,0.1", "line 10: b = 70 C is above a = 60 C",
                  id="outside-triangle"),
     pytest.param(10, "105000000.0,30.0,30.0,0.0", "line 10: duplicate of line 4", id="duplicate"),
-    pytest.param(10, "105000000.0,45.0,30.0,inf", "line 10: .* is not finite", id="infinite"),
+    pytest.param(10, "105000000.0,45.0,30.0,inf", "line 10, column F: inf is not a finite number",
+                 id="infinite"),
+    pytest.param(10, "105000000.0,45.0,30.0,nan", "line 10, column F: nan is not a finite number",
+                 id="nan"),
+    pytest.param(10, "105000000.0,nan,30.0,0.1", "line 10, column a_C: nan is not a finite number",
+                 id="nan-temperature"),
     pytest.param(40, "105000000.0,70.0,30.0,-0.5", r"line 40: F\(a = 70 C, b = 30 C; stress "
                  r"1\.05e\+08 Pa\) = -0\.5 is negative", id="negative"),
     pytest.param(40, "105000000.0,70.0,30.0,0.01", r"lines 40 and 49: F must not decrease in a: "

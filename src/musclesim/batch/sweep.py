@@ -254,7 +254,8 @@ def run(scenario_path, grid, out, fmu_dir="fmus", scheduler=None, workers=None, 
             failed[cid] = summary.get("error") or "the case did not complete"
         with csv_path.open("a", newline="") as f:
             csv.writer(f).writerow([cid, *point.values(), bool(summary.get("completed")),
-                                    *(summary.get(n, math.nan) for n in s.metrics),
+                                    *(math.nan if summary.get(n) is None else summary[n]
+                                      for n in s.metrics),
                                     summary.get("error") or ""])
 
     csv_path.write_text(",".join(columns) + "\n")

@@ -40,8 +40,10 @@ def check_output_file(path, what="--out"):
 
 def replace_file(path, data):
     """Write `data` (str or bytes) to `path` under a temporary name, then rename it in place, so
-    that a reader sees the old file or the new one, never a part."""
+    that a reader sees the old file or the new one, never a part; a missing folder is made, as
+    for the output folders (`check_output_file` checked that it can be)."""
     path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.tmp")
     if isinstance(data, str):
         tmp.write_text(data, encoding="utf-8")
@@ -53,6 +55,7 @@ def replace_file(path, data):
 def save_figure(fig, path, **options):
     """Save a matplotlib figure the way `replace_file` writes a file (``savefig`` `options`)."""
     path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.stem}.tmp{path.suffix}")  # the suffix names the format
     fig.savefig(tmp, **options)
     os.replace(tmp, path)

@@ -8,12 +8,12 @@ A run's outputs are written as it goes and always belong together (`RunWriter`):
 run's files are removed first (summary first), then summary.json says ``completed: false``
 (``status: running``) with a new run id, and the rows grow, whole rows at a time, in
 ``results.csv.part``, a name that says the run is in progress. At the end, however the run ends
-(completed, failed, interrupted), results.png and the final summary.json are written under
-temporary names and renamed in place, and ``results.csv.part`` becomes ``results.csv``. A run
-killed at any moment (even by SIGKILL) leaves the previous run's files or only this run's (its
-summary saying ``running`` beside its rows so far in ``results.csv.part``), never one run's
-results beside another run's summary; a killed write may cut the last row, which then has no
-line end.
+(completed, failed, interrupted), ``results.csv.part`` becomes ``results.csv``, then
+results.png and the final summary.json are written under temporary names and renamed in place.
+A run killed at any moment (even by SIGKILL) leaves the previous run's files or only this run's
+(its summary saying ``running`` beside its rows so far, in ``results.csv.part``, or in
+``results.csv`` when the kill came as the run ended), never one run's results beside another
+run's summary; a killed write may cut the last row, which then has no line end.
 """
 import io
 import json
@@ -86,7 +86,8 @@ def metric_unit(unit, op, ratio=False):
 
 
 def compute_metrics(results, metrics):
-    """Evaluate ``{name: Metric}`` on `results`; a metric without samples in its window is NaN."""
+    """Evaluate ``{name: Metric}`` on `results`; a metric without a value (no sample in its
+    window, no oscillation to count, nothing to divide by) is NaN, written null in summary.json."""
     out = {}
     for name, m in metrics.items():
         # the master accumulates time step by step: a window edge on a sample counts it in
@@ -99,6 +100,22 @@ def compute_metrics(results, metrics):
             value = value / den if den else math.nan  # nothing to compare with: no ratio
         out[name] = value
     return out
+
+
+def _no_value(m, results, end):
+    """Why metric `m` has no value on `results` (a run ending at `end` s), in a few words."""
+    tol = 1e-9 * max(1.0, abs(end))
+    window = (results.time >= m.start - tol) & (results.time <= m.stop + tol)
+    if not window.any():
+        return f"no sample in its window ({m.start:g} to {m.stop:g} s) of a run ending at {end:g} s"
+    if m.op == "frequency":
+        return (f"no value: {m.signal} crosses the middle of its range fewer than twice in its "
+                "window")
+    if m.op == "cycle_peak_to_peak":
+        return f"no value: its window holds no whole period of {m.period:g} s"
+    if m.over is not None:
+        return f"no value: {m.op} of {m.over} is 0 in its window, nothing to divide by"
+    return f"no value: {m.op} needs more than the one sample in its window"
 
 
 def csv_rows(time, data):
@@ -178,9 +195,9 @@ class RunWriter:
             self.csv = None
             os.replace(self.partial, self.out / "results.csv")
         metrics = compute_metrics(results, self.scenario.metrics)
+        end = results.time[-1] if len(results.time) else self.scenario.start_time
         warnings = list(results.warnings) + [
-            f"metric {name}: no sample in its window ({m.start:g} to {m.stop:g} s) of a run "
-            f"ending at {results.time[-1] if len(results.time) else self.scenario.start_time:g} s"
+            f"metric {name}: {_no_value(m, results, end)}"
             for name, m in self.scenario.metrics.items()
             if math.isnan(metrics[name]) and results.error is None]  # a stopped run says why
         if self.with_plot and len(results.time) > 1:
@@ -188,7 +205,7 @@ class RunWriter:
             plot(self.out / "results.png", results, s.plots, self.units,
                  title=f"{s.name} ({s.reference})" if s.reference else s.name)
         return self._summary({
-            **metrics,
+            **{name: None if math.isnan(v) else v for name, v in metrics.items()},  # JSON null
             "units": {name: metric_unit(self.units.get(m.signal), m.op, m.over is not None)
                       for name, m in self.scenario.metrics.items()},
             "completed": results.error is None, "error": results.error,
@@ -199,8 +216,8 @@ class RunWriter:
     def _summary(self, state):
         s = self.scenario
         summary = {**state, "run_id": self.run_id, "scenario": s.name,
-                   "description": s.description, "scenario_file": str(s.path), "reference": s.reference,
-                   "algorithm": s.algorithm, "step": s.step, "start_time": s.start_time,
+                   "description": s.description, "scenario_file": str(s.path),
+                   "reference": s.reference, "algorithm": s.algorithm, "step": s.step, "start_time": s.start_time,
                    "stop_time": s.stop_time,
                    "parameters": {n: i.parameters for n, i in s.instances.items()}}
         replace_file(self.out / "summary.json", json.dumps(summary, indent=2, allow_nan=True) + "\n")

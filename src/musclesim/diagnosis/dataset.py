@@ -7,15 +7,17 @@ values of the model's parameters or of inputs nothing in the scenario feeds, suc
 temperature ``"wire.T_amb" = 298.15``), the experiments (named time spans) and the split into
 training and held-out parts; a scalar-only set has metrics per experiment instead of data.csv.
 A condition that varies is replayed as an input column instead.
-The format with examples: README.md, "Measured data sets".
+The format with examples: the user guide's data-set page (§data-sets).
 
 Validation reports every problem at once in one `musclesim.errors.UserError`, each naming its
 file (and line, column or experiment): malformed TOML or CSV, missing or unknown columns,
 duplicated or non-increasing time, NaN/inf, spans outside the data or overlapping, a split that
-names unknown experiments or leaves a part empty. A scenario reference that is not found is a
-problem only when checking against the model (``check_model=True``: the scenarios may not exist
-yet when the data are recorded); then every column must also be a variable of the scenario's
-instances, every metric a metric of the scenario, and every unit given must equal the model's.
+names unknown experiments or leaves a part empty. Wherever the scenario and its FMUs can be read,
+every unit given must equal the model's, and a column or condition in kelvin whose values are
+degrees Celsius is refused. A scenario reference that is not found is a problem only when
+checking against the model (``check_model=True``: the scenarios may not exist yet when the data
+are recorded); then every column must also be a variable of the scenario's instances and every
+metric a metric of the scenario.
 
 Examples
 --------
@@ -37,7 +39,7 @@ from pathlib import Path
 
 import numpy as np
 
-from musclesim.cosim import Master, load_scenario, metric_unit, read_time_series
+from musclesim.cosim import Master, load_scenario, metric_unit, read_fmu, read_time_series
 from musclesim.errors import UserError
 
 MANIFEST = "manifest.toml"
@@ -48,6 +50,10 @@ _EXPERIMENT_KEYS = {"span", "scenario", "description", "metrics", "stop_time"}
 _METRIC_KEYS = {"value", "unit", "uncertainty", "description"}
 _SPLIT_KEYS = {"held_out", "train", "held_out_fraction"}
 _PARTS = ("train", "held_out")
+# A column or condition in kelvin whose values all lie below this is in degrees Celsius: no bench
+# of this library runs colder than -73 C (its wires and chambers live near room temperature and
+# up to about 200 C), while 200 C is 473 K.
+COLDEST_KELVIN = 200.0
 
 
 @dataclass(frozen=True)
@@ -87,8 +93,9 @@ class DataSet:
     """A checked measured data set (see the module docstring for the format).
 
     ``time`` and ``data[i, j]`` (column ``columns[j]``) are None for a scalar-only set. ``units``
-    maps every column to its unit: the manifest's, else the model's when checked against it,
-    else None (SI assumed).
+    maps every column to its unit: the manifest's, else the model's (read from the scenario's FMUs
+    whenever they can be read, and required by the model check), else None (SI assumed);
+    ``condition_units`` the model's unit of each condition, where known.
     """
 
     path: Path
@@ -105,6 +112,7 @@ class DataSet:
     description: str = ""
     reference: str = ""
     conditions: dict = field(default_factory=dict)  # "instance.variable" -> known constant value
+    condition_units: dict = field(default_factory=dict)  # the model's unit of each condition
 
     @property
     def scalar_only(self):
@@ -228,6 +236,10 @@ def load(path, check_model=False, fmu_dir="fmus", scenarios_dir=None, models=Non
         ds = _with_models(ds, models, scenarios_dir, problems)
     if ds is not None and check_model:
         _check_model(ds, fmu_dir, problems)
+    elif ds is not None:
+        _check_units(ds, fmu_dir, problems)
+    if ds is not None:
+        _check_kelvin(ds, problems)
     if problems:
         raise UserError(f"data set {path} has {len(problems)} problem(s): " + "; ".join(problems))
     return ds
@@ -486,6 +498,47 @@ def _split(raw, experiments, time, has_data, problems):
     return Split(train=train, held_out=held)
 
 
+def _check_units(ds, fmu_dir, problems):
+    """Without the model check: the units of the columns and conditions from the scenarios' FMUs
+    where both can be read (a scenario not found or FMUs not built are --model's problems, not
+    this one's), each given unit checked against them, the missing ones filled in."""
+    declared = {}
+    for e in ds.experiments.values():
+        try:
+            s = load_scenario(e.scenario_path, ds.overrides(), e.stop_time) \
+                if e.scenario_path is not None else None
+            for inst in (s.instances.values() if s else ()):
+                md = read_fmu(Path(fmu_dir) / f"{inst.component}.fmu")
+                for v in md.modelVariables:
+                    declared.setdefault(f"{inst.name}.{v.name}", v.unit or "1")
+        except UserError:
+            continue
+    for column in ds.columns:
+        given, unit = ds.units.get(column), declared.get(column)
+        if unit is None:
+            continue
+        if given is None:
+            ds.units[column] = unit
+        elif not _same_unit(given, unit):
+            problems.append(f"{MANIFEST}: [units] {column!r} is {given!r} but the model's "
+                            f"unit is {unit!r}")
+    ds.condition_units.update({n: declared[n] for n in ds.conditions if n in declared})
+
+
+def _check_kelvin(ds, problems):
+    """Temperatures given in degrees Celsius where the model's unit is K: their values say so."""
+    for column in ds.columns:
+        values = ds[column]
+        if ds.units.get(column) == "K" and len(values) and np.max(values) < COLDEST_KELVIN:
+            problems.append(f"{DATA}: column {column!r} is in K, but its values "
+                            f"({np.min(values):g} to {np.max(values):g}) are degrees Celsius, "
+                            "not kelvin: add 273.15")
+    for name, value in ds.conditions.items():
+        if ds.condition_units.get(name) == "K" and value < COLDEST_KELVIN:
+            problems.append(f"{MANIFEST}: [conditions] {name!r} = {value:g} is in K, but that "
+                            f"value is degrees Celsius, not kelvin: write {value + 273.15:g}")
+
+
 def _check_model(ds, fmu_dir, problems):
     """Check columns, metrics and units against the scenarios and their FMUs."""
     refs = {(e.scenario, e.stop_time): e.scenario_path for e in ds.experiments.values()}
@@ -523,6 +576,11 @@ def _check_model(ds, fmu_dir, problems):
         for column, unit in model_units.items():
             if ds.units.get(column) is None:
                 ds.units[column] = unit
+        for name in ds.conditions:
+            inst, _, var = name.partition(".")
+            v = m.instances[inst].vars.get(var) if inst in m.instances else None
+            if v is not None:
+                ds.condition_units[name] = v.unit or "1"
         for e in metric_names[(ref, stop_time)]:
             for name, mm in e.metrics.items():
                 sm = s.metrics.get(name)
