@@ -52,3 +52,17 @@ def assert_same_toml(committed, fresh, rel=1e-9):
     assert sorted(a) == sorted(b)
     for key in a:
         assert a[key] == pytest.approx(b[key], rel=rel, abs=1e-300), key
+
+
+def schema_errors(name, document):
+    """What makes `document` differ from musclesim/schemas/<name>.schema.json (the schema, shipped
+    with the package and shown in the docs, checked first), one located sentence each."""
+    import json
+    from importlib.resources import files
+
+    import jsonschema
+
+    schema = json.loads((files("musclesim") / "schemas" / f"{name}.schema.json").read_text())
+    jsonschema.Draft202012Validator.check_schema(schema)
+    return [f"{'/'.join(map(str, e.absolute_path)) or '(top)'}: {e.message}"
+            for e in jsonschema.Draft202012Validator(schema).iter_errors(document)]

@@ -12,6 +12,8 @@ import pytest
 from musclesim.diagnosis import blind, independent_plan, load_dataset
 from musclesim.diagnosis import independent as ib
 
+from conftest import schema_errors
+
 ROOT = Path(__file__).resolve().parents[2]
 QUIET = ib.Bench(kp=0.07, ki=0.1)  # nominal conditions, ideal sensors: effects alone differ
 
@@ -246,4 +248,5 @@ def test_a_small_blind_run_on_the_independent_bench(fmu_dir, tmp_path, cluster_m
     # both keyed cases can be named on their data (the oracle's effect counts over calibration)
     assert scores["identifiable_rate"] == 1.0 and scores["top1_identifiable"] == 1.0
     saved = json.loads((tmp_path / "scores.json").read_text())
+    assert schema_errors("scores", saved) == []
     assert saved["independent"]["cases"] == 4

@@ -13,7 +13,7 @@ from musclesim.diagnosis import blind, dataset, diagnose, write_report
 from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.thresholds import WINDOWS
 
-from conftest import SCENARIOS
+from conftest import SCENARIOS, schema_errors
 
 
 @pytest.fixture(scope="module")
@@ -61,6 +61,7 @@ def test_report_json_keeps_its_documented_shape(lag_case, tmp_path):
     paths = write_report(tmp_path, report, traces)
     assert {p.name for p in paths} == {"report.json", "report.md", "signals.png", "effects.png"}
     saved = json.loads((tmp_path / "report.json").read_text())
+    assert schema_errors("report", saved) == []
     assert {"gap", "calibration", "located", "regimes", "effects", "stand_ins", "verdict",
             "shrinkage", "consistency"} <= set(saved)
     for key in ("name", "component", "parameters", "calibration", "heldout_gap_before",
@@ -83,6 +84,7 @@ def test_the_model_matching_its_data_has_no_gap(fmu_dir, tmp_path):
     report = diagnose(dataset.load(tmp_path / "cases" / "null"), fmu_dir)
     assert report["verdict"] == "none" and report["effects"] == report["stand_ins"] == []
     assert not report["gap"]["deviates"]
+    assert schema_errors("report", json.loads(json.dumps(report, default=float))) == []
 
 
 def test_foreign_data_an_independent_script_wrote(fmu_dir, tmp_path):
@@ -120,6 +122,7 @@ held_out = ["second"]
     assert main(["diagnose", str(d), "--out", str(out), "--fmus", str(fmu_dir),
                  "--workers", "1"]) == 0
     report = json.loads((out / "report.json").read_text())
+    assert schema_errors("report", report) == []
     assert report["verdict"] == "thermocouple lag"
     assert [u["instances"] for u in report["units"]] == [["thermocouple"]]
     # up to MAX_ALIGN samples (~25 ms each here) of a lag on a channel nothing reads are taken
@@ -143,6 +146,7 @@ def test_blind_benchmark_on_three_cases(fmu_dir, tmp_path, cluster_map):
         manifest = (tmp_path / "cases" / case["case"] / "manifest.toml").read_text()
         assert case["kind"] not in manifest and (case["effect"] or "none") not in manifest
     saved = json.loads((tmp_path / "scores.json").read_text())
+    assert schema_errors("scores", saved) == []
     assert saved["top1_accuracy"] == 1.0
     assert saved["false_alarm_rate"] == 0.0
     assert saved["unexplained_rate"] == 1.0
