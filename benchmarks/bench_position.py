@@ -1,5 +1,5 @@
-"""Real-time factor of the SMA position-control scenario (issue 5, §position-control) and the time per
-communication step split by FMU.
+"""Real-time factor of the SMA position-control scenario (issue 5, §position-control) and the time
+per communication step split by FMU.
 
     .venv/bin/python benchmarks/bench_position.py [--stop-time 550] [--json FILE]
 

@@ -11,11 +11,10 @@ length (contraction strain eps from its hysteresis, positive = shorter):
     1 / E(xi) = xi / E_M + (1 - xi) / E_A
     J theta'' + c theta' + (EI / L) theta = e (T_A - T_B)
 
-A slack wire (T_i would be negative) pulls nothing. Each wire is heated by the voltage u_i
-through a series resistance R_s (driver, leads): I = u / (R(xi) + R_s), P = R(xi) I^2. Each
-wire's hysteresis is taken at the stress of its pretension (assumption, README: coupling it to
-the changing tension makes this stiff system oscillate numerically). Temperatures in C, SI
-otherwise.
+A slack wire (T_i would be negative) pulls nothing. Each wire is heated by the voltage u_i through a
+series resistance R_s (driver, leads): I = u / (R(xi) + R_s), P = R(xi) I^2. Each wire's hysteresis
+is taken at the stress of its pretension (assumption, §bending-actuator: coupling it to the changing
+tension makes this stiff system oscillate numerically). Temperatures in C, SI otherwise.
 """
 import math
 import tomllib
@@ -67,7 +66,8 @@ WIRE_50UM = read_wire_file()  # read once at import: an FMU's first folder may b
 
 
 def resistivities(diameter, resistance_martensite, resistance_austenite):
-    """(rho_M, rho_A) [Ohm m] of a wire from its resistances per metre [Ohm/m] (§sma-material's form).
+    """(rho_M, rho_A) [Ohm m] of a wire from its resistances per metre [Ohm/m] (§sma-material's
+    form).
 
     Examples
     --------
@@ -94,7 +94,7 @@ def hysteresis_surface(wire_params, sigma):
     once per process and stress).
 
     ``wire_params`` is the reference wire's `sma.wire.WireParams` (the 127 um wire's: the 50 um
-    wire's hysteresis is scaled from it, README).
+    wire's hysteresis is scaled from it, §bending-actuator).
 
     Examples
     --------
@@ -112,8 +112,8 @@ def hysteresis_surface(wire_params, sigma):
 
 @dataclass(frozen=True)
 class WireLayout:
-    """The wires' placement, pretension, elasticity and drive (defaults: §bending-actuator, §sma-material; open values
-    and their reasons in components/bending/README.md)."""
+    """The wires' placement, pretension, elasticity and drive (defaults: §bending-actuator,
+    §sma-material; open values and their reasons in §bending-actuator)."""
 
     offset: float = 1.7e-3  # m, each wire beside the beams (§bending-actuator)
     length: float = 10e-3  # m, free length, about the cap spacing (§bending-actuator, open)

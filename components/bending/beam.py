@@ -1,6 +1,6 @@
 """The bending actuator's carbon-fibre beam pair as a leaf spring with its first bending mode
-(§bending-actuator: Euler-Bernoulli beams clamped in the base cap, loaded at the top cap by the wires'
-eccentric tension, i.e. by an end moment M.
+(§bending-actuator): Euler-Bernoulli beams clamped in the base cap, loaded at the top cap by the
+wires' eccentric tension, i.e. by an end moment M.
 
 Under a pure end moment the beams bend with uniform curvature M / EI, so the top cap (rigid, at
 height L) turns by theta = M L / EI and every point of the actuator deflects as
@@ -9,8 +9,9 @@ height L) turns by theta = M L / EI and every point of the actuator deflects as
     w(z) = theta (z - L / 2)            for z >= L (the rigid cap and the foot above it)
 
 The first bending mode is taken with this shape (Rayleigh): one coordinate theta with rotational
-stiffness K = EI / L (plus what the wires add), modal inertia J = m_tip (z_tip - L / 2)^2 +
-m_beams L^2 / 20 (the cap and foot as a point mass), viscous damping c = 2 zeta sqrt(K J). Lengths in m, angles in rad.
+stiffness K = EI / L (plus what the wires add), modal inertia J = m_tip (z_tip - L / 2)^2 + m_beams
+L^2 / 20 (the cap and foot as a point mass), viscous damping c = 2 zeta sqrt(K J). Lengths in m,
+angles in rad.
 """
 import math
 from dataclasses import dataclass
@@ -20,8 +21,8 @@ from musclesim.components.checks import require
 
 @dataclass(frozen=True)
 class BeamParams:
-    """Beam pair, caps and foot (§bending-actuator leaves all but the cap spacing open: defaults and their
-    reasons in components/bending/README.md)."""
+    """Beam pair, caps and foot (§bending-actuator leaves all but the cap spacing open: defaults and
+    their reasons in §bending-actuator)."""
 
     length: float = 10e-3  # m, free length between the caps (§bending-actuator: caps 10 mm apart)
     n_beams: float = 2.0  # two coplanar beams (§bending-actuator)
@@ -45,7 +46,8 @@ def bending_stiffness(p):
 
     Examples
     --------
-    >>> round(bending_stiffness(BeamParams(n_beams=1, width=1e-3, thickness=1e-3, modulus=12e9)), 12)
+    >>> round(bending_stiffness(BeamParams(n_beams=1, width=1e-3, thickness=1e-3,
+    ...                                    modulus=12e9)), 12)
     0.001
     """
     return p.n_beams * p.modulus * p.width * p.thickness ** 3 / 12

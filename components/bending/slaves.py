@@ -1,4 +1,5 @@
-"""FMU slave of the bending actuator (§bending-actuator: a thin adapter over `actuator.BendingActuator`."""
+"""FMU slave of the bending actuator (§bending-actuator): a thin adapter over
+`actuator.BendingActuator`."""
 import math
 
 from musclesim.components.bending import actuator, beam
@@ -10,12 +11,12 @@ LASER_HEIGHT = 17e-3  # m, where the study's laser reads the deflection (§bendi
 
 
 class BendingActuator(Slave):
-    """Bending actuator: two 50 um SMA wires beside a carbon-fibre beam pair (§bending-actuator.
+    """Bending actuator: two 50 um SMA wires beside a carbon-fibre beam pair (§bending-actuator).
 
     Per communication step, inputs held from its start: each wire's temperature (lumped thermal
     model, voltage through a series resistance), its hysteresis (at the pretension's stress),
     then the beams' first bending mode in exact sub-steps. No output depends directly on an input.
-    Equations, parameters and their reasons: components/bending/README.md.
+    Equations, parameters and their reasons: §bending-actuator (docs/model/bending.md).
     """
 
     description = ("Bending actuator: two antagonistic 50 um SMA wires (thermal model, modified "
@@ -25,30 +26,34 @@ class BendingActuator(Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         b, w = beam.BeamParams(), actuator.WireLayout()
-        self.parameter("length", b.length, "m", "Free beam length between the caps (§bending-actuator: "
-                       "caps 10 mm apart)")
+        self.parameter("length", b.length, "m", "Free beam length between the caps "
+                       "(§bending-actuator: caps 10 mm apart)")
         self.parameter("n_beams", b.n_beams, "1", "Number of coplanar beams (§bending-actuator: 2)")
-        self.parameter("width", b.width, "m", "Width of each beam (open, README)")
+        self.parameter("width", b.width, "m", "Width of each beam (open, §bending-actuator)")
         self.parameter("thickness", b.thickness, "m", "Thickness of each beam in the bending "
-                       "direction (open, README)")
-        self.parameter("modulus", b.modulus, "Pa", "Young's modulus of the beams (open, README)")
-        self.parameter("density", b.density, "kg/m3", "Density of the beams (open, README)")
-        self.parameter("tip_mass", b.tip_mass, "kg", "Mass of the top cap and foot (open, README)")
+                       "direction (open, §bending-actuator)")
+        self.parameter("modulus", b.modulus, "Pa", "Young's modulus of the beams (open, "
+                       "§bending-actuator)")
+        self.parameter("density", b.density, "kg/m3", "Density of the beams (open, "
+                       "§bending-actuator)")
+        self.parameter("tip_mass", b.tip_mass, "kg", "Mass of the top cap and foot (open, "
+                       "§bending-actuator)")
         self.parameter("tip_height", b.tip_height, "m", "Height of their centre of mass above the "
-                       "base (open, README)")
+                       "base (open, §bending-actuator)")
         self.parameter("damping_ratio", b.damping_ratio, "1", "Damping ratio of the first "
-                       "bending mode with both wires cold (open, README)")
-        self.parameter("offset", w.offset, "m", "Distance of each wire from the beams (§bending-actuator)")
-        self.parameter("wire_length", w.length, "m", "Free length of each wire (§bending-actuator: about "
-                       "the cap spacing)")
+                       "bending mode with both wires cold (open, §bending-actuator)")
+        self.parameter("offset", w.offset, "m", "Distance of each wire from the beams "
+                       "(§bending-actuator)")
+        self.parameter("wire_length", w.length, "m", "Free length of each wire (§bending-actuator: "
+                       "about the cap spacing)")
         self.parameter("pretension", w.pretension, "N", "Tension of each cold wire at rest "
-                       "(open, README: 100 MPa)")
+                       "(open, §bending-actuator: 100 MPa)")
         self.parameter("modulus_martensite", w.modulus_martensite, "Pa",
-                       "Young's modulus of the wires' martensite (open, README)")
+                       "Young's modulus of the wires' martensite (open, §bending-actuator)")
         self.parameter("modulus_austenite", w.modulus_austenite, "Pa",
-                       "Young's modulus of the wires' austenite (open, README)")
+                       "Young's modulus of the wires' austenite (open, §bending-actuator)")
         self.parameter("series_resistance", w.series_resistance, "Ohm", "Driver and lead "
-                       "resistance in series with each wire (open, README)")
+                       "resistance in series with each wire (open, §bending-actuator)")
         self.parameter("max_substep", w.max_substep, "s", "Longest mechanical sub-step")
         t = actuator.wire_thermal(w.length)
         self.parameter("diameter", t.diameter, "m", "Wire diameter (§bending-actuator: 50 um)")
@@ -60,7 +65,7 @@ class BendingActuator(Slave):
         self.parameter("rho_austenite", t.rho_austenite, "Ohm.m", "Resistivity of the wire's "
                        "austenite (§sma-material: 490 Ohm/m on 50 um)")
         self.parameter("h", t.h, "W/(m2.K)", "Convection coefficient of the 50 um wire "
-                       "(§sma-material: 230)")
+                       "(§convection: 230)")
         self.parameter("T_init", 293.15, "K", "Initial temperature of both wires (martensitic, "
                        "heated to it)")
         self.parameter("z_tip", LASER_HEIGHT, "m", "Height above the base where tip.s is read "
@@ -94,7 +99,8 @@ class BendingActuator(Slave):
             length=self.wire_length, diameter=self.diameter, density=self.wire_density,
             specific_heat=self.specific_heat, rho_martensite=self.rho_martensite,
             rho_austenite=self.rho_austenite, h=self.h, drive="current")
-        sigma = self.pretension / thermal.cross_section(wire_p)  # the hysteresis' stress (README)
+        sigma = self.pretension / thermal.cross_section(wire_p)  # the hysteresis' stress
+        #                                                          (§bending-actuator)
         params = wire.load_params(datasets.shipped(self.resources) / datasets.WIRE_PARAMS)
         surface = actuator.hysteresis_surface(params, sigma)
         self.core = self.logged(actuator.BendingActuator, b, layout, wire_p, surface)

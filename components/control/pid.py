@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 from musclesim.components.checks import require
 
-# §temperature-control: 21 operating points of the temperature reference, 30..130 C every 5 C (in K): the
-# GainScheduledPID's default scheduling points, and those its gains are designed at
+# §temperature-control: 21 operating points of the temperature reference, 30..130 C every 5 C (in
+# K): the GainScheduledPID's default scheduling points, and those its gains are designed at
 SCHEDULE_K = [273.15 + 30.0 + 5.0 * i for i in range(21)]
 
 

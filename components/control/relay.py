@@ -18,12 +18,13 @@ ZERO_C = 273.15
 
 @dataclass(frozen=True)
 class RelayParams:
-    """Thresholds, output levels and the initial state (defaults: §multiplier-experiments in K; the supply
-    voltage is open: see components/control/README.md)."""
+    """Thresholds, output levels and the initial state (defaults: §multiplier-experiments in K; the
+    supply voltage is open: see §bang-bang)."""
 
-    y_on: float = ZERO_C + 75.0  # K: switch on when falling to it (§multiplier-experiments
-    y_off: float = ZERO_C + 90.0  # K: switch off when rising to it (§multiplier-experiments
-    u_on: float = 1.0  # output when on (a supply voltage [V]: open in §multiplier-experiments, set per wire)
+    y_on: float = ZERO_C + 75.0  # K: switch on when falling to it (§multiplier-experiments)
+    y_off: float = ZERO_C + 90.0  # K: switch off when rising to it (§multiplier-experiments)
+    u_on: float = 1.0  # output when on (a supply voltage [V]: open in §multiplier-experiments, set
+    #                    per wire)
     u_off: float = 0.0  # output when off
     initially_on: float = 1.0  # state at the start when y lies between the thresholds
 

@@ -9,7 +9,8 @@ UNLIMITED = 1e30  # output limits that never act (FMI start values must be finit
 
 
 class _PIDBase(Slave):
-    """Inputs r, y; output u = PID(r - y) with direct feedthrough; limits and filter as parameters."""
+    """Inputs r, y; output u = PID(r - y) with direct feedthrough; limits and filter as
+    parameters."""
 
     def _declare_common(self):
         self.parameter("Tf", 0.0, "s", "Derivative filter time constant (0: none)")
@@ -53,7 +54,8 @@ class PID(_PIDBase):
 
 
 class GainScheduledPID(_PIDBase):
-    """PID whose gains are interpolated from 21 sets scheduled on the reference (§temperature-control)."""
+    """PID whose gains are interpolated from 21 sets scheduled on the reference
+    (§temperature-control)."""
 
     description = ("Gain-scheduled PID: 21 gain sets on the reference, 30..130 C every 5 C, "
                    "linear in between (§temperature-control)")
@@ -61,7 +63,8 @@ class GainScheduledPID(_PIDBase):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         for i, x in enumerate(SCHEDULE_K, start=1):
-            self.parameter(f"x[{i}]", x, "1", f"Scheduling point {i} of the reference (§temperature-control)")
+            self.parameter(f"x[{i}]", x, "1",
+                           f"Scheduling point {i} of the reference (§temperature-control)")
         for name, what in (("Kp", "Proportional gain"), ("Ki", "Integral gain [1/s]"),
                            ("Kd", "Derivative gain [s]")):
             for i in range(1, 22):
@@ -85,11 +88,11 @@ class GainScheduledPID(_PIDBase):
 class BangBang(Slave):
     """Relay temperature controller with hysteresis: on when the measured temperature falls to
     T_on, off when it rises to T_off (§multiplier-experiments: 75 C and 90 C); output u_on or u_off.
-    A thin adapter over `relay`; equations: components/control/README.md.
+    A thin adapter over `relay`; equations: §bang-bang.
     """
 
     description = ("Bang-bang (relay) temperature controller: on when T falls to T_on, off when T "
-                   "rises to T_off; output u_on / u_off (§multiplier-experiments")
+                   "rises to T_off; output u_on / u_off (§multiplier-experiments)")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)

@@ -1,4 +1,5 @@
-"""Crawler body: the two-mass, spring, damper plant of §two-mass and its zero-order-hold discretisation.
+"""Crawler body: the two-mass, spring, damper plant of §two-mass and its zero-order-hold
+discretisation.
 
 State x = [x1, v1, x2, v2] (positions are variations from rest, climbing is positive x);
 input u = [f_a, f1, f2] (actuator force pushing the blocks apart, friction on block 1 and 2).

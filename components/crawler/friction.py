@@ -2,10 +2,11 @@
 
 The indicator u in [0, 1] selects low (casing on the ground, 0) or high (inflated silicone, 1)
 friction. With a switching time t_switch > 0 the contact state s follows u at a finite rate instead
-of jumping (a candidate unmodelled effect; §crawler-hardware says switching takes up to 0.4 s).
-Two more effects, off by default, lower the high (silicone) coefficients only: bending of the soft
-actuator under shear on an incline, and contamination of the silicone over time (§gait, §named-effects).
-The anchoring slip, the distance a block slides while its contact is high, is accumulated here too.
+of jumping (a candidate unmodelled effect; §crawler-hardware says switching takes up to 0.4 s). Two
+more effects, off by default, lower the high (silicone) coefficients only: bending of the soft
+actuator under shear on an incline, and contamination of the silicone over time (§gait,
+§named-effects). The anchoring slip, the distance a block slides while its contact is high, is
+accumulated here too.
 """
 import math
 from dataclasses import dataclass
@@ -24,7 +25,7 @@ class FrictionParams:
     t_switch: float = 0.0  # s, low<->high transition time; 0 = the study's square switching
     # effects, off by default (diagnosis candidates, §named-effects):
     bending: float = 0.0  # 1/rad, high coefficients scaled by max(0, 1 - bending |theta|): the soft
-    #                       actuator bends under shear on an incline (§friction plates, 1.5 climbing)
+    #                       actuator bends under shear on an incline (§friction, §gait)
     mu_decay: float = 0.0  # 1/s, high coefficients scaled by exp(-mu_decay t): particles collect
     #                        on the silicone and lower its friction over time (§gait wood)
 
@@ -36,7 +37,8 @@ class FrictionParams:
 
 
 def high_scale(theta, t, p):
-    """Factor on the high coefficients from bending on the incline theta [rad] and decay at time t [s].
+    """Factor on the high coefficients from bending on the incline theta [rad] and decay at time t
+    [s].
 
     Exactly 1.0 with both effects off.
 

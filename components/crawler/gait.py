@@ -36,8 +36,8 @@ class GaitParams:
     t_stance: float = 1.8  # s, phases 1, 3 and 4 together, 0.6 s each (§gait; equal split assumed)
     direction: float = 1.0  # direction of the first stride: +1 forward, -1 backward
     t_reverse: float = 0.0  # s, direction reversal period; 0 = never (§gait test: 32.5 s)
-    # Pa: scenarios set these from the off-line characterisation (scenarios/params, §pressure-control);
-    # the defaults only make the FMU runnable on its own
+    # Pa: scenarios set these from the off-line characterisation (scenarios/params,
+    # §pressure-control); the defaults only make the FMU runnable on its own
     p_central: float = 10e3  # central actuator while protruding
     p_anchor1: float = 10e3  # back extremal actuator while anchoring
     p_anchor2: float = 10e3  # front extremal actuator while anchoring

@@ -1,4 +1,5 @@
-"""Ideal open-loop actuation of §ideal-actuation: a sinusoidal actuator force and two friction indicators."""
+"""Ideal open-loop actuation of §ideal-actuation: a sinusoidal actuator force and two friction
+indicators."""
 import math
 from dataclasses import dataclass
 
@@ -8,7 +9,8 @@ from musclesim.components.checks import require
 class InputParams:
     """Signal parameters (defaults: §ideal-actuation nominal case)."""
 
-    f_mean: float = 10.28  # N, mean of f_a, which oscillates between 0.66 N and 19.9 N (§ideal-actuation)
+    f_mean: float = 10.28  # N, mean of f_a, which oscillates between 0.66 N and 19.9 N
+    #                        (§ideal-actuation)
     f_amp: float = 9.62  # N, amplitude of f_a (§ideal-actuation)
     f_f: float = 1.0  # Hz, frequency of f_a (§ideal-actuation)
     f_u: float = 1.0  # Hz, frequency of the friction indicators (§ideal-actuation)

@@ -1,9 +1,9 @@
 """Monolithic reference simulation of the ideal-actuation crawler (§ideal-actuation) in plain numpy.
 
 It steps the same physics cores as the FMUs in one loop, with no co-simulation in between; the
-co-simulated scenario must agree with it (tests/cosim/test_crawler_cosim.py) and the benchmark
-uses it as the speed reference. Time is accumulated step by step exactly as the master does, so that square
-waves switch on the same sample in both.
+co-simulated scenario must agree with it (tests/cosim/test_crawler_cosim.py) and the benchmark uses
+it as the speed reference. Time is accumulated step by step exactly as the master does, so that
+square waves switch on the same sample in both.
 """
 import numpy as np
 

@@ -8,9 +8,11 @@ from musclesim.fmu import Slave
 
 
 class CrawlerBody(Slave):
-    """Two-mass crawler body (§two-mass) discretised by zero-order hold at the communication step."""
+    """Two-mass crawler body (§two-mass) discretised by zero-order hold at the communication
+    step."""
 
-    description = "Crawler body: two blocks joined by the central actuator's spring, damper and force (§two-mass)"
+    description = ("Crawler body: two blocks joined by the central actuator's spring, damper and "
+                   "force (§two-mass)")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
@@ -19,9 +21,11 @@ class CrawlerBody(Slave):
         self.parameter("m2", d.m2, "kg", "Mass of the front block 2 (§ideal-actuation)")
         self.parameter("k", d.k, "N/m", "Stiffness of the central actuator (§ideal-actuation)")
         self.parameter("c", d.c, "N.s/m", "Damping of the central actuator (§ideal-actuation)")
-        self.parameter("theta", d.theta, "rad", "Incline of the ground, climbing positive (§two-mass)")
+        self.parameter("theta", d.theta, "rad", "Incline of the ground, climbing positive "
+                       "(§two-mass)")
         self.parameter("k_slope", d.k_slope, "1", "Effect, 0 = off: relative stiffness change per "
-                       "newton of actuator force [1/N] (pressure-dependent stiffness, §two-mass, §named-effects)")
+                       "newton of actuator force [1/N] (pressure-dependent stiffness, §two-mass, "
+                       "§named-effects)")
         self.parameter("c_ground", d.c_ground, "N.s/m",
                        "Effect, 0 = off: viscous drag of the ground on each block (§named-effects)")
         self.input("f_a", 0.0, "N", "Actuator force pushing the blocks apart")
@@ -34,8 +38,8 @@ class CrawlerBody(Slave):
                         depends=["f_a"])
             self.output(f"flange{i}.N", "N", f"Normal force of block {i} on the ground")
         self.output("x_cm", "m", "Position of the centre of mass")
-        self.output("incline", "rad", "Incline of the ground, the parameter theta (for the friction "
-                    "blocks' bending effect)")
+        self.output("incline", "rad", "Incline of the ground, the parameter theta (for the "
+                    "friction blocks' bending effect)")
 
     def setup(self):
         self.p = self.core_params(body.BodyParams)
@@ -69,13 +73,15 @@ class FrictionBlock(Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         d = friction.FrictionParams()
-        self.parameter("mu_s_high", d.mu_s_high, "1", "Static coefficient, high friction (§friction)")
-        self.parameter("mu_k_high", d.mu_k_high, "1", "Kinetic coefficient, high friction (§friction)")
+        self.parameter("mu_s_high", d.mu_s_high, "1", "Static coefficient, high friction "
+                       "(§friction)")
+        self.parameter("mu_k_high", d.mu_k_high, "1", "Kinetic coefficient, high friction "
+                       "(§friction)")
         self.parameter("mu_s_low", d.mu_s_low, "1", "Static coefficient, low friction (§friction)")
         self.parameter("mu_k_low", d.mu_k_low, "1", "Kinetic coefficient, low friction (§friction)")
         self.parameter("v_s", d.v_s, "m/s", "Stick velocity band (§friction)")
-        self.parameter("t_switch", d.t_switch, "s",
-                       "Low/high friction transition time; 0 = instantaneous (§crawler-hardware, effect off)")
+        self.parameter("t_switch", d.t_switch, "s", "Low/high friction transition time; 0 = "
+                       "instantaneous (§crawler-hardware, effect off)")
         self.parameter("bending", d.bending, "1/rad", "Effect, 0 = off: high coefficients scaled "
                        "by max(0, 1 - bending |theta|) (actuator bending on an incline, §friction)")
         self.parameter("mu_decay", d.mu_decay, "1/s", "Effect, 0 = off: high coefficients scaled "
@@ -114,9 +120,11 @@ class FrictionBlock(Slave):
 
 
 class FrictionSwitchingInputs(Slave):
-    """Ideal actuation of §ideal-actuation: sinusoidal actuator force and square-wave friction indicators."""
+    """Ideal actuation of §ideal-actuation: sinusoidal actuator force and square-wave friction
+    indicators."""
 
-    description = "Open-loop friction-switching inputs: f_a sinusoid and indicators u1, u2 (§ideal-actuation)"
+    description = ("Open-loop friction-switching inputs: f_a sinusoid and indicators u1, u2 "
+                   "(§ideal-actuation)")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
@@ -124,7 +132,8 @@ class FrictionSwitchingInputs(Slave):
         self.parameter("f_mean", d.f_mean, "N", "Mean actuator force (§ideal-actuation)")
         self.parameter("f_amp", d.f_amp, "N", "Amplitude of the actuator force (§ideal-actuation)")
         self.parameter("f_f", d.f_f, "Hz", "Frequency of the actuator force (§ideal-actuation)")
-        self.parameter("f_u", d.f_u, "Hz", "Frequency of the friction indicators (§ideal-actuation)")
+        self.parameter("f_u", d.f_u, "Hz", "Frequency of the friction indicators "
+                       "(§ideal-actuation)")
         self.parameter("phi", d.phi, "rad", "Phase lag of u2 behind u1 (§ideal-actuation)")
         self.parameter("direction", d.direction, "1", "1; -1 swaps u1 and u2: the mirror image "
                        "of the gait, driven backward")
@@ -157,10 +166,10 @@ class GaitSequencer(Slave):
                        "Direction reversal period; 0 = never (§gait bidirectional test: 32.5 s)")
         self.parameter("p_central", d.p_central, "Pa",
                        "Central actuator reference while protruding (from the characterisation)")
-        self.parameter("p_anchor1", d.p_anchor1, "Pa",
-                       "Back extremal actuator reference while anchoring (from the characterisation)")
-        self.parameter("p_anchor2", d.p_anchor2, "Pa",
-                       "Front extremal actuator reference while anchoring (from the characterisation)")
+        self.parameter("p_anchor1", d.p_anchor1, "Pa", "Back extremal actuator reference while "
+                       "anchoring (from the characterisation)")
+        self.parameter("p_anchor2", d.p_anchor2, "Pa", "Front extremal actuator reference while "
+                       "anchoring (from the characterisation)")
         self.parameter("p_off", d.p_off, "Pa", "Reference of a deflated actuator")
         self.output("p_ref1", "Pa", "Pressure reference of the back extremal actuator 1")
         self.output("p_ref_c", "Pa", "Pressure reference of the central actuator")

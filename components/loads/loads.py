@@ -2,7 +2,7 @@
 
 Sign convention (the SmaWire FMU's): s [m] is the wire's contraction, positive when the wire
 shortens and lifts or pulls its load; f [N] is the tension the load puts on the wire. Equations
-and where every default comes from: components/loads/README.md.
+and where every default comes from: §loads (docs/model/loads-sensors.md).
 """
 import math
 from dataclasses import dataclass

@@ -1,7 +1,7 @@
 """FMU slaves of the loads: thin adapters over musclesim.components.loads.loads.
 
 Every load reads the wire's contraction `flange.s` [m] and gives the tension `flange.f` [N] it
-puts on the wire (the SmaWire FMU's convention); equations in components/loads/README.md.
+puts on the wire (the SmaWire FMU's convention); equations in §loads.
 """
 from musclesim.components.loads import loads
 from musclesim.fmu import Slave
@@ -19,7 +19,7 @@ class BiasSpring(Slave):
         d = loads.SpringParams()
         self.parameter("k", d.k, "N/m", "Spring stiffness (§loads: 490 N/m)")
         self.parameter("preload", d.preload, "N", "Tension at zero contraction: 125 MPa on the "
-                       "127 um wire (§loads baseline stress)")
+                       "127 um wire (the preload of §multiplier-experiments)")
         self.input("flange.s", 0.0, "m", S_DESCRIPTION)
         self.output("flange.f", "N", "Tension of the spring on the wire", depends=["flange.s"])
 
@@ -31,7 +31,8 @@ class BiasSpring(Slave):
 
 
 class DeadWeight(Slave):
-    """Weight hanging from the wire, quasi-static by default; inertia is an effect (§loads, §named-effects)."""
+    """Weight hanging from the wire, quasi-static by default; inertia is an effect (§loads,
+    §named-effects)."""
 
     description = ("Dead weight on the wire: tension m g, or (inertia effect) a mass on a "
                    "spring link pulled by the wire, its motion damped: m g + k_link (s - lift)")
@@ -79,7 +80,8 @@ class DeadWeight(Slave):
 
 
 class Electromagnet(Slave):
-    """Calibration weight plus a PWM-driven coil pulling a rare-earth magnet (§sma-bench, §loads)."""
+    """Calibration weight plus a PWM-driven coil pulling a rare-earth magnet (§sma-bench,
+    §loads)."""
 
     description = ("Electromagnet load: 100 g calibration weight plus a coil (L di/dt = V duty - "
                    "R i) pulling a magnet with k_f i (1 + nonlinearity i) (§sma-bench)")

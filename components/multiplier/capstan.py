@@ -1,14 +1,14 @@
-"""Capstan multiplier (§capstan-multiplier: one SMA wire folded over fixed capstans into segments.
+"""Capstan multiplier (§capstan-multiplier): one SMA wire folded over fixed capstans into segments.
 
 Segments are numbered from the fixed clamp (1) to the load end (n). Contact j sits between
 segments j and j + 1 and the wire sweeps the angle theta_j over it. With the load's tension f at
-the load end, the capstan equation (§capstan-multiplier steps the tension up toward the clamp:
+the load end, the capstan equation (§capstan-multiplier) steps the tension up toward the clamp:
 
     f_n = f,   f_i = f_{i+1} exp(mu_f theta_i),   sigma_i = f_i / A
 
-Each segment is a lumped SMA wire of its own (§thermal-model thermal model, §preisach modified Preisach
-model on the shared hypersurface, each with its own memory and its own stress). The wire is one
-electrical element: the segments are in series, so under voltage drive segment i sees
+Each segment is a lumped SMA wire of its own (§thermal-model thermal model, §preisach modified
+Preisach model on the shared hypersurface, each with its own memory and its own stress). The wire is
+one electrical element: the segments are in series, so under voltage drive segment i sees
 u_i = u R_i / sum R (resistances at the start of the step, as the straight wire's) and under
 current drive the same current. The end displacement is the sum of the segments' contractions,
 
@@ -16,7 +16,7 @@ current drive the same current. The end displacement is the sum of the segments'
 
 The cores are the straight wire's (`musclesim.components.sma.thermal`, `.preisach`); with one
 segment and mu_f = 0 a step is the SmaWire FMU's step exactly. Equations and every assumption:
-components/multiplier/README.md.
+§capstan-multiplier (docs/model/multiplier.md).
 """
 import math
 from dataclasses import dataclass, field
@@ -27,14 +27,16 @@ from musclesim.components.sma.preisach import PreisachModel
 from musclesim.components.sma.surface import clamp
 
 MAX_SEGMENTS = 6  # variables the FMU declares per segment (§capstan-multiplier suggests three)
-WRAP = math.pi  # rad, sweep per turning tube: a ratio 1.060-1.085 fits about pi (§capstan-multiplier
+WRAP = math.pi  # rad, sweep per turning tube: a ratio 1.060-1.085 fits about pi
+#                 (§capstan-multiplier)
 MU_F = 0.0237  # wire on PTFE (§capstan-multiplier: 0.0237 +/- 0.0037)
-LENGTH = 0.214  # m, the multiplier wire (§capstan-multiplier
+LENGTH = 0.214  # m, the multiplier wire (§capstan-multiplier)
 
 
 @dataclass(frozen=True)
 class CapstanParams:
-    """Geometry of the fold and the wire (defaults §capstan-multiplier; material §sma-material via `wire`).
+    """Geometry of the fold and the wire (defaults §capstan-multiplier; material §sma-material via
+    `wire`).
 
     ``segment_lengths``: one entry per segment [m]; 0 (or an empty tuple) = an equal share of
     what the other entries leave of ``length``. ``wraps``: one angle [rad] per contact (n - 1);

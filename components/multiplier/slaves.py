@@ -1,4 +1,5 @@
-"""FMU slave of the capstan multiplier: a thin adapter over musclesim.components.multiplier.capstan."""
+"""FMU slave of the capstan multiplier: a thin adapter over
+musclesim.components.multiplier.capstan."""
 import math
 
 from musclesim.components.multiplier import capstan
@@ -6,14 +7,14 @@ from musclesim.components.sma import datasets, thermal
 from musclesim.fmu import Slave
 
 ZERO_C = 273.15  # K; the FMU speaks K, the cores C
-LOAD_150G = 0.150 * 9.80665  # N, the 150 g weight of the multiplier tests (§capstan-multiplier
+LOAD_150G = 0.150 * 9.80665  # N, the 150 g weight of the multiplier tests (§capstan-multiplier)
 N = capstan.MAX_SEGMENTS
 
 
 class CapstanMultiplier(Slave):
     """SMA wire folded over fixed capstans into segments, each with its own temperature, stress
     (capstan equation) and Preisach memory; one electrical element; end displacement = sum of the
-    segments' contractions (§capstan-multiplier. Equations: components/multiplier/README.md.
+    segments' contractions (§capstan-multiplier). Equations: §capstan-multiplier.
 
     Outputs depend on no input directly (like SmaWire), so loads and controllers close loops
     around it without an algebraic loop. Per-segment outputs beyond ``n_segments`` stay 0.
@@ -25,20 +26,23 @@ class CapstanMultiplier(Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         t = thermal.ThermalParams()
-        self.parameter("length", capstan.LENGTH, "m", "Total wire length (§capstan-multiplier: 214 mm)")
-        self.parameter("n_segments", 3.0, "1", f"Number of segments, 1..{N} (§capstan-multiplier: three, "
-                       "one thermocouple each)")
+        self.parameter("length", capstan.LENGTH, "m", "Total wire length (§capstan-multiplier: 214 "
+                       "mm)")
+        self.parameter("n_segments", 3.0, "1", f"Number of segments, 1..{N} "
+                       "(§capstan-multiplier: three, one thermocouple each)")
         for i in range(1, N + 1):
             self.parameter(f"segment_length[{i}]", 0.0, "m", f"Length of segment {i} (1 at the "
                            "clamp); 0 = an equal share of what the others leave of length")
         for j in range(1, N):
             self.parameter(f"wrap[{j}]", capstan.WRAP, "rad", f"Angle the wire sweeps on "
-                           f"capstan {j}, between segments {j} and {j + 1} (§capstan-multiplier: about pi)")
+                           f"capstan {j}, between segments {j} and {j + 1} "
+                           "(§capstan-multiplier: about pi)")
         self.parameter("mu_f", capstan.MU_F, "1", "Friction coefficient of the wire on the "
                        "capstans (§capstan-multiplier: 0.0237, PTFE)")
         self.parameter("diameter", t.diameter, "m", "Wire diameter (§capstan-multiplier: 127 um)")
         self.parameter("density", t.density, "kg/m3", "Density of NiTi (§sma-material)")
-        self.parameter("specific_heat", t.specific_heat, "J/(kg.K)", "Specific heat of NiTi (§sma-material)")
+        self.parameter("specific_heat", t.specific_heat, "J/(kg.K)", "Specific heat of NiTi "
+                       "(§sma-material)")
         self.parameter("rho_martensite", t.rho_martensite, "Ohm.m",
                        "Resistivity of martensite, 80 uOhm cm (§sma-material)")
         self.parameter("rho_austenite", t.rho_austenite, "Ohm.m",
@@ -57,14 +61,15 @@ class CapstanMultiplier(Slave):
                    "through it [A] when drive_current = 1")
         self.input("T_amb", 293.15, "K", "Ambient air temperature")
         self.input("flange.f", LOAD_150G, "N", "Tensile load at the wire's load end, positive "
-                   "pulling (start: a 150 g weight, §capstan-multiplier")
+                   "pulling (start: a 150 g weight, §capstan-multiplier)")
         self.output("flange.s", "m", "End displacement: sum of the segments' contractions; "
                     "positive = the load end moves toward the clamp")
         self.output("strain", "1", "Mean strain flange.s / length")
         self.output("T", "K", "Length-weighted mean temperature of the segments")
         self.output("stress", "Pa", "Stress at the load end flange.f / cross-section over the "
                     "last step")
-        self.output("R", "Ohm", "Series resistance of the segments (§sma-material per-metre values)")
+        self.output("R", "Ohm", "Series resistance of the segments (§sma-material per-metre "
+                    "values)")
         self.output("P", "W", "Joule heating power over the last step (input held, resistances "
                     "at its start)")
         for i in range(1, N + 1):

@@ -1,1 +1,2 @@
-"""Pneumatic soft actuators of the crawler: chamber, PWM valves, pumps (§crawler-hardware, §gait, §chamber)."""
+"""Pneumatic soft actuators of the crawler: chamber, PWM valves, pumps (§crawler-hardware, §gait,
+§chamber)."""

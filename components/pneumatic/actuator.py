@@ -1,8 +1,9 @@
-"""Pneumatic soft actuator (§crawler-hardware, §gait, §chamber): a silicone chamber filled from an inflation pump and
-emptied into an exhaust pump, each line through a PWM-driven solenoid valve (ISO 6358 orifice).
+"""Pneumatic soft actuator (§crawler-hardware, §gait, §chamber): a silicone chamber filled from an
+inflation pump and emptied into an exhaust pump, each line through a PWM-driven solenoid valve (ISO
+6358 orifice).
 
 Pressures are gauge [Pa] everywhere except in the ISO 6358 flow law, which takes absolute ones.
-Equations and where every default comes from: components/pneumatic/README.md.
+Equations and where every default comes from: §pneumatics (docs/model/pneumatics.md).
 """
 import math
 from dataclasses import dataclass, field, fields
@@ -18,11 +19,14 @@ V_MIN = 0.1  # share of V0 a chamber squeezed flat keeps (assumption: walls, con
 
 @dataclass(frozen=True)
 class ActuatorParams:
-    """One soft actuator with its valves and pumps; defaults: the central one (§crawler-hardware, §two-mass)."""
+    """One soft actuator with its valves and pumps; defaults: the central one (§crawler-hardware,
+    §two-mass)."""
 
-    central: float = 1.0  # 1 = central longitudinal actuator, 0 = extremal friction one (§crawler-hardware)
+    central: float = 1.0  # 1 = central longitudinal actuator, 0 = extremal friction one
+    #                       (§crawler-hardware)
     s_a: float = 9.62e-4  # m^2, cross-section: f_a = s_a p (§two-mass)
-    V0: float = 5.87e-5  # m^3, 30 mm inner diameter (35 mm OD, 2.5 mm walls) x 83 mm (§crawler-hardware)
+    V0: float = 5.87e-5  # m^3, 30 mm inner diameter (35 mm OD, 2.5 mm walls) x 83 mm
+    #                      (§crawler-hardware)
     dV_contact: float = 3e-6  # m^3, extremal chamber's growth from casing to silicone contact
     #                           (assumption: a few mm of bulge on a 30 mm chamber)
     p_supply: float = 40e3  # Pa gauge, inflation pump (assumption: above the 20.7 kPa the
@@ -33,17 +37,20 @@ class ActuatorParams:
     b: float = 0.3  # critical pressure ratio of the valves (assumption: a typical valve, §valves)
     T: float = T_0  # K, air temperature (room temperature, the ISO 6358 reference)
     kappa: float = 1.2  # polytropic exponent (assumption: between 1 isothermal and 1.4
-    #                     adiabatic, §valves)
+    #                     adiabatic, §chamber)
     f_pwm: float = 50.0  # Hz, PWM carrier (assumption: the study gives none)
     pwm_phase: float = 0.0  # of a period: where the carrier's periods start on the master's
     #                         clock (assumption: the study gives none); a bench's own PWM
     #                         timer starts anywhere, which matters when its duties are replayed;
     #                         periodic: 1.25 is 0.25
     p_contact: float = 8e3  # Pa gauge, firm ground contact above it (assumption; §gait by eye)
-    t_contact: float = 0.2  # s, contact 0 -> 1 (assumption: §crawler-hardware's up to 0.4 s switching
+    t_contact: float = 0.2  # s, contact 0 -> 1 (assumption: §crawler-hardware's up to 0.4 s
+    #                         switching
     #                         includes the pressure build-up); <= 0: at once (bulge_contact)
-    dt_sub: float = 1e-4  # s, internal step (assumption: 10 per 1 ms step, §crawler-hardware DAQ at 1 kHz)
-    # effects, off by default (§named-effects: pneumatic actuation; §valves: valve delays of a few ms)
+    dt_sub: float = 1e-4  # s, internal step (assumption: 10 per 1 ms step, §crawler-hardware DAQ
+    #                       at 1 kHz)
+    # effects, off by default (§named-effects: pneumatic actuation; §valves: valve delays of a few
+    # ms)
     t_open_delay: float = 0.0  # s, valve opens this long after its command rises
     t_close_delay: float = 0.0  # s, valve closes this long after its command falls
     C_leak: float = 0.0  # m^3/(s Pa), leak of the chamber to the atmosphere (ISO 6358 orifice)

@@ -1,6 +1,6 @@
 """FMU slave of the soft pneumatic actuator: a thin adapter over components/pneumatic/actuator.py.
 
-Equations, ports and sign conventions: components/pneumatic/README.md.
+Equations, ports and sign conventions: §pneumatics (docs/model/pneumatics.md).
 """
 from musclesim.components.pneumatic import actuator
 from musclesim.fmu import Slave
@@ -37,7 +37,7 @@ class SoftActuator(Slave):
                        "assumption)")
         self.parameter("T", d.T, "K", "Air temperature (the ISO 6358 reference, 293.15 K)")
         self.parameter("kappa", d.kappa, "1", "Polytropic exponent, 1 (isothermal) .. 1.4 "
-                       "(adiabatic) (assumption: 1.2, §valves)")
+                       "(adiabatic) (assumption: 1.2, §chamber)")
         self.parameter("f_pwm", d.f_pwm, "Hz", "PWM carrier frequency (assumption: the study "
                        "gives none)")
         self.parameter("pwm_phase", d.pwm_phase, "1", "Phase of a period at which the carrier's "

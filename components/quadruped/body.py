@@ -1,21 +1,21 @@
-"""The quadruped's body and feet (§quadruped: a body of mass M moving along x on four legs, each
+"""The quadruped's body and feet (§quadruped): a body of mass M moving along x on four legs, each
 foot a point of the leg's modal mass m_f held by the leg's lateral stiffness k and damping c:
 
     F_i   = k (x_b + s_i(t) - x_i) + c (v_b + s_i'(t) - v_i)     (leg force on foot i)
     m_f x_i'' = F_i + f_i,       M x_b'' = -sum_i F_i
 
-s_i(t) is leg i's unloaded deflection at its foot (the BendingActuator FMU's tip.s, toward +x;
-held as s_i + s_i' tau over a communication step): the loaded leg deflects by superposition, its
-own dynamics (first mode, in the leg's FMU) give s_i, the foot's load adds F / k with the foot's
-own small mass m_f. The coupling is one way: the foot's load does not reach the leg's mode or its
-wires' stress (ground contact does not damp the leg's ringing; README). f_i is the crawler's stick-slip friction
-(`crawler.friction.friction_force`, §friction) with coefficients chosen by direction: a foot
-sliding, or pushed, toward +x slides easily (hook trailing), toward -x it grips. Each foot
+s_i(t) is leg i's unloaded deflection at its foot (the BendingActuator FMU's tip.s, toward +x; held
+as s_i + s_i' tau over a communication step): the loaded leg deflects by superposition, its own
+dynamics (first mode, in the leg's FMU) give s_i, the foot's load adds F / k with the foot's own
+small mass m_f. The coupling is one way: the foot's load does not reach the leg's mode or its wires'
+stress (ground contact does not damp the leg's ringing; §quadruped). f_i is the crawler's stick-slip
+friction (`crawler.friction.friction_force`, §friction) with coefficients chosen by direction: a
+foot sliding, or pushed, toward +x slides easily (hook trailing), toward -x it grips. Each foot
 carries a quarter of the weight. The body does not touch the ground.
 
-Numerics: semi-implicit Euler in sub-steps of at most ``max_substep``. A foot inside the stick
-band whose force stays below static friction stops (velocity 0), and a kinetic step that would
-reverse a foot's velocity stops it there: without these remedies (§stick-slip-numerics) a foot chatters at the
+Numerics: semi-implicit Euler in sub-steps of at most ``max_substep``. A foot inside the stick band
+whose force stays below static friction stops (velocity 0), and a kinetic step that would reverse a
+foot's velocity stops it there: without these remedies (§stick-slip-numerics) a foot chatters at the
 per-step change of velocity, larger than any band narrow enough for feet moving at mm/s.
 """
 import math
@@ -47,7 +47,7 @@ LEG_STIFFNESS = leg_stiffness()
 @dataclass(frozen=True)
 class QuadrupedParams:
     """Body, legs and feet (§quadruped leaves them open: defaults and reasons in
-    components/quadruped/README.md)."""
+    §quadruped)."""
 
     body_mass: float = 5e-3  # kg, FR4 frame and four actuators (open)
     foot_mass: float = 1e-5  # kg, the foot's tip and hook (open): its mode on the leg's

@@ -1,4 +1,4 @@
-"""The quadruped's leg sequencer (§quadruped: which leg's wire is pulsed when.
+"""The quadruped's leg sequencer (§quadruped): which leg's wire is pulsed when.
 
 Every wire gets the study's pulse train (§quadruped: 5 V, 5 % duty at 4 Hz) shifted in time:
 leg i's wire A at the phase phi_i (a fraction of the period), its wire B wire_delay later (0.5:
@@ -19,11 +19,11 @@ LEGS = 4
 
 @dataclass(frozen=True)
 class SequencerParams:
-    """Pulse train and gait phasing (defaults: §quadruped's pulses; phasing open, README)."""
+    """Pulse train and gait phasing (defaults: §quadruped's pulses; phasing open, §quadruped)."""
 
-    frequency: float = 4.0  # Hz (§quadruped
-    duty: float = 0.05  # 12.5 ms on per 250 ms (§quadruped
-    voltage: float = 5.0  # V (§quadruped
+    frequency: float = 4.0  # Hz (§quadruped)
+    duty: float = 0.05  # 12.5 ms on per 250 ms (§quadruped)
+    voltage: float = 5.0  # V (§quadruped)
     wire_delay: float = 0.5  # periods from a leg's wire A to its wire B (§quadruped: 0.125 s)
     phase1: float = 0.0  # periods, leg 1 (front left) (open: a trot, diagonal pairs together)
     phase2: float = 0.5  # leg 2 (front right)

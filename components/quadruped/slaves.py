@@ -1,4 +1,4 @@
-"""FMU slaves of the quadruped (§quadruped: thin adapters over `body.Quadruped` and
+"""FMU slaves of the quadruped (§quadruped): thin adapters over `body.Quadruped` and
 `sequencer.voltages`."""
 import math
 
@@ -7,10 +7,10 @@ from musclesim.fmu import Slave
 
 
 class QuadrupedBody(Slave):
-    """Quadruped body on four legs with anisotropic-friction feet, moving along x (§quadruped.
+    """Quadruped body on four legs with anisotropic-friction feet, moving along x (§quadruped).
 
     Inputs: each leg's unloaded deflection at its foot and its rate (a BendingActuator's tip.s,
-    tip.v), held as a first-order hold over the step. Equations: components/quadruped/README.md.
+    tip.v), held as a first-order hold over the step. Equations: §quadruped (docs/model/bending.md).
     """
 
     description = ("Quadruped body on four bending-actuator legs, feet with direction-dependent "
@@ -20,18 +20,19 @@ class QuadrupedBody(Slave):
         super().__init__(**kwargs)
         d = body.QuadrupedParams()
         self.parameter("body_mass", d.body_mass, "kg", "Mass of the frame and the four actuators "
-                       "(open, README)")
-        self.parameter("foot_mass", d.foot_mass, "kg", "Mass of each foot's tip (open, README)")
+                       "(open, §quadruped)")
+        self.parameter("foot_mass", d.foot_mass, "kg", "Mass of each foot's tip (open, §quadruped)")
         self.parameter("leg_stiffness", d.leg_stiffness, "N/m", "Lateral stiffness of a leg at "
                        "its foot (default: a default BendingActuator at 17 mm)")
         self.parameter("leg_damping_ratio", d.leg_damping_ratio, "1",
                        "Damping ratio of a foot on its leg's stiffness")
         self.parameter("mu_s_forward", d.mu_s_forward, "1", "Static friction of a foot toward "
-                       "+x, hook trailing (open, README)")
+                       "+x, hook trailing (open, §quadruped)")
         self.parameter("mu_k_forward", d.mu_k_forward, "1", "Kinetic friction of a foot toward +x")
         self.parameter("mu_s_backward", d.mu_s_backward, "1", "Static friction of a foot toward "
-                       "-x, hook gripping (open, README)")
-        self.parameter("mu_k_backward", d.mu_k_backward, "1", "Kinetic friction of a foot toward -x")
+                       "-x, hook gripping (open, §quadruped)")
+        self.parameter("mu_k_backward", d.mu_k_backward, "1", "Kinetic friction of a foot toward "
+                       "-x")
         self.parameter("v_s", d.v_s, "m/s", "Stick velocity band of the feet (§friction form)")
         self.parameter("max_substep", d.max_substep, "s", "Longest internal sub-step")
         for i in range(1, body.LEGS + 1):
@@ -71,7 +72,8 @@ class QuadrupedBody(Slave):
 
 
 class LegSequencer(Slave):
-    """Pulse voltages of the quadruped's eight wires: which leg's wire is pulsed when (§quadruped)."""
+    """Pulse voltages of the quadruped's eight wires: which leg's wire is pulsed when
+    (§quadruped)."""
 
     description = ("Leg sequencer of the quadruped: the study's heating pulses (5 V, 5 % at "
                    "4 Hz, §quadruped) per wire, phased per leg")

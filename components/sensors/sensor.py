@@ -1,9 +1,9 @@
 """A scalar sensor: first-order lag, gain, bias, seeded noise and quantisation, all off by default.
 
-The core of every sensor FMU (thermocouple, load cell, laser displacement sensor; §sma-bench, §named-effects): the
-sensing element follows the measured signal with time constant tau; the reading scales it by a
-gain about the sensor's origin (0 C for a thermocouple, 0 for the others), adds a bias and
-Gaussian noise and is rounded to the quantisation step.
+The core of every sensor FMU (thermocouple, load cell, laser displacement sensor; §sma-bench,
+§named-effects): the sensing element follows the measured signal with time constant tau; the reading
+scales it by a gain about the sensor's origin (0 C for a thermocouple, 0 for the others), adds a
+bias and Gaussian noise and is rounded to the quantisation step.
 """
 import math
 from dataclasses import dataclass

@@ -61,9 +61,11 @@ class _ScalarSensor(Slave):
 
 
 class Thermocouple(_ScalarSensor):
-    """Temperature sensor with lag, bias, noise and quantisation, all off by default (§sma-bench)."""
+    """Temperature sensor with lag, bias, noise and quantisation, all off by default
+    (§sma-bench)."""
 
-    description = "Thermocouple: first-order lag, bias, seeded noise, quantisation (§sma-bench, §named-effects)"
+    description = ("Thermocouple: first-order lag, bias, seeded noise, quantisation (§sma-bench, "
+                   "§named-effects)")
     signal, measured, unit, start = "T", "T_meas", "K", 293.15
     origin = 273.15  # K: a thermocouple's gain error is a share of the reading in C
     element, signal_description = "junction", "Temperature of the wire"
@@ -88,7 +90,8 @@ class LaserSensor(_ScalarSensor):
 
 
 class PressureSensor(_ScalarSensor):
-    """Pressure sensor on a soft actuator's chamber, imperfections off by default (§crawler-hardware)."""
+    """Pressure sensor on a soft actuator's chamber, imperfections off by default
+    (§crawler-hardware)."""
 
     description = ("Pressure sensor: chamber gauge pressure with first-order lag, bias, seeded "
                    "noise, quantisation (§crawler-hardware, §named-effects)")

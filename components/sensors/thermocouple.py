@@ -1,4 +1,5 @@
-"""Thermocouple: first-order lag, bias, seeded noise and quantisation (§sma-bench), all off by default.
+"""Thermocouple: first-order lag, bias, seeded noise and quantisation (§sma-bench), all off by
+default.
 
 The junction follows the wire with time constant tau (contact and coat, §sma-bench: a bare single
 thermocouple gave 6-8 C RMS error); the reading adds a bias and Gaussian noise and is rounded to

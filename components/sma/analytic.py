@@ -21,10 +21,13 @@ class SmaLikeParams:
 
     eps_max: float = 0.0376  # strain, F(130 C, 30 C) at sigma_ref (§forc-identification)
     sigma_ref: float = 105e6  # Pa, stress of eps_max (§forc-identification)
-    growth: float = 1.5e-9  # 1/Pa, relative amplitude growth (~4 % at 155 MPa, §forc-identification)
-    T_heat: float = 93.0  # C, heating transition centre, (As + Af) / 2 of a 90 C wire (§sma-material)
+    growth: float = 1.5e-9  # 1/Pa, relative amplitude growth (~4 % at 155 MPa,
+    #                         §forc-identification)
+    T_heat: float = 93.0  # C, heating transition centre, (As + Af) / 2 of a 90 C wire
+    #                       (§sma-material)
     T_cool: float = 67.0  # C, cooling transition centre, (Ms + Mf) / 2 (§sma-material)
-    width: float = 4.0  # C, logistic scale of both transitions (~10 C from start to finish, §sma-material)
+    width: float = 4.0  # C, logistic scale of both transitions (~10 C from start to finish,
+    #                     §sma-material)
     sigma_mid: float = 125e6  # Pa, stress of T_heat and T_cool (the middle of §preisach's levels)
     slope: float = 7e6  # Pa/C, Clausius-Clapeyron shift of both transitions (§sma-material)
     lo: float = 30.0  # C, lower saturation (§sma-wire)

@@ -24,8 +24,9 @@ PACKAGE_DIR = Path(__file__).parent
 INDEX = Path("data") / "forc-sets.toml"  # below the root
 WIRE_PARAMS = Path("params") / DEFAULT_PARAMS.name  # below the root
 REFERENCE_STEP = 1.0  # C, temperature grid of the tabulated reference wire (bilinear error ~1e-4)
-# Pa: covers the study's 105-155 MPa (§forc-identification), a 100 g preload (77 MPa on 127 um, §sma-wire) and
-# the data sheet's 172 MPa (§sma-material); 10 MPa steps add < 5e-5 strain to the temperature-grid error
+# Pa: covers the study's 105-155 MPa (§forc-identification), a 100 g preload (77 MPa on 127 um,
+# §sma-wire) and the data sheet's 172 MPa (§sma-material); 10 MPa steps add < 5e-5 strain to the
+# temperature-grid error
 REFERENCE_STRESSES = tuple(60e6 + 10e6 * k for k in range(15))
 
 _SURFACES = {}  # (what the surface is made from, single-surface stress or 0) -> Hypersurface

@@ -1,4 +1,5 @@
-"""Cold ends: heat lost into the clamps makes the wire's temperature uneven (§named-effects, §sma-material).
+"""Cold ends: heat lost into the clamps makes the wire's temperature uneven (§named-effects,
+§sma-material).
 
 A wire held in clamps that conduct heat is a fin at each end: with the core (the middle, where a
 thermocouple sits) at excess temperature theta over the ambient, the excess a distance x from a

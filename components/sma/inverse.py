@@ -1,4 +1,5 @@
-"""Inverse of the modified Preisach model (§preisach-inverse): strain and stress in, temperature out."""
+"""Inverse of the modified Preisach model (§preisach-inverse): strain and stress in, temperature
+out."""
 import copy
 import math
 
@@ -6,23 +7,24 @@ import numpy as np
 
 from .preisach import MemoryParams, StressInput, clamp, push_extremum
 
-N_DENSE = 201  # points per axis of the densified surfaces and of the inverse bases (§preisach-inverse)
+N_DENSE = 201  # points per axis of the densified surfaces and of the inverse bases
+#                (§preisach-inverse)
 
 
 class InverseBases:
     """The a- and b-inverse bases of §preisach-inverse, built once from a `Hypersurface`.
 
     Each constant-stress surface is densified to n x n temperatures (exactly: the dense points
-    include the grid, and the surface is piecewise linear along each grid line) and inverted
-    along F. The F axis is normalised per row, F = f_l * F_max with F_max = F(a0, b') for the
-    a-inverse (b', F) -> a' and F_max = F(a', b0) for the b-inverse (a', F) -> b', and its n
-    levels are spaced f_l = (1 - cos(pi l / (n - 1))) / 2: densest near 0 and F_max, where the
-    branches flatten towards saturation and the inverse bends most (this cuts the worst
-    constant-stress error about fivefold against uniform levels). Where F is flat the inverse
-    takes the least heating (smallest a') or the least cooling (largest b'). Between stresses the
-    inverse temperatures and F_max are interpolated linearly (§preisach-inverse), which differs from the
-    forward model's linear interpolation of F by a fraction of a percent of the strain where a
-    transition shifts with stress. A step costs one bilinear interpolation per stress level.
+    include the grid, and the surface is piecewise linear along each grid line) and inverted along
+    F. The F axis is normalised per row, F = f_l * F_max with F_max = F(a0, b') for the a-inverse
+    (b', F) -> a' and F_max = F(a', b0) for the b-inverse (a', F) -> b', and its n levels are spaced
+    f_l = (1 - cos(pi l / (n - 1))) / 2: densest near 0 and F_max, where the branches flatten
+    towards saturation and the inverse bends most (this cuts the worst constant-stress error about
+    fivefold against uniform levels). Where F is flat the inverse takes the least heating (smallest
+    a') or the least cooling (largest b'). Between stresses the inverse temperatures and F_max are
+    interpolated linearly (§preisach-inverse), which differs from the forward model's linear
+    interpolation of F by a fraction of a percent of the strain where a transition shifts with
+    stress. A step costs one bilinear interpolation per stress level.
 
     Attributes (flat lists, level-major): ``a_table[(s * n + j) * n + l]`` = a' for
     b' = dense[j]; ``a_fmax[s * n + j]``; ``b_table[(s * n + i) * n + l]`` = b' for
@@ -67,11 +69,11 @@ class PreisachInverse(StressInput):
     - a T_out beyond an older extremum wipes it out (the pair is dropped, T_out recomputed, and
       kept at least at that extremum so that the forward model wipes it out too).
 
-    The direction is that of the reference (§position-control: the sign of d eps_r / dt, stress changes
-    ignored): the inverse turns only when eps_r moves back, and only if the branch at the turning
-    point X lies across it. When the stress alone would move T_out back (eps_r still rising, but the
-    ascending branch under the new stress lies above it), or forward while eps_r moves back, T_out
-    holds at X and the strain follows the stress until the reference catches up. Turning there
+    The direction is that of the reference (§position-control: the sign of d eps_r / dt, stress
+    changes ignored): the inverse turns only when eps_r moves back, and only if the branch at the
+    turning point X lies across it. When the stress alone would move T_out back (eps_r still rising,
+    but the ascending branch under the new stress lies above it), or forward while eps_r moves back,
+    T_out holds at X and the strain follows the stress until the reference catches up. Turning there
     instead would put eps_r on the flat start of the other branch, a jump of several C within one
     sample and back at the next: an ideal plant follows it, a heated wire, whose temperature lags,
     does not, and its memory parts from the inverse's (a 0.02 s lag made SP III under LP II miss by

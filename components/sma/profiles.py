@@ -1,4 +1,5 @@
-"""Reference strain profiles SP I-IV and loading profiles LP I-VI of §reference-profiles: signal generators."""
+"""Reference strain profiles SP I-IV and loading profiles LP I-VI of §reference-profiles: signal
+generators."""
 import math
 
 import numpy as np

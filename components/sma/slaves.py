@@ -10,7 +10,8 @@ from musclesim.components.sma.surface import clamp
 from musclesim.fmu import Slave
 
 ZERO_C = 273.15  # K; the FMU speaks K, the cores C
-LOAD_150G = 0.150 * 9.80665  # N, the 150 g weight of the multiplier tests (§capstan-multiplier): 116 MPa
+LOAD_150G = 0.150 * 9.80665  # N, the 150 g weight of the multiplier tests (§capstan-multiplier):
+#                              116 MPa
 HYSTERESIS = ("Hysteresis data set: 0 = reference wire (1 C grid, 60-200 MPa); k >= 1 = FORC "
               "data set k of sma/data/forc-sets.toml shipped in the FMU")
 
@@ -18,20 +19,20 @@ _BASES = {}  # id(surface) -> (surface, its InverseBases); the surface is held, 
 
 
 class SmaWire(Slave):
-    """SMA wire: Joule heating and convection (§thermal-model) drive the modified Preisach model (2.2).
+    """SMA wire: Joule heating and convection (§thermal-model) drive the modified Preisach model
+    (§preisach).
 
     Per communication step, with the inputs held from its start: the temperature advances by the
     lumped thermal model (resistance from the martensite fraction at the start of the step), then
     the hysteresis model takes the new temperature and the stress flange.f / area; its strain gives
     the martensite fraction for the next step. No output depends directly on an input (stress and
     power are those of the step just taken), so the wire closes loops with controllers and loads
-    without an algebraic loop. Temperatures outside the data set's grid (30..130 C)
-    saturate the hysteresis (§thermal-model); stresses outside its stresses are clamped with one warning
-    in the FMU log. Effects (latent heat, cold ends, h(T), drift, stress ignored and partly
-    restored) are off by default. With cold ends (`end_cooling` > 0, `ends`) the temperature T is
-    the core's, and each end zone has its own hysteresis memory at its own temperature; strain,
-    resistance and power are the wire's, averaged over its length. Equations:
-    components/sma/README.md.
+    without an algebraic loop. Temperatures outside the data set's grid (30..130 C) saturate the
+    hysteresis (§thermal-model); stresses outside its stresses are clamped with one warning in the
+    FMU log. Effects (latent heat, cold ends, h(T), drift, stress ignored and partly restored) are
+    off by default. With cold ends (`end_cooling` > 0, `ends`) the temperature T is the core's, and
+    each end zone has its own hysteresis memory at its own temperature; strain, resistance and power
+    are the wire's, averaged over its length. Equations: §thermal-model and §preisach (docs/model/).
     """
 
     description = ("SMA wire: lumped thermal model with phase-dependent resistance and modified "
@@ -40,10 +41,11 @@ class SmaWire(Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         t, d = thermal.ThermalParams(), drift.DriftParams()
-        self.parameter("length", t.length, "m", "Wire length (§thermal-model)")
+        self.parameter("length", t.length, "m", "Wire length (§sma-wire)")
         self.parameter("diameter", t.diameter, "m", "Wire diameter (§sma-wire)")
         self.parameter("density", t.density, "kg/m3", "Density of NiTi (§sma-material)")
-        self.parameter("specific_heat", t.specific_heat, "J/(kg.K)", "Specific heat of NiTi (§sma-material)")
+        self.parameter("specific_heat", t.specific_heat, "J/(kg.K)", "Specific heat of NiTi "
+                       "(§sma-material)")
         self.parameter("rho_martensite", t.rho_martensite, "Ohm.m",
                        "Resistivity of martensite, 80 uOhm cm (§sma-material)")
         self.parameter("rho_austenite", t.rho_austenite, "Ohm.m",
@@ -51,8 +53,8 @@ class SmaWire(Slave):
         self.parameter("h", t.h, "W/(m2.K)", "Convection coefficient at 50 K excess (§convection)")
         self.parameter("T_init", 293.15, "K", "Initial wire temperature; the wire starts fully "
                        "martensitic and heated to it (§preisach memory)")
-        self.parameter("drive_current", 0.0, "1",
-                       "Electrical input u: 0 = voltage [V] (default), 1 = current [A] (§thermal-model)")
+        self.parameter("drive_current", 0.0, "1", "Electrical input u: 0 = voltage [V] (default), "
+                       "1 = current [A] (§thermal-model)")
         self.parameter("hysteresis", 0.0, "1", HYSTERESIS)
         self.parameter("sigma_surface", 0.0, "Pa",
                        "Stress ignored (effect, 0 = off): > 0 uses the single surface at this "
@@ -61,8 +63,8 @@ class SmaWire(Slave):
                        "With sigma_surface > 0, how much the hysteresis follows the stress "
                        "(effect 'stress dependence ignored', 0 = off): it sees sigma_surface + "
                        "stress_blend (stress - sigma_surface) on the stress-aware data set")
-        self.parameter("latent_heat", t.latent_heat, "J/kg",
-                       "Latent heat of transformation (effect, 0 = off; 12e3-24e3 on, §sma-material)")
+        self.parameter("latent_heat", t.latent_heat, "J/kg", "Latent heat of transformation "
+                       "(effect, 0 = off; 12e3-24e3 on, §sma-material)")
         self.parameter("end_cooling", 0.0, "1", "Cold ends: share of the core's excess "
                        "temperature lost at the clamps, G_c / (G_c + G_fin) (effect, 0 = off: "
                        "insulating clamps; metal clamps ~0.9; §named-effects, §sma-material)")
@@ -80,16 +82,19 @@ class SmaWire(Slave):
                        "Training/fatigue drift: transformation cycles done before the run")
         self.parameter("hysteresis_shift", 0.0, "K", "Static shift of the transformation "
                        "temperatures: the hysteresis sees T - shift (calibration: composition, "
-                       "heat treatment, a core hotter than the mean; §preisach, §named-effects, §sma-material)")
+                       "heat treatment, a core hotter than the mean; §preisach, §named-effects, "
+                       "§sma-material)")
         self.parameter("strain_scale", 1.0, "1", "Factor on the transformation strain "
-                       "(calibration: the wire's recoverable strain, its gauge length; §forc-identification, §sma-material)")
+                       "(calibration: the wire's recoverable strain, its gauge length; "
+                       "§forc-identification, §sma-material)")
         self.input("u", 0.0, "1", "Electrical input: voltage across the wire [V], or current "
                    "through it [A] when drive_current = 1")
         self.input("T_amb", 293.15, "K", "Ambient air temperature")
         self.input("flange.f", LOAD_150G, "N", "Tensile load on the wire, positive pulling "
                    "(start: a 150 g weight, §capstan-multiplier)")
         self.output("T", "K", "Wire temperature")
-        self.output("strain", "1", "Strain: contraction / length, positive = contraction (§sma-wire)")
+        self.output("strain", "1", "Strain: contraction / length, positive = contraction "
+                    "(§sma-wire)")
         self.output("flange.s", "m", "Contraction strain x length; positive = the wire shortens, "
                     "pulling its load toward the fixed clamp")
         self.output("stress", "Pa", "Tensile stress flange.f / cross-section over the last "
@@ -226,8 +231,8 @@ class SmaWire(Slave):
 
 
 class PreisachInverse(Slave):
-    """Inverse of the modified Preisach model (§preisach-inverse): reference strain and stress in, the
-    temperature reference that makes the wire produce that strain out (feed-forward).
+    """Inverse of the modified Preisach model (§preisach-inverse): reference strain and stress in,
+    the temperature reference that makes the wire produce that strain out (feed-forward).
 
     A thin adapter over `inverse.PreisachInverse`. T_ref is direct feedthrough: at every
     communication point it is the core's `peek` at the present inputs (memory untouched); each
@@ -235,7 +240,7 @@ class PreisachInverse(Slave):
     as the core stepped by hand (clear at initialization, then one step per communication step =
     reset, step, step, ...). ``sigma_surface`` = 0: stress-aware inverse over the hypersurface;
     > 0: the single constant-stress surface at that stress for every stress ("stress ignored").
-    Equations: components/sma/README.md.
+    Equations: §preisach-inverse.
     """
 
     description = ("Feed-forward inverse of the modified Preisach model: reference strain and "

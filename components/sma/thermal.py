@@ -1,4 +1,5 @@
-"""Lumped thermal model of an SMA wire (§thermal-model, data §sma-material), candidate effects off by default.
+"""Lumped thermal model of an SMA wire (§thermal-model, data §sma-material), candidate effects off
+by default.
 
     m c_p dT/dt = P(u, xi) + m L xi_rate - h(T) A_s (T - T_amb)
 
@@ -22,7 +23,8 @@ DRIVES = ("voltage", "current")
 
 @dataclass(frozen=True)
 class ThermalParams:
-    """Wire geometry, material data and effects (defaults: §sma-wire, §sma-material; effects off)."""
+    """Wire geometry, material data and effects (defaults: §sma-wire, §sma-material; effects
+    off)."""
 
     length: float = 58.42e-3  # m, main wire (§sma-wire)
     diameter: float = 127e-6  # m, main wire (§sma-wire)

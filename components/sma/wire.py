@@ -5,8 +5,8 @@ again when cooled to b. Its centre c = (a + b) / 2 is its local transformation t
 width w = a - b its local hysteresis. Centres follow a sharp logistic population plus a diffuse
 Gaussian one, both moved by stress along the Clausius-Clapeyron slope (§sma-material); widths are
 Gaussian. The strain amplitude grows with stress as martensite detwins. The density is zero
-outside the Preisach triangle T_low <= b <= a <= T_high (§thermal-model), so the wire saturates there.
-Temperatures in degrees C, stresses in Pa, strains as contraction / length (§thermal-model).
+outside the Preisach triangle T_low <= b <= a <= T_high (§preisach), so the wire saturates there.
+Temperatures in degrees C, stresses in Pa, strains as contraction / length (§sma-wire).
 """
 import math
 import tomllib
@@ -86,12 +86,14 @@ def load_params(path=DEFAULT_PARAMS):
 
 
 def max_strain(sigma, p):
-    """Strain of the fully transformed wire, eps_sat (1 - exp(-sigma / sigma_det)) (§forc-identification)."""
+    """Strain of the fully transformed wire, eps_sat (1 - exp(-sigma / sigma_det))
+    (§forc-identification)."""
     return p.eps_sat * -np.expm1(-np.asarray(sigma, dtype=float) / p.sigma_det)
 
 
 def centre(sigma, p):
-    """Median hysteron centre [C] at stress sigma: moves up 1 / cc_slope K per Pa (§sma-material)."""
+    """Median hysteron centre [C] at stress sigma: moves up 1 / cc_slope K per Pa
+    (§sma-material)."""
     return p.centre_ref + (np.asarray(sigma, dtype=float) - p.sigma_ref) / p.cc_slope
 
 

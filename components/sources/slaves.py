@@ -35,16 +35,19 @@ class SignalSource(Slave):
 class ForcReference(Slave):
     """Temperature reference of the FORC identification runs with run index and phase markers."""
 
-    description = ("FORC experiment reference (§forc-identification): run j heats from T_low to T_low + j "
-                   "T_step along a raised cosine and cools back; outputs run index and phase")
+    description = ("FORC experiment reference (§forc-identification): run j heats from T_low to "
+                   "T_low + j T_step along a raised cosine and cools back; outputs run index and "
+                   "phase")
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         d = forc.ForcParams()
         self.parameter("T_low", d.T_low, "K", "Lower grid temperature b0, start and end of every "
                        "run (§forc-identification: 30 C)")
-        self.parameter("T_high", d.T_high, "K", "Peak of the last run a0 (§forc-identification: 130 C)")
-        self.parameter("T_step", d.T_step, "K", "Grid step between the runs' peaks (§preisach: 5 K)")
+        self.parameter("T_high", d.T_high, "K", "Peak of the last run a0 (§forc-identification: "
+                       "130 C)")
+        self.parameter("T_step", d.T_step, "K", "Grid step between the runs' peaks (§preisach: 5 "
+                       "K)")
         self.parameter("period", d.period, "s", "Duration of one run (heating half + cooling "
                        "half); must not outrun free cooling")
         self.parameter("t_start", d.t_start, "s", "Start of the first run (T_low held before)")
@@ -63,7 +66,8 @@ AREA_127UM = math.pi * 63.5e-6 ** 2  # m2, the 127 um wire's cross-section (§sm
 
 
 class _ProfileSlave(Slave):
-    """A reference profile of §reference-profiles (components/sma/profiles.py) as an output signal."""
+    """A reference profile of §reference-profiles (components/sma/profiles.py) as an output
+    signal."""
 
     names = ()  # profile names, indexed from 1 by the `profile` parameter
     make = None  # profiles.strain_profile or profiles.loading_profile
@@ -73,9 +77,10 @@ class _ProfileSlave(Slave):
         self.parameter("profile", 1.0, "1", "Profile number: " + ", ".join(
             f"{i} = {n}" for i, n in enumerate(self.names, 1)))
         self.parameter("lo", lo, unit, "Bottom of the profile's range (§reference-profiles)")
-        self.parameter("hi", hi, unit, "Top of the profile's range (§reference-profiles; = lo: constant)")
-        self.parameter("duration", profiles.DURATION, "s",
-                       "Length of the run the profile is laid out over (§reference-profiles: 550 s)")
+        self.parameter("hi", hi, unit, "Top of the profile's range (§reference-profiles; = lo: "
+                       "constant)")
+        self.parameter("duration", profiles.DURATION, "s", "Length of the run the profile is laid "
+                       "out over (§reference-profiles: 550 s)")
         self.parameter("seed", 0.0, "1", "Seed of the random peaks and troughs")
 
     def setup(self):
@@ -94,7 +99,8 @@ class _ProfileSlave(Slave):
 class StrainProfile(_ProfileSlave):
     """Reference strain SP I-IV of §reference-profiles."""
 
-    description = "Reference strain profile SP I-IV of §reference-profiles (contraction, within [lo, hi])"
+    description = ("Reference strain profile SP I-IV of §reference-profiles (contraction, within "
+                   "[lo, hi])")
     names = profiles.STRAIN_PROFILES
     make = staticmethod(profiles.strain_profile)
 

@@ -1,4 +1,4 @@
-"""Write the diagnosis's worked examples (README, "Diagnosis"): two measured data sets recorded on
+"""Write the diagnosis's worked examples (§worked-examples): two measured data sets recorded on
 the virtual SMA benches with one effect hidden, plus the benches' nuisances (thermocouple noise
 and quantisation, strain-gauge noise, quantisation and a one-sample latency).
 
@@ -7,10 +7,10 @@ and quantisation, strain-gauge noise, quantisation and a one-sample latency).
 
 - sma-tracking-thermocouple-lag: the tracking bench, thermocouple with a 0.25 s lag;
 - sma-stress-ignored: the stress bench, whose model ignores stress, on a wire that follows it;
-- sma-position-stress-ignored: the position-control bench (§position-control) run with the stress-ignored
-  inverse, SP IV under LP I, LP II and LP V, 60 s each, logged at 50 Hz (RMS voltage and mean
-  tension of each 20 ms, the thermocouple and the laser sampled, both with noise); LP I trains,
-  the other loading profiles are held out. Its model is scenarios/sma-position-wire.toml.
+- sma-position-stress-ignored: the position-control bench (§position-control) run with the
+  stress-ignored inverse, SP IV under LP I, LP II and LP V, 60 s each, logged at 50 Hz (RMS voltage
+  and mean tension of each 20 ms, the thermocouple and the laser sampled, both with noise); LP I
+  trains, the other loading profiles are held out. Its model is scenarios/sma-position-wire.toml.
 - sma-independent-thermocouple-lag: 120 s of the independent bench (physics written apart from
   the library, src/musclesim/diagnosis/independent.py) with its conditions drawn around the
   model's (ambient not stated) and a thermocouple whose coat makes it lag; the model is
@@ -74,7 +74,8 @@ def position_stress_ignored(path, duration=60.0, seed=7):
     names = ["wire.u", "wire.flange.f", "thermocouple.T_meas", "laser.s_meas"]
     np.savetxt(path / "data.csv", np.vstack(rows), delimiter=",",
                header=",".join(["time", *names]), comments="", fmt="%.9g")
-    lines = ['description = "Position control (§reference-profiles) with the stress-ignored inverse: SP IV '
+    lines = ['description = "Position control (§reference-profiles) with the stress-ignored '
+             'inverse: SP IV '
              'under LP I, LP II, LP V; the model ignores stress"',
              'scenario = "sma-position-wire"', 'inputs = ["wire.u", "wire.flange.f"]',
              'outputs = ["thermocouple.T_meas", "laser.s_meas"]', ""]

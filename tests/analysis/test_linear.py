@@ -28,7 +28,8 @@ def test_cli_json_and_text(capsys):
     assert "2 of 4" in text and "4 of 4" in text and "no locomotion without friction" in text
 
 
-# ---- SMA wire temperature loop (§temperature-control) -----------------------------------------------------
+# ---- SMA wire temperature loop (§temperature-control)
+# -----------------------------------------------------
 @pytest.fixture(scope="module")
 def sma_report():
     return linear_sma_thermal.sma_thermal()
@@ -44,7 +45,8 @@ def test_sma_thermal_plants_and_designed_poles(sma_report):
     # near room temperature the plant is the free-cooling lump: tau = rho c d / 4h (§sma-material)
     assert points[0]["time_constant"] == pytest.approx(thermal.time_constant(thermal.ThermalParams()),
                                                        rel=0.01)
-    # the plant gain grows with the operating voltage: why the gains are scheduled (§temperature-control)
+    # the plant gain grows with the operating voltage: why the gains are scheduled
+    # (§temperature-control)
     assert points[-1]["plant_gain"] > 2.5 * points[0]["plant_gain"]
     d = sma_report["design"]
     for q in points:

@@ -1,5 +1,5 @@
-"""The bending actuator's linear model (§bending-actuator: its resonance against the hand formula, the
-pulse-follow frequency against the first-order thermal corner by hand, its band against the
+"""The bending actuator's linear model (§bending-actuator): its resonance against the hand formula,
+the pulse-follow frequency against the first-order thermal corner by hand, its band against the
 nonlinear actuator's, and the command line."""
 import json
 import math

@@ -1,7 +1,7 @@
-"""The crawler's pressure loops (§crawler-hardware, §gait, §valves) and the gait's pressure references (§gait):
-the identified plants against the ISO 6358 law by hand, the designed PIs, the gain and reference
-files the scenarios read (reproducible from a fresh design / characterisation), and
-`characterise.references` on hand-made results."""
+"""The crawler's pressure loops (§crawler-hardware, §gait, §valves) and the gait's pressure
+references (§gait): the identified plants against the ISO 6358 law by hand, the designed PIs, the
+gain and reference files the scenarios read (reproducible from a fresh design / characterisation),
+and `characterise.references` on hand-made results."""
 import math
 import tomllib
 
@@ -140,7 +140,8 @@ def test_cli_writes_pid_files_that_scenarios_read_and_match_the_committed_ones(
 # ---- the gait's pressure references (characterise) -------------------------------------------
 
 class FakeResults:
-    """What `characterise.references` reads of a `Master` run's results: time and signals by name."""
+    """What `characterise.references` reads of a `Master` run's results: time and signals by
+    name."""
 
     def __init__(self, time, **signals):
         self.time = np.asarray(time, dtype=float)

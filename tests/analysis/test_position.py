@@ -1,5 +1,5 @@
-"""SMA position control (issue 5, §position-control): short runs of each kind of the study's matrix, the
-stress loop's design on the identified load path, the tables' computation."""
+"""SMA position control (issue 5, §position-control): short runs of each kind of the study's matrix,
+the stress loop's design on the identified load path, the tables' computation."""
 import math
 
 import numpy as np

@@ -1,5 +1,5 @@
-"""The bending actuator (§bending-actuator: the beam pair against Euler-Bernoulli by hand, the whole
-actuator settling at the static balance worked out by hand, its first mode ringing at the
+"""The bending actuator (§bending-actuator): the beam pair against Euler-Bernoulli by hand, the
+whole actuator settling at the static balance worked out by hand, its first mode ringing at the
 resonance, the wires' sides and slack, the 50 um wire's data (§sma-material), and the FMU: its core
 stepped by hand, and its errors."""
 import math

@@ -1,4 +1,5 @@
-"""Discrete PID and gain scheduling (§temperature-control) against hand-derived closed loops and invariants."""
+"""Discrete PID and gain scheduling (§temperature-control) against hand-derived closed loops and
+invariants."""
 import math
 
 import pytest
@@ -49,7 +50,8 @@ def test_derivative_acts_on_the_measurement_without_kick():
     state = pid.update(state, 5.0, 0.0, 0.01, (0.0, 0.0, 1.0), p)
     assert pid.output(state, 5.0, 0.02, 0.01, (0.0, 0.0, 1.0), p) == pytest.approx(-2.0)
     state = pid.update(pid.PIDState(), 0.0, 0.0, 0.01, (0.0, 0.0, 1.0), pid.PIDParams(Tf=0.09))
-    assert pid.derivative_term(state, 0.02, 0.01, 1.0, 0.09) == pytest.approx(-0.2)  # -Kd dy/(Tf+dt)
+    assert pid.derivative_term(state, 0.02, 0.01, 1.0, 0.09) == pytest.approx(-0.2)  # -Kd
+    #                                                                                  dy/(Tf+dt)
 
 
 def test_scheduled_gains_interpolate_and_hold():

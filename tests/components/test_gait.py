@@ -62,7 +62,8 @@ def test_reversal_flips_direction_and_restarts_at_phase_one():
 
 
 def test_time_accumulated_step_by_step_switches_on_the_exact_sample():
-    """0.001 added 1800 times is not exactly 1.8; the switch to phase 3 still comes at sample 1800."""
+    """0.001 added 1800 times is not exactly 1.8; the switch to phase 3 still comes at sample
+    1800."""
     t = sum([1e-3] * 1800)
     assert t != 1.8
     assert references(t, P)[3] == 3 and references(1.8 - 1e-6, P)[3] == 2

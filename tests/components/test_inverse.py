@@ -1,5 +1,6 @@
-"""Inverse of the Preisach model (§preisach-inverse): the bases, tracking of the reference profiles SP I-IV
-under constant stress and under LP I-VI, memory agreement with the forward model; the profiles."""
+"""Inverse of the Preisach model (§preisach-inverse): the bases, tracking of the reference profiles
+SP I-IV under constant stress and under LP I-VI, memory agreement with the forward model; the
+profiles."""
 import copy
 import math
 import warnings
@@ -50,9 +51,9 @@ def test_tracks_strain_profiles_at_constant_stress(sp, sigma):
 @pytest.mark.parametrize("lp", LOADING_PROFILES)
 @pytest.mark.parametrize("sp", STRAIN_PROFILES)
 def test_t_out_follows_the_direction_of_the_reference_under_loading_profiles(sp, lp):
-    """§position-control: the direction comes from d eps_r / dt, stress changes ignored. T_out never moves
-    against the reference (where the stress alone would push it back, it holds), and the forward
-    model fed with it keeps the inverse's memory."""
+    """§position-control: the direction comes from d eps_r / dt, stress changes ignored. T_out never
+    moves against the reference (where the stress alone would push it back, it holds), and the
+    forward model fed with it keeps the inverse's memory."""
     eps_r = strain_profile(sp)(TIMES)
     eps, inverse, model, T_out = track(eps_r, loading_profile(lp)(TIMES))
     assert np.all(np.diff(T_out) * np.diff(eps_r) >= 0.0)
@@ -72,7 +73,8 @@ def test_a_lagging_wire_tracks_under_a_loading_profile_as_at_constant_stress():
 
 
 def test_stress_aware_inverse_beats_a_single_surface():
-    """§preisach-inverse's comparison: an inverse that ignores stress (the 125 MPa surface) tracks worse."""
+    """§preisach-inverse's comparison: an inverse that ignores stress (the 125 MPa surface) tracks
+    worse."""
     eps_r, sigma = strain_profile("SP I")(TIMES), loading_profile("LP I")(TIMES)
     aware = rmse_percent(track(eps_r, sigma)[0], eps_r)
     ignoring = rmse_percent(track(eps_r, sigma, SMA.at_stress(125e6))[0], eps_r)

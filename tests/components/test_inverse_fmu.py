@@ -1,6 +1,6 @@
-"""The PreisachInverse FMU slave (§preisach-inverse) in-process: its T_ref is the inverse core stepped by
-hand, bit for bit; stress-aware and stress-ignored modes; parameter errors; the round trip through
-the forward model."""
+"""The PreisachInverse FMU slave (§preisach-inverse) in-process: its T_ref is the inverse core
+stepped by hand, bit for bit; stress-aware and stress-ignored modes; parameter errors; the round
+trip through the forward model."""
 import math
 
 import numpy as np
@@ -204,9 +204,10 @@ def test_round_trip_at_constant_stress(sp, hysteresis):
 @pytest.mark.parametrize("lp", ["LP I", "LP V"])
 @pytest.mark.parametrize("hysteresis", [0.0, 1.0])
 def test_round_trip_under_time_varying_stress(hysteresis, lp):
-    """Stress-aware: T_ref only moves the way eps_r does (§position-control's direction, where the stress
-    alone would push it back it holds, tests/components/test_inverse.py), and the wire it drives
-    tracks several times better than with the single 125 MPa surface (§position-control's comparison)."""
+    """Stress-aware: T_ref only moves the way eps_r does (§position-control's direction, where the
+    stress alone would push it back it holds, tests/components/test_inverse.py), and the wire it
+    drives tracks several times better than with the single 125 MPa surface (§position-control's
+    comparison)."""
     eps_r, sigma = strain_profile("SP IV")(TIMES), loading_profile(lp)(TIMES)
     T_ref = run(eps_r, sigma, hysteresis=hysteresis)
     assert np.all(np.diff(T_ref) * np.diff(eps_r) >= 0.0)

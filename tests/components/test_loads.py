@@ -1,6 +1,7 @@
-"""Loads of the SMA bench (§sma-bench, §position-control, §capstan-multiplier) and the load-cell and laser sensors, through their
-FMUs against hand solutions: spring preload and slope, a dead weight ringing on its link at the
-spring-mass period and feeling its inertia under a sinusoidal lift, the coil's exact step response, the duty clamp, effects off = nominal exactly."""
+"""Loads of the SMA bench (§sma-bench, §position-control, §capstan-multiplier) and the load-cell and
+laser sensors, through their FMUs against hand solutions: spring preload and slope, a dead weight
+ringing on its link at the spring-mass period and feeling its inertia under a sinusoidal lift, the
+coil's exact step response, the duty clamp, effects off = nominal exactly."""
 import math
 from types import SimpleNamespace
 
@@ -57,7 +58,7 @@ def test_defaults_are_125_mpa_and_the_100_g_weight():
     assert loads.WeightParams().mass * G / AREA == pytest.approx(125e6, rel=1e-15)
     p = loads.MagnetParams()
     lo, hi = loads.magnet_tension(0.0, p), loads.magnet_tension(loads.coil_steady(1.0, p), p)
-    assert lo / AREA < 105e6 and hi / AREA > 145e6  # the duty range covers §position-control's stresses
+    assert lo / AREA < 105e6 and hi / AREA > 145e6  # covers §position-control's stresses
 
 
 def test_bias_spring_preload_and_slope(fmu_dir):

@@ -1,5 +1,6 @@
-"""The capstan multiplier (§capstan-multiplier: capstan tensions by hand, the straight wire it must reduce
-to, segments in series, and the bang-bang relay of §multiplier-experiments on a hand-made trace."""
+"""The capstan multiplier (§capstan-multiplier): capstan tensions by hand, the straight wire it must
+reduce to, segments in series, and the bang-bang relay of §multiplier-experiments on a hand-made
+trace."""
 import math
 
 import numpy as np
@@ -148,7 +149,8 @@ def test_unequal_segments_add_up():
     assert capstan.segment_lengths(p) == pytest.approx([0.05, 0.064, 0.1])
 
 
-# --- bang-bang relay (§multiplier-experiments -------------------------------------------------------------
+# --- bang-bang relay (§multiplier-experiments)
+# -------------------------------------------------------------
 
 def test_relay_switching_sequence_on_a_hand_made_trace():
     C = 273.15

@@ -1,6 +1,7 @@
-"""Soft pneumatic actuator (§crawler-hardware, §gait, §valves) against hand solutions: the ISO 6358 valve law,
-choked filling at constant volume, PWM-averaged flow, valve delays, polytropic compression,
-contact build-up, effects off = nominal exactly; the SoftActuator and PressureSensor FMUs."""
+"""Soft pneumatic actuator (§crawler-hardware, §gait, §valves) against hand solutions: the ISO 6358
+valve law, choked filling at constant volume, PWM-averaged flow, valve delays, polytropic
+compression, contact build-up, effects off = nominal exactly; the SoftActuator and PressureSensor
+FMUs."""
 import math
 
 import numpy as np

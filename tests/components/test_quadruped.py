@@ -1,6 +1,7 @@
-"""The quadruped (§quadruped at the level of its cores: four bending-actuator legs pulsed by the
+"""The quadruped (§quadruped) at the level of its cores: four bending-actuator legs pulsed by the
 leg sequencer move the body only when the feet's friction depends on direction, and the way the
-hooks point; the sequencer's pulses; the FMUs against their cores. About 0.5 s of wall time per simulated second."""
+hooks point; the sequencer's pulses; the FMUs against their cores. About 0.5 s of wall time per
+simulated second."""
 import math
 
 import pytest

@@ -1,5 +1,6 @@
-"""The SmaWire FMU (§sma-wire, §preisach, §sma-material) against its cores stepped by hand, its effects (off: nominal
-bit for bit; on: the change the physics predicts), its response to heating, and its errors."""
+"""The SmaWire FMU (§sma-wire, §preisach, §sma-material) against its cores stepped by hand, its
+effects (off: nominal bit for bit; on: the change the physics predicts), its response to heating,
+and its errors."""
 import math
 from types import SimpleNamespace
 

@@ -1,5 +1,6 @@
-"""The lumped thermal model of the SMA wire against hand solutions (§thermal-model, §sma-material), and its effects:
-off they change nothing bit for bit, on they move the temperature the way the physics says."""
+"""The lumped thermal model of the SMA wire against hand solutions (§thermal-model, §sma-material),
+and its effects: off they change nothing bit for bit, on they move the temperature the way the
+physics says."""
 import math
 
 import numpy as np
@@ -30,7 +31,7 @@ def run(T, inputs, p, seconds, dt=DT):
 def test_time_constant_is_rho_c_d_over_4h():
     p = NOMINAL
     assert time_constant(p) == pytest.approx(p.density * p.specific_heat * p.diameter / (4 * p.h))
-    assert 1.5 <= time_constant(p) <= 1.8  # ~1.6 s by §sma-material, §gait s data-sheet cooling
+    assert 1.5 <= time_constant(p) <= 1.8  # ~1.6 s by §convection, 1.5 s data-sheet cooling
 
 
 def test_resistance_per_metre_matches_the_data_sheet():

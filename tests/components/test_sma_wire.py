@@ -1,5 +1,6 @@
-"""The reference wire: calibration to the study's figures (§forc-identification), saturation, stress dependence,
-and a FORC increment that is a valid Preisach surface and the integral of the density."""
+"""The reference wire: calibration to the study's figures (§forc-identification), saturation, stress
+dependence, and a FORC increment that is a valid Preisach surface and the integral of the
+density."""
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st

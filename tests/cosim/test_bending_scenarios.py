@@ -1,5 +1,5 @@
-"""The fast-actuation scenarios of §bending-actuator through the FMUs and the master: the bending actuator
-with one wire pulsed and with both alternating, and the quadruped walking.
+"""The fast-actuation scenarios of §bending-actuator through the FMUs and the master: the bending
+actuator with one wire pulsed and with both alternating, and the quadruped walking.
 
     driveA --u--> actuator <--u-- driveB          sequencer --8 x u--> leg1..leg4 --tip--> body
 """

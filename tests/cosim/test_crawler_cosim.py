@@ -91,7 +91,8 @@ def test_reference_result_is_reproduced(fmu_dir):
 
 
 def test_runs_leave_no_fmu_copy_of_musclesim_on_sys_path(fmu_dir):
-    """pythonfmu prepends each FMU's resources; left there, child processes import the FMU's copy."""
+    """pythonfmu prepends each FMU's resources; left there, child processes import the FMU's
+    copy."""
     import sys
     from pathlib import Path
 

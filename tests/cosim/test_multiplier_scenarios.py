@@ -1,4 +1,5 @@
-"""The fast-actuation scenarios of §multiplier-experiments, shortened, and the metric ops they report with.
+"""The fast-actuation scenarios of §multiplier-experiments, shortened, and the metric ops they
+report with.
 
 Topologies::
 
@@ -75,7 +76,7 @@ def test_a_periodic_op_without_a_period_is_refused(tmp_path):
 
 def test_without_friction_the_multiplier_moves_the_length_ratio_times_more(fmu_dir):
     # current drive: a frictionless fold is the straight wire per unit length, so the ratio of
-    # the displacements is the ratio of the lengths, n = 214 / 56 (§capstan-multiplier
+    # the displacements is the ratio of the lengths, n = 214 / 56 (§capstan-multiplier)
     _, res, m = run("sma-multiplier-band-60-90", fmu_dir, 40.0, ["mult.mu_f=0.0"])
     assert m["ratio"] == pytest.approx(0.214 / 0.056, rel=1e-6)
     assert m["ratio"] == pytest.approx(m["multiplier_p2p"] / m["straight_p2p"], rel=1e-12)

@@ -76,8 +76,8 @@ def test_off_is_nominal_exactly_and_on_changes_the_run(fmu_dir, effect):
 
 
 def test_calibration_parameters_are_nominal_values_of_their_component(fmu_dir):
-    """Every calibration parameter is a parameter (or the SmaWire's ambient input) of its
-    component, owned by no effect, with bounds around its nominal value and a model reference section."""
+    """Every calibration parameter is a parameter (or the SmaWire's ambient input) of its component,
+    owned by no effect, with bounds around its nominal value and a model reference section."""
     assert {c.name for c in effects.calibration_of("SmaWire")} >= {
         "T_amb", "h", "specific_heat", "rho_austenite", "rho_martensite", "hysteresis_shift",
         "strain_scale"}

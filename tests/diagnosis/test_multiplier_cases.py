@@ -1,5 +1,6 @@
-"""The blind benchmark's multiplier cases (§capstan-multiplier, §named-effects): drawn apart from the other cases, each
-hidden effect recorded on the multiplier bench changes what the bench measures."""
+"""The blind benchmark's multiplier cases (§capstan-multiplier, §named-effects): drawn apart from
+the other cases, each hidden effect recorded on the multiplier bench changes what the bench
+measures."""
 import numpy as np
 import pytest
 

@@ -1,6 +1,6 @@
-"""Identification from FORC experiments (§forc-identification): the ForcReference profile, `identify` on
-synthetic records from a known surface (no FMUs), its errors, a reduced closed-loop run on the
-FMUs, and the validation numbers (surface error, validation runs, memory checks)."""
+"""Identification from FORC experiments (§forc-identification): the ForcReference profile,
+`identify` on synthetic records from a known surface (no FMUs), its errors, a reduced closed-loop
+run on the FMUs, and the validation numbers (surface error, validation runs, memory checks)."""
 import json
 import math
 
@@ -45,7 +45,7 @@ def test_the_scenario_period_does_not_outrun_free_cooling():
     s = scenario.load(SCENARIOS / "sma-forc-identification.toml")
     period = s.instances["reference"].parameters["period"]
     assert s.stop_time == pytest.approx(21 * period)
-    # tau = rho c d / 4 h = 1.71 s (components/sma/README.md), ambient 20 C, T_low 30 C
+    # tau = rho c d / 4 h = 1.71 s (§thermal-model), ambient 20 C, T_low 30 C
     assert forc.min_period(100.0, 10.0, 1.71) < 0.85 * period
 
 
@@ -197,7 +197,8 @@ def test_identify_from_the_closed_loop_on_the_virtual_wire(fmu_dir, tmp_path):
     assert np.abs(again.table[0] - surface.table[0]).max() < 5e-5
 
 
-# ---- validation (§forc-identification) ---------------------------------------------------------------------
+# ---- validation (§forc-identification)
+# ---------------------------------------------------------------------
 
 def test_the_virtual_wire_is_rate_independent_wipes_out_and_has_congruent_loops():
     checks = validation.memory_checks()

@@ -12,8 +12,8 @@ crawler's characterisation and the position-control study's tables.
   resonance and the pulse frequency the tip still follows (§bending-actuator);
 - `design`: the PI designs and margins the linear analyses share;
 - `characterise`: the gait's pressure references from the characterisation run (§pressure-control);
-- `position`: the position-control matrix (§position-control) run as case folders (``musclesim.batch``)
-  and written as tables.
+- `position`: the position-control matrix (§position-control) run as case folders
+  (``musclesim.batch``) and written as tables.
 
 Each linear analysis gives a report (a dict), its text (``format_*``) and, for the controllers,
 the TOML of the gains a scenario reads (``*_toml``).

@@ -14,8 +14,8 @@ import numpy as np
 
 from musclesim.errors import UserError
 
-# m: assumption, about half the central actuator's 83 mm length (§crawler-hardware); the study names no
-# elongation, only that the references came from the pressure-elongation curve (§gait)
+# m: assumption, about half the central actuator's 83 mm length (§crawler-hardware); the study names
+# no elongation, only that the references came from the pressure-elongation curve (§gait)
 ELONGATION_TARGET = 0.04
 FIRM = 0.99  # contact indicator counted as firm ground contact
 # assumption: the study set its anchoring references by eye (§gait); a quarter above the

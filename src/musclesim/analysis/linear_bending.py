@@ -1,8 +1,8 @@
-"""The bending actuator's linear model (§bending-actuator with python-control: heating power of wire A
-to the deflection at the laser, for design: its first resonance, and the heating-pulse frequency
-up to which the tip still follows the pulses.
+"""The bending actuator's linear model (§bending-actuator) with python-control: heating power of
+wire A to the deflection at the laser, for design: its first resonance, and the heating-pulse
+frequency up to which the tip still follows the pulses.
 
-    C dT/dt = P - G T                                  (wire A's lumped thermal model, §thermal-model)
+    C dT/dt = P - G T                                  (wire A's lumped model, §thermal-model)
     eps = g T                                          (its hysteresis, linearised: g the secant
                                                         of the steady minor loop, F(T_hi, T_lo) /
                                                         (T_hi - T_lo), §forc-identification)

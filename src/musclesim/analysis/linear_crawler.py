@@ -73,11 +73,12 @@ def crawler(p=BodyParams()):
 def format_crawler(report):
     """Human-readable text of a `crawler` report."""
     vec = lambda v: "[" + ", ".join(f"{x:g}" for x in v) + "]"
+    n = len(report["states"])
     lines = [
         f"Crawler body (§two-mass), states [{', '.join(report['states'])}], "
         f"m1 = {report['parameters']['m1']:g} kg, m2 = {report['parameters']['m2']:g} kg",
-        f"controllability rank, f_a only:        {report['rank_fa_only']} of {len(report['states'])}",
-        f"controllability rank, f_a, f1 and f2:  {report['rank_all_inputs']} of {len(report['states'])}",
+        f"controllability rank, f_a only:        {report['rank_fa_only']} of {n}",
+        f"controllability rank, f_a, f1 and f2:  {report['rank_all_inputs']} of {n}",
         "controllable subspace with f_a only:  span of "
         + ", ".join(vec(v) for v in report["controllable_subspace_fa_only"]),
         "centre of mass movable with f_a only: "

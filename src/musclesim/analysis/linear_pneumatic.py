@@ -1,5 +1,6 @@
-"""The pressure loops of the pneumatic crawler (§crawler-hardware, §gait): discrete models duty -> measured
-pressure identified on the FMUs from a PRBS, and a PI per actuator kind with its margins."""
+"""The pressure loops of the pneumatic crawler (§crawler-hardware, §gait): discrete models duty ->
+measured pressure identified on the FMUs from a PRBS, and a PI per actuator kind with its
+margins."""
 import math
 
 import control as ct
@@ -45,10 +46,11 @@ def _fit_arx(p, u, max_delay):
 def identify_pneumatic(fmu_dir="fmus", design=None):
     """Discrete models duty -> measured pressure of the central and the extremal actuator.
 
-    Runs scenarios/pneumatic-identification.toml twice with the duties replayed: once inflating
-    at ``fill_duty`` to find when each chamber reaches ``p_op`` with its contact full, then inflating until then and
-    applying a seeded PRBS of +-``amplitude`` (each bit followed by its opposite). A first-order ARX model with input delay is fitted
-    to the PRBS part. Returns ``{actuator: (python-control discrete system, fit dict)}``.
+    Runs scenarios/pneumatic-identification.toml twice with the duties replayed: once inflating at
+    ``fill_duty`` to find when each chamber reaches ``p_op`` with its contact full, then inflating
+    until then and applying a seeded PRBS of +-``amplitude`` (each bit followed by its opposite). A
+    first-order ARX model with input delay is fitted to the PRBS part. Returns ``{actuator:
+    (python-control discrete system, fit dict)}``.
     """
     from musclesim.cosim import Master, load_scenario
 
@@ -65,8 +67,8 @@ def identify_pneumatic(fmu_dir="fmus", design=None):
         # an extremal chamber bulges while its contact builds: identify it once contact is full
         reached = np.flatnonzero((res[f"{a}_sensor.p_meas"] >= d["p_op"]) & (res[f"{a}.u"] >= 0.999))
         if not len(reached):
-            raise UserError(f"{d['scenario']}: {a} does not reach p_op = {d['p_op']:g} Pa with full "
-                            f"contact within {d['fill_time']:g} s at duty {d['fill_duty'][a]:g}")
+            raise UserError(f"{d['scenario']}: {a} does not reach p_op = {d['p_op']:g} Pa with "
+                            f"full contact within {d['fill_time']:g} s at duty {d['fill_duty'][a]:g}")
         fill[a] = int(reached[0])
     n = max(fill.values()) + len(prbs)
     s = load_scenario(d["scenario"], stop_time=n * d["step"])
@@ -107,7 +109,8 @@ def pneumatic(fmu_dir="fmus", design=None):
                     "Kp": Kp, "Ki": Ki, "gain_margin": None if math.isinf(gm) else float(gm),
                     "phase_margin_deg": float(pm), "crossover": float(wc),
                     "closed_loop_pole_radius": float(np.abs(ct.poles(ct.feedback(loop))).max())}
-    return {"system": "pneumatic", "reference": "§crawler-hardware, §gait", "design": d, "loops": loops}
+    return {"system": "pneumatic", "reference": "§crawler-hardware, §gait", "design": d,
+            "loops": loops}
 
 
 def format_pneumatic(report):
@@ -135,8 +138,8 @@ def pneumatic_gains_toml(report, actuator):
     """The PID parameters of one actuator kind's loop, as the TOML a scenario's instance reads."""
     q = report["loops"][actuator]
     return "\n".join([
-        f"# PID gains of the {actuator} soft actuator's pressure loop (§crawler-hardware), written by",
-        "# `musclesim linear pneumatic --write DIR`: do not edit, rerun the design.",
+        f"# PID gains of the {actuator} soft actuator's pressure loop (§crawler-hardware),",
+        "# written by `musclesim linear pneumatic --write DIR`: do not edit, rerun the design.",
         f"Kp = {float(q['Kp'])!r}  # duty per Pa", f"Ki = {float(q['Ki'])!r}  # duty per Pa s",
         "Kd = 0.0",
         "u_min = -1.0  # full exhaust", "u_max = 1.0  # full inflation", ""])

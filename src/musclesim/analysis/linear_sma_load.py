@@ -1,5 +1,6 @@
-"""The load path of the SMA position-control bench (§sma-bench, §position-control): the duty -> load-cell force
-model identified on the Electromagnet and LoadCell FMUs, and the stress loop's PI placed on it."""
+"""The load path of the SMA position-control bench (§sma-bench, §position-control): the duty ->
+load-cell force model identified on the Electromagnet and LoadCell FMUs, and the stress loop's PI
+placed on it."""
 import control as ct
 import numpy as np
 
@@ -61,7 +62,7 @@ def sma_load(fmu_dir="fmus", design=None):
     d = {**LOAD_DESIGN, **(design or {})}
     plant, K, tau, rms = identify_load_path(fmu_dir, d)
     Kp, Ki = design_pi(plant, d["omega_n"], d["zeta"])
-    return {"system": "sma-load", "reference": "§sma-wire, §position-control", "design": d,
+    return {"system": "sma-load", "reference": "§loads, §position-control", "design": d,
             "identified": {"K": K, "tau": tau, "fit_rms": rms},
             "Kp": Kp, "Ki": Ki, **pi_margins(plant, Kp, Ki, d["step"])}
 
@@ -69,9 +70,9 @@ def sma_load(fmu_dir="fmus", design=None):
 def format_sma_load(report):
     """Human-readable summary of an `sma_load` report."""
     i, d = report["identified"], report["design"]
-    return (f"SMA load path (§thermal-model, §position-control): duty -> load-cell force identified from a duty step "
-            f"{d['duty'][0]:g} -> {d['duty'][1]:g}: K = {i['K']:.4g} N, tau = {i['tau'] * 1e3:.3g} "
-            f"ms (fit RMS {i['fit_rms']:.2g} N)\n"
+    return (f"SMA load path (§loads, §position-control): duty -> load-cell force identified "
+            f"from a duty step {d['duty'][0]:g} -> {d['duty'][1]:g}: K = {i['K']:.4g} N, tau = "
+            f"{i['tau'] * 1e3:.3g} ms (fit RMS {i['fit_rms']:.2g} N)\n"
             f"PI with closed-loop poles at omega_n = {d['omega_n']:g} rad/s, zeta = {d['zeta']:g}: "
             f"Kp = {report['Kp']:.4g} 1/N, Ki = {report['Ki']:.4g} 1/(N s); phase margin "
             f"{report['phase_margin_deg']:.1f} deg at {report['crossover']:.1f} rad/s; sampled at "

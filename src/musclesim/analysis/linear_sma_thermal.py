@@ -22,11 +22,10 @@ SMA_DESIGN = {
 def sma_thermal_plant(T_op, p=thermal.ThermalParams(), wire=None, T_amb=20.0, sigma=125e6):
     """Linear thermal model of the wire around temperature T_op [C] under voltage drive.
 
-    The lumped balance C dT/dt = u^2 / R(xi(T)) - h A_s (T - T_amb) (§thermal-model) is linearised at the
-    equilibrium voltage u_op; xi(T) follows the heating branch of the reference wire at `sigma`
-    (the resistance falls as austenite forms). Returns (python-control system from du [V] to dT
-    [K], u_op [V]).
-    """
+    The lumped balance C dT/dt = u^2 / R(xi(T)) - h A_s (T - T_amb) (§thermal-model) is linearised
+    at the equilibrium voltage u_op; xi(T) follows the heating branch of the reference wire at
+    `sigma` (the resistance rises as austenite forms, §sma-material). Returns (python-control system
+    from du [V] to dT [K], u_op [V]). """
     wire = wire or ReferenceWire()
     eps_max = float(wire.eps_max(sigma))
 
@@ -64,7 +63,8 @@ def sma_thermal(design=None):
         points.append({"T_op": T_op, "u_op": u_op, "plant_gain": float(ct.dcgain(plant)),
                        "time_constant": -1.0 / plant.A[0, 0], "Kp": Kp, "Ki": Ki, "Kd": 0.0,
                        **pi_margins(plant, Kp, Ki, d["step"])})
-    return {"system": "sma-thermal", "reference": "§temperature-control", "design": d, "points": points}
+    return {"system": "sma-thermal", "reference": "§temperature-control", "design": d,
+            "points": points}
 
 
 def format_sma_thermal(report):
@@ -83,8 +83,8 @@ def format_sma_thermal(report):
 
 def gain_table_toml(report):
     """The GainScheduledPID parameters of a report, as the TOML a scenario's instance reads."""
-    lines = ["# GainScheduledPID gains for the SMA wire's temperature (§temperature-control), written by",
-             "# `musclesim linear sma-thermal --write FILE`: do not edit, rerun the design.",
+    lines = ["# GainScheduledPID gains for the SMA wire's temperature (§temperature-control),",
+             "# written by `musclesim linear sma-thermal --write FILE`: do not edit, rerun the design.",
              "u_min = 0.0  # V: the wire is only heated", f"u_max = {report['design']['u_max']!r}  # V"]
     for i, (x, q) in enumerate(zip(SCHEDULE_K, report["points"]), start=1):
         lines.append(f'"x[{i}]" = {x!r}  # K, {q["T_op"]:g} C')

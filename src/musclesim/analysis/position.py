@@ -1,4 +1,5 @@
-"""`musclesim table sma-position`: the study's position-control matrix (§position-control) as tables.
+"""`musclesim table sma-position`: the study's position-control matrix (§position-control) as
+tables.
 
 Three tables, each cell one run of scenarios/sma-position-control.toml with ``--set`` overrides:
 

@@ -62,7 +62,8 @@ class Instance:
 
 @dataclass(frozen=True)
 class Scenario:
-    """A checked scenario (see the module docstring); signals are ``"instance.variable"`` strings."""
+    """A checked scenario (see the module docstring); signals are ``"instance.variable"``
+    strings."""
 
     name: str
     path: Path
@@ -138,7 +139,8 @@ def _read(path, chain):
     connections, recorded signals and plots are added, other values replace); `chain` holds the
     files that extend this one."""
     if path in chain:
-        raise UserError(f"scenario {chain[0]} extends itself through {' -> '.join(map(str, chain))}")
+        loop = " -> ".join(map(str, chain))
+        raise UserError(f"scenario {chain[0]} extends itself through {loop}")
     try:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except OSError as exc:
@@ -291,7 +293,8 @@ def apply_overrides(scenario, overrides, problems):
             problems.append(f"--set {text!r} is not of the form instance.parameter=value")
             continue
         if inst not in instances:
-            problems.append(f"--set {text!r}: no instance {inst!r} (instances: {', '.join(instances)})")
+            problems.append(f"--set {text!r}: no instance {inst!r} "
+                            f"(instances: {', '.join(instances)})")
             continue
         try:
             number = float(value)

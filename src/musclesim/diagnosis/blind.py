@@ -2,7 +2,8 @@
 
 Each case is a measured data set made by running one of the SMA benches with hidden changes:
 
-- ``effect``: one library effect at a random magnitude (ranges from the model reference, `MAGNITUDES`);
+- ``effect``: one library effect at a random magnitude (ranges from the model reference,
+  `MAGNITUDES`);
 - ``decoy``: an effect with a look-alike in the library (`DECOYS`: both act at high
   temperatures, or both make the reading trail the model);
 - ``none``: no change at all;
@@ -13,18 +14,18 @@ all with nuisances: thermocouple noise and quantisation inside the loop, strain-
 quantisation, and an acquisition latency of the strain gauge of 0 or 1 sample behind the
 controller's log. A quarter of the effect cases (drawn from a stream of their own) run on a load
 bench instead: the magnet bench hiding an electromagnet force nonlinearity or a load-cell lag, or
-the weight bench (§capstan-multiplier's 150 g weight lifted by fast heating pulses) hiding the weight's
-inertia; with laser and load-cell noise and quantisation (the library's "laser noise" as the
-nuisance it is: noise raises the floor, no fit of it can shrink a gap). Another quarter (a third
+the weight bench (§capstan-multiplier's 150 g weight lifted by fast heating pulses) hiding the
+weight's inertia; with laser and load-cell noise and quantisation (the library's "laser noise" as
+the nuisance it is: noise raises the floor, no fit of it can shrink a gap). Another quarter (a third
 stream; it wins over the load-bench draw) runs on the pneumatic crawler climbing 7.5 deg (12 s of
 crawler-gait-incline, the controllers' duties replayed, pressure sensors and the blocks' video
-positions observed, both with noise and quantisation) and hides one of the crawler's effects,
-one magnitude for every instance of its component. Cases are written without labels
-(data.csv + manifest.toml); the key is hashed into key.sha256 before any diagnosis runs and
-written to key.json after. Scores (scores.json): top-1 accuracy over effect and decoy cases,
-the median ratio of our held-out shrinkage (the model with every measured signal replayed) to the
-oracle's (the true effect at its true values), the false-alarm rate over ``none`` cases (a
-verdict naming an effect) and the ``unexplained`` rate over ``outside`` cases.
+positions observed, both with noise and quantisation) and hides one of the crawler's effects, one
+magnitude for every instance of its component. Cases are written without labels (data.csv +
+manifest.toml); the key is hashed into key.sha256 before any diagnosis runs and written to key.json
+after. Scores (scores.json): top-1 accuracy over effect and decoy cases, the median ratio of our
+held-out shrinkage (the model with every measured signal replayed) to the oracle's (the true effect
+at its true values), the false-alarm rate over ``none`` cases (a verdict naming an effect) and the
+``unexplained`` rate over ``outside`` cases.
 
 With ``bench="independent"`` the cases run instead on an SMA bench written apart from the library
 (`musclesim.diagnosis.independent`, cases from `musclesim.diagnosis.independent_plan`), and on
@@ -74,9 +75,9 @@ BENCHES = {
                 ["valve delay", "supply-pressure drop", "chamber leakage",
                  "pressure-dependent stiffness", "actuator bending on an incline",
                  "friction decay"]),
-    # §multiplier-experiments's capstan multiplier under the 150 g weight, bang-bang heated: the relay's
-    # voltage replayed, the middle segment's thermocouple and the laser on the weight observed
-    # (only in the extra multiplier cases, `plan_multiplier`)
+    # §multiplier-experiments's capstan multiplier under the 150 g weight, bang-bang heated: the
+    # relay's voltage replayed, the middle segment's thermocouple and the laser on the weight
+    # observed (only in the extra multiplier cases, `plan_multiplier`)
     "multiplier": ("sma-bench-multiplier", ["mult.u"], ["thermocouple.T_meas", "laser.s_meas"],
                    ["capstan friction", "composition difference", "load inertia"]),
 }
@@ -88,8 +89,8 @@ LOAD_SHARE = 0.25  # of the effect cases move to a load bench, magnet or weight,
 LOAD_BENCHES = ("magnet", "weight")
 CRAWLER_SHARE = 0.25  # ... and, drawn from a third stream, to the crawler bench
 # Not in the tracking bench's pool, so without a magnitude here: clamp heat loss (cold ends), the
-# look-alike of the decoy pair below; the independent bench hides it (`independent_plan`).
-# hidden magnitudes: (instance, parameter, low, high), drawn uniformly (§sma-wire, §drift, §sma-material)
+# look-alike of the decoy pair below; the independent bench hides it (`independent_plan`). hidden
+# magnitudes: (instance, parameter, low, high), drawn uniformly (§sma-wire, §drift, §sma-material)
 MAGNITUDES = {
     "thermocouple lag": [("thermocouple", "tau", 0.1, 0.6)],
     "thermocouple bias": [("thermocouple", "bias", 1.5, 5.0)],  # sign drawn too

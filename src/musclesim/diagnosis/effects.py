@@ -8,8 +8,8 @@ effect to a scenario is therefore only a matter of parameter values on the insta
 component.
 
 `CALIBRATION` lists, per component, the nominal values a real bench has differently (ambient,
-convection, material data, the hysteresis's temperature shift and strain scale, ...), with
-bounds and their model reference section: the diagnosis calibrates them before it tests any effect, and an
+convection, material data, the hysteresis's temperature shift and strain scale, ...), with bounds
+and their model reference section: the diagnosis calibrates them before it tests any effect, and an
 effect is fitted together with them, so that "raise h" cannot pose as "latent heat".
 
 The rest of the per-component knowledge the diagnosis uses is declared here too, so that its
@@ -116,7 +116,8 @@ EFFECTS = (
            (Parameter("drift_amplitude", 0.0, -0.2, 0.2), Parameter("drift_shift", 0.0, -10.0, 10.0)),
            "late", "§drift",
            "the major loop changes over the first cycles, then settles"),
-    # loads and sensors of the position-control bench (§sma-bench, §position-control, §named-effects)
+    # loads and sensors of the position-control bench (§sma-bench, §position-control,
+    # §named-effects)
     Effect("load inertia", "DeadWeight", (Parameter("inertia", 0.0, 0.0, 1.0),),
            "transformation", "§position-control, §named-effects",
            "the weight rings on its link after a fast lift, pulling on the wire"),
@@ -124,10 +125,11 @@ EFFECTS = (
            (Parameter("nonlinearity", 0.0, -0.5, 0.5),), "high_force", "§loads, §named-effects",
            "the magnet's force grows faster or slower than its coil current"),
     Effect("load-cell lag", "LoadCell", (Parameter("tau", 0.0, 0.0, 0.5),), "load_changing",
-           "§sma-bench, §named-effects", "the load cell follows the tension with a first-order lag"),
+           "§sma-bench, §named-effects",
+           "the load cell follows the tension with a first-order lag"),
     Effect("laser noise", "LaserSensor", (Parameter("noise_std", 0.0, 0.0, 2e-5),), "all",
-           "§sma-bench, §named-effects", "the laser's reading is noisy (noise raises the floor; a fit of it "
-           "cannot shrink a gap)"),
+           "§sma-bench, §named-effects", "the laser's reading is noisy (noise raises the floor; a "
+           "fit of it cannot shrink a gap)"),
     # crawler (§crawler, §named-effects)
     Effect("anchoring slip", "FrictionBlock",
            (Parameter("mu_s_high", 1.0, 0.2, 1.0), Parameter("mu_k_high", 0.75, 0.15, 0.75)),
@@ -164,15 +166,18 @@ EFFECTS = (
     Effect("chamber leakage", "SoftActuator", (Parameter("C_leak", 0.0, 0.0, 5e-11),),
            "pressurised", "§named-effects",
            "air leaks from the chamber to the atmosphere"),
-    # fast actuation: the capstan multiplier (§capstan-multiplier, §named-effects); the hanging load's inertia is
-    # "load inertia" above (DeadWeight, under the multiplier as under the straight wire)
+    # fast actuation: the capstan multiplier (§capstan-multiplier, §named-effects); the hanging
+    # load's inertia is "load inertia" above (DeadWeight, under the multiplier as under the straight
+    # wire)
     Effect("capstan friction", "CapstanMultiplier", (Parameter("mu_f", 0.0237, 0.0, 0.1),),
            "transformation", "§capstan-multiplier, §named-effects",
-           "the wire's friction on the capstans differs from §capstan-multiplier's 0.0237 (a worn or dirty "
-           "groove): the segments nearer the clamp carry a different tension; off = the stated "
+           "the wire's friction on the capstans differs from §capstan-multiplier's 0.0237 (a "
+           "worn or dirty groove): the segments nearer the clamp carry a different tension; off = "
+           "the stated "
            "friction, the CapstanMultiplier's default"),
     Effect("composition difference", "CapstanMultiplier",
-           (Parameter("composition_shift", 0.0, -10.0, 10.0),), "transformation", "§capstan-multiplier, §named-effects",
+           (Parameter("composition_shift", 0.0, -10.0, 10.0),), "transformation",
+           "§capstan-multiplier, §named-effects",
            "the multiplier's wire is not the composition the hysteresis was identified on: it "
            "transforms at temperatures shifted by a constant"),
 )
@@ -224,23 +229,29 @@ _WIRE_THERMAL = (
 )
 CALIBRATION = (
     *_WIRE_THERMAL,
-    Calibrated("SmaWire", "hysteresis_shift", -8.0, 8.0, False, "§preisach, §named-effects, §sma-material",
+    Calibrated("SmaWire", "hysteresis_shift", -8.0, 8.0, False,
+               "§preisach, §named-effects, §sma-material",
                "transformation temperatures shift with composition and training"),
     Calibrated("SmaWire", "strain_scale", 0.85, 1.15, True, "§forc-identification, §sma-material",
                "the recoverable strain differs from wire to wire"),
-    # the multiplier is the same wire, folded (§capstan-multiplier); its hysteresis's shift is the effect
-    # "composition difference"
+    # the multiplier is the same wire, folded (§capstan-multiplier); its hysteresis's shift is the
+    # effect "composition difference"
     *(Calibrated("CapstanMultiplier", c.name, c.lower, c.upper, c.relative, c.reference, c.why)
       for c in _WIRE_THERMAL),
-    Calibrated("CrawlerBody", "k", 0.7, 1.3, True, "§ideal-actuation", "the soft actuator's stiffness"),
-    Calibrated("CrawlerBody", "c", 0.5, 2.0, True, "§ideal-actuation", "the soft actuator's damping"),
+    Calibrated("CrawlerBody", "k", 0.7, 1.3, True, "§ideal-actuation",
+               "the soft actuator's stiffness"),
+    Calibrated("CrawlerBody", "c", 0.5, 2.0, True, "§ideal-actuation",
+               "the soft actuator's damping"),
     Calibrated("FrictionBlock", "mu_k_low", 0.7, 1.3, True, "§friction",
                "the ground's kinetic friction"),
-    # the valves' sonic conductances are assumptions (§crawler-hardware names no valve; §valves the law)
-    Calibrated("SoftActuator", "C_in", 0.5, 2.0, True, "§crawler-hardware, §valves", "inflation valve"),
-    Calibrated("SoftActuator", "C_out", 0.5, 2.0, True, "§crawler-hardware, §valves", "exhaust valve"),
+    # the valves' sonic conductances are assumptions (§crawler-hardware names no valve; §valves the
+    # law)
+    Calibrated("SoftActuator", "C_in", 0.5, 2.0, True, "§crawler-hardware, §valves",
+               "inflation valve"),
+    Calibrated("SoftActuator", "C_out", 0.5, 2.0, True, "§crawler-hardware, §valves",
+               "exhaust valve"),
     # a bench's PWM timer starts anywhere on its log's clock: replayed duties act at another
-    # instant of each period (components/pneumatic/README.md); one timer drives every valve
+    # instant of each period (§valves); one timer drives every valve
     Calibrated("SoftActuator", "pwm_phase", -0.5, 1.5, False, "§crawler-hardware, §valves",
                "where the valves' PWM carrier starts on the data's clock", period=1.0),
     # sensors' gains (their offsets: the thermocouple's is the effect "thermocouple bias"; the

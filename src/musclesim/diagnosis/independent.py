@@ -4,8 +4,8 @@ The independent virtual hardware of the blind benchmark (`musclesim.diagnosis.in
 draws its cases). Nothing here comes from `musclesim.components`; the physics is another
 representation than the library's, so that model and bench never differ by one effect alone:
 
-- Heat (§thermal-model, §sma-material): the 1-D heat equation along the wire on `CELLS` finite volumes, graded
-  toward the clamps (Chebyshev edges), per volume
+- Heat (§thermal-model, §sma-material): the 1-D heat equation along the wire on `CELLS` finite
+  volumes, graded toward the clamps (Chebyshev edges), per volume
   ``rho c A dx dT/dt = I^2 R_i - h pi d dx (T - T_amb) - eps sigma pi d dx (T^4 - T_amb^4)
   + conduction + rho A dx L dxi/dt``, with R_i = rho_e(xi_i) dx / A in series (one current),
   the clamps at T_clamp through a contact conductance. The linear part advances exactly
@@ -48,14 +48,14 @@ CONDUCTIVITY = 18.0  # W/(m K), §sma-material
 RHO_MARTENSITE, RHO_AUSTENITE = 80e-8, 100e-8  # Ohm m, §sma-material
 H_NOMINAL = 100.0  # W/(m^2 K) at 50 K excess, §convection
 AREA = math.pi * DIAMETER ** 2 / 4  # m^2; 1.26677e-8 as the scenarios' load (§forc-identification)
-STRESS = 125e6  # Pa: the tracking bench's constant load (§forc-identification's stresses, the scenario's)
+STRESS = 125e6  # Pa: the tracking bench's constant load (§forc-identification's stresses)
 CC_SLOPE = 7e6  # Pa/K: Clausius-Clapeyron, the low end of §sma-material's 7-14 MPa/K
-# Two populations of grains with their own transformation bands [C] at STRESS (weight, As, Af,
-# Ms, Mf) and the transformation strain: a least-squares match (rounded) of the strain-temperature
-# loop of the tracking scenario's wire under 125 MPa (§forc-identification: ~3.8 % over 30-130 C; half-way at
-# ~78 C heating, ~64 C cooling), 1.3e-4 RMS apart over its 45-105 C cycles (one population:
-# 1.5e-3, without the loop's tails). §sma-material's data-sheet 88/98/72/62 C at low stress cannot meet
-# §forc-identification's figures (the measured behaviour wins, §sma-material)
+# Two populations of grains with their own transformation bands [C] at STRESS (weight, As, Af, Ms,
+# Mf) and the transformation strain: a least-squares match (rounded) of the strain-temperature loop
+# of the tracking scenario's wire under 125 MPa (§forc-identification: ~3.8 % over 30-130 C;
+# half-way at ~78 C heating, ~64 C cooling), 1.3e-4 RMS apart over its 45-105 C cycles (one
+# population: 1.5e-3, without the loop's tails). §sma-material's data-sheet 88/98/72/62 C at low
+# stress cannot meet §forc-identification's figures (the measured behaviour wins, §sma-material)
 POPULATIONS = ((0.45, 70.0, 85.0, 70.0, 55.5),  # sharp: the steep middle of the loop
                (0.55, 53.0, 108.0, 95.0, 30.0))  # diffuse: the slow approach to saturation
 EPS_L = 0.036
@@ -63,11 +63,12 @@ E_AUSTENITE, E_MARTENSITE = 75e9, 28e9  # Pa: Flexinol data sheet (§sma-materia
 ALPHA = 11e-6  # 1/K: thermal expansion, Flexinol data sheet (§thermal-model names the term)
 T_REF = 20.0  # C: strain is contraction from the length at room temperature (§thermal-model)
 SIGMA_SB = 5.670374419e-8  # W/(m^2 K^4): Stefan-Boltzmann (radiation; the study gives none)
-U_MAX = 2.5  # V: the heating voltage's range (§thermal-model; scenarios/params/sma-thermal-gains.toml)
+U_MAX = 2.5  # V: the heating voltage's range (scenarios/params/sma-thermal-gains.toml)
 CELLS = 18
 FRAME = 0.02  # s: the data's and the controller's period (the scenario's 50 Hz)
 SUBSTEPS = 2  # internal steps per frame (10 ms)
-# the bench's reference: the tracking scenario's 75 C +- 30 K at 0.1 Hz from 45 C (§temperature-control)
+# the bench's reference: the tracking scenario's 75 C +- 30 K at 0.1 Hz from 45 C
+# (§temperature-control)
 REF_MEAN, REF_AMPLITUDE, REF_FREQUENCY = 348.15, 30.0, 0.1
 PREROLL = 10.0  # s held at the reference's start before recording, from ambient
 
@@ -95,8 +96,8 @@ class Bench:
     draught_factor: float = 1.0
     latent_heating: float = 0.0  # J/kg absorbed as austenite forms
     latent_cooling: float = 0.0  # J/kg released as martensite forms
-    # the bench's own PI, stable with a 0.5 s thermocouple lag inside its loop (§temperature-control's
-    # scheduled gains, 0.12-0.35 V/K, are the model's design)
+    # the bench's own PI, stable with a 0.5 s thermocouple lag inside its loop
+    # (§temperature-control's scheduled gains, 0.12-0.35 V/K, are the model's design)
     kp: float = 0.07  # V/K
     ki: float = 0.1  # V/(K s)
     tc_position: float = 0.5  # of the length
@@ -233,7 +234,8 @@ def centres(length, cells=CELLS):
 
 def thermal_system(bench, cells=CELLS):
     """(A, capacity, loss_to_ambient, clamp_conductance) of the linear part dT/dt = A T + ...:
-    conduction between volumes and into the clamps, convection at the bench's h (§sma-bench, §convection)."""
+    conduction between volumes and into the clamps, convection at the bench's h (§sma-bench,
+    §convection)."""
     w = widths(bench.length, cells)
     cap = DENSITY * SPECIFIC_HEAT * AREA * w  # J/K per volume
     g = CONDUCTIVITY * AREA / ((w[:-1] + w[1:]) / 2)  # W/K between neighbours

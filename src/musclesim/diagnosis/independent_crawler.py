@@ -5,10 +5,10 @@ The independent virtual hardware of the crawler cases of the blind benchmark
 (`musclesim.diagnosis.independent_plan` draws them). Nothing here comes from
 `musclesim.components`; each part is another representation than the library's:
 
-- Valves (§crawler-hardware, §valves): PWM on a carrier of its own phase; the spool's opening follows the command
-  with a first-order lag; flow by the isentropic nozzle law (Saint-Venant-Wantzel, critical ratio
-  ``(2 / (kappa + 1)) ** (kappa / (kappa - 1))``, laminar within 0.1 % of equal pressures), not
-  the ISO 6358 conductance.
+- Valves (§crawler-hardware, §valves): PWM on a carrier of its own phase; the spool's opening
+  follows the command with a first-order lag; flow by the isentropic nozzle law
+  (Saint-Venant-Wantzel, critical ratio ``(2 / (kappa + 1)) ** (kappa / (kappa - 1))``, laminar
+  within 0.1 % of equal pressures), not the ISO 6358 conductance.
 - Chambers: mass and energy balances of the air (kappa 1.4) with heat exchange to the silicone
   wall over ``tau_wall``, not a polytropic law; the central chamber grows with the elongation and
   bulges with its pressure; an extremal chamber grows as its silicone spreads on the ground.
@@ -51,7 +51,7 @@ T_ROOM = 293.15  # K
 R_CRIT = (2 / (KAPPA + 1)) ** (KAPPA / (KAPPA - 1))  # 0.528
 S_A = 9.62e-4  # m^2: the central actuator's 35 mm section (§two-mass)
 V_CENTRAL = 5.87e-5  # m^3: 30 mm bore x 83 mm (§crawler-hardware)
-V_EXTREMAL = 1.41e-5  # m^3: 30 mm bore x 20 mm (§crawler-hardware, §thermal-model6 mm with the connector)
+V_EXTREMAL = 1.41e-5  # m^3: 30 mm bore x 20 mm (§crawler-hardware: 26 mm with the connector)
 # a miniature solenoid valve: Cd A of a 0.55 mm orifice (§crawler-hardware names none)
 VALVE_AREA = 2.5e-7  # m^2
 THETA = math.radians(7.5)  # §gait's board

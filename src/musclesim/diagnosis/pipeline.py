@@ -1,6 +1,5 @@
 """`musclesim diagnose`: where a model misses its bench, which unmodelled effect causes it, and how
-far the gap shrinks once that effect is added, judged on held-out data (DESIGN.md, "Sim-to-real
-gap diagnosis").
+far the gap shrinks once that effect is added, judged on held-out data (§diagnosis).
 
 The steps, on a measured data set (`musclesim.diagnosis.dataset`), each printed as it starts:
 

@@ -1,5 +1,6 @@
-"""The diagnosis's files: report.json (the stable shape documented in README.md, "Diagnosis"),
-report.md (the same, readable) and its plots signals.png and effects.png."""
+"""The diagnosis's files: report.json (its shape: the JSON Schema
+musclesim/schemas/report.schema.json, §report-format), report.md (the same, readable) and its plots
+signals.png and effects.png."""
 import json
 import math
 from pathlib import Path

@@ -3,7 +3,7 @@
 Gaps and noise floors are normalised by each signal's measured range (0.01 = 1 % of the range).
 A "noise floor" is a signal's estimated white-noise std
 (`musclesim.diagnosis.stats.noise_estimate`), never below `NOISE_FLOOR`. The reports quoted in
-README.md ("Diagnosis": the worked examples, the blind benchmark's scores) depend on these
+the docs (the worked examples, §diagnosis; the dated results page) depend on these
 values; changing one changes them.
 """
 
@@ -91,7 +91,7 @@ STEPS = 2
 MAX_ITERATIONS = 8
 TOLERANCE = 1e-4
 # Points of a periodic parameter's scan over one period (a PWM carrier's phase): the crawler
-# bench's nominal gap over its carrier phase was one smooth well (components/pneumatic/README.md);
+# bench's nominal gap over its carrier phase was one smooth well (§valves);
 # one valve's under a jittery duty has side wells a few tenths of a period from the true one
 # (tests/diagnosis/test_calibration.py): eighths start the local fit inside the true well.
 PERIOD_POINTS = 8
@@ -104,11 +104,11 @@ PERIOD_POINTS = 8
 REFINED = 2
 
 # Least-squares passes of a fit at most: the sensor channels' latencies (MAX_ALIGN) chosen again
-# between passes and held within each (a latency switching inside a pass makes the residuals
-# jump, and the trust region stalls next to the jump), and a pass from fresh differences after
-# one that stopped short while its cost still fell (a trust region can collapse where an
-# updated Jacobian is wrong; a fresh one shows whether the optimum is there). Each pass lowers the cost;
-# two or three end it in practice (a lag trades at most MAX_ALIGN samples against the latency).
+# between passes and held within each (a latency switching inside a pass makes the residuals jump,
+# and the trust region stalls next to the jump), and a pass from fresh differences after one that
+# stopped short while its cost still fell (a trust region can collapse where an updated Jacobian is
+# wrong; a fresh one shows whether the optimum is there). Each pass lowers the cost; two or three
+# end it in practice (a lag trades at most MAX_ALIGN samples against the latency).
 PASSES = 4
 
 # -- statistics -----------------------------------------------------------------------------------

@@ -1,6 +1,6 @@
 """The SMA wire's hysteresis as a study: FORC identification from the identification runs and its
-validation on the virtual wire (§forc-identification), the loop explorer (steady peak-to-peak strain of cycled
-temperature bands), the long-duration drift test (§drift) and the timing of the Preisach
+validation on the virtual wire (§forc-identification), the loop explorer (steady peak-to-peak strain
+of cycled temperature bands), the long-duration drift test (§drift) and the timing of the Preisach
 core.
 """
 from musclesim.hysteresis.drift import Protocol as DriftProtocol

@@ -9,7 +9,7 @@ The wire is the SmaWire FMU's hysteresis and drift cores (`musclesim.components.
 `.drift`), stepped exactly as the FMU steps them but with the temperature imposed (an ideal
 temperature loop, as sma-drift.toml's PI nearly is: 0.1 K RMS): 50 000 s of co-simulation at the
 loop's 200 Hz would be 10 million steps of several FMUs, this is one Preisach step per sample
-(`samples_per_cycle` per 20 s cycle, 200 by default: 3.1 K at most between samples).
+(`samples_per_cycle` per 20 s cycle, 200 by default: 1.6 K at most between samples).
 """
 import json
 import math

@@ -1,4 +1,5 @@
-"""`musclesim identify`: FORC surfaces from the recorded identification experiments (§forc-identification).
+"""`musclesim identify`: FORC surfaces from the recorded identification experiments
+(§forc-identification).
 
 Input: the records of ``scenarios/sma-forc-identification.toml`` at several constant stresses (the
 case folders of a sweep, each with results.csv and summary.json). Per stress level the
@@ -67,7 +68,8 @@ class Record:
 
 
 def grid_from_parameters(params):
-    """Peak grid [C] of a ForcReference with these (partial) parameters (defaults: §forc-identification).
+    """Peak grid [C] of a ForcReference with these (partial) parameters (defaults:
+    §forc-identification).
 
     Examples
     --------
@@ -310,7 +312,8 @@ def identify(paths, out_path=None, columns=COLUMNS):
         out_path.parent.mkdir(parents=True, exist_ok=True)
         tmp = out_path.with_name(f".{out_path.name}.tmp")  # renamed in place: never half-written
         forcfile.write(tmp, temps, stresses, table, comments=[
-            "identified by `musclesim identify` from the FORC experiments (§forc-identification) in",
+            "identified by `musclesim identify` from the FORC experiments "
+            "(§forc-identification) in",
             *(f"  {levels[s][0]} ({s:g} Pa)" for s in stresses)])
         os.replace(tmp, out_path)
     return surface

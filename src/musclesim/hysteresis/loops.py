@@ -1,4 +1,5 @@
-"""Loop explorer: steady strain loops of temperature bands cycled at constant stress (§forc-identification, §capstan-multiplier).
+"""Loop explorer: steady strain loops of temperature bands cycled at constant stress
+(§forc-identification, §capstan-multiplier).
 
 A band T_lo:T_hi is cycled along a cosine from T_lo a few times through the Preisach forward model
 (§preisach); from the second cycle on the loop repeats, and its peak-to-peak strain equals the FORC

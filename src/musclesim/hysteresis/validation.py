@@ -107,8 +107,9 @@ def validation_runs(surface, truth=None, duration=550.0, dt=0.05):
 
 
 def memory_checks(surface=None, sigma=120e6):
-    """Rate independence, wiping-out and congruency of the virtual wire's hysteresis (§forc-identification)
-    at constant stress; each number is a largest strain difference that must vanish.
+    """Rate independence, wiping-out and congruency of the virtual wire's hysteresis
+    (§forc-identification) at constant stress; each number is a largest strain difference that must
+    vanish.
 
     - ``rate_independence``: a sine path 30 -> 120 -> 45 -> 100 -> 30 C sampled at 0.1 s for one
       run and at 1 s for one ten times as slow, compared as strain against temperature on the
@@ -122,8 +123,8 @@ def memory_checks(surface=None, sigma=120e6):
       strains), its strain relative to the loop's start compared along the loop: minor loops
       between the same bounds are congruent.
 
-    Returns {name: largest |difference|}, ``memory`` (above), ``loop_span`` (the congruent loops' strain span) and
-    ``offset`` (how far apart the two histories put the loops' starts).
+    Returns {name: largest |difference|}, ``memory`` (above), ``loop_span`` (the congruent loops'
+    strain span) and ``offset`` (how far apart the two histories put the loops' starts).
     """
     from musclesim.components.sma import datasets
     from musclesim.components.sma.preisach import MemoryParams, PreisachModel
