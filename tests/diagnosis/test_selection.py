@@ -135,7 +135,8 @@ def fake_unit(observed=(TC, STRAIN)):
     """One run: the first half trains, the second is held out; the wire feeds the
     thermocouple."""
     part = np.r_[np.zeros(N // 2, np.int8), np.ones(N // 2, np.int8)]
-    scenario = SimpleNamespace(connections=(("wire.T", "thermocouple.T"),))
+    scenario = SimpleNamespace(instances={"wire": None, "thermocouple": None},
+                               connections=(("wire.T", "thermocouple.T"),))
     return SimpleNamespace(observed=observed, noise={c: FLOOR / 3 for c in observed},
                            instances=("thermocouple", "wire"),
                            runs=[SimpleNamespace(part=part, time=0.02 * np.arange(N),

@@ -1,5 +1,6 @@
 """One co-simulation run: build the FMUs, host them in this process, read and check a scenario
 file, step it with the master algorithm, write its results, export it as SSP, read time series.
+A scenario's data flow (`Graph`: which instance feeds which) serves the master and the diagnosis.
 
 The data path of a run is ``load_scenario`` -> ``Master(...).run()`` -> ``write_results``;
 ``run_scenario`` does all three (with the freshness check of the FMUs) for the command line and
@@ -10,6 +11,7 @@ SIGINT or SIGTERM at the next step with what was written kept (``interruptible``
 ``Interrupted``).
 """
 from musclesim.cosim.build import build_all, check_fresh, source_digest
+from musclesim.cosim.graph import Graph, Link
 from musclesim.cosim.host import forget_fmu_resource_paths, read_fmu, reuse_fmus
 from musclesim.cosim.interrupt import Interrupted, interruptible
 from musclesim.cosim.master import Master
@@ -27,5 +29,6 @@ __all__ = ["build_all", "check_fresh", "source_digest", "forget_fmu_resource_pat
            "reuse_fmus",
            "Master", "compute_metrics", "metric_unit", "signal_units", "write_results",
            "run_scenario", "Instance", "Scenario", "split_signal", "load_scenario", "export_ssp",
+           "Graph", "Link",
            "read_time_series", "Interrupted", "interruptible", "check_output_dir",
            "check_output_file", "replace_file", "save_figure"]

@@ -33,6 +33,7 @@ from fmpy.fmi2 import FMU2Slave
 from musclesim.cosim import interrupt
 from musclesim.cosim.host import (LOG_SINKS, callbacks, extract_fmu, extracted_fmu,
                                   forget_fmu_resource_paths, read_fmu)
+from musclesim.cosim.graph import Graph
 from musclesim.cosim.scenario import split_signal
 from musclesim.errors import UserError
 
@@ -77,18 +78,6 @@ def _remove_orphans():
             shutil.rmtree(folder, ignore_errors=True)
         except OSError:  # alive, another user's
             continue
-
-
-def _topological(nodes, edges, pick_in_cycle):
-    """Order `nodes` so that a -> b edges put a first; `pick_in_cycle(remaining)` breaks cycles."""
-    incoming = {n: {a for a, b in edges if b == n and a != n} for n in nodes}
-    order, remaining = [], list(nodes)
-    while remaining:
-        ready = [n for n in remaining if not incoming[n] & set(remaining)]
-        nxt = ready[0] if ready else pick_in_cycle(remaining)
-        order.append(nxt)
-        remaining.remove(nxt)
-    return order
 
 
 def _check(status, function):
@@ -252,12 +241,8 @@ class Master:
     def _plan(self, problems):
         s = self.scenario
         names = list(self.instances)
-        ft_edges, edges = set(), set()
-        for src, dst in s.connections:
-            a, b = split_signal(src)[0], split_signal(dst)[0]
-            edges.add((a, b))
-            if self.instances[b].feedthrough.get(split_signal(dst)[1]):
-                ft_edges.add((a, b))
+        graph = Graph(s)
+        ft_edges = graph.edges(lambda inst, var: self.instances[inst].feedthrough.get(var))
 
         def algebraic_loop(remaining):
             loop = [n for n in remaining if any((m, n) in ft_edges for m in remaining)]
@@ -265,8 +250,8 @@ class Master:
                             "other's inputs at the same instant (direct feedthrough in a cycle)")
             return remaining[0]
 
-        self.exchange_order = _topological(names, ft_edges, algebraic_loop)
-        self.step_order = _topological(names, edges, lambda remaining: remaining[0])
+        self.exchange_order = graph.order(ft_edges, algebraic_loop)
+        self.step_order = graph.order(graph.edges(), lambda remaining: remaining[0])
         if problems:
             return
 

@@ -14,7 +14,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from musclesim.cosim import Master, load_scenario, read_fmu, split_signal
+from musclesim.cosim import Graph, Master, load_scenario, read_fmu, split_signal
 from musclesim.diagnosis.effects import COUPLED_PORTS, by_component, calibration_of
 from musclesim.diagnosis.stats import noise_estimate
 from musclesim.diagnosis.thresholds import METRIC_FLOOR, NOISE_FLOOR
@@ -41,7 +41,7 @@ class Run:
         if not self.sources:
             return s, self.inputs
         keep = set(s.instances) - set(self.sources)
-        return _reduce(s, keep, self.fed, s.record), {**self.inputs, **self.fed}
+        return Graph(s).restrict(keep, self.fed, s.record), {**self.inputs, **self.fed}
 
 
 @dataclass
@@ -73,27 +73,6 @@ def _variables(s, fmu_dir):
     return out
 
 
-def _closure(s, start, measured):
-    """`start` plus the instances upstream of it whose signals are not `measured`."""
-    unit, changed = set(start), True
-    while changed:
-        changed = False
-        for src, dst in s.connections:
-            a, b = split_signal(src)[0], split_signal(dst)[0]
-            if b in unit and a not in unit and src not in measured and dst not in measured:
-                unit.add(a)
-                changed = True
-    return unit
-
-
-def _reduce(s, keep, replay_from, record):
-    """The scenario restricted to `keep`, inputs fed by `replay_from` ({dst: column}) dropped."""
-    conns = tuple((a, b) for a, b in s.connections if split_signal(a)[0] in keep
-                  and split_signal(b)[0] in keep and b not in replay_from)
-    return replace(s, instances={n: i for n, i in s.instances.items() if n in keep},
-                   connections=conns, record=tuple(record), metrics={}, plots=())
-
-
 def _sources(s, observed):
     """The instances of scenario `s` that nothing a diagnosis fits can change: their component
     declares no effect and no calibration parameter, they read only replayed inputs or other
@@ -105,18 +84,9 @@ def _sources(s, observed):
     its output after its step)."""
     if s.algorithm != "jacobi":
         return set()
-    out = {n for n, i in s.instances.items() if not by_component(i.component)
-           and not calibration_of(i.component)
-           and not any(split_signal(c)[0] == n for c in observed)}
-    changed = True
-    while changed:
-        changed = False
-        for src, dst in s.connections:
-            a, b = split_signal(src)[0], split_signal(dst)[0]
-            if b in out and a not in out:
-                out.discard(b)
-                changed = True
-    return out
+    return Graph(s).fed_within(
+        n for n, i in s.instances.items() if not by_component(i.component)
+        and not calibration_of(i.component) and not any(split_signal(c)[0] == n for c in observed))
 
 
 def _replays(s, keep, columns, input_columns, cut_all=False):
@@ -130,21 +100,16 @@ def _replays(s, keep, columns, input_columns, cut_all=False):
     quantisation.
     """
     out = {}
-    for src, dst in s.connections:
-        if split_signal(dst)[0] not in keep:
+    for k in Graph(s).links:
+        if k.target not in keep:
             continue
-        source, variable = split_signal(src)
-        if dst in columns:
-            out[dst] = dst
-        elif src in columns and (source not in keep or (
-                cut_all and not variable.startswith(COUPLED_PORTS))):
-            out[dst] = src
+        if k.dst in columns:
+            out[k.dst] = k.dst
+        elif k.src in columns and (k.source not in keep or (
+                cut_all and not k.output.startswith(COUPLED_PORTS))):
+            out[k.dst] = k.src
     out.update({c: c for c in input_columns if split_signal(c)[0] in keep})
     return out
-
-
-def _inputs_of(s, keep):
-    return {dst for _, dst in s.connections if split_signal(dst)[0] in keep}
 
 
 class Problem:
@@ -191,7 +156,7 @@ class Problem:
             s = self.scenarios[ename]
             if instances is None:
                 # everything the observed columns depend on, minus what is replayed
-                keep = _closure(s, {split_signal(c)[0] for c in ds.outputs}, replayed_cols)
+                keep = Graph(s).upstream({split_signal(c)[0] for c in ds.outputs}, replayed_cols)
             else:
                 keep = set(instances)
             replay = _replays(s, keep, replayed_cols, self.input_columns & replayed_cols,
@@ -200,7 +165,7 @@ class Problem:
             observed = obs if observed is None else observed
             t, cols = ds.experiment(ename)
             t0 = t[0]
-            red = _span_scenario(_reduce(s, keep, replay, obs), t[-1] - t0)
+            red = _span_scenario(Graph(s).restrict(keep, replay, obs), t[-1] - t0)
             grid = t0 + np.arange(red.n_steps + 1) * red.step
             inputs = {dst: np.interp(grid, t, cols[col]) for dst, col in replay.items()}
             part = self._parts(ename, t)
@@ -226,13 +191,13 @@ class Problem:
         (`_sources`) in scenario `s` with replayed `inputs`, from one run of those that feed
         another instance and the sources upstream of them, alone (once for every unit that has
         the same)."""
-        feeds = [(a, b) for a, b in s.connections
-                 if split_signal(a)[0] in sources and split_signal(b)[0] not in sources]
+        graph = Graph(s)
+        feeds = [k for k in graph.links if k.source in sources and k.target not in sources]
         if not feeds:
             return {}
         # and the sources upstream of them (not one that feeds nothing)
-        needed = _closure(s, {split_signal(a)[0] for a, _ in feeds}, ())
-        alone = _reduce(s, needed, {}, dict.fromkeys(a for a, _ in feeds))
+        needed = graph.upstream({k.source for k in feeds})
+        alone = graph.restrict(needed, record=dict.fromkeys(k.src for k in feeds))
         replayed = {k: v for k, v in inputs.items() if split_signal(k)[0] in needed}
         key = (repr(alone), tuple((k, v.tobytes()) for k, v in sorted(replayed.items())))
         if key not in self._recorded:  # every unit of the experiment has the same sources
@@ -241,7 +206,7 @@ class Problem:
                 raise UserError(f"data set {self.ds.path}: {res.error}")
             self._recorded[key] = res
         res = self._recorded[key]
-        return {b: res[a] for a, b in feeds}
+        return {k.dst: res[k.src] for k in feeds}
 
     def _parts(self, ename, t):
         train, held = self.part_names
@@ -291,13 +256,13 @@ class Problem:
         if self.scalar_only:
             return []
         ds = self.ds
-        s = next(iter(self.scenarios.values()))
+        graph = Graph(next(iter(self.scenarios.values())))
         measured = set(ds.columns)
         subjects = {}
-        for inst in s.instances:
-            subjects.setdefault(frozenset(_closure(s, {inst}, measured)), []).append(inst)
+        for inst in graph.instances:
+            subjects.setdefault(frozenset(graph.upstream({inst}, measured)), []).append(inst)
         out = sorted((k for k in subjects if any(
-            split_signal(c)[0] in k and c not in _inputs_of(s, k) for c in ds.outputs)),
+            split_signal(c)[0] in k and c not in graph.inputs_of(k) for c in ds.outputs)),
             key=lambda k: (len(k), sorted(k)))
         return [replace(self.unit(" + ".join(sorted(k)), sorted(k)), subjects=tuple(subjects[k]))
                 for k in out]
@@ -306,15 +271,7 @@ class Problem:
 def downstream(unit, instances):
     """`instances` and every instance they feed within `unit` (connections replayed from data
     cut)."""
-    reach, changed = set(instances), True
-    while changed:
-        changed = False
-        for src, dst in unit.runs[0].scenario.connections:
-            a, b = split_signal(src)[0], split_signal(dst)[0]
-            if a in reach and b not in reach:
-                reach.add(b)
-                changed = True
-    return reach
+    return Graph(unit.runs[0].scenario).downstream(instances)
 
 
 def affected(unit, instances):
