@@ -12,7 +12,7 @@ and quantisation, strain-gauge noise, quantisation and a one-sample latency).
   and mean tension of each 20 ms, the thermocouple and the laser sampled, both with noise); LP I
   trains, the other loading profiles are held out. Its model is scenarios/sma-position-wire.toml.
 - sma-independent-thermocouple-lag: 120 s of the independent bench (physics written apart from
-  the library, src/musclesim/diagnosis/independent.py) with its conditions drawn around the
+  the library, src/musclesim/benchmark/benches/sma.py) with its conditions drawn around the
   model's (ambient not stated) and a thermocouple whose coat makes it lag; the model is
   scenarios/sma-bench-tracking.toml, the voltage replayed.
 - sma-independent-thermocouple-bias: the same bench (other conditions, ambient not stated) with a
@@ -26,8 +26,8 @@ import numpy as np
 from musclesim.components.sma import profiles
 from musclesim.cosim import Master, load_scenario
 from musclesim.diagnosis import write_data_set
-from musclesim.diagnosis import independent_plan
-from musclesim.diagnosis.blind import BENCHES, record
+from musclesim.benchmark import plan as independent_plan
+from musclesim.benchmark.blind import BENCHES, record
 
 HERE = Path(__file__).parent
 EXAMPLES = {

@@ -2,7 +2,7 @@
 diagnose, benchmark-diagnosis, bench, linear, characterise, table.
 
 The top layer: it parses arguments, calls the public interfaces of the layers below (cosim, batch,
-analysis, hysteresis, diagnosis) and prints; nothing imports it.
+analysis, hysteresis, diagnosis, benchmark) and prints; nothing imports it.
 
 Mistakes a user can fix end in one sentence on stderr and exit status 2; a failed simulation
 exits with status 1 after writing the results it reached.
@@ -196,7 +196,7 @@ def _cmd_diagnose(args):
 def _cmd_benchmark_diagnosis(args):
     from musclesim.batch import dask_client, dask_map
     from musclesim.cosim import check_fresh
-    from musclesim.diagnosis import run_blind_benchmark
+    from musclesim.benchmark import run_blind_benchmark
 
     check_fresh(args.fmus)
     with dask_client(args.scheduler, args.workers) as client:

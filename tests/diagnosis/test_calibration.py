@@ -12,7 +12,7 @@ import pytest
 from musclesim.batch import serial_map
 from musclesim.cosim import Master, load_scenario, reuse_fmus
 from musclesim.diagnosis import dataset, diagnose
-from musclesim.diagnosis.blind import write_data_set
+from musclesim.diagnosis import write_data_set
 from musclesim.diagnosis.fitting import Free, fit, fit_all
 from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.selection import calibration, scanned

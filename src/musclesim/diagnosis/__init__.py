@@ -1,25 +1,38 @@
 """The sim-to-real gap diagnosis: why does a model not match its bench?
 
 The data path is a measured data set (``load_dataset``: data.csv + manifest.toml, checked against
-its scenario) -> ``diagnose`` (where the model misses, which unmodelled effect of ``EFFECTS``
-explains it, how far the held-out gap shrinks) -> ``write_report`` (report.json, report.md,
-plots). ``run_blind_benchmark`` checks the diagnosis blind on virtual hardware with hidden
-effects, and ``write_data_set`` writes a recorded data set in the format ``load_dataset`` reads.
+its scenario; ``write_data_set`` writes one) -> ``diagnose`` (where the model misses, which
+unmodelled effect of ``EFFECTS`` explains it, how far the held-out gap shrinks) ->
+``write_report`` (report.json, report.md, plots).
 
 Modules: dataset (measured data sets), effects (the effect library and the per-component
 knowledge the diagnosis uses), thresholds (every threshold, documented), problem (the units
-simulated against the data), simulate, stats, regimes, fitting, selection (the stages'
-work), pipeline (`diagnose`), report (the files), blind (the benchmark), independent,
-independent_crawler and independent_plan (the benchmark's SMA and crawler benches written apart
-from the library, and their cases).
+simulated against the data), simulate, stats, regimes, fitting, selection (the stages' work),
+pipeline (`diagnose`), report (the files).
+
+The stages' building blocks are public too, for the blind benchmark above this layer
+(`musclesim.benchmark`), which records cases, fits its oracle and scores the diagnosis with them:
+``Problem`` and ``affected`` (the units simulated against data), ``simulate_unit``, ``with_values``,
+``residuals`` and ``Failed`` (runs), ``gap`` (the normalised RMS gap), ``fit``, ``Free`` and
+``values_of`` (bounded least squares of free parameters), ``calibration`` and ``judge`` (the
+calibration parameters of a unit, an effect's judgement), ``regime_masks`` and ``find_effect``.
 """
-from musclesim.diagnosis.blind import run as run_blind_benchmark
-from musclesim.diagnosis.blind import write_data_set
 from musclesim.diagnosis.dataset import DataSet
 from musclesim.diagnosis.dataset import load as load_dataset
+from musclesim.diagnosis.dataset import write as write_data_set
 from musclesim.diagnosis.effects import EFFECTS, REGIMES, Effect
+from musclesim.diagnosis.effects import find as find_effect
+from musclesim.diagnosis.fitting import Free, fit, values_of
 from musclesim.diagnosis.pipeline import diagnose
+from musclesim.diagnosis.problem import Problem, affected
+from musclesim.diagnosis.regimes import regimes as regime_masks
 from musclesim.diagnosis.report import write as write_report
+from musclesim.diagnosis.selection import calibration, judge
+from musclesim.diagnosis.simulate import Failed, residuals, with_values
+from musclesim.diagnosis.simulate import simulate as simulate_unit
+from musclesim.diagnosis.stats import gap
 
-__all__ = ["load_dataset", "DataSet", "diagnose", "write_report", "run_blind_benchmark",
-           "write_data_set", "EFFECTS", "REGIMES", "Effect"]
+__all__ = ["load_dataset", "DataSet", "write_data_set", "diagnose", "write_report", "EFFECTS",
+           "REGIMES", "Effect", "find_effect", "Problem", "affected", "simulate_unit", "with_values",
+           "residuals", "Failed", "gap", "fit", "Free", "values_of", "calibration", "judge",
+           "regime_masks"]

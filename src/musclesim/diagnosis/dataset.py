@@ -1,4 +1,4 @@
-"""Measured data sets for the sim-to-real gap diagnosis: the format, loading and validation.
+"""Measured data sets for the sim-to-real gap diagnosis: the format, loading, validation, writing.
 
 A measured data set is a directory holding ``manifest.toml`` and, for time series, ``data.csv``
 in the format of a run's ``results.csv``; the manifest names the scenario, the replayed input and
@@ -32,6 +32,7 @@ Examples
 >>> ds.experiment("all/held_out")[0]
 array([2., 3.])
 """
+import json
 import math
 import tomllib
 from dataclasses import dataclass, field, replace
@@ -258,6 +259,26 @@ def _with_models(ds, models, scenarios_dir, problems):
             e = replace(e, scenario=ref, scenario_path=path if path and path.is_file() else None)
         experiments[name] = e
     return replace(ds, experiments=experiments)
+
+
+def write(path, time, cols, inputs, outputs, scenario_ref, description="", conditions=None,
+          held_out_fraction=0.35):
+    """Write a measured data set: data.csv (`time` and the columns `inputs` + `outputs` of
+    `cols`) and manifest.toml (scenario `scenario_ref`, the last `held_out_fraction` of the data
+    held out; `conditions` ({"instance.variable": value}) its ``[conditions]`` table), the
+    format `load` reads."""
+    path = Path(path)
+    path.mkdir(parents=True, exist_ok=True)
+    names = inputs + outputs
+    np.savetxt(path / DATA, np.column_stack([time] + [cols[c] for c in names]),
+               delimiter=",", header=",".join(["time", *names]), comments="", fmt="%.9g")
+    lines = [f"description = {json.dumps(description)}", f"scenario = {json.dumps(scenario_ref)}",
+             f"inputs = {json.dumps(inputs)}", f"outputs = {json.dumps(outputs)}", "",
+             "[split]", f"held_out_fraction = {held_out_fraction}", ""]
+    if conditions:
+        lines += ["[conditions]"] + [f"{json.dumps(k)} = {float(v)!r}"
+                                     for k, v in conditions.items()] + [""]
+    (path / MANIFEST).write_text("\n".join(lines))
 
 
 def _read_manifest(path, problems):

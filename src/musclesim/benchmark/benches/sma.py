@@ -1,6 +1,6 @@
 """An SMA bench written apart from the library: a wire of non-uniform temperature, sensors, a PI.
 
-The independent virtual hardware of the blind benchmark (`musclesim.diagnosis.independent_plan`
+The independent virtual hardware of the blind benchmark (`musclesim.benchmark.plan`
 draws its cases). Nothing here comes from `musclesim.components`; the physics is another
 representation than the library's, so that model and bench never differ by one effect alone:
 

@@ -9,8 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from musclesim.diagnosis import blind, independent_plan, load_dataset
-from musclesim.diagnosis import independent_crawler as ic
+from musclesim.benchmark import blind
+from musclesim.benchmark import plan as independent_plan
+from musclesim.benchmark.benches import crawler as ic
+from musclesim.diagnosis import load_dataset
 
 ROOT = Path(__file__).resolve().parents[2]
 NOMINAL = ic.Crawler()  # the model's values, ideal sensors
@@ -129,12 +131,12 @@ def test_crawler_plan_is_reproducible_and_its_data_load_against_the_model(fmu_di
     assert ds.outputs == tuple(independent_plan.CRAWLER_OUTPUTS)
     assert ds.time[-1] == pytest.approx(2.0)
     for effect in independent_plan.CRAWLER_LIBRARY:  # each hidden effect is a library effect
-        assert independent_plan.find(effect).component in ("SoftActuator", "CrawlerBody",
+        assert independent_plan.find_effect(effect).component in ("SoftActuator", "CrawlerBody",
                                                            "FrictionBlock")
 
 
 def test_the_crawler_bench_imports_nothing_of_the_library():
-    tree = ast.parse((ROOT / "src/musclesim/diagnosis/independent_crawler.py").read_text())
+    tree = ast.parse((ROOT / "src/musclesim/benchmark/benches/crawler.py").read_text())
     modules = [a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names]
     modules += [n.module or "" for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)]
     assert not [m for m in modules if m.startswith("musclesim")]  # numpy only

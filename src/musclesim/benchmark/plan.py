@@ -1,6 +1,6 @@
 """The blind benchmark's cases on the independent bench: conditions, hidden effects, key, oracle.
 
-Every case runs `musclesim.diagnosis.independent`'s bench (physics written apart from the
+Every case runs `musclesim.benchmark.benches.sma`'s bench (physics written apart from the
 library) with its conditions drawn around the model's values (`conditions`: ambient +-5 K, wire
 length, h +-20 %, resistivity +-5 %, lead resistance, clamp contact, emissivity, load, PI gains,
 sensor dynamics, gains, offsets, noise and latency) and, by kind:
@@ -8,14 +8,14 @@ sensor dynamics, gains, offsets, noise and latency) and, by kind:
 - ``effect``: one of `LIBRARY`, the library's effects implemented here independently (`hidden`),
   the key its library name;
 - ``decoy``: the hidden half of a pair with a look-alike in the library (the ``decoys`` given,
-  blind.py's `DECOYS`), the key its name;
+  `musclesim.benchmark.blind.DECOYS`), the key its name;
 - ``none``: nothing hidden beyond the conditions, the key None;
 - ``outside``: a change the library does not hold (`OUTSIDE`), the key its name.
 
 The bench's ambient is stated to the diagnosis (``[conditions]`` "wire.T_amb", read by a room
 thermometer to +-0.2 K) in a share `KNOWN_AMBIENT` of the cases, as a user would measure it.
 The crawler's cases (`plan_crawler`, ids ``case-c000``, ...) run
-`musclesim.diagnosis.independent_crawler`'s bench up the 7.5 deg board for `CRAWLER_DURATION`,
+`musclesim.benchmark.benches.crawler`'s bench up the 7.5 deg board for `CRAWLER_DURATION`,
 their conditions drawn around the model's (`crawler_conditions`: incline, masses, stiffness and
 its hardening, damping, the pressure's effective area, friction, the contact's thresholds and
 spreading, pumps, valves, the air's heat exchange, PI gains, sensor tubes, video), with the
@@ -28,16 +28,11 @@ import math
 
 import numpy as np
 
-from musclesim.diagnosis import independent_crawler as crawler
-from musclesim.diagnosis.dataset import load as load_dataset
-from musclesim.diagnosis.effects import find
-from musclesim.diagnosis.fitting import Free, fit, values_of
-from musclesim.diagnosis.independent import LENGTH, STRESS, Bench, run
-from musclesim.diagnosis.problem import Problem, affected
-from musclesim.diagnosis.regimes import regimes
-from musclesim.diagnosis.selection import calibration, judge
-from musclesim.diagnosis.simulate import Failed, residuals, simulate
-from musclesim.diagnosis.stats import gap
+from musclesim.benchmark.benches import crawler
+from musclesim.benchmark.benches.sma import LENGTH, STRESS, Bench, run
+from musclesim.diagnosis import (Failed, Free, Problem, affected, calibration, find_effect, fit,
+                                 gap, judge, load_dataset, regime_masks, residuals, simulate_unit,
+                                 values_of)
 
 BENCH = "independent"
 SCENARIO = "sma-bench-tracking"  # the model the data sets name (its reference, PID, 125 MPa)
@@ -48,7 +43,7 @@ LIBRARY = ("thermocouple lag", "thermocouple bias", "latent heat", "convection c
            "clamp heat loss")
 OUTSIDE = ("clamp slip", "gauge drift", "draught", "two effects")
 KNOWN_AMBIENT = 0.5  # share of the cases whose data set states the ambient temperature
-SHARES = {"none": 0.15, "outside": 0.15, "decoy": 0.15}  # the rest: effect (as blind.py)
+SHARES = {"none": 0.15, "outside": 0.15, "decoy": 0.15}  # the rest: effect (as in `blind`)
 
 
 def _log_uniform(rng, lo, hi):
@@ -277,13 +272,13 @@ def oracle(args):
     unit = problem.replayed()
     if ours is None:  # no report section 5: the case failed, our model is the nominal one
         try:
-            before = gap(unit, residuals(unit, simulate(unit, {}, fmu_dir)), 1)
+            before = gap(unit, residuals(unit, simulate_unit(unit, {}, fmu_dir)), 1)
         except Failed:
             before = math.inf
         ours = {"before": before, "after": before}
     best = identifiable = None
     if keyed:
-        effect = find(case["effect"])
+        effect = find_effect(case["effect"])
         insts = tuple(n for n, c in problem.components.items() if c == effect.component)
         free = [Free(insts, p.name, p.lower, p.upper, p.off) for p in effect.parameters]
         calib = calibration(problem, unit)
@@ -304,10 +299,10 @@ def _counts(problem, unit, effect, instances, f, calibrated):
     if not calibrated or f["residuals"] is None:
         return None
     try:
-        base = residuals(unit, simulate(unit, calibrated, problem.fmu_dir))
+        base = residuals(unit, simulate_unit(unit, calibrated, problem.fmu_dir))
     except Failed:
         return None
-    masks = regimes(problem, problem.unit("model"))
+    masks = regime_masks(problem, problem.unit("model"))
     return judge(unit, base, f["residuals"], affected(unit, instances), effect.regime,
                  masks)["counts"]
 
@@ -320,7 +315,7 @@ def _scan(unit, free, fmu_dir, fixed):
     best, start = math.inf, [f.start for f in free]
     for x in itertools.product(*axes):
         try:
-            res = residuals(unit, simulate(unit, {**fixed, **values_of(free, x)}, fmu_dir,
+            res = residuals(unit, simulate_unit(unit, {**fixed, **values_of(free, x)}, fmu_dir,
                                            part=0))
         except Failed:
             continue

@@ -28,8 +28,8 @@ at its true values), the false-alarm rate over ``none`` cases (a verdict naming 
 ``unexplained`` rate over ``outside`` cases.
 
 With ``bench="independent"`` the cases run instead on an SMA bench written apart from the library
-(`musclesim.diagnosis.independent`, cases from `musclesim.diagnosis.independent_plan`), and on
-request on a crawler written apart too (`musclesim.diagnosis.independent_crawler`), whose
+(`musclesim.benchmark.benches.sma`, cases from `musclesim.benchmark.plan`), and on
+request on a crawler written apart too (`musclesim.benchmark.benches.crawler`), whose
 conditions are drawn around the model's; its scores go under "independent" in scores.json, next
 to the own bench's (see `score` for what counts there).
 """
@@ -43,14 +43,10 @@ from pathlib import Path
 import numpy as np
 
 from musclesim.batch import serial_map
+from musclesim.benchmark import plan as independent_plan
 from musclesim.cosim import Master, load_scenario, replace_file
-from musclesim.diagnosis import independent_plan
-from musclesim.diagnosis.dataset import DATA, MANIFEST
-from musclesim.diagnosis.dataset import load as load_dataset
-from musclesim.diagnosis.pipeline import diagnose
-from musclesim.diagnosis.problem import Problem
-from musclesim.diagnosis.simulate import Failed, residuals, simulate, with_values
-from musclesim.diagnosis.stats import gap
+from musclesim.diagnosis import (Failed, Problem, diagnose, gap, load_dataset, residuals,
+                                 simulate_unit, with_values, write_data_set)
 from musclesim.errors import UserError
 
 # the benches: scenario, replayed inputs, observed outputs, the effects that can hide in them
@@ -271,31 +267,14 @@ def _outside_strain(case, t):
     return add
 
 
-def write_data_set(path, time, cols, inputs, outputs, scenario_ref, description="",
-                   conditions=None):
-    """Write a measured data set (data.csv + manifest.toml) blocked in time for held-out;
-    `conditions` ({"instance.variable": value}) become its ``[conditions]`` table."""
-    path = Path(path)
-    path.mkdir(parents=True, exist_ok=True)
-    names = inputs + outputs
-    np.savetxt(path / DATA, np.column_stack([time] + [cols[c] for c in names]),
-               delimiter=",", header=",".join(["time", *names]), comments="", fmt="%.9g")
-    lines = [f"description = {json.dumps(description)}", f"scenario = {json.dumps(scenario_ref)}",
-             f"inputs = {json.dumps(inputs)}", f"outputs = {json.dumps(outputs)}", "",
-             "[split]", f"held_out_fraction = {HELD_OUT_FRACTION}", ""]
-    if conditions:
-        lines += ["[conditions]"] + [f"{json.dumps(k)} = {float(v)!r}"
-                                     for k, v in conditions.items()] + [""]
-    (path / MANIFEST).write_text("\n".join(lines))
-
-
 def _make(args):
     case, out, scenarios_dir, fmu_dir = args
     time, cols = record(case, scenarios_dir, fmu_dir)
     name, inputs, outputs, _ = BENCHES[case["bench"]]
     ref = str(_scenario_path(case["bench"], scenarios_dir).resolve())
     write_data_set(Path(out) / "cases" / case["case"], time, cols, inputs, outputs, ref,
-                   f"blind case {case['case']} on bench {name}")
+                   f"blind case {case['case']} on bench {name}",
+                   held_out_fraction=HELD_OUT_FRACTION)
     return case["case"]
 
 
@@ -319,7 +298,7 @@ def _oracle(args):
 
     def heldout(values):
         try:
-            sims = simulate(whole, values, fmu_dir)
+            sims = simulate_unit(whole, values, fmu_dir)
         except Failed:
             return math.inf
         return gap(whole, residuals(whole, sims), 1)
@@ -339,7 +318,8 @@ def _make_independent(args):
         if case["bench"] == "independent-crawler" else (ip.SCENARIO, ip.INPUTS, ip.OUTPUTS, "SMA"))
     ref = str((Path(scenarios_dir) / f"{scenario}.toml").resolve())
     write_data_set(Path(out) / "cases" / case["case"], time, cols, inputs, outputs, ref,
-                   f"blind case {case['case']} on the independent {what} bench", stated)
+                   f"blind case {case['case']} on the independent {what} bench", stated,
+                   held_out_fraction=HELD_OUT_FRACTION)
     return case["case"]
 
 
@@ -354,7 +334,7 @@ def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, 
 
     `bench` "own" records on the library's FMUs with hidden effects switched on (cases in
     ``out/cases``, scores at the top of ``out/scores.json``); "independent" on
-    `musclesim.diagnosis.independent`'s bench, `duration` seconds each (default
+    `musclesim.benchmark.benches.sma`'s bench, `duration` seconds each (default
     `independent_plan.DURATION`; cases, key in ``out/independent``, scores under the key
     "independent" of ``out/scores.json``). Each keeps the other's scores in the file.
     """

@@ -9,8 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from musclesim.diagnosis import blind, independent_plan, load_dataset
-from musclesim.diagnosis import independent as ib
+from musclesim.benchmark import blind
+from musclesim.benchmark import plan as independent_plan
+from musclesim.diagnosis import load_dataset
+from musclesim.benchmark.benches import sma as ib
 
 from conftest import schema_errors
 
@@ -163,10 +165,10 @@ def _imports(path):
 
 
 def test_the_bench_imports_nothing_of_the_library_physics():
-    folder = ROOT / "src" / "musclesim" / "diagnosis"
-    physics = _imports(folder / "independent.py")
+    folder = ROOT / "src" / "musclesim" / "benchmark"
+    physics = _imports(folder / "benches" / "sma.py")
     assert not [m for m in physics if m.startswith("musclesim")]  # numpy and scipy only
-    plan = _imports(folder / "independent_plan.py")
+    plan = _imports(folder / "plan.py")
     assert not [m for m in plan if "components" in m]
 
 

@@ -4,7 +4,8 @@ measures."""
 import numpy as np
 import pytest
 
-from musclesim.diagnosis import blind, effects
+from musclesim.benchmark import blind
+from musclesim.diagnosis import effects
 
 from conftest import SCENARIOS
 

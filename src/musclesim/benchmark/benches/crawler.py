@@ -2,7 +2,7 @@
 friction, a nonlinear actuator, slow video.
 
 The independent virtual hardware of the crawler cases of the blind benchmark
-(`musclesim.diagnosis.independent_plan` draws them). Nothing here comes from
+(`musclesim.benchmark.plan` draws them). Nothing here comes from
 `musclesim.components`; each part is another representation than the library's:
 
 - Valves (§crawler-hardware, §valves): PWM on a carrier of its own phase; the spool's opening

@@ -1,0 +1,15 @@
+"""The diagnosis's blind test lab: virtual benches with hidden causes, sealed keys, scores.
+
+Above the diagnosis (`musclesim.diagnosis`), whose public interface it uses and never changes:
+``run_blind_benchmark`` records cases on virtual hardware (the library's own FMUs with a hidden
+effect, or benches written apart from the library, `benches`), writes their data without labels
+and a sealed key, diagnoses every case and scores the verdicts against the key.
+
+Modules: blind (the benchmark: cases on the own benches, recording, diagnosing, scores), plan
+(the independent benches' cases: conditions, hidden causes, the oracle), benches.sma and
+benches.crawler (an SMA tracking bench and a pneumatic crawler written apart from the library,
+numpy and scipy only).
+"""
+from musclesim.benchmark.blind import run as run_blind_benchmark
+
+__all__ = ["run_blind_benchmark"]
