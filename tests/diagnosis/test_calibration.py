@@ -13,7 +13,7 @@ from musclesim.batch import serial_map
 from musclesim.cosim import Master, load_scenario, reuse_fmus
 from musclesim.diagnosis import dataset, diagnose
 from musclesim.diagnosis import write_data_set
-from musclesim.diagnosis.fitting import Free, fit, fit_all
+from musclesim.diagnosis.fitting import FitJob, Free, fit, fit_all
 from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.selection import calibration, scanned
 from musclesim.diagnosis.simulate import simulate
@@ -55,8 +55,8 @@ def test_calibration_recovers_known_offsets(fmus, tmp_path):
         whole = problem.unit("model")
         free = calibration(problem, whole)
         f = fit(whole, free, fmus, scan=0)
-    got = {f"{fr.instances[0]}.{fr.name}": (x, iv) for fr, x, iv in zip(free, f["x"],
-                                                                        f["interval"])}
+    got = {f"{fr.instances[0]}.{fr.name}": (x, iv) for fr, x, iv in zip(free, f.x,
+                                                                        f.interval)}
     # the ambient, the hysteresis's shift and strain scale are pinned by the data: recovered
     # within their 95 % intervals
     for name, tolerance in (("wire.T_amb", 0.3), ("wire.hysteresis_shift", 0.2),
@@ -64,7 +64,7 @@ def test_calibration_recovers_known_offsets(fmus, tmp_path):
         x, (lo, hi) = got[name]
         assert x == pytest.approx(truth[name], abs=tolerance) and lo <= truth[name] <= hi, name
     assert_thermal_ridge({k: x for k, (x, _) in got.items()}, 115.0, 800.0)
-    assert f["heldout_gap"] < 3 * 0.002  # within the noise after calibration
+    assert f.heldout_gap < 3 * 0.002  # within the noise after calibration
 
 
 def assert_thermal_ridge(values, h, specific_heat, rho_austenite=1e-6, rho_martensite=8e-7):
@@ -114,8 +114,7 @@ def test_fits_steered_side_by_side_give_the_fits_run_as_tasks(fmus, tmp_path):
     unit = problem.unit("model")
     calib = calibration(problem, unit)[:3]
     lag = [Free(("thermocouple",), "tau", 0.0, 2.0, 0.0)]
-    jobs = [(unit, calib, fmus, None, None, 0, None, None),
-            (unit, lag + calib, fmus, None, None, 1, None, None)]
+    jobs = [FitJob(unit, calib, fmus, scan=0), FitJob(unit, lag + calib, fmus, scan=1)]
     lock, calls = threading.Lock(), []
 
     def elsewhere(fn, items):
@@ -128,9 +127,9 @@ def test_fits_steered_side_by_side_give_the_fits_run_as_tasks(fmus, tmp_path):
     with reuse_fmus():
         alone, side_by_side = fit_all(jobs, serial_map), fit_all(jobs, elsewhere)
     for a, b in zip(alone, side_by_side):
-        assert a["x"] == b["x"] and a["interval"] == b["interval"]
-        assert a["heldout_gap"] == b["heldout_gap"] and a["evaluations"] == b["evaluations"]
-        assert np.array_equal(a["jac"], b["jac"]) and a["latency"] == b["latency"]
+        assert a.x == b.x and a.interval == b.interval
+        assert a.heldout_gap == b.heldout_gap and a.evaluations == b.evaluations
+        assert np.array_equal(a.jac, b.jac) and a.latency == b.latency
     assert len({name for name, _ in calls}) == 2
     assert max(n for _, n in calls) >= len(calib)  # a Jacobian's columns mapped together
 
@@ -221,8 +220,7 @@ def test_calibration_finds_a_pwm_carrier_phase_in_any_well(fmus, tmp_path):
         free = calibration(problem, unit)
         assert [f.name for f in free][0] == "pwm_phase" and scanned(free) == 1
         found, unscanned = (fit(unit, free, fmus, scan=n) for n in (1, 0))
-    phase, (lo, hi) = found["x"][0], found["interval"][0]
+    phase, (lo, hi) = found.x[0], found.interval[0]
     assert phase == pytest.approx(0.6, abs=0.005) and lo <= 0.6 <= hi
-    assert found["heldout_gap"] < 3 * 50 / 40e3  # within the noise
-    assert abs(unscanned["x"][0] - 0.6) > 0.25 and unscanned["heldout_gap"] > 10 * found[
-        "heldout_gap"]
+    assert found.heldout_gap < 3 * 50 / 40e3  # within the noise
+    assert abs(unscanned.x[0] - 0.6) > 0.25 and unscanned.heldout_gap > 10 * found.heldout_gap

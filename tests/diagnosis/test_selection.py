@@ -1,17 +1,19 @@
 """Choosing the effect on hand-made numbers (no FMU): the verdict in each of its cases, what is
 explained, the signature, an effect judged against calibration on the signals it can change."""
+import math
+from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
 from musclesim.diagnosis import effects, selection
-from musclesim.diagnosis.fitting import Free
+from musclesim.diagnosis.fitting import FitResult, Free
 from musclesim.diagnosis.selection import (Candidate, aliasing, baseline, cross_signal,
                                            explained, gain_signature, judge, moved, rank,
                                            refine, score, signature, stand_ins, switched_off,
                                            verdict)
-from musclesim.diagnosis.stats import gap
+from musclesim.diagnosis.stats import HELD_OUT, gap
 from musclesim.diagnosis.thresholds import REFINED, SIGNATURE_MIN
 
 FLOOR = 0.01
@@ -83,11 +85,11 @@ def test_aliasing_of_an_effect_by_the_calibration_on_synthetic_sensitivities():
     res = {TC: [noise(9)]}
     base = {"residuals": res, "heldout_gap": gap(unit, res, 1)}
     calib = [Free(("wire",), n, 0.0, 1.0, 0.5) for n in ("T_amb", "hysteresis_shift", "h")]
-    f = {**fitted(unit, res), "x": [1.0, 0.5, 0.5, 0.5], "jac": jac,
-         "interval": [(0.9, 1.1)] + [(0.4, 0.6)] * 3}
+    f = fitted(unit, res, x=[1.0, 0.5, 0.5, 0.5], jac=jac,
+               interval=[(0.9, 1.1)] + [(0.4, 0.6)] * 3)
     e = score(unit, base, candidate("thermocouple bias", "thermocouple"), f, {}, calib)
     assert e["aliasing"]["share"] == pytest.approx(1.0)
-    f["x"][1] = 1.0  # the ambient at its upper bound
+    f.x[1] = 1.0  # the ambient at its upper bound
     e = score(unit, base, candidate("thermocouple bias", "thermocouple"), f, {}, calib)
     assert e["aliasing"]["share"] < 0.01 and "wire.T_amb" not in e["aliasing"]["with"]
     # the verdict names a stand-in only when it does not count and is aliased enough
@@ -101,20 +103,25 @@ def test_aliasing_of_an_effect_by_the_calibration_on_synthetic_sensitivities():
     assert "thermocouple lag" not in why
 
 
+def left(heldout_gap):
+    """A final fit that leaves `heldout_gap` (the verdict reads only that)."""
+    return FitResult([], [], {}, 0.0, heldout_gap, True, 1, None, {})
+
+
 def test_verdict_names_the_effect_with_its_share_complete_or_not():
     lag = entry("thermocouple lag", gain=0.6)
     gaps = {"nominal": 0.5, "calibrated": 0.1}
-    v, why, done = verdict([lag], {"heldout_gap": 0.02}, gaps, FLOOR, CALIBRATED)
+    v, why, done = verdict([lag], left(0.02), gaps, FLOOR, CALIBRATED)
     assert v == "thermocouple lag" and done and "explains 60% [55%, 65%]" in why
     assert "of the calibrated model's held-out gap on" in why
     # judged against its own fit with the effect off: the explanation says so
     why = verdict([{**lag, "baseline": "its own fit with the effect off"}],
-                  {"heldout_gap": 0.02}, gaps, FLOOR, CALIBRATED)[1]
+                  left(0.02), gaps, FLOOR, CALIBRATED)[1]
     assert "of the held-out gap of its own fit with the effect off (a better calibration)" in why
-    v, why, done = verdict([lag], {"heldout_gap": 0.2}, gaps, FLOOR, CALIBRATED)
+    v, why, done = verdict([lag], left(0.2), gaps, FLOOR, CALIBRATED)
     assert v == "thermocouple lag" and not done and "20.0 noise floors" in why
     pair = [lag, entry("latent heat")]
-    assert "thermocouple lag + latent heat" in verdict(pair, {"heldout_gap": 0.01}, gaps, FLOOR,
+    assert "thermocouple lag + latent heat" in verdict(pair, left(0.01), gaps, FLOOR,
                                                          CALIBRATED)[1]
 
 
@@ -184,9 +191,12 @@ def candidate(name, instance):
                                       for p in e.parameters])
 
 
-def fitted(unit, res, x=3.0):
-    return {"x": [x], "interval": [(x - 0.1, x + 0.1)], "residuals": res,
-            "heldout_gap": gap(unit, res, 1), "applicable": True}
+def fitted(unit, res, x=3.0, **changed):
+    """A `FitResult` of one parameter at `x` with residuals `res` (fields `changed`)."""
+    interval = [(x - 0.1, x + 0.1)] if isinstance(x, float) else []
+    f = FitResult(x if isinstance(x, list) else [x], interval, res, math.inf,
+                  gap(unit, res, HELD_OUT), True, 1, None, {})
+    return replace(f, **changed)
 
 
 def test_a_sensor_effect_is_judged_on_its_channel_not_drowned_by_another_signal():
@@ -207,7 +217,7 @@ def test_a_sensor_effect_is_judged_on_its_channel_not_drowned_by_another_signal(
     # the wire's effect acts on both signals and is judged on both
     wire = score(unit, base, candidate("latent heat", "wire"), fitted(unit, res, 1e4), {})
     assert wire["judged"]["signals"] == [TC, STRAIN]
-    failed = dict(fitted(unit, res), residuals=None, heldout_gap=float("inf"))
+    failed = fitted(unit, res, residuals=None, heldout_gap=float("inf"))
     e = score(unit, base, candidate("thermocouple bias", "thermocouple"), failed, {})
     assert not e["counts"] and e["interval"] == [0.0, 0.0]
 
@@ -258,10 +268,9 @@ def test_switched_off_runs_each_fit_with_its_effect_at_its_off_value(monkeypatch
     unit = fake_unit((TC,))
     eff = [Free(("thermocouple",), "bias", -10.0, 10.0, 0.0)]
     cal = [Free(("wire",), "h", 50.0, 200.0, 100.0)]
-    fits = [{"x": [3.0, 120.0], "residuals": {}, "applicable": True},
-            {"x": [1.0, 90.0], "residuals": None, "applicable": True},
-            {"x": [2.0, 80.0], "residuals": {}, "applicable": True},
-            {"x": [0.0, 95.0], "residuals": {}, "applicable": False}]
+    fits = [FitResult(x, [], res, 0.0, 0.0, applicable, 1, None, {})
+            for x, res, applicable in (([3.0, 120.0], {}, True), ([1.0, 90.0], None, True),
+                                       ([2.0, 80.0], {}, True), ([0.0, 95.0], {}, False))]
     sent, read = [], []
 
     def pmap(task, jobs):  # the first run succeeds, the second fails
@@ -293,24 +302,24 @@ def test_cross_signal_places_the_gap_in_the_sensor_or_in_the_plant():
 
 
 def test_refine_refits_the_best_two_from_their_values_and_keeps_only_improvements():
-    def fit(train, x, applicable=True):
-        return {"x": x, "train_gap": train, "residuals": [], "applicable": applicable}
+    def fit(train, x, applicable=True, residuals=()):
+        return FitResult(x, [], residuals, train, math.inf, applicable, 1, None, {})
 
     first = [fit(0.5, [1.0]), fit(0.2, [2.0]), fit(0.1, [3.0], applicable=False),
-             fit(0.3, [4.0]), {**fit(0.05, [5.0]), "residuals": None}]  # a failed fit
+             fit(0.3, [4.0]), fit(0.05, [5.0], residuals=None)]  # a failed fit
     cands = [SimpleNamespace(free=[f"effect{i}"]) for i in range(len(first))]
     asked = []
 
     def pmap(task, jobs):  # a refit improves the second (0.2 -> 0.15), not the fourth
         asked.extend(jobs)
-        return [fit({2.0: 0.15, 4.0: 0.35}[job[4][0]], [job[4][0] + 0.5]) for job in jobs]
+        return [fit({2.0: 0.15, 4.0: 0.35}[job.x0[0]], [job.x0[0] + 0.5]) for job in jobs]
 
     out = refine("unit", cands, first, ["calib"], {"tc": 1}, "fmus", pmap)
     # the applicable, successful fits with the lowest training cost, from their own values,
     # every Jacobian column fresh (known None) and the calibration's latency held
-    assert REFINED == 2 and [job[4] for job in asked] == [[2.0], [4.0]]
-    assert all(job[1] == [f"effect{i}", "calib"] and job[6] is None and job[7] == {"tc": 1}
-               for job, i in zip(asked, (1, 3)))
-    assert out[1]["train_gap"] == 0.15 and out[1]["x"] == [2.5]
+    assert REFINED == 2 and [job.x0 for job in asked] == [[2.0], [4.0]]
+    assert all(job.free == [f"effect{i}", "calib"] and job.known is None
+               and job.latency == {"tc": 1} and job.scan == 0 for job, i in zip(asked, (1, 3)))
+    assert out[1].train_gap == 0.15 and out[1].x == [2.5]
     assert out[3] is first[3] and out[0] is first[0]
     assert refine("unit", cands, first, [], {}, "fmus", pmap) is first  # nothing calibrated

@@ -45,8 +45,8 @@ import numpy as np
 from musclesim.batch import serial_map
 from musclesim.benchmark import plan as independent_plan
 from musclesim.cosim import Master, load_scenario, replace_file
-from musclesim.diagnosis import (Failed, Problem, diagnose, gap, load_dataset, residuals,
-                                 simulate_unit, with_values, write_data_set)
+from musclesim.diagnosis import (HELD_OUT, Failed, Problem, diagnose, gap, load_dataset,
+                                 residuals, simulate_unit, with_values, write_data_set)
 from musclesim.errors import UserError
 
 # the benches: scenario, replayed inputs, observed outputs, the effects that can hide in them
@@ -301,7 +301,7 @@ def _oracle(args):
             sims = simulate_unit(whole, values, fmu_dir)
         except Failed:
             return math.inf
-        return gap(whole, residuals(whole, sims), 1)
+        return gap(whole, residuals(whole, sims), HELD_OUT)
 
     truth = {tuple(k.split(".", 1)): v for k, v in case["values"].items()}
     ours = report.get("shrinkage", {}).get("all")

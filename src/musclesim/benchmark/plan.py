@@ -30,9 +30,9 @@ import numpy as np
 
 from musclesim.benchmark.benches import crawler
 from musclesim.benchmark.benches.sma import LENGTH, STRESS, Bench, run
-from musclesim.diagnosis import (Failed, Free, Problem, affected, calibration, find_effect, fit,
-                                 gap, judge, load_dataset, regime_masks, residuals, simulate_unit,
-                                 values_of)
+from musclesim.diagnosis import (HELD_OUT, TRAIN, Failed, Free, Problem, affected, calibration,
+                                 find_effect, fit, gap, judge, load_dataset, regime_masks,
+                                 residuals, simulate_unit, values_of)
 
 BENCH = "independent"
 SCENARIO = "sma-bench-tracking"  # the model the data sets name (its reference, PID, 125 MPa)
@@ -272,7 +272,7 @@ def oracle(args):
     unit = problem.replayed()
     if ours is None:  # no report section 5: the case failed, our model is the nominal one
         try:
-            before = gap(unit, residuals(unit, simulate_unit(unit, {}, fmu_dir)), 1)
+            before = gap(unit, residuals(unit, simulate_unit(unit, {}, fmu_dir)), HELD_OUT)
         except Failed:
             before = math.inf
         ours = {"before": before, "after": before}
@@ -287,7 +287,7 @@ def oracle(args):
                  for fr in calib]
         start = _scan(unit, free, fmu_dir, values_of(calib, x_cal))
         f = fit(unit, free + calib, fmu_dir, x0=start + x_cal, scan=0)
-        best = f["heldout_gap"]
+        best = f.heldout_gap
         identifiable = _counts(problem, unit, effect, insts, f, values_of(calib, x_cal))
     return {"before": ours["before"], "oracle": best, "ours": ours["after"],
             "identifiable": identifiable}
@@ -296,14 +296,14 @@ def oracle(args):
 def _counts(problem, unit, effect, instances, f, calibrated):
     """Whether `effect` on `instances` fitted as `f` counts over the model at the `calibrated`
     values by the diagnosis's rules (None: no calibrated values, or a run failed)."""
-    if not calibrated or f["residuals"] is None:
+    if not calibrated or f.residuals is None:
         return None
     try:
         base = residuals(unit, simulate_unit(unit, calibrated, problem.fmu_dir))
     except Failed:
         return None
     masks = regime_masks(problem, problem.unit("model"))
-    return judge(unit, base, f["residuals"], affected(unit, instances), effect.regime,
+    return judge(unit, base, f.residuals, affected(unit, instances), effect.regime,
                  masks)["counts"]
 
 
@@ -316,10 +316,10 @@ def _scan(unit, free, fmu_dir, fixed):
     for x in itertools.product(*axes):
         try:
             res = residuals(unit, simulate_unit(unit, {**fixed, **values_of(free, x)}, fmu_dir,
-                                           part=0))
+                                           part=TRAIN))
         except Failed:
             continue
-        cost = gap(unit, res, 0)
+        cost = gap(unit, res, TRAIN)
         if cost < best:
             best, start = cost, list(x)
     return start

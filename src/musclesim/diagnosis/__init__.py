@@ -13,7 +13,8 @@ pipeline (`diagnose`), report (the files).
 The stages' building blocks are public too, for the blind benchmark above this layer
 (`musclesim.benchmark`), which records cases, fits its oracle and scores the diagnosis with them:
 ``Problem`` and ``affected`` (the units simulated against data), ``simulate_unit``, ``with_values``,
-``residuals`` and ``Failed`` (runs), ``gap`` (the normalised RMS gap), ``fit``, ``Free`` and
+``residuals`` and ``Failed`` (runs), ``gap`` (the normalised RMS gap of a ``Part``, ``TRAIN`` or
+``HELD_OUT``), ``fit``, ``Free`` and
 ``values_of`` (bounded least squares of free parameters), ``calibration`` and ``judge`` (the
 calibration parameters of a unit, an effect's judgement), ``regime_masks`` and ``find_effect``.
 """
@@ -30,9 +31,9 @@ from musclesim.diagnosis.report import write as write_report
 from musclesim.diagnosis.selection import calibration, judge
 from musclesim.diagnosis.simulate import Failed, residuals, with_values
 from musclesim.diagnosis.simulate import simulate as simulate_unit
-from musclesim.diagnosis.stats import gap
+from musclesim.diagnosis.stats import HELD_OUT, TRAIN, Part, gap
 
 __all__ = ["load_dataset", "DataSet", "write_data_set", "diagnose", "write_report", "EFFECTS",
            "REGIMES", "Effect", "find_effect", "Problem", "affected", "simulate_unit", "with_values",
            "residuals", "Failed", "gap", "fit", "Free", "values_of", "calibration", "judge",
-           "regime_masks"]
+           "regime_masks", "Part", "TRAIN", "HELD_OUT"]

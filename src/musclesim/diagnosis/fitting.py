@@ -1,11 +1,11 @@
-"""Fitting free parameters of a unit on the training part: `Free`, `fit` and its 95 % intervals.
+"""Fitting free parameters of a unit on the training part: `Free`, `fit` (a `FitJob` run by a
+`Fit`, giving a `FitResult`) and its 95 % intervals.
 
 A fit scans the parameters' box coarsely, then runs bounded trust-region least squares from the
 best point; it is scored on the held-out part by the caller. `fit_all` runs several fits on a
 ``pmap``: each as one task (`fit_task`), or, on a map that runs its tasks elsewhere side by side
 (Dask's), each steered from a thread here with every simulation a task.
 """
-import itertools
 import math
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -17,7 +17,7 @@ from musclesim.batch import serial_map
 from musclesim.cosim import reuse_fmus
 
 from musclesim.diagnosis.simulate import Failed, residuals, simulate
-from musclesim.diagnosis.stats import gap, part_rows, part_vector
+from musclesim.diagnosis.stats import HELD_OUT, TRAIN, gap, part_rows, part_vector
 from musclesim.diagnosis.thresholds import (MAX_ITERATIONS, PASSES, PERIOD_POINTS, STEPS,
                                            TOLERANCE)
 
@@ -37,6 +37,40 @@ class Free:
 def values_of(free, x):
     """``{(instance, parameter): value}`` of the `Free` parameters `free` at values `x`."""
     return {(inst, f.name): v for f, v in zip(free, x) for inst in f.instances}
+
+
+@dataclass(frozen=True)
+class FitJob:
+    """What `fit` fits: `free` on `unit`'s training part, the other values `fixed`; from `x0`
+    (default the nominal values) after a scan of the first `scan` parameters (default all);
+    `known` Jacobian columns reused, `latency` held (see `fit`)."""
+
+    unit: object
+    free: list
+    fmu_dir: str
+    fixed: dict = None
+    x0: list = None
+    scan: int = None
+    known: dict = None
+    latency: dict = None
+
+
+@dataclass(frozen=True)
+class FitResult:
+    """A fit's outcome: the values `x` with their 95 % `interval`s, the residuals of the whole
+    runs there (None when they fail), the gaps on the training and the held-out part, whether
+    the parameters change the cost at all (`applicable`), the runs it took, the Jacobian at `x`
+    (box coordinates) and the sensor latencies held."""
+
+    x: list
+    interval: list
+    residuals: object
+    train_gap: float
+    heldout_gap: float
+    applicable: bool
+    evaluations: int
+    jac: object
+    latency: dict
 
 
 def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency=None,
@@ -65,143 +99,184 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     last. A latency trades against a lag effect on its channel (up to MAX_ALIGN samples of it):
     holding the calibration's while an effect is fitted keeps that trade the same for every
     candidate. Every point of the scan and of least squares is simulated as far as the training
-    part reaches (``simulate(..., part=0)``); only the fitted values are run to the end, for the
+    part reaches (``simulate(..., part=TRAIN)``); only the fitted values are run to the end, for the
     held-out residuals of the result. The points a step needs together (a Jacobian's, a scan's)
     are simulated with `pmap` (default: here, one after the other; the unit sent once where
     ``pmap.share`` can); a pass's first point goes with its differences' runs when together
     they fit on the map's workers at once (``pmap.width()``). Every run is a pure function of
     its point, so the result does not depend on the map.
     """
-    fixed = dict(fixed or {})
-    lo = np.array([f.lower for f in free])
-    span = np.array([f.upper - f.lower for f in free])
-    cache, align = {}, {}  # align: the sensor latencies held during least squares
-    sent = pmap.share(unit) if hasattr(pmap, "share") else unit  # what each task carries
-    mapped = pmap or serial_map
-    width = pmap.width() if hasattr(pmap, "width") else 1  # runs the map makes at once
+    return Fit(FitJob(unit, free, fmu_dir, fixed, x0, scan, known, latency), pmap).result()
 
-    def task(x, part):  # the run of values `x` as `simulation_task` takes it
-        return sent, {**fixed, **values_of(free, x)}, fmu_dir, part
 
-    def key(z):  # a point as the cache knows it
+class Fit:
+    """One fit in progress (see `fit`): its runs cached by point, the sensor latencies held, and
+    the secant Jacobian of the current least-squares pass. Points are box coordinates [0, 1]."""
+
+    def __init__(self, job, pmap=None):
+        self.job, self.free = job, job.free
+        self.fixed, self.known = dict(job.fixed or {}), job.known
+        self.lo = np.array([f.lower for f in self.free])
+        self.span = np.array([f.upper - f.lower for f in self.free])
+        self.cache, self.align, self.secant = {}, {}, {}
+        self.sent = pmap.share(job.unit) if hasattr(pmap, "share") else job.unit
+        self.mapped = pmap or serial_map
+        self.width = pmap.width() if hasattr(pmap, "width") else 1  # runs the map makes at once
+
+    # -- runs ---------------------------------------------------------------------------------
+    def task(self, x, part):
+        """The run of values `x` as `simulation_task` takes it."""
+        return self.sent, {**self.fixed, **values_of(self.free, x)}, self.job.fmu_dir, part
+
+    @staticmethod
+    def key(z):
+        """A point as the cache knows it."""
         return tuple(np.round(z, 12))
 
-    def simulated(points, whole=()):  # the training runs of each point not run yet and the
-        # whole runs of the values `whole` (returned), mapped together
+    def simulated(self, points, whole=()):
+        """Run, mapped together, the training part of each of `points` not run yet and the whole
+        runs of the values `whole` (returned)."""
         new = {}
-        for k, z in ((key(z), z) for z in points):
-            if k not in cache:
-                new.setdefault(k, lo + span * np.clip(z, 0, 1))
-        runs = mapped(simulation_task, [task(x, None) for x in whole]
-                      + [task(x, 0) for x in new.values()])
-        cache.update(zip(new, runs[len(whole):]))
+        for k, z in ((self.key(z), z) for z in points):
+            if k not in self.cache:
+                new.setdefault(k, self.lo + self.span * np.clip(z, 0, 1))
+        runs = self.mapped(simulation_task, [self.task(x, None) for x in whole]
+                           + [self.task(x, TRAIN) for x in new.values()])
+        self.cache.update(zip(new, runs[len(whole):]))
         return runs[:len(whole)]
 
-    def run(z, free_choice=False):
-        simulated([z])
-        sims = cache[key(z)]
-        return None if sims is None else residuals(unit, sims,
-                                                   align=None if free_choice else align)
+    def run(self, z, free_choice=False):
+        """The residuals at `z` (None if its run failed), at the latencies held unless
+        `free_choice`."""
+        self.simulated([z])
+        sims = self.cache[self.key(z)]
+        return None if sims is None else residuals(self.job.unit, sims,
+                                                   align=None if free_choice else self.align)
 
-    def latencies(z):
+    def latencies(self, z):
+        """The sensor latencies that fit best at `z`."""
         chosen = {}
-        if run(z, True) is not None:
-            residuals(unit, cache[key(z)], chosen)
+        if self.run(z, True) is not None:
+            residuals(self.job.unit, self.cache[self.key(z)], chosen)
         return chosen
 
-    def train_vector(z):
-        res = run(z)
+    def train_vector(self, z):
+        """The training residual vector at `z` (large where the run failed)."""
+        res = self.run(z)
         if res is None:
-            return np.full(_train_size(unit), 1e3)
-        return part_vector(unit, res, 0)
+            return np.full(_train_size(self.job.unit), 1e3)
+        return part_vector(self.job.unit, res, TRAIN)
 
-    def cost(z):  # each point at its best latencies
-        res = run(z, True)
-        return 1e6 if res is None else float(np.sum(np.square(part_vector(unit, res, 0))))
+    def cost(self, z):
+        """The training cost at `z`, at its best latencies."""
+        res = self.run(z, True)
+        return 1e6 if res is None else float(np.sum(np.square(part_vector(self.job.unit, res,
+                                                                          TRAIN))))
 
-    def differences(z):  # [(column, step, point)] of the Jacobian's unknown columns at z
+    # -- the Jacobian -------------------------------------------------------------------------
+    def differences(self, z):
+        """[(column, step, point)] of the Jacobian's unknown columns at `z`."""
         return [(i, _step(z[i]), z + np.eye(len(z))[i] * _step(z[i])) for i in range(len(z))
-                if i not in (known or {})]
+                if i not in (self.known or {})]
 
-    secant = {}  # the pass's Jacobian, the point it belongs to, the residuals there
-
-    def jac(z):  # finite differences at a pass's start, Broyden's update at each accepted step
-        f = train_vector(z)
+    def jac(self, z):
+        """Finite differences at a pass's start, Broyden's update at each accepted step."""
+        f, secant = self.train_vector(z), self.secant
         if secant:
             s, J, fresh = z - secant["z"], secant["J"], secant["fresh"]
             if s.any():
                 J, fresh = J + np.outer(f - secant["f"] - J @ s, s) / (s @ s), False
         else:
-            J, fresh = differenced(z), True
+            J, fresh = self.differenced(z), True
         # still falling: the step to here lowered the cost by more than the tolerance
         falling = "f" in secant and secant["f"] @ secant["f"] - f @ f > TOLERANCE * (
             secant["f"] @ secant["f"])
         secant.update(J=J, z=z.copy(), f=f, falling=falling, fresh=fresh)
         return J
 
-    def differenced(z):  # the Jacobian of the `known` columns and differences at z
-        steps = differences(z)
-        simulated([p for _, _, p in steps])
-        f = train_vector(z)
+    def differenced(self, z):
+        """The Jacobian at `z`: the `known` columns, and differences."""
+        steps = self.differences(z)
+        self.simulated([p for _, _, p in steps])
+        f = self.train_vector(z)
         J = np.empty((f.size, len(z)))
-        for i, col in (known or {}).items():
+        for i, col in (self.known or {}).items():
             J[:, i] = col
         for i, h, p in steps:
-            J[:, i] = (train_vector(p) - f) / h
+            J[:, i] = (self.train_vector(p) - f) / h
         return J
 
-    def trial(z):  # least squares' residual vector at z; at a pass's start the runs of the
-        # Jacobian's differences go beside it when together they take no more than the map
-        # runs at once (the Jacobian follows unless the start fails)
-        steps = differences(z)
-        if not secant and 1 + len(steps) <= width:
-            simulated([z] + [p for _, _, p in steps])
-        return train_vector(z)
+    def trial(self, z):
+        """Least squares' residual vector at `z`; at a pass's start the runs of the Jacobian's
+        differences go beside it when together they take no more than the map runs at once
+        (the Jacobian follows unless the start fails)."""
+        steps = self.differences(z)
+        if not self.secant and 1 + len(steps) <= self.width:
+            self.simulated([z] + [p for _, _, p in steps])
+        return self.train_vector(z)
 
-    scan = len(free) if scan is None else scan
-    base = np.clip((np.array(x0 if x0 is not None else [f.start for f in free]) - lo) / span,
-                   0, 1)
-    z0, applicable = base, True
-    if scan:
+    # -- the fit ------------------------------------------------------------------------------
+    def start(self):
+        """(the point least squares starts from, applicable) after the scan."""
+        job, free = self.job, self.free
+        scan = len(free) if job.scan is None else job.scan
+        base = np.clip((np.array(job.x0 if job.x0 is not None else [f.start for f in free])
+                        - self.lo) / self.span, 0, 1)
+        if not scan:
+            return base, True
         axes = [_axis(base[i]) if not free[i].period else
-                _period_axis(base[i], free[i].period / span[i]) for i in range(scan)]
-        z0, applicable = _scan(base, axes, cost, simulated)
-    z, interval, J = z0, [(float(a), float(a + w)) for a, w in zip(lo, span)], None
-    # least squares with the sensor latencies held (the residuals then move smoothly with the
-    # parameters): the given `latency`, else chosen again after each pass. A pass that stopped
-    # short, its cost still falling at its last accepted step (its steps shrank to nothing
-    # under an updated Jacobian, or its evaluations ran out), goes on from fresh differences;
-    # columns given as `known` are not fresh in any pass, so such a fit takes no second pass for
-    # that (its refinement, `selection.refine`, has none)
-    for _ in range(PASSES if applicable else 0):
-        align.clear()
-        align.update(latencies(z) if latency is None else latency)
-        secant.clear()
-        opt = optimize.least_squares(trial, z, jac=jac, bounds=(0, 1), x_scale=1.0,
-                                     ftol=TOLERANCE, xtol=TOLERANCE, method="trf",
-                                     max_nfev=max(MAX_ITERATIONS, STEPS * len(free)))
-        z, J = opt.x, opt.jac  # never above the start
-        short = not known and secant["falling"] and opt.status in (0, 3)  # evaluations, xtol
-        if not short and (latency is not None or latencies(z) == align):
-            break
-    x = lo + span * z
-    chosen = dict(align) if align else latencies(z)
-    # the fitted values over the whole runs, held-out part included; beside them, when the
-    # Jacobian was last updated by Broyden's formula (exact only along the steps taken), the
-    # runs of fresh differences there: the intervals and what reads ``jac`` (the collinearity of
-    # an effect with the calibration) take the sensitivities at the fitted values
-    refresh = J is not None and not (secant["fresh"] and np.array_equal(secant["z"], z))
-    sims = simulated([p for _, _, p in differences(z)] if refresh else [], whole=[x])[0]
-    if refresh:
-        J = differenced(z)
-    if J is not None:
-        interval = _interval(train_vector(z), J, z, lo, span)
-    res = None if sims is None else residuals(unit, sims)
-    return {"x": [float(v) for v in x], "interval": interval, "residuals": res,
-            "train_gap": gap(unit, res, 0) if res else math.inf,
-            "heldout_gap": gap(unit, res, 1) if res else math.inf,
-            "applicable": applicable, "evaluations": len(cache) + 1, "jac": J,
-            "latency": chosen}
+                _period_axis(base[i], free[i].period / self.span[i]) for i in range(scan)]
+        return _scan(base, axes, self.cost, self.simulated)
+
+    def least_squares(self, z):
+        """(point, Jacobian) after the passes of least squares from `z` with the sensor
+        latencies held (the residuals then move smoothly with the parameters): the given
+        `latency`, else chosen again after each pass. A pass that stopped short, its cost
+        still falling at its last accepted step (its steps shrank to nothing under an updated
+        Jacobian, or its evaluations ran out), goes on from fresh differences; columns given as
+        `known` are not fresh in any pass, so such a fit takes no second pass for that (its
+        refinement, `selection.refine`, has none)."""
+        J, latency = None, self.job.latency
+        for _ in range(PASSES):
+            self.align.clear()
+            self.align.update(self.latencies(z) if latency is None else latency)
+            self.secant.clear()
+            opt = optimize.least_squares(self.trial, z, jac=self.jac, bounds=(0, 1),
+                                         x_scale=1.0, ftol=TOLERANCE, xtol=TOLERANCE,
+                                         method="trf",
+                                         max_nfev=max(MAX_ITERATIONS, STEPS * len(self.free)))
+            z, J = opt.x, opt.jac  # never above the start
+            short = not self.known and self.secant["falling"] and opt.status in (0, 3)
+            if not short and (latency is not None or self.latencies(z) == self.align):
+                break
+        return z, J
+
+    def result(self):
+        """The `FitResult`: the fitted values run over the whole runs, held-out part included;
+        beside them, when the Jacobian was last updated by Broyden's formula (exact only along
+        the steps taken), the runs of fresh differences there: the intervals and what reads
+        ``jac`` (the collinearity of an effect with the calibration) take the sensitivities at
+        the fitted values."""
+        z, applicable = self.start()
+        J = None
+        if applicable:
+            z, J = self.least_squares(z)
+        x = self.lo + self.span * z
+        chosen = dict(self.align) if self.align else self.latencies(z)
+        interval = [(float(a), float(a + w)) for a, w in zip(self.lo, self.span)]
+        refresh = J is not None and not (self.secant["fresh"]
+                                         and np.array_equal(self.secant["z"], z))
+        sims = self.simulated([p for _, _, p in self.differences(z)] if refresh else [],
+                              whole=[x])[0]
+        if refresh:
+            J = self.differenced(z)
+        if J is not None:
+            interval = _interval(self.train_vector(z), J, z, self.lo, self.span)
+        res = None if sims is None else residuals(self.job.unit, sims)
+        return FitResult([float(v) for v in x], interval, res,
+                         gap(self.job.unit, res, TRAIN) if res else math.inf,
+                         gap(self.job.unit, res, HELD_OUT) if res else math.inf,
+                         applicable, len(self.cache) + 1, J, chosen)
 
 
 def known_columns(jac, k):
@@ -266,7 +341,7 @@ def _period_axis(z0, width):
 
 
 def fit_all(jobs, pmap):
-    """`fit` of every job (unit, free, fmu_dir, fixed, x0, scan, known, latency), in order.
+    """The `FitResult` of every `FitJob` of `jobs`, in order.
 
     A `pmap` that runs its tasks elsewhere and may be called from several threads at once
     (``pmap.concurrent``, as `musclesim.batch.dask_map`'s) gets every simulation of every fit as
@@ -280,17 +355,17 @@ def fit_all(jobs, pmap):
         return pmap(fit_task, jobs)
     pool = ThreadPoolExecutor(len(jobs), thread_name_prefix="musclesim-fit")
     try:
-        return list(pool.map(lambda job: fit(*job, pmap=pmap), jobs))
+        return list(pool.map(lambda job: Fit(job, pmap).result(), jobs))
     finally:  # interrupted: not waiting for the fits (their next task fails once the map's
         # client is closed)
         pool.shutdown(wait=False, cancel_futures=True)
 
 
-def fit_task(args):
-    """One fit, as a task: (unit, free, fmu_dir, fixed, x0, scan, known, latency) -> fit(),
-    its FMUs read and unpacked once for all its runs."""
+def fit_task(job):
+    """One fit, as a task: `FitJob` -> `FitResult`, its FMUs read and unpacked once for all its
+    runs."""
     with reuse_fmus():
-        return fit(*args)
+        return Fit(job).result()
 
 
 def simulation_task(args):
@@ -306,7 +381,7 @@ def simulation_task(args):
 
 
 def _train_size(unit):
-    return sum(int(np.count_nonzero(m)) for m in part_rows(unit, 0)) * len(unit.observed)
+    return sum(int(np.count_nonzero(m)) for m in part_rows(unit, TRAIN)) * len(unit.observed)
 
 
 def _interval(r, J, z, lo, span):

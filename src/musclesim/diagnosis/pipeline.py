@@ -53,17 +53,64 @@ above in `musclesim.diagnosis.thresholds`, the units in `.problem`, simulation a
 `.simulate`, statistics in `.stats`, regimes in `.regimes`, fits in `.fitting`, scoring,
 selection and verdict in `.selection`.
 """
+from dataclasses import dataclass
+
 from musclesim.batch import serial_map
 from musclesim.cosim import reuse_fmus, split_signal
-from musclesim.diagnosis.fitting import fit_all, known_columns, simulation_task, values_of
+from musclesim.diagnosis.fitting import FitJob, fit_all, known_columns, simulation_task, values_of
 from musclesim.diagnosis.problem import Problem, affected
 from musclesim.diagnosis.regimes import regime_table, regimes
 from musclesim.diagnosis.selection import (baseline, calibration, calibration_table,
                                            candidates, cross_signal, rank, refine, scanned,
                                            select, stand_ins, switched_off, verdict)
 from musclesim.diagnosis.simulate import Failed, residuals, signal_gap, simulate
-from musclesim.diagnosis.stats import before_after, deviates, gap, noise_floor
+from musclesim.diagnosis.stats import HELD_OUT, before_after, deviates, gap, noise_floor
 from musclesim.errors import UserError
+
+
+@dataclass
+class Nominal:
+    """An isolation unit's nominal run: its residuals, and whether it deviates."""
+
+    unit: object
+    residuals: dict
+    deviates: bool
+
+
+@dataclass
+class Calibration:
+    """A unit's calibration: its `Free` parameters and their fitted `values`, the residuals
+    there, the Jacobian (box coordinates) and the sensor latencies held, the report's table of
+    values, the `FitResult` (None: nothing calibrated) and the held-out gap of the nominal
+    values."""
+
+    free: list
+    values: dict
+    residuals: dict
+    jac: object
+    table: dict
+    fit: object
+    latency: dict
+    nominal_gap: float = None
+
+
+@dataclass
+class Isolation:
+    """An isolation unit, calibrated on its own: its held-out gap and noise floor, whether it
+    deviates, the nominal values' gap."""
+
+    unit: object
+    calibration: Calibration
+    gap: float
+    floor: float
+    deviates: bool
+    nominal_gap: float
+
+    def section(self):
+        """The report's entry of this unit (``units``)."""
+        return {"instances": list(self.unit.instances), "observed": list(self.unit.observed),
+                "heldout_gap_nominal": self.nominal_gap, "heldout_gap": self.gap,
+                "noise_floor": self.floor, "deviates": self.deviates}
 
 
 def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
@@ -88,22 +135,24 @@ def _diagnose(ds, fmu_dir, pmap, say, traces):
     sims, units, cut_sims = _nominal_runs(problem, whole, cut, pmap)
     res_whole = residuals(whole, sims)
     report = _gap_section(problem, whole, sims, res_whole)
-    if not report["gap"]["deviates"] and not any(u["deviates"] for u in units):
+    if not report["gap"]["deviates"] and not any(u.deviates for u in units):
         floor = report["gap"]["noise_floor"]
         none, explanation, _ = verdict([], None, {}, floor, {}, deviates=False)
         report.update(calibration={"parameters": {}}, effects=[], selected=[], stand_ins=[],
                       verdict=none, explanation=explanation, noise_floor=floor, complete=True)
-        _shrinkage(problem, report, ({}, cut_sims), {}, traces, pmap)
+        report.update(_shrinkage(problem, ({}, cut_sims), {}, traces, pmap))
         return report
     res_cut = residuals(cut, cut_sims)
     say(f"2/5 calibrating the model and {len(units)} isolation unit(s) on the training part")
-    cal, isolated = _calibrate(problem, report, (cut, res_cut), units, pmap)
+    cal, isolated = _calibrate(problem, (cut, res_cut), units, pmap)
+    report["calibration"] = _calibration_section(cut, res_cut, cal)
     say("3/5 isolating components (each unit calibrated)")
-    suspects = _where(problem, report, isolated)
+    suspects, report["located"] = _locate(problem, isolated)
+    report["units"] = [i.section() for i in isolated]
     masks = regimes(problem, whole)
-    report["regimes"] = regime_table(cut, cal["residuals"], masks)
+    report["regimes"] = regime_table(cut, cal.residuals, masks)
     values = {}
-    if not deviates(cut, cal["residuals"]) and not any(u["deviates"] for u in isolated):
+    if not deviates(cut, cal.residuals) and not any(i.deviates for i in isolated):
         floor = noise_floor(cut)
         report.update(effects=[], selected=[], stand_ins=[], verdict="recalibration",
                       complete=True, noise_floor=floor, explanation=(
@@ -112,14 +161,15 @@ def _diagnose(ds, fmu_dir, pmap, say, traces):
                           f"{report['calibration']['heldout_gap_after']:.3g}, within the noise "
                           f"(floor {floor:.3g}): no unmodelled effect is needed"))
     else:
-        fitting = _fit_unit((cut, cal), isolated, suspects)
-        report["fit_unit"] = {"instances": list(fitting[0].instances),
-                              "observed": list(fitting[0].observed),
-                              "latency": fitting[1]["latency"]}
+        unit, unit_cal, suspects = _fit_unit((cut, cal), isolated, suspects)
+        report["fit_unit"] = {"instances": list(unit.instances), "observed": list(unit.observed),
+                              "latency": unit_cal.latency}
         say("4/5 which effect: candidates fitted with the calibration parameters")
-        values = _which_effect(problem, report, fitting + (masks,), pmap, say)
+        values, section = _which_effect(problem, (unit, unit_cal, suspects, masks),
+                                        report["calibration"]["parameters"], pmap, say)
+        report.update(section)
     say("5/5 how far the gap shrinks")
-    _shrinkage(problem, report, (cal["values"], cut_sims), values, traces, pmap)
+    report.update(_shrinkage(problem, (cal.values, cut_sims), values, traces, pmap))
     return report
 
 
@@ -131,7 +181,7 @@ def _gap_section(problem, whole, sims, res_whole):
             {e.scenario for e in ds.experiments.values()}), "scalar_only": problem.scalar_only,
         "parts": {"train": list(problem.part_names[0]), "held_out": list(problem.part_names[1])},
         "gap": {"signals": signal_gap(problem, whole, sims),
-                "heldout_gap": gap(whole, res_whole, 1), "noise_floor": noise_floor(whole),
+                "heldout_gap": gap(whole, res_whole, HELD_OUT), "noise_floor": noise_floor(whole),
                 "deviates": bool(deviates(whole, res_whole))},
     }
 
@@ -149,9 +199,9 @@ def _same(unit, whole):
 
 def _nominal_runs(problem, whole, cut, pmap):
     """The nominal runs, mapped together: of the whole model (its failure is the user's
-    error), every isolation unit ([{"unit", "nominal" (residuals), "deviates"}], one whose
-    simulation fails left out) and the model with every measured signal replayed `cut` (the
-    whole model's again for scalar metrics)."""
+    error), every isolation unit (a `Nominal` each, one whose simulation fails left out) and
+    the model with every measured signal replayed `cut` (the whole model's again for scalar
+    metrics)."""
     units = problem.isolation_units()
     extra = [] if problem.scalar_only else [cut]
     runs = pmap(simulation_task, [(u, {}, problem.fmu_dir, None) for u in [whole, *extra, *units]])
@@ -161,153 +211,141 @@ def _nominal_runs(problem, whole, cut, pmap):
         except Failed as exc:
             raise UserError(f"data set {problem.ds.path}: the nominal scenario fails: "
                             f"{exc}") from None
-    nominal = [{"unit": u, "nominal": residuals(u, r)} for u, r in zip(units, runs[1 + len(extra):])
-               if r is not None]
-    for n in nominal:
-        n["deviates"] = deviates(n["unit"], n["nominal"])
+    nominal = []
+    for u, r in zip(units, runs[1 + len(extra):]):
+        if r is not None:
+            res = residuals(u, r)
+            nominal.append(Nominal(u, res, deviates(u, res)))
     return runs[0], nominal, runs[1] if extra else runs[0]
 
 
-def _calibrate(problem, report, whole, units, pmap):
-    """Section 2 into `report` (``calibration``): the calibration parameters of the model with
-    every measured signal replayed (`whole`: that unit and its nominal residuals) and,
-    separately, of every isolation unit fitted on the training part from the nominal values
-    (one mapped task each): a unit is judged on its own calibration, so that calibrating the
-    whole model around a sensor's fault cannot make the plant's unit deviate. Return the
-    model's calibration ({"free", "values", "residuals", "jac", "latency", "nominal_gap"}) and
-    the isolation results [{"unit", "gap", "floor", "deviates", "res", "calibration"}]
-    (calibrated)."""
-    whole, res_whole = whole
-    jobs = [(u, calibration(problem, u)) for u in [whole] + [i["unit"] for i in units]]
+def _calibrate(problem, cut, units, pmap):
+    """Section 2: the calibration parameters of the model with every measured signal replayed
+    (`cut`: that unit and its nominal residuals) and, separately, of every isolation unit
+    (`Nominal` each) fitted on the training part from the nominal values (one mapped task
+    each): a unit is judged on its own calibration, so that calibrating the whole model around
+    a sensor's fault cannot make the plant's unit deviate. Return the model's `Calibration`
+    and an `Isolation` per unit."""
+    cut, res_cut = cut
+    jobs = [(u, calibration(problem, u)) for u in [cut] + [n.unit for n in units]]
     # a unit that is the whole model again (the same instances, signals and replays) is
     # calibrated once
-    same = [i for i, (u, _) in enumerate(jobs) if i and _same(u, whole)]
-    fits = fit_all([(u, free, problem.fmu_dir, None, None, scanned(free), None, None)
-                    for i, (u, free) in enumerate(jobs) if free and i not in same], pmap)
-    fits = iter(fits)
+    same = [i for i, (u, _) in enumerate(jobs) if i and _same(u, cut)]
+    fits = iter(fit_all([FitJob(u, free, problem.fmu_dir, scan=scanned(free))
+                         for i, (u, free) in enumerate(jobs) if free and i not in same], pmap))
     cals = []
-    for i, ((u, free), nominal) in enumerate(zip(jobs, [res_whole]
-                                                  + [i["nominal"] for i in units])):
-        f = cals[0]["fit"] if i in same else next(fits) if free else None
-        if f is None or f["residuals"] is None:
+    for i, ((u, free), nominal) in enumerate(zip(jobs, [res_cut] + [n.residuals for n in units])):
+        f = cals[0].fit if i in same else next(fits) if free else None
+        if f is None or f.residuals is None:
             latency = {}
             residuals(u, simulate(u, {}, problem.fmu_dir), latency)
-            cals.append({"free": [], "values": {}, "residuals": nominal, "jac": None,
-                         "table": {}, "fit": None, "latency": latency})
+            cal = Calibration([], {}, nominal, None, {}, None, latency)
         else:
-            cals.append({"free": free, "values": values_of(free, f["x"]), "jac": f["jac"],
-                         "residuals": f["residuals"], "table": calibration_table(free, f),
-                         "fit": f, "latency": f["latency"]})
-    for c, nominal, (u, _) in zip(cals, [res_whole] + [i["nominal"] for i in units], jobs):
-        c["nominal_gap"] = gap(u, nominal, 1)
-    cal = cals[0]
-    report["calibration"] = {
-        "parameters": cal["table"], "latency": cal["latency"],
-        "heldout_gap_before": gap(whole, res_whole, 1),
-        "heldout_gap_after": gap(whole, cal["residuals"], 1),
-        "signals": {c: before_after(whole, res_whole, cal["residuals"], [c])
-                    for c in whole.observed}}
-    isolated = []
-    for i, c in zip(units, cals[1:]):
-        u = i["unit"]
-        isolated.append({"unit": u, "gap": gap(u, c["residuals"], 1), "floor": noise_floor(u),
-                         "deviates": deviates(u, c["residuals"]), "res": c["residuals"],
-                         "nominal_gap": gap(u, i["nominal"], 1), "calibration": c})
-    return cal, isolated
+            cal = Calibration(free, values_of(free, f.x), f.residuals, f.jac,
+                              calibration_table(free, f), f, f.latency)
+        cal.nominal_gap = gap(u, nominal, HELD_OUT)
+        cals.append(cal)
+    isolated = [Isolation(n.unit, c, gap(n.unit, c.residuals, HELD_OUT), noise_floor(n.unit),
+                          deviates(n.unit, c.residuals), c.nominal_gap)
+                for n, c in zip(units, cals[1:])]
+    return cals[0], isolated
 
 
-def _where(problem, report, isolated):
-    """Section 2 into `report` (``located``, ``units``); return the suspect instances."""
-    suspects, located = _locate(problem, isolated)
-    report["located"] = located
-    report["units"] = [{"instances": list(u["unit"].instances),
-                        "observed": list(u["unit"].observed),
-                        "heldout_gap_nominal": u["nominal_gap"], "heldout_gap": u["gap"],
-                        "noise_floor": u["floor"], "deviates": u["deviates"]} for u in isolated]
-    return suspects
+def _calibration_section(cut, res_cut, cal):
+    """The report's ``calibration``: the calibrated values, the sensors' latencies, and the
+    held-out gap before and after, pooled and per signal, of the model with every measured
+    signal replayed (`cut`, its nominal residuals `res_cut`)."""
+    return {"parameters": cal.table, "latency": cal.latency,
+            "heldout_gap_before": gap(cut, res_cut, HELD_OUT),
+            "heldout_gap_after": gap(cut, cal.residuals, HELD_OUT),
+            "signals": {c: before_after(cut, res_cut, cal.residuals, [c]) for c in cut.observed}}
 
 
 def _locate(problem, isolated):
-    """Suspect instances and the ranked `located` table from the isolation results.
+    """Section 3: the suspect instances and the ranked ``located`` table from the isolation
+    results.
 
     A unit that matches clears only its subjects (the instances it isolates): its other members
     may act on what it observes too weakly to show (the magnet's force on the temperature).
     """
-    deviating = [u for u in isolated if u["deviates"]]
-    cleared = set().union(*[set(u["unit"].subjects) for u in isolated if not u["deviates"]])
-    suspects = set().union(*[set(u["unit"].instances) for u in deviating]) - cleared
+    deviating = [u for u in isolated if u.deviates]
+    cleared = set().union(*[set(u.unit.subjects) for u in isolated if not u.deviates])
+    suspects = set().union(*[set(u.unit.instances) for u in deviating]) - cleared
     if deviating and not suspects:  # every member cleared alone: blame the interaction
-        suspects = set(deviating[0]["unit"].instances)
+        suspects = set(deviating[0].unit.instances)
     table = []
     for inst in problem.components:
-        own = [u for u in isolated if inst in u["unit"].subjects] or \
-            [u for u in isolated if inst in u["unit"].instances]
+        own = [u for u in isolated if inst in u.unit.subjects] or \
+            [u for u in isolated if inst in u.unit.instances]
         if not own:
             continue
         u = own[0]  # its own unit, else the smallest holding it
         table.append({"instance": inst, "component": problem.components[inst],
-                      "isolated_gap": u["gap"], "noise_floor": u["floor"], "unit": u["unit"].name,
-                      "deviates": u["deviates"], "exonerated": inst in cleared,
+                      "isolated_gap": u.gap, "noise_floor": u.floor, "unit": u.unit.name,
+                      "deviates": u.deviates, "exonerated": inst in cleared,
                       "located": inst in suspects})
     table.sort(key=lambda r: (not r["located"], -r["isolated_gap"]))
     return suspects, table
 
 
 def _fit_unit(whole, isolated, suspects):
-    """(unit, its calibration, suspects): the unit the candidates are fitted in, the smallest
+    """(unit, its `Calibration`, suspects): the unit the candidates are fitted in, the smallest
     deviating isolation unit holding every suspect, else the model with every measured signal
     replayed (whose every instance is a suspect when none was located). `whole`: (that model,
     its calibration)."""
     whole, cal = whole
     if not suspects:
         return whole, cal, set(whole.instances)
-    holders = [u for u in isolated if u["deviates"] and suspects <= set(u["unit"].instances)]
+    holders = [u for u in isolated if u.deviates and suspects <= set(u.unit.instances)]
     if holders:
-        return holders[0]["unit"], holders[0]["calibration"], suspects
+        return holders[0].unit, holders[0].calibration, suspects
     return whole, cal, suspects
 
 
-def _which_effect(problem, report, fitting, pmap, say):
-    """Section 4 into `report`: every candidate effect of the suspects fitted together with the
-    fit unit's calibration parameters (from its calibrated values), judged against that
-    calibration alone or against its own fit with the effect switched off, whichever fits the
-    training part better (`baseline`), ranked and selected; the verdict. `fitting`: (unit, its
-    calibration, suspects, regime masks). Return the selected values {(instance, parameter): value},
-    calibration refitted with the effects included."""
+def _which_effect(problem, fitting, calibrated, pmap, say):
+    """Section 4: every candidate effect of the suspects fitted together with the fit unit's
+    calibration parameters (from its calibrated values), judged against that calibration alone
+    or against its own fit with the effect switched off, whichever fits the training part
+    better (`baseline`), ranked and selected; the verdict. `fitting`: (unit, its
+    `Calibration`, suspects, regime masks); `calibrated`: the report's table of the model's
+    calibrated values. Return the selected values {(instance, parameter): value}, calibration
+    refitted with the effects included, and the report's section (``effects``, ``selected``,
+    ``consistency``, ``stand_ins``, the verdict, ``noise_floor``)."""
     unit, cal, suspects, masks = fitting
     fmu_dir = problem.fmu_dir
-    calib, jac = cal["free"], cal["jac"]
-    x_cal = [cal["values"][(fr.instances[0], fr.name)] for fr in calib]
-    base = {"residuals": cal["residuals"], "heldout_gap": gap(unit, cal["residuals"], 1)}
+    calib, jac = cal.free, cal.jac
+    x_cal = [cal.values[(fr.instances[0], fr.name)] for fr in calib]
+    base = {"residuals": cal.residuals, "heldout_gap": gap(unit, cal.residuals, HELD_OUT)}
     cands = candidates(problem, unit, suspects)
     say(f"fitting {len(cands)} candidate effect(s), each with {len(calib)} calibration "
         "parameter(s)")
-    jobs = [(unit, c.free + calib, fmu_dir, None, [fr.start for fr in c.free] + x_cal,
-             len(c.free), known_columns(jac, len(c.free)), cal["latency"]) for c in cands]
-    fits = refine(unit, cands, fit_all(jobs, pmap), calib, cal["latency"], fmu_dir, pmap)
+    jobs = [FitJob(unit, c.free + calib, fmu_dir, x0=[fr.start for fr in c.free] + x_cal,
+                   scan=len(c.free), known=known_columns(jac, len(c.free)), latency=cal.latency)
+            for c in cands]
+    fits = refine(unit, cands, fit_all(jobs, pmap), calib, cal.latency, fmu_dir, pmap)
     floor = noise_floor(unit)
     offs = switched_off(unit, [(c.free, c.free + calib, f) for c, f in zip(cands, fits)],
                         fmu_dir, pmap)
     bases = [baseline(unit, base, off) for off in offs]
     entries, counting = rank(unit, bases, cands, fits, masks, calib)
-    selected, final, free = select(unit, counting, (calib, jac, cal["latency"]), floor, masks,
+    selected, final, free = select(unit, counting, (calib, jac, cal.latency), floor, masks,
                                    pmap, fmu_dir, say)
-    report["effects"] = entries
-    report["selected"] = [e["name"] for e in selected]
-    report["consistency"] = cross_signal(unit, entries, selected)
-    report["stand_ins"] = [e["name"] for e in stand_ins(entries)]
-    gaps = {"nominal": cal["nominal_gap"], "calibrated": base["heldout_gap"]}
-    report["verdict"], report["explanation"], report["complete"] = verdict(
-        selected, final, gaps, floor, report["calibration"]["parameters"], entries=entries)
-    report["noise_floor"] = floor
-    return values_of(free, final["x"]) if selected else {}
+    gaps = {"nominal": cal.nominal_gap, "calibrated": base["heldout_gap"]}
+    name, explanation, complete = verdict(selected, final, gaps, floor, calibrated,
+                                          entries=entries)
+    section = {"effects": entries, "selected": [e["name"] for e in selected],
+               "consistency": cross_signal(unit, entries, selected),
+               "stand_ins": [e["name"] for e in stand_ins(entries)], "verdict": name,
+               "explanation": explanation, "complete": complete, "noise_floor": floor}
+    return (values_of(free, final.x) if selected else {}), section
 
 
-def _shrinkage(problem, report, calibrated, values, traces, pmap):
-    """report["shrinkage"]: the held-out gap per signal of the model with every measured signal
-    replayed (`Problem.replayed`), nominal (``before``), calibrated and with the selected
-    effects (``after``, calibration refitted with them); the traces for the plots.
-    `calibrated`: (the calibrated values, the nominal runs of that model)."""
+def _shrinkage(problem, calibrated, values, traces, pmap):
+    """Section 5, the report's ``shrinkage``: the held-out gap per signal of the model with every
+    measured signal replayed (`Problem.replayed`), nominal (``before``), calibrated and with
+    the selected effects (``after``, calibration refitted with them), and the latencies found
+    there (``aligned_samples``); the traces for the plots. `calibrated`: (the calibrated values,
+    the nominal runs of that model)."""
     unit = problem.replayed()
     calibrated, nominal = calibrated
     wanted = [v for v in (calibrated, {**calibrated, **values}) if v]
@@ -320,12 +358,11 @@ def _shrinkage(problem, report, calibrated, values, traces, pmap):
     shifts = {}
     before_res, cal_res = residuals(unit, nominal), residuals(unit, runs["calibrated"])
     after_res = residuals(unit, runs["after"], shifts)
-    report["shrinkage"] = {c: {**before_after(unit, before_res, after_res, [c]),
-                               "calibrated": gap(unit, cal_res, 1, [c])}
-                           for c in unit.observed}
-    report["shrinkage"]["all"] = {**before_after(unit, before_res, after_res),
-                                  "calibrated": gap(unit, cal_res, 1)}
-    report["aligned_samples"] = shifts
+    shrinkage = {c: {**before_after(unit, before_res, after_res, [c]),
+                     "calibrated": gap(unit, cal_res, HELD_OUT, [c])} for c in unit.observed}
+    shrinkage["all"] = {**before_after(unit, before_res, after_res),
+                        "calibrated": gap(unit, cal_res, HELD_OUT)}
     if traces is not None:
         traces.update(unit=unit, nominal=nominal, calibrated=runs["calibrated"],
                       selected=runs["after"])
+    return {"shrinkage": shrinkage, "aligned_samples": shifts}

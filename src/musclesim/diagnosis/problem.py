@@ -16,7 +16,7 @@ import numpy as np
 
 from musclesim.cosim import Graph, Master, load_scenario, read_fmu, split_signal
 from musclesim.diagnosis.effects import COUPLED_PORTS, by_component, calibration_of
-from musclesim.diagnosis.stats import noise_estimate
+from musclesim.diagnosis.stats import HELD_OUT, TRAIN, noise_estimate
 from musclesim.diagnosis.thresholds import METRIC_FLOOR, NOISE_FLOOR
 from musclesim.errors import UserError
 
@@ -30,7 +30,7 @@ class Run:
     inputs: dict  # replayed input -> values per communication point
     time: np.ndarray = None  # data times relative to t0, the span's start (time series)
     measured: dict = field(default_factory=dict)  # observed column (or metric) -> values
-    part: np.ndarray = None  # per data row (per run if scalar-only): 0 train, 1 held-out
+    part: np.ndarray = None  # per data row (per run if scalar-only): its `stats.Part`
     t0: float = 0.0
     sources: tuple = ()  # instances of `scenario` simulated once, not in every run (`_sources`)
     fed: dict = field(default_factory=dict)  # input they feed -> its values, as `inputs`
@@ -210,11 +210,11 @@ class Problem:
 
     def _parts(self, ename, t):
         train, held = self.part_names
-        part = np.zeros(len(t), dtype=np.int8)
+        part = np.full(len(t), TRAIN, dtype=np.int8)
         if self.ds.split.fraction is not None:
-            part[np.isin(t, self.ds.experiment(f"{ename}/held_out")[0])] = 1
+            part[np.isin(t, self.ds.experiment(f"{ename}/held_out")[0])] = HELD_OUT
         elif ename in held:
-            part[:] = 1
+            part[:] = HELD_OUT
         return part
 
     def _metric_unit(self):
@@ -226,7 +226,8 @@ class Problem:
             measured = {m: np.array([e.metrics[m].value if m in e.metrics else math.nan])
                         for m in names}
             runs.append(Run(ename, self.scenarios[ename], {}, measured=measured,
-                            part=np.array([int(ename in held)], dtype=np.int8)))
+                            part=np.array([HELD_OUT if ename in held else TRAIN],
+                                          dtype=np.int8)))
         scale = {m: float(np.nanmax([abs(r.measured[m][0]) for r in runs])) or 1.0
                  for m in names}
         unc = {m: max((mm.uncertainty or 0.0) for e in ds.experiments.values()

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from musclesim.cosim import replace_file, save_figure
+from musclesim.diagnosis.stats import HELD_OUT
 
 
 def _num(x, fmt=".3g"):
@@ -216,7 +217,7 @@ def _plot_signals(path, report, traces):
             if report.get("selected"):
                 ax.plot(t, traces["selected"][i][c], color="tab:green", lw=0.8, ls="--",
                         label=" + ".join(report["selected"]) if first else None)
-            held = run.part == 1
+            held = run.part == HELD_OUT
             if held.any():
                 ax.axvspan(t[held][0], t[held][-1], color="tab:blue", alpha=0.07,
                            label="held out" if first else None)

@@ -18,15 +18,17 @@ True
 False
 """
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from musclesim.diagnosis.effects import by_component, calibration_of
-from musclesim.diagnosis.fitting import Free, fit_all, known_columns, simulation_task, values_of
+from musclesim.diagnosis.fitting import (Free, FitJob, fit_all, known_columns, simulation_task,
+                                         values_of)
 from musclesim.diagnosis.problem import affected, downstream
 from musclesim.diagnosis.simulate import residuals
-from musclesim.diagnosis.stats import (before_after, bootstrap, gap, interval95, part_rows,
+from musclesim.diagnosis.stats import (HELD_OUT, TRAIN, before_after, bootstrap, gap, interval95,
+                                       part_rows,
                                        row_squares)
 from musclesim.diagnosis.thresholds import (ALIASED, DEVIATES, MIN_SHRINKAGE,
                                             MIN_VALUES_PER_PARAMETER, MOST, REFINED,
@@ -73,7 +75,7 @@ def calibration(problem, unit, instances=None):
     calibrated, and so is an input the scenario connects or the data set replays. Nothing is
     calibrated when the training part holds fewer than MIN_VALUES_PER_PARAMETER values per
     parameter (scalar metrics)."""
-    rows = sum(int(np.count_nonzero(m)) for m in part_rows(unit, 0)) * len(unit.observed)
+    rows = sum(int(np.count_nonzero(m)) for m in part_rows(unit, TRAIN)) * len(unit.observed)
     s = unit.runs[0].scenario
     taken = set(problem.ds.conditions) | {dst for _, dst in s.connections}
     taken |= set().union(*(run.inputs for run in unit.runs))
@@ -118,14 +120,14 @@ def refine(unit, cands, fits, calib, latency, fmu_dir, pmap):
     Without calibration parameters every column was fresh already: `fits` as they are."""
     if not calib:
         return fits
-    order = sorted((i for i, f in enumerate(fits) if f["residuals"] is not None
-                    and f["applicable"]), key=lambda i: fits[i]["train_gap"])[:REFINED]
-    again = fit_all([(unit, cands[i].free + calib, fmu_dir, None, fits[i]["x"], 0, None,
-                      latency) for i in order], pmap)
+    order = sorted((i for i, f in enumerate(fits) if f.residuals is not None and f.applicable),
+                   key=lambda i: fits[i].train_gap)[:REFINED]
+    again = fit_all([FitJob(unit, cands[i].free + calib, fmu_dir, x0=fits[i].x, scan=0,
+                            latency=latency) for i in order], pmap)
     out = list(fits)
     for i, f in zip(order, again):
-        if f["residuals"] is not None and f["train_gap"] < fits[i]["train_gap"]:
-            out[i] = {**f, "applicable": fits[i]["applicable"]}
+        if f.residuals is not None and f.train_gap < fits[i].train_gap:
+            out[i] = replace(f, applicable=fits[i].applicable)
     return out
 
 
@@ -135,9 +137,8 @@ def switched_off(unit, fits, fmu_dir, pmap):
     not applicable (its start is the fit: with the effect off it is its start again, which
     cannot count). `fits`: [(the effect's `Free` parameters, first in the fit, the fit's whole
     `Free` list, the fit)]."""
-    todo = [(i, values_of(free, [fr.start for fr in eff] + f["x"][len(eff):]))
-            for i, (eff, free, f) in enumerate(fits)
-            if f["residuals"] is not None and f["applicable"]]
+    todo = [(i, values_of(free, [fr.start for fr in eff] + f.x[len(eff):]))
+            for i, (eff, free, f) in enumerate(fits) if f.residuals is not None and f.applicable]
     runs = pmap(simulation_task, [(unit, v, fmu_dir, None) for _, v in todo])
     out = [None] * len(fits)
     for (i, _), sims in zip(todo, runs):
@@ -152,9 +153,9 @@ def baseline(unit, base, off):
     fit the training part better: a joint fit whose other parameters reached a better optimum
     (a periodic phase in another of its wells) gains by them, and that gain is not the
     effect's. Chosen on the training part only."""
-    if off is None or gap(unit, off, 0) >= gap(unit, base["residuals"], 0):
+    if off is None or gap(unit, off, TRAIN) >= gap(unit, base["residuals"], TRAIN):
         return base
-    return {"residuals": off, "heldout_gap": gap(unit, off, 1), "effect_off": True}
+    return {"residuals": off, "heldout_gap": gap(unit, off, HELD_OUT), "effect_off": True}
 
 
 def aliasing(jac, k, names):
@@ -203,10 +204,10 @@ def _aliasing_in(f, k, calib):
     """`aliasing` of fit `f`'s first `k` parameters by the calibration parameters `calib` that
     ended inside their bounds: one at a bound cannot move on (the thermocouple's gain at its
     tolerance cannot stand in for a larger bias)."""
-    inside = [i for i, (fr, x) in enumerate(zip(calib, f["x"][k:]))
+    inside = [i for i, (fr, x) in enumerate(zip(calib, f.x[k:]))
               if fr.lower + 1e-3 * (fr.upper - fr.lower) < x
               < fr.upper - 1e-3 * (fr.upper - fr.lower)]
-    jac = f.get("jac")
+    jac = f.jac
     return aliasing(None if jac is None else jac[:, list(range(k)) + [k + i for i in inside]],
                     k, [f"{','.join(calib[i].instances)}.{calib[i].name}" for i in inside])
 
@@ -216,7 +217,7 @@ def calibration_table(free, f):
     bounds} of `free` fitted as `f`."""
     return {f"{','.join(fr.instances)}.{fr.name}": {
         "value": x, "interval": list(iv), "nominal": fr.start, "lower": fr.lower,
-        "upper": fr.upper} for fr, x, iv in zip(free, f["x"], f["interval"])}
+        "upper": fr.upper} for fr, x, iv in zip(free, f.x, f.interval)}
 
 
 def gain_signature(gain, mask):
@@ -234,9 +235,9 @@ def gain_signature(gain, mask):
 def signature(unit, res_before, res_after, regime_masks, columns=None):
     """Gain per held-out sample (of `columns`) in the effect's regime vs overall: (ratio,
     consistent)."""
-    rows = part_rows(unit, 1)
-    gain = np.concatenate([a - b for a, b in zip(row_squares(unit, res_before, 1, columns),
-                                                 row_squares(unit, res_after, 1, columns))])
+    rows = part_rows(unit, HELD_OUT)
+    gain = np.concatenate([a - b for a, b in zip(row_squares(unit, res_before, HELD_OUT, columns),
+                                                 row_squares(unit, res_after, HELD_OUT, columns))])
     mask = None if regime_masks is None else \
         np.concatenate([m[r] for m, r in zip(regime_masks, rows)])
     return gain_signature(gain, mask)
@@ -249,13 +250,14 @@ def judge(unit, res_before, res_after, columns, regime, masks):
     of those signals deviates, above DEVIATES times its own noise), the gain is at least
     MIN_SHRINKAGE,
     its interval lies above zero and it shows in the regime."""
-    before, after = gap(unit, res_before, 1, columns), gap(unit, res_after, 1, columns)
+    before = gap(unit, res_before, HELD_OUT, columns)
+    after = gap(unit, res_after, HELD_OUT, columns)
     boot = bootstrap(unit, [res_before, res_after], columns)
     interval = interval95(1 - boot[:, 1] / boot[:, 0])
     ratio, consistent = signature(unit, res_before, res_after,
                                   masks.get(regime) if regime != "all" else None, columns)
     gain = 1 - after / before if before else 0.0
-    material = any(gap(unit, res_before, 1, [c]) > DEVIATES * unit.noise[c] for c in columns)
+    material = any(gap(unit, res_before, HELD_OUT, [c]) > DEVIATES * unit.noise[c] for c in columns)
     return {"signals": list(columns), "before": before, "after": after, "gain": gain,
             "interval": interval, "significant": bool(interval[0] > 0),
             "material": bool(material),
@@ -270,18 +272,18 @@ def score(unit, base, cand, f, masks, calib=()):
     its values, the pooled held-out gaps, the per-signal before/after and the judgement on the
     signals it can change (`judge`), ``counts``; ``baseline`` says which it was."""
     k = len(cand.free)
-    res = f["residuals"]
+    res = f.residuals
     entry = {"name": cand.effect.name, "label": cand.label, "component": cand.effect.component,
              "instances": list(cand.instances), "reference": cand.effect.reference,
              "parameters": {fr.name: {"value": x, "interval": list(iv), "lower": fr.lower,
                                       "upper": fr.upper, "off": fr.start}
-                            for fr, x, iv in zip(cand.free, f["x"][:k], f["interval"][:k])},
+                            for fr, x, iv in zip(cand.free, f.x[:k], f.interval[:k])},
              "calibration": {f"{','.join(fr.instances)}.{fr.name}": x
-                             for fr, x in zip(calib, f["x"][k:])},
-             "applicable": f["applicable"], "heldout_gap_before": base["heldout_gap"],
+                             for fr, x in zip(calib, f.x[k:])},
+             "applicable": f.applicable, "heldout_gap_before": base["heldout_gap"],
              "baseline": "its own fit with the effect off" if base.get("effect_off")
              else "calibration",
-             "heldout_gap_after": f["heldout_gap"], "aliasing": _aliasing_in(f, k, calib)}
+             "heldout_gap_after": f.heldout_gap, "aliasing": _aliasing_in(f, k, calib)}
     entry["shrinkage"] = 1 - entry["heldout_gap_after"] / entry["heldout_gap_before"] \
         if entry["heldout_gap_before"] else 0.0
     if res is None:
@@ -294,7 +296,7 @@ def score(unit, base, cand, f, masks, calib=()):
     entry.update(judged=j, interval=j["interval"], signature=j["signature"],
                  per_signal={c: before_after(unit, base["residuals"], res, [c])
                              for c in unit.observed},
-                 counts=bool(f["applicable"] and j["counts"]))
+                 counts=bool(f.applicable and j["counts"]))
     return entry
 
 
@@ -324,20 +326,21 @@ def select(unit, counting, calibrated, floor, masks, pmap, fmu_dir, say):
     calib, jac, latency = calibrated
     e1, c1, f1 = counting[0]
     selected, final, free = [e1], f1, c1.free + calib
-    if explained(f1["heldout_gap"], e1["heldout_gap_before"], floor) or len(counting) < 2:
+    if explained(f1.heldout_gap, e1["heldout_gap_before"], floor) or len(counting) < 2:
         return selected, final, free
     say("greedy: a second effect")
     pairs = counting[1:4]
-    jobs = [(unit, c.free + c1.free + calib, fmu_dir, None, [fr.start for fr in c.free]
-             + f1["x"], len(c.free), known_columns(jac, len(c.free) + len(c1.free)), latency)
-            for _, c, _ in pairs]
+    jobs = [FitJob(unit, c.free + c1.free + calib, fmu_dir, x0=[fr.start for fr in c.free] + f1.x,
+                   scan=len(c.free), known=known_columns(jac, len(c.free) + len(c1.free)),
+                   latency=latency) for _, c, _ in pairs]
     pair_fits = fit_all(jobs, pmap)
-    (e2, c2, _), f12 = min(zip(pairs, pair_fits), key=lambda t: t[1]["heldout_gap"])
-    if f12["residuals"] is None:
+    (e2, c2, _), f12 = min(zip(pairs, pair_fits), key=lambda t: t[1].heldout_gap)
+    if f12.residuals is None:
         return selected, final, free
     pair = c2.free + c1.free + calib
     off, = switched_off(unit, [(c2.free, pair, f12)], fmu_dir, pmap)
-    j = judge(unit, baseline(unit, f1, off)["residuals"], f12["residuals"],
+    first = {"residuals": f1.residuals, "heldout_gap": f1.heldout_gap}
+    j = judge(unit, baseline(unit, first, off)["residuals"], f12.residuals,
               affected(unit, c2.instances), c2.effect.regime, masks)
     if j["counts"]:
         selected.append(e2)
@@ -382,7 +385,7 @@ def verdict(selected, final, gaps, floor, calibrated, deviates=True, entries=())
     names = moved(calibrated)
     if selected:
         first, labels = selected[0], " + ".join(e["label"] for e in selected)
-        j, after = first["judged"], final["heldout_gap"]
+        j, after = first["judged"], final.heldout_gap
         done = explained(after, nominal, floor)
         against = "the calibrated model's held-out gap" if first.get(
             "baseline", "calibration") == "calibration" else \

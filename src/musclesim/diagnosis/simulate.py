@@ -10,7 +10,7 @@ from dataclasses import replace
 import numpy as np
 
 from musclesim.cosim import Master, compute_metrics
-from musclesim.diagnosis.stats import advance, gap, lag
+from musclesim.diagnosis.stats import HELD_OUT, TRAIN, advance, gap, lag
 from musclesim.diagnosis.thresholds import MAX_ALIGN
 
 
@@ -32,7 +32,7 @@ def with_values(s, values):
 def simulate(unit, values, fmu_dir, part=None):
     """Model values of every run of `unit` with parameter `values`: [{column: array}] per run.
 
-    ``part=0`` simulates only what the training part needs, as a fit's every step does: each
+    ``part=TRAIN`` simulates only what the training part needs, as a fit's every step does: each
     run up to its last training row (the model is causal, so those rows are the same to the
     bit), the rows after it NaN; a run without training rows is not run.
     Raises `Failed` when a run fails (the effect's values are then not viable).
@@ -80,7 +80,7 @@ def residuals(unit, sims, shifts=None, align=None):
         for d in ([align[c]] if align and c in align else choices):
             res = [(sim[c] - advance(run.measured[c], d)) / unit.scale[c]
                    for run, sim in zip(unit.runs, sims)]
-            cost = sum(float(np.nansum(np.square(r[run.part == 0])))
+            cost = sum(float(np.nansum(np.square(r[run.part == TRAIN])))
                        for r, run in zip(res, unit.runs))
             if best is None or cost < best[0]:
                 best = (cost, d, res)
@@ -98,7 +98,7 @@ def signal_gap(problem, unit, sims):
         meas = np.concatenate([r.measured[c] for r in unit.runs])
         model = np.concatenate([s[c] for s in sims])
         entry = {"nrmse": float(np.sqrt(np.nanmean(np.square(np.concatenate(res[c]))))),
-                 "nrmse_heldout": gap(unit, res, 1, [c]),
+                 "nrmse_heldout": gap(unit, res, HELD_OUT, [c]),
                  "bias": float(np.nanmean(meas - model)),
                  "unit": problem.units_of.get(c, "1"), "range": unit.scale[c],
                  "noise": unit.noise[c]}

@@ -3,8 +3,8 @@
 The array functions (`noise_estimate`, `advance`, `smooth_rate`, `rms`, `pooled`, `lag`,
 `interval95`, `split_blocks`, `block_bootstrap`, `window_gaps`) need no model. The others are
 thin wrappers that read a unit's arrays: anything with ``observed`` (column names), ``noise``
-({column: normalised noise std}) and ``runs`` (each with ``part``, a row mask source: 0 train,
-1 held-out; and for windows ``time``, ``t0`` and ``experiment``), as
+({column: normalised noise std}) and ``runs`` (each with ``part``, a row mask source holding
+`Part` values: ``TRAIN`` or ``HELD_OUT``; and for windows ``time``, ``t0`` and ``experiment``), as
 `musclesim.diagnosis.problem.Unit` has them. Residuals are ``{column: [array per run]}``.
 
 >>> import numpy as np
@@ -14,11 +14,23 @@ thin wrappers that read a unit's arrays: anything with ``observed`` (column name
 [2.5, 97.5]
 """
 import math
+from enum import IntEnum
 
 import numpy as np
 from scipy import signal
 
 from musclesim.diagnosis.thresholds import BLOCKS, BOOTSTRAP, DEVIATES, WINDOWS
+
+
+class Part(IntEnum):
+    """The part of a data set a row (or a scalar run) belongs to: the fits see only ``TRAIN``;
+    ``HELD_OUT`` judges them. Stored in the runs' ``part`` arrays as these integers."""
+
+    TRAIN = 0
+    HELD_OUT = 1
+
+
+TRAIN, HELD_OUT = Part.TRAIN, Part.HELD_OUT
 
 
 # ---- on arrays --------------------------------------------------------------------------------
@@ -109,12 +121,12 @@ def window_gaps(sq, columns, fraction=0.05):
 # ---- on a unit's residuals --------------------------------------------------------------------
 
 def part_rows(unit, part):
-    """Per run, the row mask of `part` (0 train, 1 held-out)."""
+    """Per run, the row mask of `part` (a `Part`)."""
     return [run.part == part for run in unit.runs]
 
 
 def part_vector(unit, res, part, columns=None):
-    """The residuals of `part` (0 train, 1 held-out) in one vector (a metric a run lacks
+    """The residuals of `part` (a `Part`) in one vector (a metric a run lacks
     dropped)."""
     rows = part_rows(unit, part)
     v = np.concatenate([r[m] for c in columns or unit.observed for r, m in zip(res[c], rows)])
@@ -128,7 +140,7 @@ def gap(unit, res, part, columns=None):
 
 def deviates(unit, res):
     """Whether some observed signal's held-out gap exceeds DEVIATES times its own noise."""
-    return any(gap(unit, res, 1, [c]) > DEVIATES * unit.noise[c] for c in unit.observed)
+    return any(gap(unit, res, HELD_OUT, [c]) > DEVIATES * unit.noise[c] for c in unit.observed)
 
 
 def noise_floor(unit, columns=None):
@@ -147,7 +159,8 @@ def row_squares(unit, res, part, columns=None):
 
 def bootstrap(unit, residual_sets, columns=None, seed=0):
     """Block-bootstrap resamples of held-out gaps: array [resample, set] for each residual set."""
-    blocks = [(i, chunk) for i, m in enumerate(part_rows(unit, 1)) for chunk in split_blocks(m)]
+    blocks = [(i, chunk) for i, m in enumerate(part_rows(unit, HELD_OUT))
+              for chunk in split_blocks(m)]
     cols = columns or unit.observed
     sums = np.array([[sum(float(np.nansum(np.square(res[c][i][chunk]))) for c in cols)
                       for res in residual_sets] for i, chunk in blocks])
@@ -159,7 +172,8 @@ def before_after(unit, before, after, columns=None):
     """Held-out gap of residuals `before` and `after` (of `columns`, default all) with their 95 %
     block-bootstrap intervals."""
     b = bootstrap(unit, [before, after], columns)
-    return {"before": gap(unit, before, 1, columns), "after": gap(unit, after, 1, columns),
+    return {"before": gap(unit, before, HELD_OUT, columns),
+            "after": gap(unit, after, HELD_OUT, columns),
             "interval_before": interval95(b[:, 0]), "interval_after": interval95(b[:, 1])}
 
 
