@@ -1,5 +1,6 @@
-"""Choosing the effect on hand-made numbers (no FMU): the verdict in each of its cases, what is
-explained, the signature, an effect judged against calibration on the signals it can change."""
+"""Describing the candidates' fits on hand-made numbers (no FMU): what is explained, the
+signature, an effect judged against calibration on the signals it can change, the aliasing by
+the calibration, the refit of the best two, the cross-signal sentence."""
 import math
 from dataclasses import replace
 from types import SimpleNamespace
@@ -7,12 +8,10 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from musclesim.diagnosis import effects, selection
+from musclesim.diagnosis import effects
 from musclesim.diagnosis.fitting import FitResult, Free
-from musclesim.diagnosis.selection import (Candidate, aliasing, baseline, cross_signal,
-                                           explained, gain_signature, judge, moved, rank,
-                                           refine, score, signature, stand_ins, switched_off,
-                                           verdict)
+from musclesim.diagnosis.selection import (Candidate, aliasing, cross_signal, explained,
+                                           gain_signature, judge, rank, refine, score, signature)
 from musclesim.diagnosis.stats import HELD_OUT, gap
 from musclesim.diagnosis.thresholds import REFINED, SIGNATURE_MIN
 
@@ -32,34 +31,6 @@ def test_explained_within_noise_floors_or_a_small_share_of_the_gap():
     assert not explained(0.031, 0.3, FLOOR)  # above 3 floors and above a tenth of 0.3
     assert explained(0.08, 0.8, FLOOR)  # a tenth of the gap before
     assert not explained(0.081, 0.8, FLOOR)
-
-
-def test_verdict_none_when_nothing_deviates():
-    v, why, done = verdict([], None, {}, FLOOR, {}, deviates=False)
-    assert v == "none" and "within the noise" in why and done
-
-
-CALIBRATED = {"wire.h": {"value": 125.0, "interval": [118.0, 131.0], "nominal": 100.0,
-                         "lower": 60.0, "upper": 160.0},
-              "wire.specific_heat": {"value": 850.0, "interval": [800.0, 900.0],
-                                     "nominal": 837.0, "lower": 670.0, "upper": 1004.0}}
-
-
-def test_moved_names_parameters_whose_interval_excludes_the_nominal_value():
-    assert moved(CALIBRATED) == ["wire.h"]
-
-
-def test_verdict_recalibration_when_calibration_closes_most_of_the_gap():
-    v, why, done = verdict([], None, {"nominal": 0.5, "calibrated": 0.025}, FLOOR, CALIBRATED)
-    assert v == "recalibration" and "recalibrated: wire.h" in why and done  # 2.5 floors
-    # a tenth of the nominal gap but four noise floors: a structured rest, whatever the nominal
-    # values made of the gap before
-    v, why, done = verdict([], None, {"nominal": 0.5, "calibrated": 0.04}, FLOOR, CALIBRATED)
-    assert v == "recalibration" and not done and "structured rest" in why
-    v, why, done = verdict([], None, {"nominal": 0.2, "calibrated": 0.08}, FLOOR, CALIBRATED)
-    assert v == "recalibration" and not done and "structured rest" in why
-    v, why, done = verdict([], None, {"nominal": 0.2, "calibrated": 0.15}, FLOOR, CALIBRATED)
-    assert v == "unexplained" and not done and "no candidate effect" in why
 
 
 def test_aliasing_of_an_effect_by_the_calibration_on_synthetic_sensitivities():
@@ -92,37 +63,6 @@ def test_aliasing_of_an_effect_by_the_calibration_on_synthetic_sensitivities():
     f.x[1] = 1.0  # the ambient at its upper bound
     e = score(unit, base, candidate("thermocouple bias", "thermocouple"), f, {}, calib)
     assert e["aliasing"]["share"] < 0.01 and "wire.T_amb" not in e["aliasing"]["with"]
-    # the verdict names a stand-in only when it does not count and is aliased enough
-    bias = {**entry("thermocouple bias"), "counts": False, "aliasing": a}
-    lag = {**entry("thermocouple lag"), "counts": False, "aliasing": b}
-    assert stand_ins([bias, lag]) == [bias]
-    _, why, _ = verdict([], None, {"nominal": 0.5, "calibrated": 0.02}, FLOOR, CALIBRATED,
-                        entries=[bias, lag])
-    assert f"calibration makes what thermocouple bias (like {', '.join(a['with'])})" in why
-    assert "hardly tell them from a recalibration" in why
-    assert "thermocouple lag" not in why
-
-
-def left(heldout_gap):
-    """A final fit that leaves `heldout_gap` (the verdict reads only that)."""
-    return FitResult([], [], {}, 0.0, heldout_gap, True, 1, None, {})
-
-
-def test_verdict_names_the_effect_with_its_share_complete_or_not():
-    lag = entry("thermocouple lag", gain=0.6)
-    gaps = {"nominal": 0.5, "calibrated": 0.1}
-    v, why, done = verdict([lag], left(0.02), gaps, FLOOR, CALIBRATED)
-    assert v == "thermocouple lag" and done and "explains 60% [55%, 65%]" in why
-    assert "of the calibrated model's held-out gap on" in why
-    # judged against its own fit with the effect off: the explanation says so
-    why = verdict([{**lag, "baseline": "its own fit with the effect off"}],
-                  left(0.02), gaps, FLOOR, CALIBRATED)[1]
-    assert "of the held-out gap of its own fit with the effect off (a better calibration)" in why
-    v, why, done = verdict([lag], left(0.2), gaps, FLOOR, CALIBRATED)
-    assert v == "thermocouple lag" and not done and "20.0 noise floors" in why
-    pair = [lag, entry("latent heat")]
-    assert "thermocouple lag + latent heat" in verdict(pair, left(0.01), gaps, FLOOR,
-                                                         CALIBRATED)[1]
 
 
 def test_gain_signature():
@@ -236,54 +176,6 @@ def test_rank_puts_counting_effects_first_with_margins():
     assert [e["counts"] for e in entries] == [True, True, False]  # 0.15 shrinks too little
     assert [t[0] for t in counting] == entries[:2]
     assert entries[-1]["margin"] is None
-
-
-def test_an_effect_is_not_credited_with_what_its_fit_s_calibration_gains_alone():
-    """A joint fit whose calibration found a better optimum (another well of a periodic phase)
-    gains whether the effect is on or not: judged against its own values with the effect off,
-    which fit the training part better than calibration alone, it does not count. A fit whose
-    values with the effect off fit worse than calibration alone is judged against calibration
-    as before."""
-    unit = fake_unit((TC,))
-    wave = 0.05 * np.sin(np.arange(N) / 7)
-    cal_res = {TC: [noise(9) + wave]}  # the calibration stopped in a worse well
-    base = {"residuals": cal_res, "heldout_gap": gap(unit, cal_res, 1)}
-    fit_res = {TC: [noise(10)]}  # the joint fit: the better well, the effect (near) off
-    off_res = {TC: [noise(10) + 1e-4]}  # its values with the effect off: nearly the same
-    b = baseline(unit, base, off_res)
-    assert b["effect_off"] and b["residuals"] is off_res
-    e = score(unit, b, candidate("thermocouple bias", "thermocouple"), fitted(unit, fit_res),
-              {})
-    assert e["baseline"] == "its own fit with the effect off" and not e["counts"]
-    assert abs(e["judged"]["gain"]) < 0.05
-    # the same fit judged against calibration alone would have counted: the defect this fixes
-    assert score(unit, base, candidate("thermocouple bias", "thermocouple"),
-                 fitted(unit, fit_res), {})["counts"]
-    # a true effect: with it off, the fit's values are worse than calibration alone
-    worse = {TC: [noise(9) + 2 * wave]}
-    assert baseline(unit, base, worse) is base and baseline(unit, base, None) is base
-
-
-def test_switched_off_runs_each_fit_with_its_effect_at_its_off_value(monkeypatch):
-    unit = fake_unit((TC,))
-    eff = [Free(("thermocouple",), "bias", -10.0, 10.0, 0.0)]
-    cal = [Free(("wire",), "h", 50.0, 200.0, 100.0)]
-    fits = [FitResult(x, [], res, 0.0, 0.0, applicable, 1, None, {})
-            for x, res, applicable in (([3.0, 120.0], {}, True), ([1.0, 90.0], None, True),
-                                       ([2.0, 80.0], {}, True), ([0.0, 95.0], {}, False))]
-    sent, read = [], []
-
-    def pmap(task, jobs):  # the first run succeeds, the second fails
-        sent.extend(job[1] for job in jobs)
-        return [{"sims": 1}, None]
-
-    monkeypatch.setattr(selection, "residuals", lambda u, sims: read.append(sims) or "res")
-    out = switched_off(unit, [(eff, eff + cal, f) for f in fits], "fmus", pmap)
-    # the failed fit and the inapplicable one are not run; the others with the bias off and h
-    # as fitted
-    assert sent == [{("thermocouple", "bias"): 0.0, ("wire", "h"): 120.0},
-                    {("thermocouple", "bias"): 0.0, ("wire", "h"): 80.0}]
-    assert out == ["res", None, None, None] and read == [{"sims": 1}]
 
 
 def test_cross_signal_places_the_gap_in_the_sensor_or_in_the_plant():

@@ -12,7 +12,7 @@ from musclesim.diagnosis import diagnose, load_dataset
 
 from conftest import ROOT, SCENARIOS
 
-EXAMPLES = ("sma-independent-thermocouple-lag",)
+EXAMPLES = ("sma-independent-thermocouple-lag", "sma-independent-thermocouple-bias")
 
 
 def differences(a, b, where="report"):

@@ -370,7 +370,7 @@ def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, 
     (out / "key.json").write_text(key)
     say("scoring against the key and the oracle")
     gaps = pmap(oracle, [(c, d, r, fmu_dir) for c, d, r in zip(cases, dirs, reports)])
-    scores = score(cases, reports, gaps, independent=bench == "independent")
+    scores = score(cases, reports, gaps)
     _write_scores(top / "scores.json", scores, bench)
     return scores
 
@@ -390,49 +390,64 @@ def _write_scores(path, scores, bench):
     replace_file(path, json.dumps(new, indent=1) + "\n")
 
 
-def score(cases, reports, gaps, independent=False):
+CALIBRATION_ONLY = "calibration only"  # the evidence's name of calibration alone
+BINS = 10  # reliability: the probabilities in tenths
+
+
+def weighed(report):
+    """{candidate: probability} and the credible set of a report: its evidence, or, where the
+    diagnosis stopped before weighing (the model matched, or calibration alone did),
+    calibration only, certain."""
+    ev = report.get("evidence")
+    if not ev:
+        if report.get("verdict") in ("none", "recalibration"):
+            return {CALIBRATION_ONLY: 1.0}, [CALIBRATION_ONLY]
+        return {}, []
+    return {c["name"]: c["probability"] for c in ev["candidates"]}, list(ev["set"])
+
+
+def score(cases, reports, gaps):
     """The benchmark's scores and per-case table from the key, the reports and the gaps.
 
-    On the own bench a ``none`` case is a false alarm unless the verdict is ``none`` or
-    ``unexplained``; an ``outside`` case counts when called ``unexplained`` or when the verdict
-    (an effect's or a recalibration) is marked incomplete (``complete`` false: a structured gap
-    is left). On the
-    `independent` bench, whose conditions are drawn around the model's, a ``recalibration`` is
-    no false alarm (a parameter is off; no effect is named), and an ``outside`` case hiding two
-    library effects also counts when both are selected. ``named_rate`` is a weaker score beside
-    top-1: the share of effect and decoy cases whose hidden effect the verdict names or the
-    report lists among the effects the calibration stands in for on those data (``stand_ins``:
-    not told apart there). Where the gaps say whether the oracle's effect counts over the
-    calibrated model (``identifiable``, the independent bench's oracle), ``identifiable_rate``
-    is the share of effect and decoy cases where it does and ``top1_identifiable`` the top-1
-    accuracy over those: the cases these data let the diagnosis's rules name at all.
+    The diagnosis answers with probabilities over candidate causes and a credible set
+    (`weighed`). For an effect or decoy case the truth is its hidden effect; for a case without
+    one, ``calibration only``. Scored per case: whether the truth is in the set, the set's size,
+    the size-weighted hit (1/size when the truth is in), the most probable candidate (top-1),
+    the Brier score (the squared differences between the probabilities and the truth's
+    indicator, summed over the candidates, the truth counted with probability 0 when it is no
+    candidate). A case without an effect is a false alarm when its set leaves out calibration
+    only. An ``outside`` case counts when called ``unexplained``, when the gap left is
+    structured (``complete`` false), or (two effects) when both are in its set. The oracle (the
+    true effect fitted with the calibration by someone who knows it) gives the shrinkage beside
+    the diagnosis's.
     """
-    quiet = ("none", "unexplained") + (("recalibration",) if independent else ())
     table = []
     for c, r, g in zip(cases, reports, gaps):
+        probs, credible = weighed(r)
         row = {"case": c["case"], "kind": c["kind"], "bench": c["bench"], "truth": c["effect"],
-               "values": c["values"], "verdict": r.get("verdict"), "selected": r.get("selected"),
-               "gap_before": g["before"], "gap_oracle": g["oracle"], "gap_ours": g["ours"]}
-        if independent:
-            row["complete"] = r.get("complete")
-        if c["kind"] in ("effect", "decoy"):
-            row["correct"] = r.get("verdict") == c["effect"]
-            row["named"] = row["correct"] or c["effect"] in r.get("stand_ins", ())
-            if g.get("identifiable") is not None:
-                row["identifiable"] = g["identifiable"]
-            if g["oracle"] is None:  # the oracle's fit failed
-                table.append(row)
-                continue
+               "values": c["values"], "verdict": r.get("verdict"), "set": credible,
+               "probabilities": probs, "selected": r.get("selected"),
+               "complete": r.get("complete"), "gap_before": g["before"],
+               "gap_oracle": g["oracle"], "gap_ours": g["ours"]}
+        if c["kind"] in ("effect", "decoy", "none"):
+            truth = c["effect"] if c["kind"] != "none" else CALIBRATION_ONLY
+            row["in_set"] = truth in credible
+            row["set_size"] = len(credible)
+            row["weighted_hit"] = 1 / len(credible) if row["in_set"] else 0.0
+            row["top1"] = bool(probs) and max(probs, key=probs.get) == truth
+            row["brier"] = sum((p - (name == truth)) ** 2 for name, p in probs.items()) \
+                + (0.0 if truth in probs else 1.0)
+        if c["kind"] == "none":
+            row["false_alarm"] = CALIBRATION_ONLY not in credible
+        if c["kind"] in ("effect", "decoy") and g["oracle"] is not None and g["before"]:
             oracle = 1 - g["oracle"] / g["before"]
             ours = 1 - g["ours"] / g["before"]
             row["shrinkage_oracle"], row["shrinkage_ours"] = oracle, ours
             row["shrinkage_vs_oracle"] = ours / oracle if oracle > 0 else None
-        elif c["kind"] == "none":
-            row["false_alarm"] = r.get("verdict") not in quiet
-        else:
+        if c["kind"] == "outside":
             row["unexplained"] = r.get("verdict") == "unexplained" or (
                 r.get("complete") is False and r.get("verdict") not in ("none", "error")
-                or bool(c.get("pair")) and set(c["pair"]) <= set(r.get("selected") or ()))
+                or bool(c.get("pair")) and set(c["pair"]) <= set(credible))
         table.append(row)
 
     scores = {**_rates(table), "per_case": table}
@@ -443,19 +458,48 @@ def score(cases, reports, gaps, independent=False):
 
 
 def _rates(table):
-    """The scores and the number of cases of some rows of the per-case table."""
-    def rate(kinds, key):
-        rows = [t for t in table if t["kind"] in kinds]
-        return sum(bool(t[key]) for t in rows) / len(rows) if rows else None
+    """The scores of some rows of the per-case table (None where no case of the kind)."""
+    def mean(rows, key):
+        values = [float(t[key]) for t in rows if t.get(key) is not None]
+        return sum(values) / len(values) if values else None
 
+    keyed = [t for t in table if "in_set" in t]
+    effects = [t for t in keyed if t["kind"] in ("effect", "decoy")]
+    per_effect = {}
+    for t in effects:
+        per_effect.setdefault(t["truth"], []).append(t)
+    accuracy = {e: {"cases": len(rows), "in_set": mean(rows, "in_set"), "top1": mean(rows, "top1")}
+                for e, rows in sorted(per_effect.items())}
     ratios = [t["shrinkage_vs_oracle"] for t in table if t.get("shrinkage_vs_oracle") is not None]
-    judged = [t for t in table if "identifiable" in t]
-    can = [t for t in judged if t["identifiable"]]
-    return {"top1_accuracy": rate(("effect", "decoy"), "correct"),
-            "named_rate": rate(("effect", "decoy"), "named"),
-            "identifiable_rate": len(can) / len(judged) if judged else None,
-            "top1_identifiable": sum(t["correct"] for t in can) / len(can) if can else None,
+    return {"truth_in_set": mean(keyed, "in_set"), "mean_set_size": mean(keyed, "set_size"),
+            "size_weighted_accuracy": mean(keyed, "weighted_hit"), "brier": mean(keyed, "brier"),
+            "top1_accuracy": mean(effects, "top1"),
+            "false_alarm_rate": mean([t for t in table if t["kind"] == "none"], "false_alarm"),
+            "unexplained_rate": mean([t for t in table if t["kind"] == "outside"], "unexplained"),
+            "per_effect": accuracy,
+            "macro_in_set": (sum(a["in_set"] for a in accuracy.values()) / len(accuracy)
+                             if accuracy else None),
+            "micro_in_set": mean(effects, "in_set"),
+            "reliability": reliability(table),
             "shrinkage_vs_oracle": statistics.median(ratios) if ratios else None,
-            "false_alarm_rate": rate(("none",), "false_alarm"),
-            "unexplained_rate": rate(("outside",), "unexplained"),
             "cases": len(table)}
+
+
+def reliability(table):
+    """Predicted probability against observed frequency, per tenth: over every candidate of every
+    keyed case, [{"bin", "predicted" (mean), "observed" (share true), "count"}]."""
+    pairs = []
+    for t in table:
+        if "in_set" not in t:
+            continue
+        truth = t["truth"] if t["kind"] != "none" else CALIBRATION_ONLY
+        pairs += [(p, name == truth) for name, p in t["probabilities"].items()]
+    out = []
+    for b in range(BINS):
+        inside = [(p, hit) for p, hit in pairs if b / BINS <= p < (b + 1) / BINS
+                  or (b == BINS - 1 and p == 1.0)]
+        if inside:
+            out.append({"bin": [b / BINS, (b + 1) / BINS], "count": len(inside),
+                        "predicted": sum(p for p, _ in inside) / len(inside),
+                        "observed": sum(h for _, h in inside) / len(inside)})
+    return out

@@ -30,9 +30,9 @@ import numpy as np
 
 from musclesim.benchmark.benches import crawler
 from musclesim.benchmark.benches.sma import LENGTH, STRESS, Bench, run
-from musclesim.diagnosis import (HELD_OUT, TRAIN, Failed, Free, Problem, affected, calibration,
-                                 find_effect, fit, gap, judge, load_dataset, regime_masks,
-                                 residuals, simulate_unit, values_of)
+from musclesim.diagnosis import (HELD_OUT, TRAIN, Failed, Free, Problem, calibration,
+                                 find_effect, fit, gap, load_dataset, residuals, simulate_unit,
+                                 values_of)
 
 BENCH = "independent"
 SCENARIO = "sma-bench-tracking"  # the model the data sets name (its reference, PID, 125 MPa)
@@ -259,10 +259,8 @@ def oracle(args):
     the key's library effect fitted on the training part together with the calibration
     parameters, from the report's calibrated values (the bench's truth has no values in the
     library's terms, and its conditions differ from the model's). The oracle is None for a case
-    without a library key. ``identifiable``: whether the oracle's effect counts over the
-    calibrated model by the diagnosis's own rules (`selection.judge`, on the signals it can
-    change): when it does not, these data cannot name the effect even knowing it (None without
-    a key or a calibration)."""
+    without a library key. (No oracle judges identifiability by the diagnosis's own rules: that
+    would measure the rules, not the data.)"""
     case, case_dir, report, fmu_dir = args
     ours = report.get("shrinkage", {}).get("all")
     keyed = case["kind"] in ("effect", "decoy")
@@ -276,7 +274,7 @@ def oracle(args):
         except Failed:
             before = math.inf
         ours = {"before": before, "after": before}
-    best = identifiable = None
+    best = None
     if keyed:
         effect = find_effect(case["effect"])
         insts = tuple(n for n, c in problem.components.items() if c == effect.component)
@@ -288,23 +286,7 @@ def oracle(args):
         start = _scan(unit, free, fmu_dir, values_of(calib, x_cal))
         f = fit(unit, free + calib, fmu_dir, x0=start + x_cal, scan=0)
         best = f.heldout_gap
-        identifiable = _counts(problem, unit, effect, insts, f, values_of(calib, x_cal))
-    return {"before": ours["before"], "oracle": best, "ours": ours["after"],
-            "identifiable": identifiable}
-
-
-def _counts(problem, unit, effect, instances, f, calibrated):
-    """Whether `effect` on `instances` fitted as `f` counts over the model at the `calibrated`
-    values by the diagnosis's rules (None: no calibrated values, or a run failed)."""
-    if not calibrated or f.residuals is None:
-        return None
-    try:
-        base = residuals(unit, simulate_unit(unit, calibrated, problem.fmu_dir))
-    except Failed:
-        return None
-    masks = regime_masks(problem, problem.unit("model"))
-    return judge(unit, base, f.residuals, affected(unit, instances), effect.regime,
-                 masks)["counts"]
+    return {"before": ours["before"], "oracle": best, "ours": ours["after"]}
 
 
 def _scan(unit, free, fmu_dir, fixed):

@@ -8,15 +8,15 @@ unmodelled effect of ``EFFECTS`` explains it, how far the held-out gap shrinks) 
 Modules: dataset (measured data sets), effects (the effect library and the per-component
 knowledge the diagnosis uses), thresholds (every threshold, documented), problem (the units
 simulated against the data), simulate, stats, regimes, fitting, selection (the stages' work),
-pipeline (`diagnose`), report (the files).
+evidence and weigh (the candidates' evidence, probabilities and the verdict), pipeline
+(`diagnose`), report (the files).
 
 The stages' building blocks are public too, for the blind benchmark above this layer
 (`musclesim.benchmark`), which records cases, fits its oracle and scores the diagnosis with them:
-``Problem`` and ``affected`` (the units simulated against data), ``simulate_unit``, ``with_values``,
+``Problem`` (the units simulated against data), ``simulate_unit``, ``with_values``,
 ``residuals`` and ``Failed`` (runs), ``gap`` (the normalised RMS gap of a ``Part``, ``TRAIN`` or
-``HELD_OUT``), ``fit``, ``Free`` and
-``values_of`` (bounded least squares of free parameters), ``calibration`` and ``judge`` (the
-calibration parameters of a unit, an effect's judgement), ``regime_masks`` and ``find_effect``.
+``HELD_OUT``), ``fit``, ``Free`` and ``values_of`` (bounded least squares of free parameters),
+``calibration`` (the calibration parameters of a unit) and ``find_effect``.
 """
 from musclesim.diagnosis.dataset import DataSet
 from musclesim.diagnosis.dataset import load as load_dataset
@@ -25,15 +25,14 @@ from musclesim.diagnosis.effects import EFFECTS, REGIMES, Effect
 from musclesim.diagnosis.effects import find as find_effect
 from musclesim.diagnosis.fitting import Free, fit, values_of
 from musclesim.diagnosis.pipeline import diagnose
-from musclesim.diagnosis.problem import Problem, affected
-from musclesim.diagnosis.regimes import regimes as regime_masks
+from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.report import write as write_report
-from musclesim.diagnosis.selection import calibration, judge
+from musclesim.diagnosis.selection import calibration
 from musclesim.diagnosis.simulate import Failed, residuals, with_values
 from musclesim.diagnosis.simulate import simulate as simulate_unit
 from musclesim.diagnosis.stats import HELD_OUT, TRAIN, Part, gap
 
 __all__ = ["load_dataset", "DataSet", "write_data_set", "diagnose", "write_report", "EFFECTS",
-           "REGIMES", "Effect", "find_effect", "Problem", "affected", "simulate_unit", "with_values",
-           "residuals", "Failed", "gap", "fit", "Free", "values_of", "calibration", "judge",
-           "regime_masks", "Part", "TRAIN", "HELD_OUT"]
+           "REGIMES", "Effect", "find_effect", "Problem", "simulate_unit", "with_values",
+           "residuals", "Failed", "gap", "fit", "Free", "values_of", "calibration", "Part",
+           "TRAIN", "HELD_OUT"]

@@ -229,6 +229,11 @@ _WIRE_THERMAL = (
 )
 CALIBRATION = (
     *_WIRE_THERMAL,
+    # where the record starts: a bench holds the wire near the scenario's start before recording,
+    # to a few kelvin; fixed, it would break the symmetry of a thermocouple's offset with the
+    # ambient and the transformation temperatures all moved by it (§thermal-model)
+    Calibrated("SmaWire", "T_init", -5.0, 5.0, False, "§thermal-model, §preisach",
+               "the wire's temperature when the record starts"),
     Calibrated("SmaWire", "hysteresis_shift", -8.0, 8.0, False,
                "§preisach, §named-effects, §sma-material",
                "transformation temperatures shift with composition and training"),

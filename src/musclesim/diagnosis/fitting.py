@@ -17,7 +17,8 @@ from musclesim.batch import serial_map
 from musclesim.cosim import reuse_fmus
 
 from musclesim.diagnosis.simulate import Failed, residuals, simulate
-from musclesim.diagnosis.stats import HELD_OUT, TRAIN, gap, part_rows, part_vector
+from musclesim.diagnosis.stats import (HELD_OUT, TRAIN, gap, part_rows, part_segments,
+                                       part_vector)
 from musclesim.diagnosis.thresholds import (MAX_ITERATIONS, PASSES, PERIOD_POINTS, STEPS,
                                            TOLERANCE)
 
@@ -60,7 +61,9 @@ class FitResult:
     """A fit's outcome: the values `x` with their 95 % `interval`s, the residuals of the whole
     runs there (None when they fail), the gaps on the training and the held-out part, whether
     the parameters change the cost at all (`applicable`), the runs it took, the Jacobian at `x`
-    (box coordinates) and the sensor latencies held."""
+    (box coordinates) and the sensor latencies held; `z`, the values in box coordinates, and
+    `train`, the training residuals there with those latencies held ({column: [array per
+    run]}, `stats.part_segments`; the Jacobian's rows follow them), None when the run failed."""
 
     x: list
     interval: list
@@ -71,6 +74,8 @@ class FitResult:
     evaluations: int
     jac: object
     latency: dict
+    z: object = None
+    train: dict = None
 
 
 def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency=None,
@@ -273,10 +278,13 @@ class Fit:
         if J is not None:
             interval = _interval(self.train_vector(z), J, z, self.lo, self.span)
         res = None if sims is None else residuals(self.job.unit, sims)
+        held = self.run(z) if self.align else None  # the Jacobian's residuals
+        train = part_segments(self.job.unit, held if held is not None else res, TRAIN) \
+            if res is not None else None
         return FitResult([float(v) for v in x], interval, res,
                          gap(self.job.unit, res, TRAIN) if res else math.inf,
                          gap(self.job.unit, res, HELD_OUT) if res else math.inf,
-                         applicable, len(self.cache) + 1, J, chosen)
+                         applicable, len(self.cache) + 1, J, chosen, z, train)
 
 
 def known_columns(jac, k):

@@ -22,27 +22,25 @@ The steps, on a measured data set (`musclesim.diagnosis.dataset`), each printed 
    at least `NOISE_FLOOR` of the range; for a metric its uncertainty, else `METRIC_FLOOR`).
    Components of deviating units are located unless a unit that did not deviate isolates them.
    The calibrated residual is also split by regime and the worst windows are listed.
-4. Which effect. Every effect of a located component is fitted on the training part together
-   with the fit unit's calibration parameters (from their calibrated values; a scan of the
-   effect's box first) and judged against calibration alone on the held-out part, on the
-   observed signals it can change (`problem.affected`: a sensor's effect on its channel, the
-   wire's on everything downstream), so that one channel's unrelated mismatch cannot drown a
-   clear fix of another (`selection.judge`: material, `MIN_SHRINKAGE`, bootstrap interval above
-   zero, signature in its regime). Greedy forward selection may add a second effect. Signals
-   that share an upstream state (the thermocouple and the strain, both on the wire's
-   temperature) place the gap in a sensor or in the plant (`selection.cross_signal`).
-5. How far it shrinks: held-out gap per signal nominal, calibrated and with the selected effects
-   (calibration refitted with them), with block-bootstrap intervals, in the model with every
-   measured signal replayed (`Problem.replayed`).
+4. Which cause, by evidence. Every effect of a located component is fitted on the training part
+   together with the fit unit's calibration parameters (from their calibrated values; a scan of
+   the effect's box first). The candidates (calibration alone, each effect, and the pair of the
+   two most probable effects when the most probable leaves a structured gap) are weighed by
+   their evidence under a model of the mismatch calibration leaves (`weigh`, `evidence`):
+   posterior probabilities, the credible set, the symmetries calibration makes with an effect
+   and what would break them, a held-out predictive check each. Each effect's fit is also
+   described against calibration on the signals it can change (`selection.judge`). Signals that
+   share an upstream state place the gap in a sensor or in the plant (`selection.cross_signal`).
+5. How far it shrinks: held-out gap per signal nominal, calibrated and with the named (or most
+   probable) effect (calibration refitted with it), with block-bootstrap intervals, in the model
+   with every measured signal replayed (`Problem.replayed`).
 
-Verdict (`selection.verdict`): ``none`` when no signal deviates beyond the noise; the best
-counting effect's name, ``complete`` when the gap left is unstructured (within `STRUCTURED`
-noise floors or `RESIDUAL_SHARE` of the nominal gap), else false with its share (a further
-difference outside the library); ``recalibration`` when no effect counts and calibration closes
-at least `MOST` of the nominal gap (naming the parameters it moved; complete only within
-`STRUCTURED` noise floors); ``unexplained`` otherwise. Candidates that do not count but whose
-signature the calibration makes too on these data (`selection.aliasing`, collinearity index at
-least `ALIASED`) are the report's ``stand_ins``, named in the explanation: not told apart there.
+Verdict (`weigh.section`): ``none`` when no signal deviates beyond the noise; ``recalibration``
+when calibration alone leaves every signal within the noise, or is the candidate named; the
+candidate whose probability reaches `NAME_LEVEL`, else the credible set (``A or B``);
+``unexplained`` when no candidate passes the predictive check. ``complete`` is false when the
+gap the named candidate leaves is structured (more than `STRUCTURED` noise floors and
+`RESIDUAL_SHARE` of the nominal gap): a further difference outside the library.
 
 The fits run on the ``pmap`` `diagnose` is given (`fitting.fit_all`): on Dask's (the CLI's, the
 same local cluster or scheduler as sweeps) every simulation of every fit is a task, the fits
@@ -50,21 +48,27 @@ steered side by side from threads of this process; on any other map each fit is 
 
 This module runs the stages; the work is in the package's other modules: the thresholds named
 above in `musclesim.diagnosis.thresholds`, the units in `.problem`, simulation and residuals in
-`.simulate`, statistics in `.stats`, regimes in `.regimes`, fits in `.fitting`, scoring,
-selection and verdict in `.selection`.
+`.simulate`, statistics in `.stats`, regimes in `.regimes`, fits in `.fitting`, candidates
+and their descriptions in `.selection`, the evidence in `.evidence` and the weighing and verdict
+in `.weigh`.
 """
 from dataclasses import dataclass
 
+import numpy as np
+
 from musclesim.batch import serial_map
 from musclesim.cosim import reuse_fmus, split_signal
-from musclesim.diagnosis.fitting import FitJob, fit_all, known_columns, simulation_task, values_of
+from musclesim.diagnosis.fitting import (FitJob, FitResult, fit_all, known_columns,
+                                         simulation_task, values_of)
 from musclesim.diagnosis.problem import Problem, affected
 from musclesim.diagnosis.regimes import regime_table, regimes
-from musclesim.diagnosis.selection import (baseline, calibration, calibration_table,
-                                           candidates, cross_signal, rank, refine, scanned,
-                                           select, stand_ins, switched_off, verdict)
+from musclesim.diagnosis.selection import (NO_GAP, calibration, calibration_table, candidates,
+                                           cross_signal, explained, rank, refine, scanned)
 from musclesim.diagnosis.simulate import Failed, residuals, signal_gap, simulate
-from musclesim.diagnosis.stats import HELD_OUT, before_after, deviates, gap, noise_floor
+from musclesim.diagnosis.stats import (HELD_OUT, TRAIN, before_after, deviates, gap, noise_floor,
+                                       part_segments)
+from musclesim.diagnosis.weigh import CALIBRATION_ONLY, Weighed, symmetries, weigh
+from musclesim.diagnosis.weigh import section as weigh_section
 from musclesim.errors import UserError
 
 
@@ -137,9 +141,8 @@ def _diagnose(ds, fmu_dir, pmap, say, traces):
     report = _gap_section(problem, whole, sims, res_whole)
     if not report["gap"]["deviates"] and not any(u.deviates for u in units):
         floor = report["gap"]["noise_floor"]
-        none, explanation, _ = verdict([], None, {}, floor, {}, deviates=False)
         report.update(calibration={"parameters": {}}, effects=[], selected=[], stand_ins=[],
-                      verdict=none, explanation=explanation, noise_floor=floor, complete=True)
+                      verdict="none", explanation=NO_GAP, noise_floor=floor, complete=True)
         report.update(_shrinkage(problem, ({}, cut_sims), {}, traces, pmap))
         return report
     res_cut = residuals(cut, cut_sims)
@@ -304,13 +307,14 @@ def _fit_unit(whole, isolated, suspects):
 
 def _which_effect(problem, fitting, calibrated, pmap, say):
     """Section 4: every candidate effect of the suspects fitted together with the fit unit's
-    calibration parameters (from its calibrated values), judged against that calibration alone
-    or against its own fit with the effect switched off, whichever fits the training part
-    better (`baseline`), ranked and selected; the verdict. `fitting`: (unit, its
-    `Calibration`, suspects, regime masks); `calibrated`: the report's table of the model's
-    calibrated values. Return the selected values {(instance, parameter): value}, calibration
-    refitted with the effects included, and the report's section (``effects``, ``selected``,
-    ``consistency``, ``stand_ins``, the verdict, ``noise_floor``)."""
+    calibration parameters (from its calibrated values), then weighed by evidence against
+    calibration alone (`weigh`): probabilities, the credible set, symmetries; the pair of the
+    two most probable effects when the most probable single leaves a structured gap. Each
+    effect's fit is also scored descriptively against calibration on the signals it can change
+    (``effects``). `fitting`: (unit, its `Calibration`, suspects, regime masks); `calibrated`:
+    the report's table of the model's calibrated values. Return the values of the candidate
+    named (or, undecided, the most probable) {(instance, parameter): value}, calibration
+    refitted with it, and the report's section."""
     unit, cal, suspects, masks = fitting
     fmu_dir = problem.fmu_dir
     calib, jac = cal.free, cal.jac
@@ -324,20 +328,43 @@ def _which_effect(problem, fitting, calibrated, pmap, say):
             for c in cands]
     fits = refine(unit, cands, fit_all(jobs, pmap), calib, cal.latency, fmu_dir, pmap)
     floor = noise_floor(unit)
-    offs = switched_off(unit, [(c.free, c.free + calib, f) for c, f in zip(cands, fits)],
-                        fmu_dir, pmap)
-    bases = [baseline(unit, base, off) for off in offs]
-    entries, counting = rank(unit, bases, cands, fits, masks, calib)
-    selected, final, free = select(unit, counting, (calib, jac, cal.latency), floor, masks,
-                                   pmap, fmu_dir, say)
-    gaps = {"nominal": cal.nominal_gap, "calibrated": base["heldout_gap"]}
-    name, explanation, complete = verdict(selected, final, gaps, floor, calibrated,
-                                          entries=entries)
-    section = {"effects": entries, "selected": [e["name"] for e in selected],
-               "consistency": cross_signal(unit, entries, selected),
-               "stand_ins": [e["name"] for e in stand_ins(entries)], "verdict": name,
-               "explanation": explanation, "complete": complete, "noise_floor": floor}
-    return (values_of(free, final.x) if selected else {}), section
+    entries, _ = rank(unit, [base] * len(cands), cands, fits, masks, calib)
+    calibration_only = Weighed(CALIBRATION_ONLY, cal.fit or _unfitted(unit, cal), calib, 0)
+    singles = [Weighed(c.label, f, c.free + calib, len(c.free)) for c, f in zip(cands, fits)
+               if f.applicable and f.residuals is not None]
+    weighed, disc = weigh(unit, calibration_only, singles)
+    effects = [w for w in weighed if w.k]
+    top = weighed[0]
+    if top.k and len(effects) > 1 and not explained(top.fit.heldout_gap, cal.nominal_gap,
+                                                    floor):
+        say("a pair: the two most probable effects together")
+        w1, w2 = effects[0], effects[1]
+        c1, c2 = (next(c for c in cands if c.label == w.name) for w in (w1, w2))
+        pair_fit, = fit_all([FitJob(
+            unit, c2.free + c1.free + calib, fmu_dir, x0=[f.start for f in c2.free] + w1.fit.x,
+            scan=len(c2.free), known=known_columns(jac, len(c2.free) + len(c1.free)),
+            latency=cal.latency)], pmap)
+        if pair_fit.residuals is not None:
+            pair = Weighed(f"{w1.name} + {w2.name}", pair_fit, c2.free + c1.free + calib,
+                           len(c2.free) + len(c1.free))
+            weighed, disc = weigh(unit, calibration_only, singles, [pair], disc)
+    symmetric = symmetries(weighed, problem, disc)
+    section, name, explanation, complete, chosen = weigh_section(
+        unit, weighed, symmetric, disc, cal.nominal_gap, floor, explained)
+    out = {"effects": entries, "evidence": section,
+           "selected": [chosen.name] if chosen.k and name == chosen.name else [],
+           "consistency": cross_signal(unit, entries, [e for e in entries
+                                                       if e["label"] == chosen.name]),
+           "stand_ins": [s["candidates"][0] for s in symmetric], "verdict": name,
+           "explanation": explanation, "complete": complete, "noise_floor": floor}
+    return (values_of(chosen.free, chosen.fit.x) if chosen.k else {}), out
+
+
+def _unfitted(unit, cal):
+    """A `FitResult` of the nominal values where nothing was calibrated."""
+    res = cal.residuals
+    return FitResult([], [], res, gap(unit, res, TRAIN), gap(unit, res, HELD_OUT), True, 0, None,
+                     cal.latency, np.zeros(0), part_segments(unit, res, TRAIN))
 
 
 def _shrinkage(problem, calibrated, values, traces, pmap):

@@ -125,23 +125,22 @@ def _md_where(report):
 
 
 def _md_which(report):
-    """Section 4: the candidate effects ranked, judged on the signals each can change."""
-    L = ["", "## 4. Which effect", ""]
+    """Section 4: the candidates weighed by evidence, then each effect's fit described."""
+    L = ["", "## 4. Which cause: the evidence", ""]
     if not report.get("effects"):
         return L + ["No candidate was fitted."]
     fu = report.get("fit_unit", {})
-    L += [f"Fitted in {' + '.join(fu.get('instances', []))} on the training part together with "
-          "the calibration parameters, scored on the held-out part against calibration alone "
-          "(or, marked *, against its own fit with the effect switched off, when that fits the "
-          "training part better: the gain of a better calibration is not the effect's), on the "
-          "signals each effect can change. An effect counts if the gap there is "
-          "material (beyond the noise), its gain is large enough with a bootstrap interval "
-          "above zero, and it gains most in its regime.", "",
-          "The collinearity index says how far the calibration makes the effect's signature "
-          "too (1: not at all; 10 and more: these data hardly tell them apart).", "",
+    L += _md_evidence(report.get("evidence"), fu)
+    L += ["", "### Each effect's fit", "",
+          f"Fitted in {' + '.join(fu.get('instances', []))} on the training part together with "
+          "the calibration parameters; described on the held-out part against calibration "
+          "alone, on the signals each effect can change (the gain and its bootstrap interval, "
+          "whether it gains most in the regime it predicts, how far the calibration makes its "
+          "signature too: 1 not at all, 10 and more hardly told apart). These numbers describe "
+          "the fits; the evidence above weighs them.", "",
           "| rank | effect | fitted values [95 % interval] | judged on | gap there: calibrated "
           "-> with effect | gain [95 %] | pooled gap | regime gain ratio | collinearity with "
-          "calibration | counts |",
+          "calibration | gains clearly |",
           "|---|---|---|---|---|---|---|---|---|---|"]
     for i, e in enumerate(report["effects"], 1):
         vals = "; ".join(f"{n} = {_num(p['value'], '.4g')} {_iv(p['interval'], '.3g')}"
@@ -165,6 +164,40 @@ def _md_which(report):
             for c in report["fit_unit"].get("observed", [])) + " |")
     if report.get("consistency"):
         L += ["", "Cross-signal evidence: " + report["consistency"]]
+    return L
+
+
+def _md_evidence(ev, fit_unit):
+    """The evidence table: each candidate's probability, log evidence, predictive check and
+    held-out gaps, the credible set, why the others are out, the symmetries."""
+    if not ev:
+        return []
+    signals = fit_unit.get("observed", [])
+    L = ["Each candidate (calibration alone, each effect of the located components with the "
+         "calibration parameters, a pair where the most probable leaves a structured gap) is "
+         "weighed by its evidence on the training part: its marginal likelihood under a model of "
+         "the mismatch calibration leaves (per signal an autoregressive process), with every "
+         "candidate equally probable beforehand (a pair a tenth as probable). The predictive "
+         "check is the RMS of the standardised held-out innovations (about 1: described; above "
+         "3: not).", "",
+         "| candidate | probability | log evidence | predictive check | held-out gap "
+         + " | ".join(signals) + " |",
+         "|---|---|---|---|" + "---|" * len(signals)]
+    for c in ev["candidates"]:
+        gaps = " | ".join(_num(c["heldout_gap"].get(s)) for s in signals)
+        L.append(f"| {c['name']} | {c['probability']:.3f} | {c['log_evidence']:.1f} | "
+                 f"{_num(c['predictive'], '.2f')} | {gaps} |")
+    L += ["", f"Credible set ({ev.get('level', 0.9):.0%} of the probability): "
+          f"**{', '.join(ev['set'])}**."]
+    out = [c for c in ev["candidates"] if c.get("excluded")]
+    if out:
+        L += ["", "Left out of the set: " + "; ".join(f"{c['name']} ({c['excluded']})"
+                                                   for c in out) + "."]
+    for sym in ev.get("symmetries", []):
+        L += ["", f"Symmetry: {sym['candidates'][0]} is a recalibration of "
+                  f"{', '.join(sym['with']) or 'nothing'} on these data (what the calibration "
+                  f"cannot make of it: {sym['chi2']:.2g} noise variances); to tell them apart, "
+                  + "; or ".join(sym["breaks_with"]) + "."]
     return L
 
 

@@ -1,14 +1,14 @@
-"""Choosing the effect: calibration, candidates fitted with it, per-signal scores, the verdict.
+"""The candidates and their fits: calibration parameters, candidate effects, each fit described.
 
-The nominal values a real bench has differently (`effects.CALIBRATION`) are calibrated first;
-every candidate effect is then fitted together with them (`calibration` gives their `Free`
-parameters) and judged against calibration alone (or against its own fit with the effect
-switched off, when that fits the training part better: `baseline`) on the observed signals it
-can change (`musclesim.diagnosis.problem.affected`): it counts when its held-out gain there is
-at least `MIN_SHRINKAGE`, its block-bootstrap interval excludes zero, and it gains at least
-`SIGNATURE_MIN` of its average per sample in the regime it predicts
-(`musclesim.diagnosis.thresholds`). The best counting effect is selected; a second one is added
-greedily when it shrinks the remaining gap by `MIN_SHRINKAGE` again. `verdict` names the outcome.
+The nominal values a real bench has differently (`effects.CALIBRATION`) are calibrated first
+(`calibration` gives their `Free` parameters); every candidate effect of the located components
+(`candidates`) is then fitted together with them, the best two fitted again with every Jacobian
+column fresh (`refine`). Each fit is described for the report against calibration alone on the
+observed signals it can change (`musclesim.diagnosis.problem.affected`; `score`, `judge`): its
+held-out gain with a block-bootstrap interval, where it gains (its regime), how far the
+calibration makes its signature too (`aliasing`); `cross_signal` says whether two signals that
+share a state place the gap in a sensor or in the plant. Which cause the data favour is weighed
+by evidence (`musclesim.diagnosis.weigh`); `explained` says whether a gap left is unstructured.
 
 >>> explained(0.02, 1.0, 0.01)  # within STRUCTURED (3) noise floors
 True
@@ -23,15 +23,13 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from musclesim.diagnosis.effects import by_component, calibration_of
-from musclesim.diagnosis.fitting import (Free, FitJob, fit_all, known_columns, simulation_task,
-                                         values_of)
+from musclesim.diagnosis.fitting import (Free, FitJob, fit_all)
 from musclesim.diagnosis.problem import affected, downstream
-from musclesim.diagnosis.simulate import residuals
 from musclesim.diagnosis.stats import (HELD_OUT, TRAIN, before_after, bootstrap, gap, interval95,
                                        part_rows,
                                        row_squares)
-from musclesim.diagnosis.thresholds import (ALIASED, DEVIATES, MIN_SHRINKAGE,
-                                            MIN_VALUES_PER_PARAMETER, MOST, REFINED,
+from musclesim.diagnosis.thresholds import (DEVIATES, MIN_SHRINKAGE,
+                                            MIN_VALUES_PER_PARAMETER, REFINED,
                                             RESIDUAL_SHARE, SIGNATURE_MIN, STRUCTURED)
 
 NO_GAP = ("the model matches the data within the noise on the held-out part: there is no gap to "
@@ -129,33 +127,6 @@ def refine(unit, cands, fits, calib, latency, fmu_dir, pmap):
         if f.residuals is not None and f.train_gap < fits[i].train_gap:
             out[i] = replace(f, applicable=fits[i].applicable)
     return out
-
-
-def switched_off(unit, fits, fmu_dir, pmap):
-    """The residuals of each fit's values with its effect switched off, the other parameters as
-    fitted, run together on `pmap`; None where the fit or that run failed, and for a fit that is
-    not applicable (its start is the fit: with the effect off it is its start again, which
-    cannot count). `fits`: [(the effect's `Free` parameters, first in the fit, the fit's whole
-    `Free` list, the fit)]."""
-    todo = [(i, values_of(free, [fr.start for fr in eff] + f.x[len(eff):]))
-            for i, (eff, free, f) in enumerate(fits) if f.residuals is not None and f.applicable]
-    runs = pmap(simulation_task, [(unit, v, fmu_dir, None) for _, v in todo])
-    out = [None] * len(fits)
-    for (i, _), sims in zip(todo, runs):
-        out[i] = None if sims is None else residuals(unit, sims)
-    return out
-
-
-def baseline(unit, base, off):
-    """What an effect's fit is judged against: `base` (a dict with the ``residuals`` and
-    ``heldout_gap`` of calibration alone, or of the effect selected first), or `off`, the
-    residuals of the fit's own values with the effect switched off (`switched_off`), when those
-    fit the training part better: a joint fit whose other parameters reached a better optimum
-    (a periodic phase in another of its wells) gains by them, and that gain is not the
-    effect's. Chosen on the training part only."""
-    if off is None or gap(unit, off, TRAIN) >= gap(unit, base["residuals"], TRAIN):
-        return base
-    return {"residuals": off, "heldout_gap": gap(unit, off, HELD_OUT), "effect_off": True}
 
 
 def aliasing(jac, k, names):
@@ -314,115 +285,10 @@ def rank(unit, bases, cands, fits, masks, calib=()):
     return entries, [t for t in scored if t[0]["counts"]]
 
 
-def select(unit, counting, calibrated, floor, masks, pmap, fmu_dir, say):
-    """(selected entries, final fit, its free parameters): the best counting effect, and
-    greedily a second one (of the next three, each fitted with the first and the calibration
-    parameters; `calibrated`: their `Free` list, the calibration's Jacobian or None and its
-    sensor latencies) when the first leaves a structured gap and the second gains
-    MIN_SHRINKAGE more, significantly and in its regime, on the signals it can change (against
-    the first alone, or the pair's fit with the second switched off: `baseline`)."""
-    if not counting:
-        return [], None, []
-    calib, jac, latency = calibrated
-    e1, c1, f1 = counting[0]
-    selected, final, free = [e1], f1, c1.free + calib
-    if explained(f1.heldout_gap, e1["heldout_gap_before"], floor) or len(counting) < 2:
-        return selected, final, free
-    say("greedy: a second effect")
-    pairs = counting[1:4]
-    jobs = [FitJob(unit, c.free + c1.free + calib, fmu_dir, x0=[fr.start for fr in c.free] + f1.x,
-                   scan=len(c.free), known=known_columns(jac, len(c.free) + len(c1.free)),
-                   latency=latency) for _, c, _ in pairs]
-    pair_fits = fit_all(jobs, pmap)
-    (e2, c2, _), f12 = min(zip(pairs, pair_fits), key=lambda t: t[1].heldout_gap)
-    if f12.residuals is None:
-        return selected, final, free
-    pair = c2.free + c1.free + calib
-    off, = switched_off(unit, [(c2.free, pair, f12)], fmu_dir, pmap)
-    first = {"residuals": f1.residuals, "heldout_gap": f1.heldout_gap}
-    j = judge(unit, baseline(unit, first, off)["residuals"], f12.residuals,
-              affected(unit, c2.instances), c2.effect.regime, masks)
-    if j["counts"]:
-        selected.append(e2)
-        e2["second"] = j
-        final, free = f12, pair
-    return selected, final, free
-
-
 def explained(after, before, floor):
     """Whether a held-out gap left `after` is unstructured: within STRUCTURED noise floors, or
     at most RESIDUAL_SHARE of the gap `before`."""
     return after <= STRUCTURED * floor or after <= RESIDUAL_SHARE * before
-
-
-def moved(table):
-    """The calibrated parameters whose 95 % interval excludes their nominal value, farthest
-    (relative to their bounds) first."""
-    out = [(abs(v["value"] - v["nominal"]) / (v["upper"] - v["lower"]), k)
-           for k, v in table.items() if not v["interval"][0] <= v["nominal"] <= v["interval"][1]]
-    return [k for _, k in sorted(out, reverse=True)]
-
-
-def stand_ins(entries):
-    """The candidates (entries of `score`) that do not count and whose signature calibration
-    makes too (`aliasing` index at least ALIASED): the report's ``stand_ins``."""
-    return [e for e in entries
-            if not e["counts"] and e.get("aliasing") and e["aliasing"]["index"] >= ALIASED]
-
-
-def verdict(selected, final, gaps, floor, calibrated, deviates=True, entries=()):
-    """(verdict, explanation, complete) from the selected effects (entries of `score`), their
-    final fit, the held-out `gaps` ({"nominal", "calibrated"} pooled in the fit unit), the noise
-    `floor` and the `calibrated` table (`calibration_table`). ``none`` when nothing `deviates`;
-    the first selected effect's name (complete when the gap left is unstructured, `explained`);
-    ``recalibration`` when no effect counts but calibration closes at least MOST of the nominal
-    gap (complete only when the rest is within STRUCTURED noise floors); ``unexplained``
-    otherwise. Without a selected effect the explanation names the candidates (`entries`) the
-    calibration can stand in for on these data (`stand_ins`)."""
-    if not deviates:
-        return "none", NO_GAP, True
-    nominal, cal = gaps["nominal"], gaps["calibrated"]
-    names = moved(calibrated)
-    if selected:
-        first, labels = selected[0], " + ".join(e["label"] for e in selected)
-        j, after = first["judged"], final.heldout_gap
-        done = explained(after, nominal, floor)
-        against = "the calibrated model's held-out gap" if first.get(
-            "baseline", "calibration") == "calibration" else \
-            "the held-out gap of its own fit with the effect off (a better calibration)"
-        text = (f"{labels} explains {j['gain']:.0%} [{j['interval'][0]:.0%}, "
-                f"{j['interval'][1]:.0%}] of {against} on "
-                f"{', '.join(j['signals'])} ({j['before']:.3g} -> {j['after']:.3g}); pooled "
-                f"{nominal:.3g} nominal, {cal:.3g} calibrated, {after:.3g} with the effect")
-        if not done:
-            text += (f"; the rest, {after / floor:.1f} noise floors, stays structured: a further "
-                     "difference the library does not hold")
-        return first["name"], text, done
-    if cal <= (1 - MOST) * nominal:
-        listed = ", ".join(names) or "none beyond its interval"
-        # judged on the noise alone: RESIDUAL_SHARE of a nominal gap that wrong nominal values
-        # made large says nothing about whether the model's structure is the bench's
-        done = cal <= STRUCTURED * floor
-        text = (f"no unmodelled effect adds held-out explanation beyond calibration, which takes "
-                f"the held-out gap from {nominal:.3g} to {cal:.3g} (noise floor {floor:.3g}); "
-                f"recalibrated: {listed}")
-        if not done:
-            text += "; a structured rest remains"
-        return "recalibration", text + _alias_note(entries), done
-    return "unexplained", (f"calibration takes the held-out gap only from {nominal:.3g} to "
-                           f"{cal:.3g} and no candidate effect adds a significant, material "
-                           "held-out gain on the signals it can change"
-                           + _alias_note(entries)), False
-
-
-def _alias_note(entries):
-    names = [f"{e['label']} (like {', '.join(e['aliasing']['with'])})" for e in stand_ins(entries)]
-    if not names:
-        return ""
-    return (f"; the calibration makes what {' and '.join(names)} would, all but a tenth of it "
-            f"or less (collinearity index {ALIASED:g} or more), so these data hardly tell them "
-            "from a recalibration: state one of those values in the data set's [conditions], or "
-            "add an experiment that moves them apart")
 
 
 def cross_signal(unit, entries, selected):

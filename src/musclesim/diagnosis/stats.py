@@ -133,6 +133,13 @@ def part_vector(unit, res, part, columns=None):
     return v[np.isfinite(v)]
 
 
+def part_segments(unit, res, part):
+    """The residuals of `part` as {column: [array per run]}, each array in time order without
+    its non-finite values: `part_vector`'s values, column by column and run by run."""
+    rows = part_rows(unit, part)
+    return {c: [r[m][np.isfinite(r[m])] for r, m in zip(res[c], rows)] for c in unit.observed}
+
+
 def gap(unit, res, part, columns=None):
     """Pooled gap of `part`: RMS of the normalised residuals (of `columns`, default all)."""
     return rms(part_vector(unit, res, part, columns))

@@ -4,7 +4,7 @@ Gaps and noise floors are normalised by each signal's measured range (0.01 = 1 %
 A "noise floor" is a signal's estimated white-noise std
 (`musclesim.diagnosis.stats.noise_estimate`), never below `NOISE_FLOOR`. The reports quoted in
 the docs (the worked examples, §diagnosis; the dated results page) depend on these
-values; changing one changes them.
+values; changing one changes them. The evidence's levels are at the end.
 """
 
 # -- where: does a unit deviate? ------------------------------------------------------------------
@@ -35,46 +35,26 @@ MAX_ALIGN = 2
 # Ten values per parameter is a common rule of thumb for a least-squares fit.
 MIN_VALUES_PER_PARAMETER = 10
 
-# -- which effect: does a candidate count? --------------------------------------------------------
-# Every effect is fitted together with the calibration parameters and judged against calibration
-# alone on the signals it can change. The gap there must be material (one of those signals
-# deviates, beyond DEVIATES times its noise: a fix of what already matches within the noise is no
-# explanation), and the
-# effect must shrink it by at least this fraction (30 %) with a 95 % block-bootstrap interval
-# above zero; a second effect is added greedily only when it shrinks the remaining gap of its
-# signals by this fraction again, under the same rules.
+# -- each effect's fit, described (report ``effects``) ---------------------------------------------
+# Each effect's fit is described against calibration alone on the signals it can change (the
+# decision is the evidence's, below): it "gains clearly" when the gap there is material (one of
+# those signals deviates, beyond DEVIATES times its noise), it shrinks it by at least this
+# fraction (30 %) with a 95 % block-bootstrap interval above zero ...
 MIN_SHRINKAGE = 0.3
 
-# ... and its gain per held-out sample inside the regime it predicts (its signature) must be at
-# least this share of its gain per sample overall. Below 1 on purpose: effects acting through the
+# ... and its gain per held-out sample inside the regime it predicts (its signature) is at least
+# this share of its gain per sample overall. Below 1 on purpose: effects acting through the
 # hysteresis's memory spread their gain beyond the regime that triggers them.
 SIGNATURE_MIN = 0.75
 
-# -- verdict: is what is left explained? ----------------------------------------------------------
-# A gap left after the selected effects is unstructured (the effect explains the data) when it is
-# within STRUCTURED noise floors (the same three standard deviations as DEVIATES) ...
+# -- is what is left explained? (``complete``) -----------------------------------------------------
+# A gap left by the candidate the verdict names is unstructured when it is within STRUCTURED noise
+# floors (the same three standard deviations as DEVIATES) ...
 STRUCTURED = 3.0
 
-# ... or at most this share (10 %) of the gap before: on clean data the noise floor can be far
-# below a remaining gap that is still negligible next to what the effect explained. Not for a
-# recalibration: its claim is that the model itself, nominal values moved, is the bench, and a
-# nominal gap that wrong values (a room 5 K warmer) made large says nothing about a rest's
-# structure; its rest must be within STRUCTURED noise floors.
+# ... or at most this share (10 %) of the nominal gap: on clean data the noise floor can be far
+# below a remaining gap that is still negligible next to what the candidate explained.
 RESIDUAL_SHARE = 0.1
-
-# An effect whose signature on the training data the calibration parameters make too, to first
-# order, is hardly told apart from a recalibration there (a thermocouple's bias from a room and
-# transformation temperatures shifted together): the verdict says so when the calibration can
-# compensate the effect's change of the outputs down to a tenth of it (the collinearity index of
-# `musclesim.diagnosis.selection.aliasing` at least 10: 99 % of its squared norm). Brun, Reichert
-# and Kuensch (2001, Water Resour. Res. 37(4)), whose index reads the same way, take 10 to 15 as
-# where parameters stop being identifiable; 10 is the start of that range.
-ALIASED = 10.0
-
-# When no effect counts, calibration alone is the verdict ("recalibration", naming the parameters
-# that moved beyond their interval) if it closes at least this share of the nominal gap; else the
-# data are "unexplained". More than half of the difference is then a matter of nominal values.
-MOST = 0.5
 
 # -- fitting --------------------------------------------------------------------------------------
 # Cost evaluations of one pass of a fit's trust-region least squares: STEPS per parameter, at
@@ -122,3 +102,35 @@ BLOCKS = 20
 
 # The worst time windows (5 % of an experiment each) listed in the report's regimes section.
 WINDOWS = 3
+
+# -- evidence (musclesim.diagnosis.evidence) -------------------------------------------------------
+# Highest order of a signal's autoregressive discrepancy, chosen below it by BIC on the calibrated
+# model's training residuals: a slow mismatch with measurement noise on top (an AR(1) plus white
+# noise, an ARMA(1, 1)) is approximated well by a few AR terms; more cost fits and gain nothing.
+MAX_AR_ORDER = 5
+
+# The credible set holds this share of the posterior probability: the candidates these data cannot
+# tell apart, the smallest group that is wrong one time in ten at most.
+CREDIBLE = 0.9
+
+# Prior probability of a pair of causes, relative to a single cause (each single, calibration only
+# included, equally probable): two unmodelled causes at once are rarer than one.
+PAIR_PRIOR = 0.1
+
+# The verdict names the most probable candidate when its probability reaches this, the credible
+# set's level: exactly when the credible set holds it alone. Below it, the verdict is the set.
+# (An effect whose signature the data hardly constrain stays near its prior odds, about even
+# against calibration alone: named at even odds, it would be a coin toss.)
+NAME_LEVEL = CREDIBLE
+
+# Held-out predictive check: the RMS of a candidate's standardised held-out innovations (its
+# discrepancy model's, estimated on the training part) is about 1 where the candidate and its
+# discrepancy describe the data. Above this (a variance nine times the training part's) the data
+# held out are not described: when no candidate passes, the verdict is `unexplained`.
+PREDICTIVE_MAX = 3.0
+
+# A symmetry: the part of an effect's change (at half its box) that the calibration parameters
+# cannot reproduce, in squared noise units over the training data, below one: no fit to these
+# data can tell the effect from a recalibration.
+SYMMETRY_CHI2 = 1.0
+
