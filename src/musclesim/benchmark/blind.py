@@ -281,7 +281,7 @@ def _make(args):
 def _diagnose(args):
     case_dir, fmu_dir = args
     try:
-        report = diagnose(load_dataset(case_dir), fmu_dir)
+        report = diagnose(load_dataset(case_dir, fmu_dir=fmu_dir), fmu_dir)
     except UserError as exc:
         report = {"verdict": "error", "error": str(exc)}
     (Path(case_dir) / "report.json").write_text(json.dumps(report, indent=1, default=float) + "\n")
@@ -293,7 +293,7 @@ def _oracle(args):
     nominal and with our selected effects' values, as the report has them, and with the true
     values (the oracle), simulated here."""
     case, case_dir, report, fmu_dir = args
-    problem = Problem(load_dataset(case_dir), fmu_dir)
+    problem = Problem(load_dataset(case_dir, fmu_dir=fmu_dir), fmu_dir)
     whole = problem.replayed()
 
     def heldout(values):

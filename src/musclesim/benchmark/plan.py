@@ -266,7 +266,7 @@ def oracle(args):
     keyed = case["kind"] in ("effect", "decoy")
     if ours is not None and not keyed:
         return {"before": ours["before"], "oracle": None, "ours": ours["after"]}
-    problem = Problem(load_dataset(case_dir), fmu_dir)
+    problem = Problem(load_dataset(case_dir, fmu_dir=fmu_dir), fmu_dir)
     unit = problem.replayed()
     if ours is None:  # no report section 5: the case failed, our model is the nominal one
         try:

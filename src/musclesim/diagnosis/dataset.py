@@ -529,7 +529,10 @@ def _check_units(ds, fmu_dir, problems):
             s = load_scenario(e.scenario_path, ds.overrides(), e.stop_time) \
                 if e.scenario_path is not None else None
             for inst in (s.instances.values() if s else ()):
-                md = read_fmu(Path(fmu_dir) / f"{inst.component}.fmu")
+                fmu = Path(fmu_dir) / f"{inst.component}.fmu"
+                if not fmu.is_file():
+                    continue
+                md = read_fmu(fmu)
                 for v in md.modelVariables:
                     declared.setdefault(f"{inst.name}.{v.name}", v.unit or "1")
         except UserError:
