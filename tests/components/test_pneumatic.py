@@ -200,7 +200,7 @@ def test_effects_off_are_the_nominal_model_bit_for_bit():
     assert drop.max() == 20e3 and drop[-1] == 20e3  # the sagged supply bounds the pressure
 
 
-@settings(max_examples=25, deadline=None)
+@settings(max_examples=25)
 @given(central=st.sampled_from([0.0, 1.0]), t_contact=st.sampled_from([0.0, 0.02, 0.2]),
        dV_contact=st.sampled_from([0.0, 3e-6]), phase=st.floats(0.0, 1.0),
        delays=st.sampled_from([(0.0, 0.0), (0.01, 0.005), (0.003, 0.008)]),

@@ -319,7 +319,7 @@ def test_invalid_tables_name_the_entry(table, match):
         Hypersurface(GRID_TEMPS, STRESSES, table)
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=200)
 @given(st.integers(0, 4), st.integers(0, 20), st.integers(0, 20),
        st.sampled_from([-1.0, -1e-11, 0.0, 1e-11, 1e-3, 0.05, 1.0, math.nan, math.inf]))
 def test_vectorised_table_check_agrees_with_the_entry_by_entry_check(s, i, j, value):

@@ -62,7 +62,7 @@ def test_forc_increment_is_a_valid_preisach_surface(sigma):
     assert np.all(np.diff(F, axis=1)[np.tril_indices(100, -1)] <= 1e-15)  # non-increasing in b
 
 
-@settings(max_examples=60, deadline=None)
+@settings(max_examples=60)
 @given(st.floats(30, 130), st.floats(30, 130), st.floats(30, 130), st.floats(0, 200e6))
 def test_forc_increment_monotone_at_random_points(x, y, z, sigma):
     b, a1, a2 = sorted((x, y, z))
