@@ -36,6 +36,8 @@ class Graph:
     ['c']
     >>> sorted(g.downstream({"b"}))
     ['b', 'c']
+    >>> sorted(g.fed_within({"b", "c"})), sorted(g.fed_within({"a", "b"}))
+    ([], ['a', 'b'])
     """
 
     def __init__(self, scenario):
@@ -65,37 +67,20 @@ class Graph:
     def upstream(self, start, cut=()):
         """`start` and every instance that feeds it, directly or not, through links whose
         signals (output or input) are not in `cut` (measured signals end the closure)."""
-        reach, changed = set(start), True
-        while changed:
-            changed = False
-            for k in self.links:
-                if k.target in reach and k.source not in reach and k.src not in cut \
-                        and k.dst not in cut:
-                    reach.add(k.source)
-                    changed = True
-        return reach
+        return _closure(start, [(k.target, k.source) for k in self.links
+                                if k.src not in cut and k.dst not in cut])
 
     def downstream(self, start):
         """`start` and every instance it feeds, directly or not."""
-        reach, changed = set(start), True
-        while changed:
-            changed = False
-            for k in self.links:
-                if k.source in reach and k.target not in reach:
-                    reach.add(k.target)
-                    changed = True
-        return reach
+        return _closure(start, [(k.source, k.target) for k in self.links])
 
     def fed_within(self, candidates):
-        """The largest part of `candidates` that no instance outside it feeds."""
-        inside, changed = set(candidates), True
-        while changed:
-            changed = False
-            for k in self.links:
-                if k.target in inside and k.source not in inside:
-                    inside.discard(k.target)
-                    changed = True
-        return inside
+        """The largest part of `candidates` that no instance outside it feeds: without those an
+        instance outside feeds, directly or through others of `candidates`."""
+        candidates = set(candidates)
+        inner = [(k.source, k.target) for k in self.links if k.target in candidates]
+        fed = {b for a, b in inner if a not in candidates}
+        return candidates - _closure(fed, inner)
 
     def inputs_of(self, instances):
         """The connected inputs of `instances`."""
@@ -109,3 +94,15 @@ class Graph:
         s = self.scenario
         return replace(s, instances={n: i for n, i in s.instances.items() if n in keep},
                        connections=links, record=tuple(record), metrics={}, plots=())
+
+
+def _closure(start, edges):
+    """`start` and every node reached from it along `edges`, pairs (from, to)."""
+    reach, todo = set(start), list(start)
+    while todo:
+        node = todo.pop()
+        for a, b in edges:
+            if a == node and b not in reach:
+                reach.add(b)
+                todo.append(b)
+    return reach
