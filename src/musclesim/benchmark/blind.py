@@ -45,8 +45,9 @@ import numpy as np
 from musclesim.batch import serial_map
 from musclesim.benchmark import plan as independent_plan
 from musclesim.cosim import Master, load_scenario, replace_file
-from musclesim.diagnosis import (HELD_OUT, Failed, Problem, diagnose, gap, load_dataset,
-                                 residuals, simulate_unit, with_values, write_data_set)
+from musclesim.diagnosis import (CALIBRATION_ONLY, HELD_OUT, Failed, Problem, diagnose, gap,
+                                 load_dataset, residuals, simulate_unit, with_values,
+                                 write_data_set)
 from musclesim.errors import UserError
 
 # the benches: scenario, replayed inputs, observed outputs, the effects that can hide in them
@@ -390,7 +391,6 @@ def _write_scores(path, scores, bench):
     replace_file(path, json.dumps(new, indent=1) + "\n")
 
 
-CALIBRATION_ONLY = "calibration only"  # the evidence's name of calibration alone
 BINS = 10  # reliability: the probabilities in tenths
 
 

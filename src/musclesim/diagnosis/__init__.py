@@ -31,8 +31,9 @@ from musclesim.diagnosis.selection import calibration
 from musclesim.diagnosis.simulate import Failed, residuals, with_values
 from musclesim.diagnosis.simulate import simulate as simulate_unit
 from musclesim.diagnosis.stats import HELD_OUT, TRAIN, Part, gap
+from musclesim.diagnosis.weigh import CALIBRATION_ONLY
 
 __all__ = ["load_dataset", "DataSet", "write_data_set", "diagnose", "write_report", "EFFECTS",
            "REGIMES", "Effect", "find_effect", "Problem", "simulate_unit", "with_values",
            "residuals", "Failed", "gap", "fit", "Free", "values_of", "calibration", "Part",
-           "TRAIN", "HELD_OUT"]
+           "TRAIN", "HELD_OUT", "CALIBRATION_ONLY"]

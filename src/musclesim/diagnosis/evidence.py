@@ -17,8 +17,8 @@ Each candidate's evidence (log marginal likelihood of the training part) is Lapl
 approximation around its fit, in box coordinates (every parameter's bounds mapped to [0, 1], so
 the uniform prior over the bounds has density 1): the whitened problem linearised at the fit, its
 Gaussian integrated over the box (`gaussian`): exact for a linear model with Gaussian errors, a
-direction the data do not constrain counting 1 (a symmetry costs and gains nothing). With prior probabilities per candidate
-(`prior`) the posterior probabilities follow; `credible_set` is the smallest group holding
+direction the data do not constrain counting 1 (a symmetry costs and gains nothing). With prior
+probabilities per candidate (`prior`) the posterior probabilities follow; `credible_set` is the smallest group holding
 CREDIBLE of them. A candidate's effect that the calibration parameters reproduce on these data
 (`symmetry`) cannot be told from calibration whatever the evidence says: the report lists it.
 
@@ -133,12 +133,14 @@ class Discrepancy:
 class Evidence:
     """A candidate's evidence: the log marginal likelihood of the training part and its parts
     (the log likelihood at the centre of Laplace's Gaussian, the log of its mass in the box),
-    and that centre in box coordinates (clipped to the box)."""
+    that centre in box coordinates (clipped to the box), and the Fisher information J'C^-1 J
+    in box coordinates (None for a candidate without parameters)."""
 
     log_evidence: float
     log_likelihood: float
     occam: float  # the log of the Gaussian's mass in the box: the Occam factor
     z: np.ndarray
+    information: np.ndarray = None
 
 
 def evidence(segments, jac, z, discrepancies):
@@ -171,7 +173,7 @@ def evidence(segments, jac, z, discrepancies):
         return Evidence(ll, ll, 0.0, z)
     centre, ss, log_volume = gaussian(A_all, b_all, c_all, z)
     ll = float(-0.5 * ss + norm)
-    return Evidence(ll + log_volume, ll, log_volume, np.clip(centre, 0, 1))
+    return Evidence(ll + log_volume, ll, log_volume, np.clip(centre, 0, 1), A_all)
 
 
 def gaussian(A, b, c, z):

@@ -348,7 +348,7 @@ def _which_effect(problem, fitting, calibrated, pmap, say):
             pair = Weighed(f"{w1.name} + {w2.name}", pair_fit, c2.free + c1.free + calib,
                            len(c2.free) + len(c1.free))
             weighed, disc = weigh(unit, calibration_only, singles, [pair], disc)
-    symmetric = symmetries(weighed, problem, disc)
+    symmetric = symmetries(weighed, problem)
     section, name, explanation, complete, chosen = weigh_section(
         unit, weighed, symmetric, disc, cal.nominal_gap, floor, explained)
     out = {"effects": entries, "evidence": section,

@@ -72,17 +72,7 @@ def weigh(unit, calibration, singles, pairs=(), disc=None):
     return sorted(ones + twos, key=lambda w: -w.probability), disc
 
 
-def _information(w, disc):
-    """The candidate's Fisher information J' C^-1 J in box coordinates under the discrepancy."""
-    A, start = 0.0, 0
-    for c, segs in w.fit.train.items():
-        n = sum(len(s) for s in segs)
-        A = A + disc[c].weighted(segs, w.fit.jac[start:start + n])[2]
-        start += n
-    return A
-
-
-def symmetries(weighed, problem, disc):
+def symmetries(weighed, problem):
     """The effects the calibration parameters reproduce on these data: the part of an effect's
     change at half its box that no change of the calibration parameters makes, in the
     discrepancy's metric, below SYMMETRY_CHI2 in its most distinguishable direction:
@@ -91,7 +81,7 @@ def symmetries(weighed, problem, disc):
     for w in weighed:
         if not w.k or w.fit.jac is None or w.name == CALIBRATION_ONLY:
             continue
-        chi2, carried = ev.symmetry(_information(w, disc), w.k)
+        chi2, carried = ev.symmetry(w.evidence.information, w.k)
         if chi2 >= SYMMETRY_CHI2:
             continue
         calib = w.free[w.k:]
