@@ -143,23 +143,28 @@ def test_a_signature_that_is_there_is_found():
     assert min(found) > NAME_LEVEL
 
 
-def test_symmetry_is_an_effect_the_calibration_reproduces():
+def test_the_linear_symmetry_test_and_its_most_distinguishable_direction():
     """From the information J'J: an effect column that is exactly a combination of the
-    calibration's leaves nothing (chi2 0), carried mostly by the larger coefficient; an
-    independent column leaves its own half-box change."""
+    calibration's leaves nothing (chi2 0); an independent column leaves its own half-box change
+    after the best recalibration (the Schur complement); of a two-parameter effect the
+    direction the data see best is the Schur complement's leading eigenvector. `carried`: the
+    calibration parameter with the larger coefficient carries more of an aliased effect."""
     rng = np.random.default_rng(4)
     cal = rng.standard_normal((400, 2))
     aliased = (cal @ [2.0, -1.0])[:, None] * 1e-2
     apart = rng.standard_normal((400, 1))
-    for J in (aliased, apart):
-        chi2, carried = ev.symmetry(np.hstack([J, cal]).T @ np.hstack([J, cal]), 1)
-        if J is aliased:
-            assert chi2 < 1e-10 and carried[0] > carried[1] > 0
-        else:
-            assert chi2 == pytest.approx(0.25 * (J[:, 0] @ J[:, 0]
-                                                 - J[:, 0] @ cal @ np.linalg.solve(
-                                                     cal.T @ cal, cal.T @ J[:, 0])))
-            assert chi2 > 10
+    both = np.hstack([aliased, cal])
+    chi2, direction, carried = ev.symmetry(both.T @ both, 1)
+    assert chi2 < 1e-10 and direction.tolist() == [1.0] and carried[0] > carried[1] > 0
+    chi2, _, _ = ev.symmetry(np.hstack([apart, cal]).T @ np.hstack([apart, cal]), 1)
+    a = apart[:, 0]
+    assert chi2 == pytest.approx(0.25 * (a @ a - a @ cal @ np.linalg.solve(cal.T @ cal, cal.T @ a)))
+    assert chi2 > 10
+    # two effect parameters: one seen 100 times better than the other, neither in the calibration
+    two = np.column_stack([10 * apart[:, 0], rng.standard_normal(400)])
+    J = np.hstack([two, cal])
+    _, direction, _ = ev.symmetry(J.T @ J, 2)
+    assert abs(direction[0]) > 0.99 and direction[np.argmax(abs(direction))] > 0
 
 
 def test_prior_posterior_and_the_credible_set():

@@ -239,19 +239,20 @@ def credible_set(names, probabilities, level=CREDIBLE):
 
 
 def symmetry(A, k, scale=0.5):
-    """How much of an effect's signature the calibration parameters cannot reproduce, from the
-    Fisher information `A` (J'C^-1 J in box coordinates) of a candidate whose first `k`
-    parameters are the effect's and the rest the calibration's: (chi2, carried). `chi2` is the
-    squared norm, in the discrepancy's metric, of what is left of the effect's change at
-    `scale` of its box (half of it by default) in its most distinguishable direction, after
-    the best change of the calibration parameters (the Schur complement): below 1, these data
-    cannot tell the effect from a recalibration (a symmetry). `carried`: each calibration
-    parameter's share in reproducing it (the largest show which values to state or move
-    apart)."""
+    """The linear symmetry test of an effect against calibration, from the Fisher information
+    `A` (J'C^-1 J in box coordinates) of a candidate whose first `k` parameters are the
+    effect's and the rest the calibration's: (chi2, direction, carried). `chi2` is the squared
+    norm, in the discrepancy's metric, of what is left of the effect's change at `scale` of its
+    box in its most distinguishable `direction` (a unit vector over the effect's parameters)
+    after the best change of the calibration parameters (the Schur complement): below 1, a
+    linearised model cannot tell the effect from a recalibration. `carried`: each calibration
+    parameter's share in reproducing it. Differences taken one parameter at a time can miss a
+    symmetry of a model with kinks: `weigh.symmetries` also fits the calibration again along
+    `direction`."""
     A = np.asarray(A, float)
     Aee, Aec, Acc = A[:k, :k], A[:k, k:], A[k:, k:]
-    if not Acc.size:
-        return scale ** 2 * float(np.max(np.linalg.eigvalsh(Aee))), np.zeros(0)
-    coef = np.linalg.pinv(Acc) @ Aec.T
-    chi2 = scale ** 2 * float(np.max(np.linalg.eigvalsh(Aee - Aec @ coef)))
-    return chi2, np.abs(coef).sum(axis=1) * np.sqrt(np.clip(np.diag(Acc), 0, None))
+    coef = np.linalg.pinv(Acc) @ Aec.T if Acc.size else np.zeros((0, k))
+    lam, vec = np.linalg.eigh(Aee - Aec @ coef if Acc.size else Aee)
+    direction = vec[:, -1] * np.sign(vec[np.argmax(abs(vec[:, -1])), -1])
+    carried = np.abs(coef @ direction) * np.sqrt(np.clip(np.diag(Acc), 0, None))
+    return scale ** 2 * float(lam[-1]), direction, carried

@@ -44,7 +44,9 @@ def values_of(free, x):
 class FitJob:
     """What `fit` fits: `free` on `unit`'s training part, the other values `fixed`; from `x0`
     (default the nominal values) after a scan of the first `scan` parameters (default all);
-    `known` Jacobian columns reused, `latency` held (see `fit`)."""
+    `known` Jacobian columns reused, `latency` held (see `fit`); `train_only`: the result
+    has the training residuals at the fitted values and nothing that needs more runs (no
+    held-out residuals, no intervals): a profile, where only the cost there counts."""
 
     unit: object
     free: list
@@ -54,6 +56,7 @@ class FitJob:
     scan: int = None
     known: dict = None
     latency: dict = None
+    train_only: bool = False
 
 
 @dataclass(frozen=True)
@@ -267,6 +270,13 @@ class Fit:
         if applicable:
             z, J = self.least_squares(z)
         x = self.lo + self.span * z
+        if self.job.train_only:
+            res = self.run(z)
+            return FitResult([float(v) for v in x], [], None,
+                             math.inf if res is None else gap(self.job.unit, res, TRAIN),
+                             math.inf, applicable,
+                             len(self.cache), J, dict(self.align), z,
+                             None if res is None else part_segments(self.job.unit, res, TRAIN))
         chosen = dict(self.align) if self.align else self.latencies(z)
         interval = [(float(a), float(a + w)) for a, w in zip(self.lo, self.span)]
         refresh = J is not None and not (self.secant["fresh"]

@@ -67,7 +67,8 @@ from musclesim.diagnosis.selection import (NO_GAP, calibration, calibration_tabl
 from musclesim.diagnosis.simulate import Failed, residuals, signal_gap, simulate
 from musclesim.diagnosis.stats import (HELD_OUT, TRAIN, before_after, deviates, gap, noise_floor,
                                        part_segments)
-from musclesim.diagnosis.weigh import CALIBRATION_ONLY, Weighed, symmetries, weigh
+from musclesim.diagnosis.weigh import (CALIBRATION_ONLY, Weighed, profile_jobs, symmetries,
+                                      weigh, with_symmetries)
 from musclesim.diagnosis.weigh import section as weigh_section
 from musclesim.errors import UserError
 
@@ -348,7 +349,13 @@ def _which_effect(problem, fitting, calibrated, pmap, say):
             pair = Weighed(f"{w1.name} + {w2.name}", pair_fit, c2.free + c1.free + calib,
                            len(c2.free) + len(c1.free))
             weighed, disc = weigh(unit, calibration_only, singles, [pair], disc)
-    symmetric = symmetries(weighed, problem)
+    profiles = profile_jobs(unit, singles, fmu_dir)
+    say(f"symmetries: {len(profiles)} profile fit(s), each effect moved and the calibration "
+        "fitted again")
+    fitted = fit_all([job for _, _, job in profiles], pmap)
+    symmetric = symmetries(weighed, [(w, length, f) for (w, length, _), f
+                                     in zip(profiles, fitted)], disc, problem)
+    weighed = with_symmetries(weighed, symmetric)
     section, name, explanation, complete, chosen = weigh_section(
         unit, weighed, symmetric, disc, cal.nominal_gap, floor, explained)
     out = {"effects": entries, "evidence": section,

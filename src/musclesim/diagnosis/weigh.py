@@ -12,13 +12,15 @@ NAME_LEVEL (``recalibration`` for calibration only), else the credible set (``A 
 ``unexplained`` when no candidate passes the predictive check.
 """
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from musclesim.diagnosis import evidence as ev
+from musclesim.diagnosis.fitting import FitJob, values_of
 from musclesim.diagnosis.stats import HELD_OUT, gap, part_segments
-from musclesim.diagnosis.thresholds import NAME_LEVEL, PREDICTIVE_MAX, SYMMETRY_CHI2
+from musclesim.diagnosis.thresholds import (NAME_LEVEL, PREDICTIVE_MAX, PROFILE_SCALE,
+                                           SYMMETRY_CHI2)
 
 CALIBRATION_ONLY = "calibration only"
 
@@ -35,6 +37,7 @@ class Weighed:
     evidence: object = None
     probability: float = 0.0
     predictive: float = None  # RMS of the standardised held-out innovations
+    prior: float = 0.0
 
 
 def discrepancies(unit, calibration):
@@ -65,34 +68,117 @@ def weigh(unit, calibration, singles, pairs=(), disc=None):
         w.evidence = ev.evidence(w.fit.train, w.fit.jac if w.free else None,
                                  w.fit.z if w.free else [], disc)
         w.predictive = _predictive(unit, w, disc)
-    probs = ev.posterior([w.evidence.log_evidence for w in ones + twos],
-                         ev.prior([w.name for w in ones], [w.name for w in twos]))
-    for w, p in zip(ones + twos, probs):
+    priors = ev.prior([w.name for w in ones], [w.name for w in twos])
+    for w, p in zip(ones + twos, priors):
+        w.prior = float(p)
+    return _posterior(ones + twos), disc
+
+
+def _posterior(weighed):
+    """`weighed` with their posterior probabilities, most probable first."""
+    probs = ev.posterior([w.evidence.log_evidence for w in weighed], [w.prior for w in weighed])
+    for w, p in zip(weighed, probs):
         w.probability = float(p)
-    return sorted(ones + twos, key=lambda w: -w.probability), disc
+    return sorted(weighed, key=lambda w: -w.probability)
 
 
-def symmetries(weighed, problem):
-    """The effects the calibration parameters reproduce on these data: the part of an effect's
-    change at half its box that no change of the calibration parameters makes, in the
-    discrepancy's metric, below SYMMETRY_CHI2 in its most distinguishable direction:
-    [{"candidates", "chi2", "with", "breaks_with"}], a condition the data set can state first."""
+def with_symmetries(weighed, symmetric):
+    """`weighed` weighed again with every effect in `symmetric` given calibration only's
+    evidence: along a symmetry the likelihood is the calibration's wherever the effect sits in
+    its box, so the effect's direction integrates to 1 (it costs and gains nothing), which
+    Laplace's Gaussian, built on differences a model with kinks does not add up, misses. Its
+    probability is then its prior share of calibration only's."""
+    names = {s["candidates"][0] for s in symmetric}
+    cal = next((w for w in weighed if w.name == CALIBRATION_ONLY), None)
+    if not names or cal is None:
+        return weighed
+    for w in weighed:
+        if w.name in names:
+            w.evidence = replace(w.evidence, log_evidence=cal.evidence.log_evidence,
+                                 occam=cal.evidence.log_evidence - w.evidence.log_likelihood)
+    return _posterior(list(weighed))
+
+
+def profile_jobs(unit, singles, fmu_dir, scale=PROFILE_SCALE):
+    """The profile fits of the symmetry test (`symmetries`) on fit `unit`, two for each effect
+    of `singles` (weighed single effects): its parameters moved `scale` of their box one way
+    and the other from its fit, along the direction the linear test (`evidence.symmetry`) finds
+    the data distinguish best, and held there while the calibration parameters are fitted again
+    from their values at the effect's fit. Returns [(the candidate, the length of its move, the
+    `FitJob`)]. Each way that the effect's box has room for the whole move, else the way with
+    the most room (its chi2 then scaled up to the whole move, `symmetries`)."""
+    out = []
+    for w in singles:
+        if not w.k or w.fit.jac is None or w.fit.train is None:
+            continue
+        z0 = np.asarray(w.fit.z[:w.k], float)
+        u = ev.symmetry(w.evidence.information, w.k)[1]
+        room = {sign: _room(z0, sign * u, scale) for sign in (1, -1)}
+        signs = [s for s in room if room[s] >= scale] or [max(room, key=room.get)]
+        for sign in signs:
+            if room[sign] <= 0:
+                continue
+            z = np.clip(z0 + sign * room[sign] * u, 0, 1)
+            x = [f.lower + (f.upper - f.lower) * v for f, v in zip(w.free, z)]
+            out.append((w, room[sign], FitJob(
+                unit, w.free[w.k:], fmu_dir, fixed=values_of(w.free[:w.k], x),
+                x0=list(w.fit.x[w.k:]), scan=0, latency=w.fit.latency, train_only=True)))
+    return out
+
+
+def _room(z, step, most):
+    """How far, up to `most`, the box [0, 1] lets `z` move along the unit vector `step`."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        limits = np.where(step > 0, (1 - z) / step, np.where(step < 0, -z / step, np.inf))
+    return float(max(min(most, limits.min()), 0.0))
+
+
+def symmetries(weighed, profiles, disc, problem, scale=PROFILE_SCALE):
+    """The effects the calibration parameters reproduce on these data, by either of two tests.
+    The linear one (`evidence.symmetry`, at half the effect's box) reads the Fisher information;
+    a hysteresis's responses to a shift of the temperature and of its transformation
+    temperatures each have kinks (reversals), so differences taken one parameter at a time can
+    fail to add up to the joint move along a symmetry, and the profile reads the model itself.
+    `profiles`: [(the candidate, the length of its move, the `FitResult` of a `profile_jobs`
+    fit)]; a profile's chi2 is twice the change of the log likelihood, under the discrepancy
+    `disc`, from the effect's fit to the effect moved and the calibration fitted again there,
+    either way (a profile that fits better says as much as one that fits worse), scaled to a
+    whole move; an effect's is the smaller of its two. Below SYMMETRY_CHI2 no fit to these data
+    tells the effect from a recalibration. Returns [{"candidates", "chi2", "test", "with",
+    "breaks_with"}]: the calibration parameters that moved most (in the data's metric) and what
+    would separate them, a condition the data set can state first."""
+    best = {}
+    for w, length, prof in profiles:
+        if prof.train is not None:
+            chi2 = abs(_quadratic(prof.train, disc) - _quadratic(w.fit.train, disc)) * (
+                scale / length) ** 2
+            if w.name not in best or chi2 < best[w.name][0]:
+                best[w.name] = (chi2, prof)
     out = []
     for w in weighed:
         if not w.k or w.fit.jac is None or w.name == CALIBRATION_ONLY:
             continue
-        chi2, carried = ev.symmetry(w.evidence.information, w.k)
+        chi2, _, carried = ev.symmetry(w.evidence.information, w.k)
+        test = "linear"
+        if w.name in best and best[w.name][0] < chi2:
+            (chi2, prof), test = best[w.name], "profile"
+            info = np.sqrt(np.clip(np.diag(w.evidence.information)[w.k:], 0, None))
+            carried = np.abs(np.asarray(prof.z) - np.asarray(w.fit.z[w.k:])) * info
         if chi2 >= SYMMETRY_CHI2:
             continue
         calib = w.free[w.k:]
-        order = np.argsort(-carried)[:2] if len(carried) else []
-        partners = [calib[i] for i in order if carried[i] > 0]
-        out.append({"candidates": [w.name, CALIBRATION_ONLY], "chi2": chi2,
+        partners = [calib[i] for i in np.argsort(-carried, kind="stable")[:2] if carried[i] > 0]
+        out.append({"candidates": [w.name, CALIBRATION_ONLY], "chi2": chi2, "test": test,
                     "with": [f"{','.join(f.instances)}.{f.name}" for f in partners],
                     "breaks_with": sorted((_breaks(problem, f) for f in partners),
                                           key=lambda b: not b.startswith("state "))
                     or ["an experiment in which the effect acts and the calibration cannot"]})
     return out
+
+
+def _quadratic(segments, disc):
+    """r'C^-1 r of training residual `segments` ({signal: [array per run]}) under `disc`."""
+    return float(sum(disc[c].weighted(segs)[0] for c, segs in segments.items() if c in disc))
 
 
 def _breaks(problem, free):
