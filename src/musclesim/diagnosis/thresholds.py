@@ -129,10 +129,11 @@ NAME_LEVEL = CREDIBLE
 # held out are not described: when no candidate passes, the verdict is `unexplained`.
 PREDICTIVE_MAX = 3.0
 
-# A symmetry: an effect moved by PROFILE_SCALE of its box (each way, from its fit) and the
-# calibration parameters fitted again there lose less than SYMMETRY_CHI2 of twice the log
-# likelihood under the discrepancy (one noise variance over the training data): no fit to these
-# data can tell the effect from a recalibration. A tenth of the box: near enough to the fit that
+# A symmetry, by either of two tests: the linear one (the effect's change at half its box that no
+# recalibration reproduces, from the Fisher information), or a profile (the effect moved
+# PROFILE_SCALE of its box each way from its fit, the calibration fitted again there) changes
+# twice the log likelihood under the discrepancy by less than SYMMETRY_CHI2 (one noise variance
+# over the training data): no fit to these data can tell the effect from a recalibration. A tenth of the box: near enough to the fit that
 # the calibration's bounds leave room to follow it (a 2 K thermocouple offset against an ambient
 # free by 8 K, fitted anywhere but its last 2 K); a quarter, tried first, left the ambient or the
 # start temperature against a bound on our own bench, and the symmetry unfound.
