@@ -272,15 +272,15 @@ def test_a_small_blind_run_on_the_independent_bench(fmu_dir, tmp_path, cluster_m
     assert set(kinds) == {"none", "effect", "decoy", "outside"}
     assert [kinds[k]["truth"] for k in ("effect", "decoy", "outside")] == [
         "thermocouple bias", "thermocouple lag", "gauge drift"]
-    # every truth in its set; the lag named alone; the offset among three (calibration the most
+    # every truth in its set; the lag named alone; the offset among four (calibration the most
     # probable: 20 s leave it close to a recalibration); no false alarm
     assert scores["truth_in_set"] == 1.0 and scores["false_alarm_rate"] == 0.0
     assert kinds["decoy"]["set"] == ["thermocouple lag"] and kinds["decoy"]["top1"]
-    assert kinds["effect"]["set"][0] == "calibration only" and len(kinds["effect"]["set"]) == 3
+    assert kinds["effect"]["set"][0] == "calibration only" and len(kinds["effect"]["set"]) == 4
     assert kinds["none"]["set"] == ["training drift", "calibration only"]
-    assert scores["mean_set_size"] == pytest.approx(2.0)
-    assert scores["size_weighted_accuracy"] == pytest.approx((1 / 3 + 1 + 1 / 2) / 3)
-    assert scores["top1_accuracy"] == 0.5 and scores["brier"] == pytest.approx(0.392, abs=0.02)
+    assert scores["mean_set_size"] == pytest.approx(7 / 3)
+    assert scores["size_weighted_accuracy"] == pytest.approx((1 / 4 + 1 + 1 / 2) / 3)
+    assert scores["top1_accuracy"] == 0.5 and scores["brier"] == pytest.approx(0.419, abs=0.02)
     assert scores["unexplained_rate"] == 1.0 and scores["shrinkage_vs_oracle"] > 0.99
     saved = json.loads((tmp_path / "scores.json").read_text())
     assert schema_errors("scores", saved) == []

@@ -34,15 +34,23 @@ def candidate(name, z_effect, seed=0):
 
 
 def test_the_effect_is_moved_a_tenth_of_its_box_each_way_it_has_room_for():
-    w, _ = candidate("bias", 0.5)
-    jobs = profile_jobs("unit", [w], "fmus")
+    w, r = candidate("bias", 0.5)
+    # calibration alone fits as well as the effect
+    cal = Weighed(CALIBRATION_ONLY, fit([0.5, 0.5], {"y": [r]}), FREE[1:], 0)
+    jobs = profile_jobs("unit", [w], cal, DISC, "fmus")
     assert sorted(round(j.fixed[("tc", "bias")], 9) for _, _, j in jobs) == [-2.0, 2.0]
     assert all(length == PROFILE_SCALE and j.free == FREE[1:] and j.train_only
                and j.scan == 0 and j.x0 == w.fit.x[1:] for _, length, j in jobs)
+    # the calibration's columns of the effect's Jacobian start each profile
+    assert all(np.array_equal(j.known[1], w.fit.jac[:, 2]) for _, _, j in jobs)
     near_bound, _ = candidate("bias", 0.05)
-    (_, length, job), = profile_jobs("unit", [near_bound], "fmus")
+    (_, length, job), = profile_jobs("unit", [near_bound], cal, DISC, "fmus")
     assert length == PROFILE_SCALE and job.fixed[("tc", "bias")] == pytest.approx(-7.0)
-    assert profile_jobs("unit", [], "fmus") == []
+    assert profile_jobs("unit", [], cal, DISC, "fmus") == []
+    # an effect that fits better than calibration alone by a noise variance or more is told
+    # from a recalibration by its own fit: no profile
+    worse = Weighed(CALIBRATION_ONLY, fit([0.5, 0.5], {"y": [r + 0.02]}), FREE[1:], 0)
+    assert profile_jobs("unit", [w], worse, DISC, "fmus") == []
 
 
 def test_a_profile_the_calibration_follows_is_a_symmetry_and_one_it_cannot_is_not():

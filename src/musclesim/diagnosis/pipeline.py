@@ -349,7 +349,7 @@ def _which_effect(problem, fitting, calibrated, pmap, say):
             pair = Weighed(f"{w1.name} + {w2.name}", pair_fit, c2.free + c1.free + calib,
                            len(c2.free) + len(c1.free))
             weighed, disc = weigh(unit, calibration_only, singles, [pair], disc)
-    profiles = profile_jobs(unit, singles, fmu_dir)
+    profiles = profile_jobs(unit, singles, calibration_only, disc, fmu_dir)
     say(f"symmetries: {len(profiles)} profile fit(s), each effect moved and the calibration "
         "fitted again")
     fitted = fit_all([job for _, _, job in profiles], pmap)

@@ -99,30 +99,40 @@ def with_symmetries(weighed, symmetric):
     return _posterior(list(weighed))
 
 
-def profile_jobs(unit, singles, fmu_dir, scale=PROFILE_SCALE):
+def profile_jobs(unit, singles, calibration, disc, fmu_dir, scale=PROFILE_SCALE):
     """The profile fits of the symmetry test (`symmetries`) on fit `unit`, two for each effect
-    of `singles` (weighed single effects): its parameters moved `scale` of their box one way
-    and the other from its fit, along the direction the linear test (`evidence.symmetry`) finds
-    the data distinguish best, and held there while the calibration parameters are fitted again
-    from their values at the effect's fit. Returns [(the candidate, the length of its move, the
-    `FitJob`)]. Each way that the effect's box has room for the whole move, else the way with
-    the most room (its chi2 then scaled up to the whole move, `symmetries`)."""
+    of `singles` (weighed single effects) that does not fit the training part better than
+    `calibration` (weighed calibration alone) by SYMMETRY_CHI2 or more under the discrepancy
+    `disc` (one that does is told from a recalibration by its own fit): its parameters moved
+    `scale` of their box one way and the other from its fit, along the direction the linear
+    test (`evidence.symmetry`) finds the data distinguish best, and held there while the
+    calibration parameters are fitted again from their values at the effect's fit (its
+    Jacobian's columns of them the start's, a quasi-Newton start: every step is still checked
+    on the true cost). Each way that the effect's box has room for the whole move, else the
+    way with the most room if it is a quarter of the move or more (its chi2 then scaled up to
+    the whole move, `symmetries`). Returns
+    [(the candidate, the length of its move, the `FitJob`)]."""
     out = []
+    reference = _quadratic(calibration.fit.train, disc) if calibration.fit.train else None
     for w in singles:
-        if not w.k or w.fit.jac is None or w.fit.train is None:
+        if not w.k or w.fit.jac is None or w.fit.train is None or (
+                reference is not None
+                and reference - _quadratic(w.fit.train, disc) >= SYMMETRY_CHI2):
             continue
         z0 = np.asarray(w.fit.z[:w.k], float)
         u = ev.symmetry(w.evidence.information, w.k)[1]
+        known = {i: w.fit.jac[:, w.k + i] for i in range(len(w.free) - w.k)}
         room = {sign: _room(z0, sign * u, scale) for sign in (1, -1)}
         signs = [s for s in room if room[s] >= scale] or [max(room, key=room.get)]
         for sign in signs:
-            if room[sign] <= 0:
+            if room[sign] < scale / 4:  # pinned in a corner: nothing to extrapolate from
                 continue
             z = np.clip(z0 + sign * room[sign] * u, 0, 1)
             x = [f.lower + (f.upper - f.lower) * v for f, v in zip(w.free, z)]
             out.append((w, room[sign], FitJob(
                 unit, w.free[w.k:], fmu_dir, fixed=values_of(w.free[:w.k], x),
-                x0=list(w.fit.x[w.k:]), scan=0, latency=w.fit.latency, train_only=True)))
+                x0=list(w.fit.x[w.k:]), scan=0, known=known, latency=w.fit.latency,
+                train_only=True)))
     return out
 
 
