@@ -18,9 +18,10 @@ approximation around its fit, in box coordinates (every parameter's bounds mappe
 the uniform prior over the bounds has density 1): the whitened problem linearised at the fit, its
 Gaussian integrated over the box (`gaussian`): exact for a linear model with Gaussian errors, a
 direction the data do not constrain counting 1 (a symmetry costs and gains nothing). With prior
-probabilities per candidate (`prior`) the posterior probabilities follow; `credible_set` is the smallest group holding
-CREDIBLE of them. A candidate's effect that the calibration parameters reproduce on these data
-(`symmetry`) cannot be told from calibration whatever the evidence says: the report lists it.
+probabilities per candidate (`prior`) the posterior probabilities follow; `credible_set` is the
+smallest group holding CREDIBLE of them. A candidate's effect that the calibration parameters
+reproduce on these data (`symmetry`, and the profiles of `weigh`) cannot be told from
+calibration whatever the evidence says: the report lists it.
 
 Everything here works on plain arrays: residual segments (one array per signal and run, in time
 order) and Jacobians whose rows follow the same segments.
@@ -247,8 +248,8 @@ def symmetry(A, k, scale=0.5):
     after the best change of the calibration parameters (the Schur complement): below 1, a
     linearised model cannot tell the effect from a recalibration. `carried`: each calibration
     parameter's share in reproducing it. Differences taken one parameter at a time can miss a
-    symmetry of a model with kinks: `weigh.symmetries` also fits the calibration again along
-    `direction`."""
+    symmetry of a model with kinks: `weigh.profile_jobs` also moves the effect along
+    `direction` and fits the calibration again there."""
     A = np.asarray(A, float)
     Aee, Aec, Acc = A[:k, :k], A[:k, k:], A[k:, k:]
     coef = np.linalg.pinv(Acc) @ Aec.T if Acc.size else np.zeros((0, k))

@@ -133,10 +133,11 @@ PREDICTIVE_MAX = 3.0
 # recalibration reproduces, from the Fisher information), or a profile (the effect moved
 # PROFILE_SCALE of its box each way from its fit, the calibration fitted again there) changes
 # twice the log likelihood under the discrepancy by less than SYMMETRY_CHI2 (one noise variance
-# over the training data): no fit to these data can tell the effect from a recalibration. A tenth of the box: near enough to the fit that
-# the calibration's bounds leave room to follow it (a 2 K thermocouple offset against an ambient
-# free by 8 K, fitted anywhere but its last 2 K); a quarter, tried first, left the ambient or the
-# start temperature against a bound on our own bench, and the symmetry unfound.
+# over the training data): no fit to these data can tell the effect from a recalibration. A
+# tenth of the box: near enough to the fit that the calibration's bounds leave room to follow it
+# (a 2 K thermocouple offset against an ambient free by 8 K, fitted anywhere but its last 2 K); a
+# quarter, tried first, left the ambient or the start temperature against a bound on our own
+# bench, and the symmetry unfound.
 PROFILE_SCALE = 0.1
 SYMMETRY_CHI2 = 1.0
 
