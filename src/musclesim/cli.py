@@ -29,7 +29,8 @@ def _cmd_build(args):
 def _cmd_run(args):
     from musclesim.cosim import run_scenario
 
-    summary, res = run_scenario(args.scenario, args.out, args.fmus, args.set, args.stop_time)
+    summary, res = run_scenario(args.scenario, args.out, args.fmus, args.set, args.stop_time,
+                                host=args.host)
     out = Path(args.out)
     if summary["description"]:  # the file's words: overrides may have changed what it says
         print(summary["description"] + (f" (with --set {', '.join(args.set)})" if args.set else ""))
@@ -254,6 +255,10 @@ def _parser():
     q = sub.add_parser("run", help="run a scenario, write results.csv, summary.json, a plot")
     scenario_args(q)
     q.add_argument("--out", required=True, help="output folder")
+    q.add_argument("--host", choices=("direct", "fmpy"), default="direct",
+                   help="who calls the FMUs `musclesim build` made: this process directly "
+                   "(default) or fmpy, through the FMI C API; the results are the same bits "
+                   "(other FMUs always run on fmpy)")
     q.set_defaults(func=_cmd_run)
 
     q = sub.add_parser("export", help="export a scenario as an SSP archive")

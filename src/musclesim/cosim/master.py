@@ -13,8 +13,11 @@ order: it is refused with the instances named. Then it *steps*:
   each refreshes its inputs right before its step from the instances already stepped, i.e. with
   their values at t_k+1.
 
-Values move through one preallocated float64 buffer and preallocated ctypes arrays: one batched
-fmi2GetReal / fmi2SetReal per instance and phase, no Python allocation per step.
+Values move through one preallocated float64 buffer: one batched get and one batched set per
+instance and phase. Two hosts make those calls: the FMUs musclesim built from the installed
+sources are called directly in this process (`musclesim.cosim.direct`, the default), every other
+FMU through fmpy with preallocated ctypes arrays (``host="fmpy"`` sends ours that way too). Both
+call the same slave code in the same order: the results agree to the bit.
 """
 import ctypes
 import math
@@ -30,7 +33,7 @@ import numpy as np
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave
 
-from musclesim.cosim import interrupt
+from musclesim.cosim import direct, interrupt
 from musclesim.cosim.host import (LOG_SINKS, callbacks, extract_fmu, extracted_fmu,
                                   forget_fmu_resource_paths, read_fmu)
 from musclesim.cosim.graph import Graph
@@ -39,6 +42,7 @@ from musclesim.errors import UserError
 
 MAX_VALUES = 100_000_000  # recorded values a run keeps in memory (800 MB): rows x columns
 FLUSH_SECONDS = 2.0  # wall time between two hand-overs of new rows to a run's `on_rows`
+HOSTS = ("direct", "fmpy")  # who calls the FMUs musclesim built: see the module's docstring
 
 
 @dataclass
@@ -93,15 +97,61 @@ def _recorded(s):
                                *(sig for panel in s.plots for sig in panel["signals"])]))
 
 
-def _vrs(variables):
-    return (ctypes.c_uint * max(1, len(variables)))(*[v.valueReference for v in variables])
+class _FmpySlave:
+    """An FMU instantiated by fmpy, with the calls of the master's loop made on preallocated
+    ctypes arrays straight to the FMU's functions (fmpy's wrapper costs a Python call each);
+    a status above fmi2Warning raises as fmpy would. `reader` and `writer` give None where there
+    is nothing to get or set, as `direct.DirectSlave`'s do."""
 
+    def __init__(self, md, unzipped, name, fmi_callbacks):
+        self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped, instanceName=name,
+                             modelIdentifier=md.coSimulation.modelIdentifier)
+        self.fmu.instantiate(callbacks=fmi_callbacks, loggingOn=True)
+        self.c = self.fmu.component
+        self.get, self.set, self.do_step = (self.fmu._functions[f] for f in (
+            "fmi2GetReal", "fmi2SetReal", "fmi2DoStep"))
 
-def _transfer(variables, slots):
-    """Preallocated (count, value refs, values array, its numpy view, buffer slots) of a set."""
-    vals = (ctypes.c_double * max(1, len(variables)))()
-    return (len(variables), _vrs(variables), vals, np.ctypeslib.as_array(vals)[:len(variables)],
-            np.array(slots, dtype=np.intp))
+    def setup_experiment(self, start_time, stop_time):
+        self.fmu.setupExperiment(startTime=start_time, stopTime=stop_time)
+
+    def enter_initialization_mode(self):
+        self.fmu.enterInitializationMode()
+
+    def exit_initialization_mode(self):
+        self.fmu.exitInitializationMode()
+
+    def terminate(self):
+        if self.fmu.component is not None:
+            self.fmu.terminate()
+            self.fmu.freeInstance()
+
+    def set_real(self, vrs, values):
+        self.fmu.setReal(list(vrs), list(values))
+
+    def reader(self, vrs, out):
+        n, vr = len(vrs), (ctypes.c_uint * max(1, len(vrs)))(*vrs)
+        ptr, get, c = out.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), self.get, self.c
+
+        def read():
+            _check(get(c, vr, n, ptr), "fmi2GetReal")
+        return read if n else None
+
+    def writer(self, vrs, slots, values):
+        n, vr = len(vrs), (ctypes.c_uint * max(1, len(vrs)))(*vrs)
+        vals = (ctypes.c_double * max(1, n))()
+        view, set_, c = np.ctypeslib.as_array(vals)[:n], self.set, self.c
+
+        def write():
+            values.take(slots, out=view)
+            _check(set_(c, vr, n, vals), "fmi2SetReal")
+        return write if n else None
+
+    def stepper(self):
+        do_step, c = self.do_step, self.c
+
+        def step(t, h):
+            _check(do_step(c, t, h, 1), "fmi2DoStep")
+        return step
 
 
 class _Instance:
@@ -133,6 +183,9 @@ class Master:
         (``scenario.n_steps + 1``), set at every exchange in place of a connection, the way an
         upstream FMU swapped for a measured signal would set them (sampled and held over the
         step). The diagnosis re-simulates components alone this way.
+    host : {"direct", "fmpy"}
+        Who calls the FMUs musclesim built from the installed sources: this process directly
+        (default, `musclesim.cosim.direct`) or fmpy. Other FMUs always run through fmpy.
 
     Raises
     ------
@@ -142,8 +195,11 @@ class Master:
         or of the wrong length).
     """
 
-    def __init__(self, scenario, fmu_dir="fmus", inputs=None):
-        self.scenario = scenario
+    def __init__(self, scenario, fmu_dir="fmus", inputs=None, host="direct"):
+        if host not in HOSTS:
+            raise UserError(f"host {host!r} is not one of {', '.join(HOSTS)}")
+        self.scenario, self.host = scenario, host
+        self.hosts = {}  # instance -> the host that ran it ("direct" or "fmpy"), once loaded
         self.fmu_dir = Path(fmu_dir)
         self.inputs = {k: np.asarray(v, dtype=float) for k, v in (inputs or {}).items()}
         problems = []
@@ -275,12 +331,9 @@ class Master:
         slots.update((sig, len(slots)) for sig in replayed.values())
         source_of.update(replayed)
         self.values = np.zeros(max(1, len(slots)))
-        address = self.values.ctypes.data
         position = {n: i for i, n in enumerate(self.exchange_order)}
         for name, inst in self.instances.items():
-            n = len(inst.reads)
-            inst.get = (n, _vrs([inst.vars[split_signal(x)[1]] for x in inst.reads]),
-                        ctypes.cast(address + 8 * inst.first, ctypes.POINTER(ctypes.c_double)))
+            inst.read_vrs = [inst.vars[split_signal(x)[1]].valueReference for x in inst.reads]
             ins = [(dst, src) for dst, src in source_of.items() if split_signal(dst)[0] == name]
             # replayed inputs, and inputs from instances exchanged earlier if they feed through,
             # are set during the exchange; all others are set just before the step
@@ -288,33 +341,21 @@ class Master:
                 inst.feedthrough.get(split_signal(d)[1])
                 and position[split_signal(x)[0]] < position[name])]
             late = [pair for pair in ins if pair not in early]
-            inst.set_early, inst.set_late, inst.set_all = (
-                _transfer([inst.vars[split_signal(d)[1]] for d, _ in pairs], [slots[x] for _, x in pairs])
-                for pairs in (early, late, ins))
+            inst.transfers = [  # (value references, buffer slots) set early, late, and all
+                ([inst.vars[split_signal(d)[1]].valueReference for d, _ in pairs],
+                 np.array([slots[x] for _, x in pairs], dtype=np.intp))
+                for pairs in (early, late, ins)]
         self.record_slots = np.array([slots[source_of.get(c, c)] for c in self.columns], dtype=np.intp)
 
     # ---- running -------------------------------------------------------------------------------
-    # FMI calls go to the FMU's functions directly (fmpy's wrapper costs a Python call each);
-    # the status is checked here as fmpy would: above fmi2Warning is a failure.
-    def _get(self, inst):
-        n, vrs, target = inst.get
-        if n:
-            _check(inst.get_real(inst.c, vrs, n, target), "fmi2GetReal")
-
-    def _set(self, inst, transfer):
-        n, vrs, vals, view, slots = transfer
-        if n:
-            self.values.take(slots, out=view)
-            _check(inst.set_real(inst.c, vrs, n, vals), "fmi2SetReal")
-
     def _exchange(self, row):
         """Values at communication point `row`: replayed inputs, then every instance's."""
         if self.replay_table is not None:
             self.values[self.replay_slots] = self.replay_table[row]
-        for name in self.exchange_order:
-            inst = self.current = self.instances[name]
-            self._set(inst, inst.set_early)
-            self._get(inst)
+        for inst, calls in self.exchange_calls:
+            self.current = inst
+            for call in calls:
+                call()
 
     def _failure(self, inst, t):
         lines = [ln for _, msg in inst.log for ln in msg.splitlines() if ln.strip()]
@@ -359,9 +400,8 @@ class Master:
             for inst in self.instances.values():
                 # An instance that failed is left alone: pythonfmu 0.7 has already released its
                 # Python objects without forgetting them, and freeing it would release them again.
-                if inst.slave is not None and inst.slave.component is not None and inst is not failed:
+                if inst.slave is not None and inst is not failed:
                     inst.slave.terminate()
-                    inst.slave.freeInstance()
                 inst.slave = None
             shutil.rmtree(tmp, ignore_errors=True)
             del LOG_SINKS[id(self)]
@@ -387,48 +427,61 @@ class Master:
         unzipped = {}
         for inst in self.instances.values():
             self.current = inst
+            path = self.fmu_dir / f"{inst.component}.fmu"
             if inst.component not in unzipped:
-                path = self.fmu_dir / f"{inst.component}.fmu"
                 unzipped[inst.component] = extracted_fmu(path) or extract_fmu(
                     path, tmp / inst.component)
-            try:  # fmpy raises bare Exceptions for a missing or broken library, a failed instance
-                inst.slave = FMU2Slave(guid=inst.md.guid, unzipDirectory=unzipped[inst.component],
-                                       modelIdentifier=inst.md.coSimulation.modelIdentifier,
-                                       instanceName=inst.name)
-                inst.slave.instantiate(callbacks=self.callbacks, loggingOn=True)
-            except FMICallException:
-                raise
-            except Exception as exc:
-                raise UserError(f"FMU {self.fmu_dir / f'{inst.component}.fmu'} cannot be loaded "
-                                f"as instance {inst.name!r}: {exc}") from None
-            functions = inst.slave._functions  # the FMU's own functions, as fmpy loaded them
-            inst.c = inst.slave.component
-            inst.get_real, inst.set_real, inst.do_step = (
-                functions[f] for f in ("fmi2GetReal", "fmi2SetReal", "fmi2DoStep"))
-            inst.slave.setupExperiment(startTime=s.start_time, stopTime=s.stop_time)
+            inst.slave = self._load(inst, path, unzipped[inst.component])
+            inst.get = inst.slave.reader(inst.read_vrs,
+                                         self.values[inst.first:inst.first + len(inst.reads)])
+            inst.set_early, inst.set_late, inst.set_all = (
+                inst.slave.writer(vrs, slots, self.values) for vrs, slots in inst.transfers)
+            inst.step = inst.slave.stepper()
+            gauss_seidel = s.algorithm == "gauss-seidel"
+            inst.before_step = inst.set_all if gauss_seidel else inst.set_late
+            inst.after_step = inst.get if gauss_seidel else None
+            inst.slave.setup_experiment(s.start_time, s.stop_time)
             params = s.instances[inst.name].parameters
             if params:
-                inst.slave.setReal([inst.vars[p].valueReference for p in params],
-                                   list(params.values()))
+                inst.slave.set_real([inst.vars[p].valueReference for p in params],
+                                    params.values())
         forget_fmu_resource_paths()
+        self.exchange_calls = [
+            (inst, [c for c in (inst.set_early, inst.get) if c is not None])
+            for inst in (self.instances[n] for n in self.exchange_order)]
+
+    def _load(self, inst, path, unzipped):
+        """Instantiate `inst` from the FMU at `path` extracted in `unzipped`, on its host."""
+        try:  # fmpy raises bare Exceptions for a missing or broken library, a failed instance
+            if self.host == "direct" and direct.ours(path):
+                cls = direct.slave_class(unzipped, inst.md.coSimulation.modelIdentifier)
+                self.hosts[inst.name] = "direct"
+                return direct.DirectSlave(cls, inst.name, unzipped, inst.log)
+            self.hosts[inst.name] = "fmpy"
+            return _FmpySlave(inst.md, unzipped, inst.name, self.callbacks)
+        except FMICallException:
+            raise
+        except Exception as exc:
+            raise UserError(f"FMU {path} cannot be loaded as instance {inst.name!r}: "
+                            f"{exc}") from None
 
     def _initialize(self):
         """Initialization mode: propagate start values in feedthrough order, then leave it."""
         for inst in self.instances.values():
             self.current = inst
-            inst.slave.enterInitializationMode()
+            inst.slave.enter_initialization_mode()
         self._exchange(0)
         for inst in self.instances.values():
             self.current = inst
-            self._set(inst, inst.set_late)
-            inst.slave.exitInitializationMode()
+            if inst.set_late is not None:
+                inst.set_late()
+            inst.slave.exit_initialization_mode()
         self._exchange(0)
 
     def _loop(self, time, data):
         """Record, step, exchange until the stop time; return an error sentence or None."""
         s = self.scenario
         n, h, t, row = s.n_steps, s.step, self.t, 0
-        gauss_seidel = s.algorithm == "gauss-seidel"
         order = [self.instances[x] for x in self.step_order]
         take, rec = self.values.take, self.record_slots
         state, due = interrupt.STATE, clock.monotonic() + FLUSH_SECONDS
@@ -448,10 +501,11 @@ class Master:
                     due = clock.monotonic() + FLUSH_SECONDS
                 for inst in order:
                     self.current = inst
-                    self._set(inst, inst.set_all if gauss_seidel else inst.set_late)
-                    _check(inst.do_step(inst.c, t, h, 1), "fmi2DoStep")
-                    if gauss_seidel:
-                        self._get(inst)
+                    if inst.before_step is not None:
+                        inst.before_step()
+                    inst.step(t, h)
+                    if inst.after_step is not None:
+                        inst.after_step()
                 t += h  # accumulated like the FMUs' own time, so both agree to the bit
                 self._exchange(row)
         finally:

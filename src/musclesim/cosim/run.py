@@ -5,8 +5,10 @@ from musclesim.cosim import build, interrupt, master, results, scenario
 from musclesim.errors import UserError
 
 
-def run_scenario(path, out, fmu_dir="fmus", overrides=(), stop_time=None, with_plot=True):
-    """Load, run and write one scenario (the plot only `with_plot`); return (summary, results).
+def run_scenario(path, out, fmu_dir="fmus", overrides=(), stop_time=None, with_plot=True,
+                 host="direct"):
+    """Load, run and write one scenario (the plot only `with_plot`) on `host` (`master.HOSTS`);
+    return (summary, results).
 
     The rows reach `out`/results.csv as the run goes (`results.RunWriter`). When a signal stops
     the run, its rows so far are kept, the summary says ``completed: false`` with the signal and
@@ -16,7 +18,7 @@ def run_scenario(path, out, fmu_dir="fmus", overrides=(), stop_time=None, with_p
     """
     s = scenario.load(path, overrides, stop_time)
     build.check_fresh(fmu_dir)
-    m = master.Master(s, fmu_dir)
+    m = master.Master(s, fmu_dir, host=host)
     writer = results.RunWriter(out, s, m.columns, results.signal_units(m), with_plot)
     writer.start()
 

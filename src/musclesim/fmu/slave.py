@@ -16,6 +16,7 @@ every FMU, which must run where only Python, numpy and scipy are installed.
 """
 import copy
 import math
+import operator
 import warnings
 from xml.etree.ElementTree import Element, SubElement
 
@@ -60,7 +61,8 @@ UNITS = {
 }
 
 # attributes that belong to the FMI plumbing, not to the model's state
-_NOT_STATE = frozenset({"vars", "log_queue", "_getters", "_setters", "_meta", "_parameters"})
+_NOT_STATE = frozenset({"vars", "log_queue", "_getters", "_setters", "_attrs", "_meta",
+                        "_parameters"})
 
 
 class Slave(Fmi2Slave):
@@ -85,6 +87,7 @@ class Slave(Fmi2Slave):
         super().__init__(**kwargs)
         self._getters = []
         self._setters = []
+        self._attrs = []  # attribute holding each variable, by value reference
         self._meta = {}
         self._parameters = set()  # value references of parameters
         self._configured = False  # setup() has run for the current parameter values
@@ -106,6 +109,7 @@ class Slave(Fmi2Slave):
         var = self.vars[len(self.vars) - 1]
         self._getters.append(var.getter)
         self._setters.append(var.setter)
+        self._attrs.append(attr)
         if causality == Fmi2Causality.parameter:
             self._parameters.add(var.value_reference)
         self._meta[name] = (unit, depends)
@@ -216,6 +220,29 @@ class Slave(Fmi2Slave):
                 self._configured = False
             setters[vr](value)
         self._dirty = True
+
+    # ---- batched calls for a host in this process (musclesim.cosim.direct) ----------------------
+    def reader(self, vrs):
+        """A function returning the values of `vrs` as a tuple: what ``get_real(vrs)`` returns,
+        without a Python call per variable."""
+        attrs = [self._attrs[vr] for vr in vrs]
+        get, refresh = operator.attrgetter(*attrs), self._refresh
+        if len(attrs) == 1:
+            return lambda: (refresh(), (get(self),))[1]
+        return lambda: (refresh(), get(self))[1]
+
+    def writer(self, vrs):
+        """A function setting `vrs` to its argument's values: what ``set_real(vrs, values)`` does,
+        for inputs (parameters go through `set_real`, which guards them)."""
+        if any(vr in self._parameters for vr in vrs):
+            raise ValueError("writer() sets inputs; set parameters with set_real")
+        attrs = [self._attrs[vr] for vr in vrs]
+
+        def write(values):
+            for attr, value in zip(attrs, values):
+                setattr(self, attr, float(value))
+            self._dirty = True
+        return write
 
     def _get_fmu_state(self):
         return copy.deepcopy({k: v for k, v in self.__dict__.items() if k not in _NOT_STATE})

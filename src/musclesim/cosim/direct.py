@@ -1,0 +1,167 @@
+"""The direct host: the FMUs musclesim built, run in this process without the FMI C layer.
+
+A musclesim FMU is a pythonfmu archive: its resources hold a Python slave class, and pythonfmu's
+native library calls that class's methods (``get_real``, ``set_real``, ``do_step``...) for every FMI
+call, crossing ctypes, C++ and back into Python per call. The slave is Python already, so a master
+in the same Python process can load the class the archive ships (``resources/slavemodule.txt``
+names its script) and call those same methods itself: the same files, the same code, the same
+calls in the same order, hence the same results to the bit, without the round trip.
+
+An archive qualifies only where the code it ships is the code this process has imported: the
+folder's ``BUILD.json`` (written by `musclesim.cosim.build_all`) lists the file with its digest,
+and the sources it was built from are the installed ones (`source_digest`). Its script imports the
+slave from ``musclesim.components``, which here resolves to the installed package, equal by that
+digest to the copy the archive ships. Every other FMU (another tool's, a package's, a stale one of
+ours) is hosted by fmpy as before.
+
+`DirectSlave` mirrors what the master uses of fmpy's ``FMU2Slave``: an exception a slave raises is
+logged as pythonfmu's C layer logs it (an fmi2Error message holding the exception's repr) and
+raised as fmpy's ``FMICallException``, so a failure reads the same on both hosts.
+"""
+import hashlib
+import importlib.util
+import json
+from pathlib import Path
+
+from fmpy.fmi1 import FMICallException
+
+from musclesim.cosim.build import source_digest
+
+ERROR = 3  # fmi2Error
+
+_DIGESTS = {}  # (path, size, mtime) -> sha256 of the file
+_CLASSES = {}  # content of the resources' script -> slave class
+
+
+def _digest(path):
+    stat = path.stat()
+    key = (str(path.resolve()), stat.st_size, stat.st_mtime_ns)
+    if key not in _DIGESTS:
+        _DIGESTS[key] = hashlib.sha256(path.read_bytes()).hexdigest()
+    return _DIGESTS[key]
+
+
+def ours(fmu_path):
+    """Whether `musclesim build` made the FMU at `fmu_path` from the sources installed here."""
+    fmu_path = Path(fmu_path)
+    try:
+        stamp = json.loads((fmu_path.parent / "BUILD.json").read_text())
+        listed = stamp["fmus"][fmu_path.name]
+        return stamp["sources"] == source_digest() and listed == _digest(fmu_path)
+    except (OSError, ValueError, KeyError, TypeError):
+        return False
+
+
+def slave_class(unzipped, model_identifier):
+    """The slave class an extracted pythonfmu FMU ships, loaded from its resources' script once
+    per process (pythonfmu executes that script the same way)."""
+    resources = Path(unzipped) / "resources"
+    script = resources / ((resources / "slavemodule.txt").read_text().strip() + ".py")
+    key = script.read_bytes()
+    if key not in _CLASSES:
+        spec = importlib.util.spec_from_file_location(f"{script.stem}_direct", script)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        _CLASSES[key] = getattr(module, model_identifier)
+    return _CLASSES[key]
+
+
+class DirectSlave:
+    """One instance of a slave class, called the way pythonfmu's C layer calls it.
+
+    The messages the slave logs go to `log` as (status, message) pairs after every call, as
+    fmpy's logger callback delivers them.
+    """
+
+    def __init__(self, cls, instance_name, unzipped, log):
+        self.log = log
+        self.name = instance_name
+        self.slave = self._call("fmi2Instantiate", cls, instance_name=instance_name,
+                                resources=str(Path(unzipped) / "resources"), visible=False)
+
+    def _call(self, function, method, *args, **kwargs):
+        try:
+            result = method(*args, **kwargs)
+        except Exception as exc:  # noqa: BLE001 - the C layer catches every exception, too
+            self.failed(function, exc)
+        self.drain()
+        return result
+
+    def failed(self, function, exc):
+        """Log `exc` as pythonfmu's C layer does and raise it as fmpy would."""
+        self.drain()
+        self.log.append((ERROR, repr(exc)))
+        raise FMICallException(function=function, status=ERROR) from exc
+
+    def drain(self):
+        """Move the messages the slave logged to `log`."""
+        queue = getattr(getattr(self, "slave", None), "log_queue", None)
+        if queue:
+            self.log.extend((int(m.status), m.msg) for m in queue)
+            queue.clear()
+
+    def setup_experiment(self, start_time, stop_time):
+        self._call("fmi2SetupExperiment", self.slave.setup_experiment, start_time, stop_time, None)
+
+    def enter_initialization_mode(self):
+        self._call("fmi2EnterInitializationMode", self.slave.enter_initialization_mode)
+
+    def exit_initialization_mode(self):
+        self._call("fmi2ExitInitializationMode", self.slave.exit_initialization_mode)
+
+    def terminate(self):
+        self._call("fmi2Terminate", self.slave.terminate)
+
+    def set_real(self, vrs, values):
+        self._call("fmi2SetReal", self.slave.set_real, list(vrs), [float(v) for v in values])
+
+    # The calls of the master's loop: closures over preallocated value-reference lists, with the
+    # error handling of `_call` written out (a Python call less per FMI call).
+    def reader(self, vrs, out):
+        """A function that writes the values of `vrs` into the array `out` (one batched call)."""
+        if not vrs:
+            return None
+        vrs, queue, failed = list(vrs), self.slave.log_queue, self.failed
+        fast = getattr(self.slave, "reader", None)  # musclesim's Slave batches the call
+        get = fast(vrs) if fast else lambda: self.slave.get_real(vrs)
+
+        def read():
+            try:
+                out[:] = get()
+            except Exception as exc:  # noqa: BLE001
+                failed("fmi2GetReal", exc)
+            if queue:
+                self.drain()
+        return read
+
+    def writer(self, vrs, slots, values):
+        """A function that sets `vrs` to ``values[slots]`` (one batched call)."""
+        if not vrs:
+            return None
+        vrs, queue, failed = list(vrs), self.slave.log_queue, self.failed
+        fast = getattr(self.slave, "writer", None)
+        set_ = fast(vrs) if fast else lambda v: self.slave.set_real(vrs, v)
+
+        def write():
+            try:
+                set_(values.take(slots).tolist())
+            except Exception as exc:  # noqa: BLE001
+                failed("fmi2SetReal", exc)
+            if queue:
+                self.drain()
+        return write
+
+    def stepper(self):
+        """A function doing one fmi2DoStep(t, h)."""
+        do_step, queue, failed = self.slave.do_step, self.slave.log_queue, self.failed
+
+        def step(t, h):
+            try:
+                done = do_step(t, h)
+            except Exception as exc:  # noqa: BLE001
+                failed("fmi2DoStep", exc)
+            if queue:
+                self.drain()
+            if not done:
+                failed("fmi2DoStep", RuntimeError("do_step returned False"))
+        return step
