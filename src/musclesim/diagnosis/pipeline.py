@@ -55,6 +55,7 @@ in `.weigh`.
 from dataclasses import dataclass
 
 import numpy as np
+from threadpoolctl import threadpool_limits
 
 from musclesim.batch import serial_map
 from musclesim.cosim import reuse_fmus, split_signal
@@ -125,7 +126,10 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
     what runs; a dict given as `traces` receives the runs of `Problem.replayed`, nominal,
     calibrated and with the selected effects, for plots.
     """
-    with reuse_fmus():  # some hundred runs of the same FMUs: each read and unpacked once
+    # BLAS on one thread, as beside a Dask cluster (batch.dask_client): a product's reduction
+    # order, hence its last bits, depends on the thread count, and the report must not depend
+    # on where the fits ran (measured: serial and Dask reports differed in the 13th digit)
+    with reuse_fmus(), threadpool_limits(1, user_api="blas"):
         return _diagnose(ds, fmu_dir, pmap or serial_map, progress or (lambda text: None),
                          traces)
 
