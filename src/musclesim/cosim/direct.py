@@ -18,6 +18,7 @@ ours) is hosted by fmpy as before.
 logged as pythonfmu's C layer logs it (an fmi2Error message holding the exception's repr) and
 raised as fmpy's ``FMICallException``, so a failure reads the same on both hosts.
 """
+import functools
 import hashlib
 import importlib.util
 import json
@@ -41,13 +42,20 @@ def _digest(path):
     return _DIGESTS[key]
 
 
+@functools.cache
+def _installed():
+    """The digest of the sources this process imported musclesim from (computed once: the code
+    that runs is the code imported, whatever happens to the files later)."""
+    return source_digest()
+
+
 def ours(fmu_path):
     """Whether `musclesim build` made the FMU at `fmu_path` from the sources installed here."""
     fmu_path = Path(fmu_path)
     try:
         stamp = json.loads((fmu_path.parent / "BUILD.json").read_text())
         listed = stamp["fmus"][fmu_path.name]
-        return stamp["sources"] == source_digest() and listed == _digest(fmu_path)
+        return stamp["sources"] == _installed() and listed == _digest(fmu_path)
     except (OSError, ValueError, KeyError, TypeError):
         return False
 
