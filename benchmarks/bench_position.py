@@ -1,55 +1,46 @@
-"""Real-time factor of the SMA position-control scenario (issue 5, §position-control) and the time
-per communication step split by FMU.
+"""Real-time factor of the SMA position-control scenario (§position-control) on both hosts, and
+where a step's time goes.
 
-    .venv/bin/python benchmarks/bench_position.py [--stop-time 550] [--json FILE]
+    .venv/bin/python benchmarks/bench_position.py [--stop-time 550] [--fmus DIR] [--json FILE]
 
-First run: the master as `musclesim run` uses it, timed as a whole -> real-time factor
-(simulated time / wall time; above 1 = faster than real time). Second run: every FMU's
-fmi2DoStep and the exchanges timed separately (the timers add a little overhead; the split is
-what it is for). Run it on a quiet machine; nothing here is part of the test suite.
+First the master as `musclesim run` uses it (the direct host), then with fmpy as the host, each
+timed as a whole in this process -> real-time factors (simulated time / wall time; above 1 =
+faster than real time) and their ratio. Then a profiled run of the direct host: the time spent
+in each component's `advance` and `evaluate`, and in the master's loop around them (the
+profiler's overhead inflates all of them; the split is what it is for). Goal: at least 10x faster
+than real time. Run it on a quiet machine; nothing here is part of the test suite.
 """
 import argparse
+import cProfile
 import json
+import pstats
 import time
 from pathlib import Path
 
-from musclesim.cosim import Master, load_scenario
+from musclesim.cosim import Master, check_fresh, load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
+GOAL = 10.0  # real-time factor
 
 
-def timed_run(s, fmu_dir, split):
-    m = Master(s, fmu_dir)
-    spent = {}
-    if split:
-        instantiate = m._instantiate
-
-        def wrap(tmp):
-            instantiate(tmp)
-            for inst in m.instances.values():
-                raw, name = inst.do_step, inst.name
-
-                def do_step(c, t, h, flag, raw=raw, name=name):
-                    t0 = time.perf_counter()
-                    status = raw(c, t, h, flag)
-                    spent[name] = spent.get(name, 0.0) + time.perf_counter() - t0
-                    return status
-                inst.do_step = do_step
-        m._instantiate = wrap
-        exchange = m._exchange
-
-        def timed_exchange(row):
-            t0 = time.perf_counter()
-            exchange(row)
-            spent["(exchange: get/set of all FMUs)"] = spent.get(
-                "(exchange: get/set of all FMUs)", 0.0) + time.perf_counter() - t0
-        m._exchange = timed_exchange
+def timed_run(s, fmu_dir, host):
+    """Wall seconds of one run on `host`."""
     t0 = time.perf_counter()
-    res = m.run()
+    res = Master(s, fmu_dir, host=host).run()
     wall = time.perf_counter() - t0
     if res.error:
         raise SystemExit(f"the run failed: {res.error}")
-    return wall, spent, s.n_steps
+    return wall
+
+
+def split(s, fmu_dir):
+    """{component function: seconds (cumulative, under the profiler)} of one direct run."""
+    prof = cProfile.Profile()
+    prof.runcall(Master(s, fmu_dir).run)
+    stats = pstats.Stats(prof).stats
+    return {f"{Path(file).parent.name}/{Path(file).name}:{fn}": cum
+            for (file, _, fn), (_, _, _, cum, _) in stats.items()
+            if "components" in file and fn in ("advance", "evaluate")}
 
 
 def main():
@@ -58,18 +49,25 @@ def main():
     ap.add_argument("--fmus", default=str(ROOT / "fmus"))
     ap.add_argument("--json", help="also write the numbers to this file")
     args = ap.parse_args()
+    check_fresh(args.fmus)
     s = load_scenario(ROOT / "scenarios" / "sma-position-control.toml", stop_time=args.stop_time)
-    wall, _, n = timed_run(s, args.fmus, split=False)
-    _, spent, _ = timed_run(s, args.fmus, split=True)
-    report = {"simulated_s": s.stop_time, "steps": n, "wall_s": wall,
-              "real_time_factor": s.stop_time / wall, "us_per_step": 1e6 * wall / n,
-              "us_per_step_by_fmu": {k: 1e6 * v / n for k, v in
-                                     sorted(spent.items(), key=lambda kv: -kv[1])}}
-    print(f"{s.name}: {s.stop_time:g} s simulated ({n} steps at {s.step * 1e3:g} ms) in "
-          f"{wall:.1f} s: real-time factor {report['real_time_factor']:.2f} "
-          f"({report['us_per_step']:.1f} us per communication step)")
-    for k, v in report["us_per_step_by_fmu"].items():
-        print(f"  {k:34s} {v:7.1f} us/step")
+    walls = {host: timed_run(s, args.fmus, host) for host in ("direct", "fmpy")}
+    rtf = {host: s.stop_time / wall for host, wall in walls.items()}
+    spent = split(s, args.fmus)
+    report = {"simulated_s": s.stop_time, "steps": s.n_steps, "wall_s": walls,
+              "real_time_factor": rtf, "fmpy_over_direct": walls["fmpy"] / walls["direct"],
+              "us_per_step": {h: 1e6 * w / s.n_steps for h, w in walls.items()},
+              "profiled_us_per_step": {k: 1e6 * v / s.n_steps for k, v in
+                                       sorted(spent.items(), key=lambda kv: -kv[1])}}
+    print(f"{s.name}: {s.stop_time:g} s simulated ({s.n_steps} steps at {s.step * 1e3:g} ms)")
+    for host in walls:
+        print(f"  {host:6s}: {walls[host]:.1f} s, real-time factor {rtf[host]:.2f} "
+              f"({report['us_per_step'][host]:.1f} us per communication step)")
+    print(f"  fmpy / direct: {report['fmpy_over_direct']:.2f}; goal >= {GOAL:g}x real time: "
+          f"{'met' if rtf['direct'] >= GOAL else 'MISSED'}")
+    print("  profiled, per communication step:")
+    for k, v in report["profiled_us_per_step"].items():
+        print(f"    {k:48s} {v:7.1f} us")
     if args.json:
         Path(args.json).write_text(json.dumps(report, indent=2) + "\n")
 

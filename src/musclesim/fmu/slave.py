@@ -75,8 +75,10 @@ class Slave(Fmi2Slave):
       during initialization;
     - `initialize()`: set the initial internal state once inputs are known (leaving
       initialization mode);
-    - `evaluate()`: set the outputs from the current state and inputs (outputs declared with
-      ``depends`` are direct feedthrough and are re-evaluated whenever an input was set);
+    - `evaluate()`: set the outputs from the current state, inputs and time, changing nothing
+      else: it runs when outputs are read (or a step needs them) after a step or after an input
+      was set, not after every step, so it may run any number of times (outputs declared with
+      ``depends`` are direct feedthrough; tests/fmu/test_evaluate_contract.py checks the rule);
     - `advance(t, dt)`: advance the internal state from ``t`` to ``t + dt`` with the current inputs.
     """
 
@@ -171,7 +173,8 @@ class Slave(Fmi2Slave):
         """Set the initial internal state from parameters and inputs (leaving initialization)."""
 
     def evaluate(self):
-        """Set the outputs from the state and the current inputs."""
+        """Set the outputs from the state, the current inputs and the time; change nothing
+        else."""
 
     def advance(self, t, dt):
         """Advance the internal state from t to t + dt."""
@@ -199,10 +202,10 @@ class Slave(Fmi2Slave):
         self._dirty = False
 
     def do_step(self, current_time, step_size):
-        self._refresh()
+        self._refresh()  # advance may read what evaluate sets (a friction block's contact)
         self.advance(current_time, step_size)
         self.time = current_time + step_size
-        self.evaluate()
+        self._dirty = True  # outputs evaluated when read: a master sets inputs first, mostly
         return True
 
     def get_real(self, vrs):
