@@ -85,10 +85,23 @@ def load_params(path=DEFAULT_PARAMS):
     return p
 
 
+def _libm(fn, x):
+    """The C library's `fn` (math.exp, math.expm1) element by element, once per distinct value.
+
+    numpy's own exp and expm1, which it takes on CPUs with AVX-512, round some values differently
+    from the C library's: the wire's tables, the SMA runs on them and the designs made on the wire
+    would change with the CPU."""
+    x = np.asarray(x, dtype=float)
+    if x.size <= 256:
+        return np.array([fn(v) for v in x.ravel().tolist()], dtype=float).reshape(x.shape)
+    values, index = np.unique(x.ravel(), return_inverse=True)
+    return np.array([fn(v) for v in values.tolist()], dtype=float)[index].reshape(x.shape)
+
+
 def max_strain(sigma, p):
     """Strain of the fully transformed wire, eps_sat (1 - exp(-sigma / sigma_det))
     (§forc-identification)."""
-    return p.eps_sat * -np.expm1(-np.asarray(sigma, dtype=float) / p.sigma_det)
+    return p.eps_sat * -_libm(math.expm1, -np.asarray(sigma, dtype=float) / p.sigma_det)
 
 
 def centre(sigma, p):
@@ -106,7 +119,8 @@ def _centre_cdf(c, c0, p):
 def _centre_pdf(c, c0, p):
     x = c - c0
     s = expit(x / p.sharp_scale)
-    gauss = np.exp(-0.5 * (x / p.diffuse_sd) ** 2) / (p.diffuse_sd * math.sqrt(2 * math.pi))
+    gauss = (_libm(math.exp, -0.5 * (x / p.diffuse_sd) ** 2)
+             / (p.diffuse_sd * math.sqrt(2 * math.pi)))
     return (1 - p.diffuse_fraction) * s * (1 - s) / p.sharp_scale + p.diffuse_fraction * gauss
 
 
@@ -120,7 +134,7 @@ def _width_pdf(w, p):
     z = (w - p.width_mean) / p.width_sd
     inside = (w >= lo) & (w <= hi)
     norm = p.width_sd * math.sqrt(2 * math.pi) * mass
-    return np.where(inside, np.exp(-0.5 * z * z) / norm, 0.0)
+    return np.where(inside, _libm(math.exp, -0.5 * z * z) / norm, 0.0)
 
 
 def _plane_mass(a, b, c0, p):
@@ -131,7 +145,12 @@ def _plane_mass(a, b, c0, p):
     w = lo + half[..., None] * (_NODES + 1)
     c0 = c0[..., None]
     inner = _centre_cdf(a[..., None] - w / 2, c0, p) - _centre_cdf(b[..., None] + w / 2, c0, p)
-    return half * np.sum(_WEIGHTS * _width_pdf(w, p) * inner, axis=-1)
+    if half.size > 1:  # q(w) once per distinct width (a grid has few): the same numbers
+        halves, index = np.unique(half.ravel(), return_inverse=True)
+        q = _width_pdf(lo + halves[:, None] * (_NODES + 1), p)[index].reshape(w.shape)
+    else:
+        q = _width_pdf(w, p)
+    return half * np.sum(_WEIGHTS * q * inner, axis=-1)
 
 
 def _total_mass(sigma, p):
