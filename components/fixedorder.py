@@ -5,7 +5,8 @@ numpy's ``@`` and scipy's ``expm`` hand even a 4x4 product to BLAS, whose kernel
 multiply-adds; a stick-slip run amplifies those last digits into different sticks and slips. Here
 every product is written out in Python: each operation is rounded as IEEE 754 prescribes, and
 every sum runs left to right, on any CPU. Matrices are sequences of rows of floats (numpy arrays
-work as well); results are lists of lists.
+work as well); results are lists of lists. `least_squares` fits long columns: its sums are
+`math.fsum`'s, exactly rounded whatever their order.
 """
 import math
 
@@ -71,6 +72,7 @@ def _balance(a):
 
 
 def identity(n):
+    """The n x n identity matrix."""
     return [[1.0 if i == j else 0.0 for j in range(n)] for i in range(n)]
 
 
@@ -133,3 +135,46 @@ def zoh(A, B, h):
     """
     Ad, Phi = exp_and_integral(A, h)
     return Ad, matmul(Phi, B)
+
+
+def _dot(a, b):
+    """Exactly rounded a . b of two float vectors (the products rounded first)."""
+    return math.fsum([p * q for p, q in zip(a, b)])
+
+
+def least_squares(columns, y):
+    """The coefficients c minimising |sum_j c_j columns[j] - y| (columns of one length, at least
+    as long as there are columns, independent), by Householder QR: what numpy's lstsq gives to
+    rounding, in a fixed order of operations.
+
+    Examples
+    --------
+    >>> least_squares([[1.0, 1.0, 1.0], [0.0, 1.0, 2.0]], [1.0, 3.0, 5.0])  # y = 1 + 2 x
+    [1.0, 2.0]
+    """
+    A = [[float(v) for v in col] for col in columns]
+    b = [float(v) for v in y]
+    n = len(A)
+    R = [[0.0] * n for _ in range(n)]
+    for k in range(n):
+        x = A[k][k:]
+        alpha = math.sqrt(_dot(x, x))
+        if x[0] > 0:
+            alpha = -alpha  # reflect away from x, no cancellation in v[0]
+        v = [x[0] - alpha] + x[1:]
+        vv = _dot(v, v)
+        if vv == 0.0 or alpha == 0.0:
+            raise ValueError("least_squares: the columns are not independent")
+        for col in A[k + 1:] + [b]:
+            g = 2.0 * _dot(v, col[k:]) / vv
+            col[k:] = [c - g * vi for c, vi in zip(col[k:], v)]
+        R[k][k] = alpha
+        for j in range(k + 1, n):
+            R[k][j] = A[j][k]
+    c = [0.0] * n
+    for k in range(n - 1, -1, -1):
+        s = b[k]
+        for j in range(k + 1, n):
+            s -= R[k][j] * c[j]
+        c[k] = s / R[k][k]
+    return c

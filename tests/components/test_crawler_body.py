@@ -70,6 +70,21 @@ def test_fixed_order_products_are_the_plain_loops():
                                    expm(0.7 * a), rtol=1e-13, atol=1e-13)
 
 
+def test_fixed_order_least_squares_is_numpys_lstsq():
+    """Householder QR with exactly rounded sums gives numpy's lstsq (LAPACK) to rounding, on a fit
+    as ill-conditioned as the pressure loops' (a nearly constant column beside the ones)."""
+    rng = np.random.default_rng(4)
+    p = 12e3 + np.cumsum(rng.standard_normal(2001))
+    X = np.column_stack([p[:-1], rng.choice([-0.5, 0.5], 2000), np.ones(2000)])
+    y = X @ [0.999, 30.0, 12.0] + 0.1 * rng.standard_normal(2000)
+    expected = np.linalg.lstsq(X, y, rcond=None)[0]
+    np.testing.assert_allclose(fixedorder.least_squares(X.T, y), expected, rtol=1e-10)
+    assert fixedorder.least_squares([[1.0, 1.0, 1.0], [0.0, 1.0, 2.0]], [1.0, 3.0, 5.0]) \
+        == [1.0, 2.0]
+    with pytest.raises(ValueError, match="not independent"):
+        fixedorder.least_squares([[1.0, 2.0], [2.0, 4.0]], [1.0, 2.0])
+
+
 def test_actuator_alone_cannot_move_centre_of_mass():
     """Without friction, internal forces leave the centre of mass where it is (momentum)."""
     Ad, Bd = body.discretise(UNEQUAL, 1e-3)
