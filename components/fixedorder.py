@@ -12,21 +12,28 @@ import math
 
 
 def matvec(a, x):
-    """The product a x, each row's sum taken left to right."""
+    """The product a x. Each row's terms t_k are summed in a fixed order: for an even length n,
+    first t_k + t_(k + n/2) (the two halves in pairs), then those left to right; for an odd n
+    left to right. A mirror that swaps the halves (the crawler's two blocks) leaves these sums
+    alone, so mirrored inputs give mirrored bits."""
+    n = len(x)
     out = []
     for row in a:
-        s = row[0] * x[0]
-        for k in range(1, len(row)):
-            s += row[k] * x[k]
+        t = [p * q for p, q in zip(row, x)]
+        if n % 2 == 0:
+            t = [t[k] + t[k + n // 2] for k in range(n // 2)]
+        s = t[0]
+        for v in t[1:]:
+            s += v
         out.append(s)
     return out
 
 
 def matmul(a, b):
-    """The product a b, each element's sum taken over the inner index in ascending order."""
+    """The product a b, each element summed over the inner index as `matvec` sums."""
     cols = list(zip(*b))
     if len(cols[0]) == 4:  # the crawler body's size, written out: the same sums, twice as fast
-        return [[r0 * c0 + r1 * c1 + r2 * c2 + r3 * c3 for c0, c1, c2, c3 in cols]
+        return [[(r0 * c0 + r2 * c2) + (r1 * c1 + r3 * c3) for c0, c1, c2, c3 in cols]
                 for r0, r1, r2, r3 in a]
     return [matvec(cols, row) for row in a]
 
@@ -43,9 +50,10 @@ def _norm1(a):
 
 def _balance(a):
     """Powers of two d with B = diag(d)^-1 A diag(d) of rows and columns of like size (Parlett and
-    Reinsch's balancing, radix 2, as EISPACK's BALANC without its permutations): exp(A h) =
-    diag(d) exp(B h) diag(d)^-1 with no rounding, and B's smaller norm asks fewer squarings.
-    Returns (B, d)."""
+    Reinsch's balancing, radix 2, as EISPACK's BALANC without its permutations). Scaling by powers
+    of two commutes with the rounding of every product, so working on B gives diag(d)^-1 (what A
+    would give) diag(d) bit for bit, but for the number of squarings (B's smaller norm asks fewer)
+    and the doubling at which exp - I turns to exp. Returns (B, d)."""
     n = len(a)
     a = [[float(v) for v in row] for row in a]
     d = [1.0] * n

@@ -93,10 +93,14 @@ def centre_of_mass(x, p):
 
 
 def step_state(x, u, Ad, Bd):
-    """One zero-order-hold step: x[k+1] = Ad x[k] + Bd [f_a, f1, f2, 1], written out (each row's
-    Ad x and Bd u summed left to right, then added) rather than through BLAS, whose kernel is
-    chosen per CPU and rounds differently: a stick-slip run would differ from CPU to CPU."""
+    """One zero-order-hold step: x[k+1] = Ad x[k] + Bd [f_a, f1, f2, 1], written out rather than
+    through BLAS, whose kernel is chosen per CPU and rounds differently (a stick-slip run would
+    differ from CPU to CPU). Each row sums the positions' terms, then the velocities', then
+    f_a's, the frictions' and gravity's: mirroring the blocks (x1 <-> -x2, v1 <-> -v2,
+    f1 <-> -f2) leaves these sums alone, so with equal masses a mirrored run is bit for bit the
+    mirror image (`fixedorder.zoh` keeps Ad and Bd mirror-symmetric too)."""
     x0, x1, x2, x3 = x.tolist() if isinstance(x, np.ndarray) else x
     f_a, f1, f2 = u
-    return np.array([a0 * x0 + a1 * x1 + a2 * x2 + a3 * x3 + (b0 * f_a + b1 * f1 + b2 * f2 + b3)
+    return np.array([((a0 * x0 + a2 * x2) + (a1 * x1 + a3 * x3))
+                     + ((b0 * f_a + (b1 * f1 + b2 * f2)) + b3)
                      for (a0, a1, a2, a3), (b0, b1, b2, b3) in zip(Ad.tolist(), Bd.tolist())])

@@ -55,19 +55,41 @@ def test_zoh_of_equal_masses_is_the_hand_solution(h):
     np.testing.assert_allclose(Bd[:, 0], f_a_column, rtol=0, atol=1e-14 * np.abs(Bd[:, 0]).max())
 
 
-def test_fixed_order_products_are_the_plain_loops():
-    """The 4x4 product written out sums as the general loop does, bit for bit; the series gives
-    scipy's expm to rounding (a reference computed through LAPACK)."""
+def _in_pairs(t):
+    """Terms summed as fixedorder does: an even count's halves in pairs, then left to right."""
+    if len(t) % 2 == 0:
+        t = [t[k] + t[k + len(t) // 2] for k in range(len(t) // 2)]
+    return float(sum(t[1:], t[0]))
+
+
+def test_fixed_order_products_sum_in_their_stated_order():
+    """The 4x4 product written out sums as the general loop does, bit for bit, in the order the
+    docstring states; the series gives scipy's expm to rounding (a reference through LAPACK)."""
     from scipy.linalg import expm
 
     rng = np.random.default_rng(3)
-    for n in (2, 3, 4, 5):
+    for n in (2, 3, 4, 5, 6):
         a, b = rng.standard_normal((n, n)), rng.standard_normal((n, n))
-        loops = [[float(sum(a[i, j] * b[j, l] for j in range(n))) for l in range(n)]
-                 for i in range(n)]  # plain left-to-right sums of numpy scalars
-        assert fixedorder.matmul(a.tolist(), b.tolist()) == loops
+        by_hand = [[_in_pairs([a[i, j] * b[j, l] for j in range(n)]) for l in range(n)]
+                   for i in range(n)]
+        assert fixedorder.matmul(a.tolist(), b.tolist()) == by_hand
         np.testing.assert_allclose(fixedorder.exp_and_integral(a.tolist(), 0.7)[0],
                                    expm(0.7 * a), rtol=1e-13, atol=1e-13)
+
+
+@pytest.mark.parametrize("p", [body.BodyParams(), body.BodyParams(k_slope=0.02, c_ground=0.4)])
+def test_mirrored_blocks_step_to_the_mirror_image_bit_for_bit(p):
+    """Equal masses: swapping the blocks (x1 <-> -x2, v1 <-> -v2, f1 <-> -f2, f_a kept) steps to
+    the mirror image exactly, not just to rounding, so a mirrored stick-slip run stays the
+    mirror image (the gait's forward and backward runs, tests/cosim/test_gait_scenarios.py)."""
+    rng = np.random.default_rng(5)
+    for h, f_a in ((1e-3, 0.0), (4e-4, 7.3), (0.05, 2.0)):
+        Ad, Bd = body.discretise(p, h, f_a)
+        for _ in range(200):
+            x, (f1, f2) = rng.standard_normal(4), rng.standard_normal(2)
+            step = body.step_state(x, (f_a, f1, f2), Ad, Bd)
+            mirrored = body.step_state(-x[[2, 3, 0, 1]], (f_a, -f2, -f1), Ad, Bd)
+            assert np.array_equal(mirrored, -step[[2, 3, 0, 1]])
 
 
 def test_fixed_order_least_squares_is_numpys_lstsq():
