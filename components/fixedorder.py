@@ -4,9 +4,10 @@ numpy's ``@`` and scipy's ``expm`` hand even a 4x4 product to BLAS, whose kernel
 (OpenBLAS: Haswell, SkylakeX, Sandybridge, ...) and sums in its own order, with or without fused
 multiply-adds; a stick-slip run amplifies those last digits into different sticks and slips. Here
 every product is written out in Python: each operation is rounded as IEEE 754 prescribes, and
-every sum runs left to right, on any CPU. Matrices are sequences of rows of floats (numpy arrays
-work as well); results are lists of lists. `least_squares` fits long columns: its sums are
-`math.fsum`'s, exactly rounded whatever their order.
+every sum runs in the order `matvec` states (the halves in pairs, then left to right), on any
+CPU. Matrices are sequences of rows of floats (numpy arrays work as well); results are lists of
+lists. `least_squares` fits long columns: its sums are `math.fsum`'s, exactly rounded whatever
+their order. Python's own floats carry no fused multiply-add, so nothing here depends on the CPU.
 """
 import math
 
