@@ -48,18 +48,6 @@ def in_process(cls, name, **params):
     return slave
 
 
-def assert_same_toml(committed, fresh, rel=1e-9):
-    """Two TOML texts hold the same keys and numbers to `rel`: a design step's output compared with
-    its committed file. Its linear algebra runs on BLAS/LAPACK, whose kernels (chosen per CPU) round
-    differently in the last digits, so the numbers cannot be compared bit for bit."""
-    import tomllib
-
-    a, b = tomllib.loads(committed), tomllib.loads(fresh)
-    assert sorted(a) == sorted(b)
-    for key in a:
-        assert a[key] == pytest.approx(b[key], rel=rel, abs=1e-300), key
-
-
 def schema_errors(name, document):
     """What makes `document` differ from musclesim/schemas/<name>.schema.json (the schema, shipped
     with the package and shown in the docs, checked first), one located sentence each."""

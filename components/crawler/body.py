@@ -9,8 +9,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import cont2discrete
 
+from musclesim.components import fixedorder
 from musclesim.components.checks import require
 G = 9.81  # m/s^2
 
@@ -63,14 +63,14 @@ def discretise(p, Ts, f_a=0.0):
     """Zero-order-hold discretisation at step Ts, gravity included as a constant fourth input.
 
     Returns (Ad, Bd) with x[k+1] = Ad x[k] + Bd [f_a, f1, f2, 1]; `f_a` sets the stiffness when
-    k_slope is on. Uses scipy's cont2discrete, the routine python-control's
-    ``StateSpace.sample(Ts, 'zoh')`` calls.
+    k_slope is on. The pair scipy's cont2discrete (the routine behind python-control's
+    ``StateSpace.sample(Ts, 'zoh')``) gives, computed in a fixed order of operations
+    (`fixedorder.zoh`): through BLAS its last digits would depend on the CPU (§two-mass).
     """
     A, B = state_space(p, f_a)
     gravity = np.array([0.0, -G * math.sin(p.theta), 0.0, -G * math.sin(p.theta)])
-    Ad, Bd, *_ = cont2discrete((A, np.column_stack([B, gravity]), np.eye(4), np.zeros((4, 4))),
-                               Ts, method="zoh")
-    return Ad, Bd
+    Ad, Bd = fixedorder.zoh(A.tolist(), np.column_stack([B, gravity]).tolist(), Ts)
+    return np.array(Ad), np.array(Bd)
 
 
 def nonfriction_forces(x, f_a, p):
@@ -93,5 +93,14 @@ def centre_of_mass(x, p):
 
 
 def step_state(x, u, Ad, Bd):
-    """One zero-order-hold step: x[k+1] = Ad x[k] + Bd [f_a, f1, f2, 1]."""
-    return Ad @ x + Bd @ np.array([u[0], u[1], u[2], 1.0])
+    """One zero-order-hold step: x[k+1] = Ad x[k] + Bd [f_a, f1, f2, 1], written out rather than
+    through BLAS, whose kernel is chosen per CPU and rounds differently (a stick-slip run would
+    differ from CPU to CPU). Each row sums the positions' terms, then the velocities', then
+    f_a's, the frictions' and gravity's: mirroring the blocks (x1 <-> -x2, v1 <-> -v2,
+    f1 <-> -f2) leaves these sums alone, so with equal masses a mirrored run is bit for bit the
+    mirror image (`fixedorder.zoh` keeps Ad and Bd mirror-symmetric too)."""
+    x0, x1, x2, x3 = x.tolist() if isinstance(x, np.ndarray) else x
+    f_a, f1, f2 = u
+    return np.array([((a0 * x0 + a2 * x2) + (a1 * x1 + a3 * x3))
+                     + ((b0 * f_a + (b1 * f1 + b2 * f2)) + b3)
+                     for (a0, a1, a2, a3), (b0, b1, b2, b3) in zip(Ad.tolist(), Bd.tolist())])

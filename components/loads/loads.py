@@ -7,9 +7,7 @@ and where every default comes from: §loads (docs/model/loads-sensors.md).
 import math
 from dataclasses import dataclass
 
-import numpy as np
-from scipy.linalg import expm
-
+from musclesim.components import fixedorder
 from musclesim.components.checks import require
 
 G = 9.80665  # m/s^2, standard gravity
@@ -74,9 +72,11 @@ def link_omega(p):
 
 
 def link_transition(dt, p):
-    """2x2 matrix advancing (y, dy/dt) of y'' = -w^2 y - 2 zeta w y' exactly over dt."""
+    """2x2 matrix (rows of floats) advancing (y, dy/dt) of y'' = -w^2 y - 2 zeta w y' exactly
+    over dt: its matrix exponential, taken in a fixed order of operations (no BLAS, whose kernel
+    is chosen per CPU: the same bits on every CPU)."""
     w = link_omega(p)
-    return expm(np.array([[0.0, 1.0], [-w * w, -2.0 * p.zeta * w]]) * dt)
+    return fixedorder.exp_and_integral([[0.0, 1.0], [-w * w, -2.0 * p.zeta * w]], dt)[0]
 
 
 def weight_step(x, v, s, u, phi, dt, p):
@@ -97,7 +97,7 @@ def weight_step(x, v, s, u, phi, dt, p):
     (0.002, 0.0)
     """
     lag = 2.0 * p.zeta * u / link_omega(p)  # d u / k_link: how far it trails a steady lift
-    y, w = phi @ (x - s + lag, v - u)
+    y, w = fixedorder.matvec(phi, (x - s + lag, v - u))
     return float(y + s + u * dt - lag), float(w + u)
 
 

@@ -21,7 +21,28 @@ from .surface import Hypersurface
 
 DEFAULT_PARAMS = Path(__file__).parent / "params" / "flexinol-127um-90C.toml"
 
-_NODES, _WEIGHTS = np.polynomial.legendre.leggauss(48)  # width quadrature, error ~1e-16
+# Gauss-Legendre on [-1, 1] with 48 nodes (the positive half; the rule is symmetric) for the width
+# quadrature, error ~1e-16: numpy.polynomial.legendre.leggauss(48) written out, bit for bit as it
+# gives them here. It computes them at run time through LAPACK (eigvalsh), whose kernel is chosen
+# per CPU; a stored table is the same on every CPU (test: against leggauss).
+_NODES_HALF = (
+    0.03238017096286937, 0.0970046992094627, 0.1612223560688917, 0.22476379039468905,
+    0.28736248735545555, 0.3487558862921607, 0.4086864819907167, 0.4669029047509584,
+    0.523160974722233, 0.5772247260839727, 0.6288673967765136, 0.6778723796326639,
+    0.7240341309238146, 0.7671590325157404, 0.8070662040294426, 0.8435882616243935,
+    0.8765720202742479, 0.9058791367155696, 0.9313866907065543, 0.9529877031604308,
+    0.9705915925462473, 0.9841245837228269, 0.9935301722663508, 0.9987710072524261,
+)
+_WEIGHTS_HALF = (
+    0.06473769681268365, 0.06446616443594982, 0.06392423858464787, 0.06311419228625373,
+    0.06203942315989242, 0.0607044391658936, 0.059114839698395344, 0.057277292100402916,
+    0.05519950369998403, 0.05289018948519344, 0.0503590355538542, 0.04761665849249024,
+    0.04467456085669423, 0.04154508294346455, 0.0382413510658305, 0.034777222564770394,
+    0.031167227832798097, 0.027426509708357034, 0.023570760839324047, 0.019616160457356056,
+    0.015579315722943226, 0.011477234579234614, 0.007327553901276135, 0.0031533460523098414,
+)
+_NODES = np.concatenate([-np.array(_NODES_HALF[::-1]), np.array(_NODES_HALF)])
+_WEIGHTS = np.concatenate([np.array(_WEIGHTS_HALF[::-1]), np.array(_WEIGHTS_HALF)])
 _WIDTH_SDS = 4.0  # the width density is a Gaussian truncated at this many standard deviations
 
 
@@ -85,10 +106,23 @@ def load_params(path=DEFAULT_PARAMS):
     return p
 
 
+def _libm(fn, x):
+    """The C library's `fn` (math.exp, math.expm1) element by element, once per distinct value.
+
+    numpy's own exp and expm1, which it takes on CPUs with AVX-512, round some values differently
+    from the C library's: the wire's tables, the SMA runs on them and the designs made on the wire
+    would change with the CPU."""
+    x = np.asarray(x, dtype=float)
+    if x.size <= 256:
+        return np.array([fn(v) for v in x.ravel().tolist()], dtype=float).reshape(x.shape)
+    values, index = np.unique(x.ravel(), return_inverse=True)
+    return np.array([fn(v) for v in values.tolist()], dtype=float)[index].reshape(x.shape)
+
+
 def max_strain(sigma, p):
     """Strain of the fully transformed wire, eps_sat (1 - exp(-sigma / sigma_det))
     (§forc-identification)."""
-    return p.eps_sat * -np.expm1(-np.asarray(sigma, dtype=float) / p.sigma_det)
+    return p.eps_sat * -_libm(math.expm1, -np.asarray(sigma, dtype=float) / p.sigma_det)
 
 
 def centre(sigma, p):
@@ -106,7 +140,8 @@ def _centre_cdf(c, c0, p):
 def _centre_pdf(c, c0, p):
     x = c - c0
     s = expit(x / p.sharp_scale)
-    gauss = np.exp(-0.5 * (x / p.diffuse_sd) ** 2) / (p.diffuse_sd * math.sqrt(2 * math.pi))
+    gauss = (_libm(math.exp, -0.5 * (x / p.diffuse_sd) ** 2)
+             / (p.diffuse_sd * math.sqrt(2 * math.pi)))
     return (1 - p.diffuse_fraction) * s * (1 - s) / p.sharp_scale + p.diffuse_fraction * gauss
 
 
@@ -120,7 +155,7 @@ def _width_pdf(w, p):
     z = (w - p.width_mean) / p.width_sd
     inside = (w >= lo) & (w <= hi)
     norm = p.width_sd * math.sqrt(2 * math.pi) * mass
-    return np.where(inside, np.exp(-0.5 * z * z) / norm, 0.0)
+    return np.where(inside, _libm(math.exp, -0.5 * z * z) / norm, 0.0)
 
 
 def _plane_mass(a, b, c0, p):
@@ -131,7 +166,12 @@ def _plane_mass(a, b, c0, p):
     w = lo + half[..., None] * (_NODES + 1)
     c0 = c0[..., None]
     inner = _centre_cdf(a[..., None] - w / 2, c0, p) - _centre_cdf(b[..., None] + w / 2, c0, p)
-    return half * np.sum(_WEIGHTS * _width_pdf(w, p) * inner, axis=-1)
+    if half.size > 1:  # q(w) once per distinct width (a grid has few): the same numbers
+        halves, index = np.unique(half.ravel(), return_inverse=True)
+        q = _width_pdf(lo + halves[:, None] * (_NODES + 1), p)[index].reshape(w.shape)
+    else:
+        q = _width_pdf(w, p)
+    return half * np.sum(_WEIGHTS * q * inner, axis=-1)
 
 
 def _total_mass(sigma, p):

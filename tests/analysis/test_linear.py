@@ -59,12 +59,30 @@ def test_sma_thermal_plants_and_designed_poles(sma_report):
         assert q["phase_margin_deg"] > 60 and q["sampled_pole_radius"] < 1
 
 
-def test_shipped_gain_table_is_the_design_output(sma_report):
-    """The scenario's gains come from the design step, not typed in: rerun it to change them."""
-    from conftest import SCENARIOS, assert_same_toml
+@pytest.mark.parametrize("a, b", [(-0.58, 0.31), (-0.1, 2.0), (-476.0, 480.0)])
+def test_pi_placement_by_hand_is_python_controls_place(a, b):
+    """design_pi's Kp = (2 zeta omega_n + a) / b, Ki = omega_n^2 / b (written out, no LAPACK) are
+    the gains python-control's `place` finds on the plant augmented with the error's integral."""
+    import control as ct
 
-    assert_same_toml((SCENARIOS / "params" / "sma-thermal-gains.toml").read_text(),
-                     linear_sma_thermal.gain_table_toml(sma_report))
+    from musclesim.analysis.design import design_pi
+
+    omega_n, zeta = 8.0, 0.9
+    wd = omega_n * np.sqrt(1 - zeta ** 2)
+    K = ct.place(np.array([[a, 0.0], [-1.0, 0.0]]), np.array([[b], [0.0]]),
+                 [complex(-zeta * omega_n, wd), complex(-zeta * omega_n, -wd)])
+    plant = ct.ss([[a]], [[b]], [[1.0]], [[0.0]])
+    np.testing.assert_allclose(design_pi(plant, omega_n, zeta), (K[0, 0], -K[0, 1]), rtol=1e-12)
+
+
+def test_shipped_gain_table_is_the_design_output(sma_report):
+    """The scenario's gains come from the design step, not typed in: rerun it to change them. Bit
+    for bit: the design solves no linear system through LAPACK/BLAS (whose kernels, chosen per
+    CPU, round differently) and the wire it is made on takes the C library's exp, not numpy's."""
+    from conftest import SCENARIOS
+
+    assert (SCENARIOS / "params" / "sma-thermal-gains.toml").read_text() \
+        == linear_sma_thermal.gain_table_toml(sma_report)
 
 
 def test_cli_sma_thermal_writes_the_table(tmp_path, capsys):

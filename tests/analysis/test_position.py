@@ -10,7 +10,7 @@ from musclesim.batch import run_case
 from musclesim.cosim import Master, load_scenario
 from musclesim.errors import UserError
 
-from conftest import SCENARIOS, assert_same_toml
+from conftest import SCENARIOS
 
 POSITION = SCENARIOS / "sma-position-control.toml"
 
@@ -60,7 +60,9 @@ def test_stress_loop_is_designed_on_the_identified_load_path(fmu_dir):
     assert report["Kp"] > 0 and report["Ki"] > 0
     assert report["sampled_pole_radius"] < 1 and report["phase_margin_deg"] > 45
     gains = (SCENARIOS / "params" / "sma-load-gains.toml").read_text()
-    assert_same_toml(gains, linear_sma_load.load_gains_toml(report))  # the scenario's design
+    # the scenario uses this design, bit for bit: the fit and the placement solve through no
+    # LAPACK/BLAS, whose kernels (chosen per CPU) round differently
+    assert linear_sma_load.load_gains_toml(report) == gains
 
 
 def test_table_of_a_fixed_small_run(tmp_path):

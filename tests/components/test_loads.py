@@ -138,6 +138,29 @@ def test_dead_weight_in_a_steady_lift_trails_by_its_damping():
     assert loads.weight_lift(x, s, p) == pytest.approx(s - 0.5 * lag, rel=1e-9)
 
 
+@pytest.mark.parametrize("zeta", [0.0, 0.02, 1.0, 3.0])
+def test_link_transition_is_the_damped_oscillators_hand_solution(zeta):
+    """exp of [[0, 1], [-w^2, -2 zeta w]] dt by hand: e^(-zeta w t) times cos/sin (under-damped),
+    1 + zeta w t (critical) or cosh/sinh (over-damped) terms (§loads); the fixed-order series
+    that replaces scipy's expm gives it to rounding."""
+    p = loads.WeightParams(mass=0.15, inertia=1.0, k_link=300.0, zeta=zeta)
+    w = loads.link_omega(p)
+    sigma = zeta * w
+    for dt in (4e-4, 1e-3, 3e-2, 0.1):
+        if zeta < 1:
+            wd = w * math.sqrt(1 - zeta ** 2)
+            c, s = math.cos(wd * dt), math.sin(wd * dt) / wd
+        elif zeta == 1:
+            c, s = 1.0, dt
+        else:
+            q = w * math.sqrt(zeta ** 2 - 1)
+            c, s = math.cosh(q * dt), math.sinh(q * dt) / q
+        hand = math.exp(-sigma * dt) * np.array([[c + sigma * s, s], [-w * w * s, c - sigma * s]])
+        scale = np.abs(hand).max(axis=1, keepdims=True)  # per row: y and dy/dt differ by ~w
+        np.testing.assert_allclose(np.array(loads.link_transition(dt, p)) / scale, hand / scale,
+                                   rtol=0, atol=1e-14, err_msg=f"dt = {dt}")
+
+
 def test_coil_current_step_is_exact(fmu_dir):
     V, R, L, k_f, m_cal, h = 12.0, 24.0, 0.05, 2.0, 0.1, 4e-4
     n = 200

@@ -41,6 +41,17 @@ def test_identified_style_surface_on_the_5C_grid_gives_the_same_loops():
     assert loop["peak_to_peak"] == pytest.approx(float(WIRE.F(100, 50, 125e6)), rel=1e-9)
 
 
+def test_stored_width_quadrature_is_gauss_legendre():
+    """The stored 48-node rule (no LAPACK at run time) is numpy's leggauss to rounding, and
+    integrates x^k over [-1, 1] to 2 / (k + 1) for even k, 0 for odd, up to degree 95."""
+    nodes, weights = np.polynomial.legendre.leggauss(48)
+    np.testing.assert_allclose(wire._NODES, nodes, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(wire._WEIGHTS, weights, rtol=0, atol=1e-15)
+    for k in range(96):
+        exact = 2.0 / (k + 1) if k % 2 == 0 else 0.0
+        assert float(np.sum(wire._WEIGHTS * wire._NODES ** k)) == pytest.approx(exact, abs=1e-14)
+
+
 @pytest.mark.parametrize("sigma", [105e6, 125e6, 145e6, 155e6])
 def test_saturates_at_30_and_130C(sigma):
     assert WIRE.F(130, 30, sigma) == pytest.approx(float(WIRE.eps_max(sigma)), rel=1e-12)

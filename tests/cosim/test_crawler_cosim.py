@@ -83,11 +83,15 @@ def test_rows_belong_to_their_time_stamp(fmu_dir):
 
 
 def test_reference_result_is_reproduced(fmu_dir):
-    """The co-simulation still gives the reference result kept next to the components."""
+    """The co-simulation still gives the reference result kept next to the components, bit for
+    bit: no product in the body goes through BLAS, whose kernel (chosen per CPU) would round
+    differently (17 significant digits in the file are every bit of a float)."""
     ref = np.loadtxt(ROOT / "components" / "crawler" / "reference.csv", delimiter=",", skiprows=1)
     res = cosim(fmu_dir, stop_time=5.0)
-    assert_matches(type(res)(res.time[::10], res.names, res.data[::10]), ref[:, 0], ref[:, 1:],
-                   tol=1e-12)
+    np.testing.assert_array_equal(res.time[::10], ref[:, 0])
+    for col, i in (("body.flange1.s", 1), ("body.flange1.v", 2), ("body.flange2.s", 3),
+                   ("body.flange2.v", 4)):
+        np.testing.assert_array_equal(res[col][::10], ref[:, i], err_msg=col)
 
 
 def test_runs_leave_no_fmu_copy_of_musclesim_on_sys_path(fmu_dir):

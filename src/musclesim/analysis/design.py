@@ -1,6 +1,7 @@
 """Controller design shared by the linear analyses: PI gains by pole placement on a
 first-order plant (`design_pi`), their margins and the sampled closed loop (`pi_margins`), and a PI
 for a discrete plant by its loop crossover (`discrete_pi`)."""
+import cmath
 import math
 
 import control as ct
@@ -8,17 +9,17 @@ import numpy as np
 
 
 def design_pi(plant, omega_n, zeta):
-    """PI gains placing the closed-loop poles of a first-order plant at omega_n, zeta.
+    """PI gains placing the closed-loop poles of a first-order plant dx/dt = a x + b u at omega_n,
+    zeta (§temperature-control, §loads).
 
-    The plant is augmented with the integral of the error and the state feedback comes from
-    python-control's `place`; u = Kp e + Ki integral(e) gives the same closed-loop poles.
+    With the error's integral as a second state, u = Kp e + Ki integral(e) closes the loop with
+    the characteristic polynomial s^2 + (b Kp - a) s + b Ki = s^2 + 2 zeta omega_n s + omega_n^2:
+    Kp = (2 zeta omega_n + a) / b, Ki = omega_n^2 / b. Written out rather than python-control's
+    `place` on the augmented plant, which gives the same to rounding through LAPACK, whose last
+    digits depend on the CPU's BLAS kernel.
     """
-    a, b = plant.A[0, 0], plant.B[0, 0]
-    A = np.array([[a, 0.0], [-1.0, 0.0]])
-    B = np.array([[b], [0.0]])
-    wd = omega_n * math.sqrt(1 - zeta ** 2)
-    K = ct.place(A, B, [complex(-zeta * omega_n, wd), complex(-zeta * omega_n, -wd)])
-    return float(K[0, 0]), float(-K[0, 1])
+    a, b = float(plant.A[0, 0]), float(plant.B[0, 0])
+    return (2.0 * zeta * omega_n + a) / b, omega_n * omega_n / b
 
 
 def pi_margins(plant, Kp, Ki, step):
@@ -34,8 +35,11 @@ def pi_margins(plant, Kp, Ki, step):
 
 def discrete_pi(plant, crossover, zero_ratio, step):
     """PI u = Kp e + Ki sum(e) step (the PID FMU's form) for a discrete plant: the zero at
-    crossover / zero_ratio, Kp so that the loop gain is 1 at `crossover` [rad/s]."""
-    z = np.exp(1j * crossover * step)
+    crossover / zero_ratio, Kp so that the loop gain is 1 at `crossover` [rad/s].
+
+    `plant` is a function of z; the arithmetic is Python's complex (numpy's vectorised complex
+    product takes fused multiply-adds on CPUs that have them, and rounds differently)."""
+    z = cmath.exp(1j * crossover * step)
     shape = (1.0 + step / zero_ratio * crossover / (z - 1.0)) * complex(plant(z))
-    Kp = 1.0 / float(abs(shape))
+    Kp = 1.0 / abs(shape)
     return Kp, Kp * crossover / zero_ratio

@@ -7,6 +7,7 @@ import control as ct
 import numpy as np
 
 from musclesim.analysis.design import discrete_pi
+from musclesim.components import fixedorder
 from musclesim.errors import UserError
 
 PNEUMATIC_DESIGN = {
@@ -31,16 +32,25 @@ ACTUATORS = ("central", "extremal")  # instance names in the identification scen
 
 def _fit_arx(p, u, max_delay):
     """Least-squares p[k+1] = a p[k] + b u[k-d] + c for d = 0..max_delay; the best (a, b, c, d,
-    RMS residual)."""
+    RMS residual). In a fixed order of operations (`fixedorder.least_squares`, exactly rounded
+    sums): numpy's lstsq rounds with the CPU's BLAS kernel, and the fit is ill-conditioned
+    (p is nearly constant), so its digits from the eighth on would depend on the CPU."""
     best = None
     for d in range(max_delay + 1):
-        X = np.column_stack([p[d:-1], u[:len(u) - 1 - d] if d else u[:-1], np.ones(len(p) - 1 - d)])
+        columns = [p[d:-1], u[:len(u) - 1 - d] if d else u[:-1], np.ones(len(p) - 1 - d)]
         y = p[d + 1:]
-        coef, *_ = np.linalg.lstsq(X, y, rcond=None)
-        rms = float(np.sqrt(np.mean((X @ coef - y) ** 2)))
+        coef = fixedorder.least_squares(columns, y)
+        residual = coef[0] * columns[0] + coef[1] * columns[1] + coef[2] * columns[2] - y
+        rms = math.sqrt(math.fsum((residual * residual).tolist()) / len(y))
         if best is None or rms < best[4]:
-            best = (*map(float, coef), d, rms)
+            best = (*coef, d, rms)
     return best
+
+
+def _arx_response(fit):
+    """The identified plant b z^-d / (z - a) as a function of z (Python's complex arithmetic)."""
+    a, b, d = fit["a"], fit["b"], fit["delay_samples"]
+    return lambda z: b / (z ** (d + 1) - a * z ** d)
 
 
 def identify_pneumatic(fmu_dir="fmus", design=None):
@@ -97,7 +107,7 @@ def pneumatic(fmu_dir="fmus", design=None):
     d = {**PNEUMATIC_DESIGN, **(design or {})}
     loops = {}
     for a, (plant, fit) in identify_pneumatic(fmu_dir, d).items():
-        Kp, Ki = discrete_pi(plant, d["crossover"], d["zero_ratio"], d["step"])
+        Kp, Ki = discrete_pi(_arx_response(fit), d["crossover"], d["zero_ratio"], d["step"])
         pi = ct.tf([Kp, Ki * d["step"] - Kp], [1.0, -1.0], d["step"])  # Kp + Ki T / (z - 1)
         loop = pi * plant
         gms, pms, _, _, wcs, _ = ct.stability_margins(loop, returnall=True)

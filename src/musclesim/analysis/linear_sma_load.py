@@ -1,10 +1,13 @@
 """The load path of the SMA position-control bench (§sma-bench, §position-control): the duty ->
 load-cell force model identified on the Electromagnet and LoadCell FMUs, and the stress loop's PI
 placed on it."""
+import math
+
 import control as ct
 import numpy as np
 
 from musclesim.analysis.design import design_pi, pi_margins
+from musclesim.components import fixedorder
 
 LOAD_DESIGN = {
     "omega_n": 300.0,  # rad/s (48 Hz): far above the loading profiles (<= 1/17 Hz), far below
@@ -17,6 +20,43 @@ LOAD_DESIGN = {
 }
 
 
+def _fit_step(t, f, step):
+    """K, tau and the RMS residual of f = f0 + K step (1 - exp(-t / tau)) fitted by least squares
+    (§loads): Gauss-Newton from K = 1, tau = 10 ms, f0 = f[0], each step halved until it lowers
+    the sum of squares and tau kept within [1e-6, 10] s, stopping when no step lowers it. In a
+    fixed order of operations (`fixedorder.least_squares`, exactly rounded sums, the C library's
+    exp): scipy's least_squares solves through LAPACK, whose last digits depend on the CPU."""
+    t, f = [float(v) for v in t], [float(v) for v in f]
+
+    def residual(K, tau, f0):
+        return [f0 + K * step * (1.0 - math.exp(-ti / tau)) - fi for ti, fi in zip(t, f)]
+
+    def cost(r):
+        return math.fsum([v * v for v in r])
+
+    x = (1.0, 0.01, f[0])
+    r = residual(*x)
+    for _ in range(200):
+        K, tau, f0 = x
+        e = [math.exp(-ti / tau) for ti in t]
+        jacobian = [[step * (1.0 - ei) for ei in e],  # d/dK
+                    [-K * step * ei * ti / (tau * tau) for ei, ti in zip(e, t)],  # d/dtau
+                    [1.0] * len(t)]  # d/df0
+        dx = fixedorder.least_squares(jacobian, [-v for v in r])
+        lam = 1.0
+        while lam > 1e-12:
+            trial = (max(K + lam * dx[0], 0.0), min(max(tau + lam * dx[1], 1e-6), 10.0),
+                     f0 + lam * dx[2])
+            r_trial = residual(*trial)
+            if cost(r_trial) < cost(r):
+                break
+            lam /= 2.0
+        else:
+            break  # no step lowers the sum of squares: the minimum, to rounding
+        x, r = trial, r_trial
+    return x[0], x[1], math.sqrt(cost(r) / len(r))
+
+
 def identify_load_path(fmu_dir="fmus", d=None):
     """First-order model duty -> load-cell force, identified from a duty step of the FMUs.
 
@@ -24,8 +64,6 @@ def identify_load_path(fmu_dir="fmus", d=None):
     the duty replayed as a step; K [N per unit duty] and tau [s] are fitted by least squares to
     the recorded force. Returns (python-control system, K, tau, RMS fit residual [N]).
     """
-    from scipy import optimize
-
     from musclesim.cosim import Instance, Master, Scenario
 
     d = {**LOAD_DESIGN, **(d or {})}
@@ -42,15 +80,9 @@ def identify_load_path(fmu_dir="fmus", d=None):
     res = Master(s, fmu_dir, {"magnet.duty": duty}).run()
     t, f = res.time[k0:] - res.time[k0], res["loadcell.f_meas"][k0:]
 
-    def model(p):
-        K, tau, f0 = p
-        return f0 + K * (hi - lo) * (1 - np.exp(-t / tau))
-
-    fit = optimize.least_squares(lambda p: model(p) - f, [1.0, 0.01, f[0]],
-                                 bounds=([0, 1e-6, -np.inf], [np.inf, 10.0, np.inf]))
-    K, tau, _ = fit.x
+    K, tau, fit_rms = _fit_step(t, f, hi - lo)
     plant = ct.ss([[-1 / tau]], [[K / tau]], [[1.0]], [[0.0]], inputs=["duty"], outputs=["f"])
-    return plant, float(K), float(tau), float(np.sqrt(np.mean(fit.fun ** 2)))
+    return plant, K, tau, fit_rms
 
 
 def sma_load(fmu_dir="fmus", design=None):
