@@ -85,8 +85,8 @@ def dask_client(scheduler=None, workers=None, tasks=None):
             cluster.close()
 
 
-# id of a client -> {digest of the files: (plugin name, FmuFolder)} of the FMUs shipped on it,
-# withdrawn from its workers as `dask_client` closes it
+# a client's id (`Client.id`, unique to it) -> {digest of the files: (plugin name, FmuFolder)}
+# of the FMUs shipped on it, withdrawn from its workers as `dask_client` closes it
 _SHIPPED = {}
 
 
@@ -114,7 +114,7 @@ def ship_fmus(client, fmu_dir, components=None):
     digest = hashlib.sha256()
     for name, data in sorted(files.items()):
         digest.update(hashlib.sha256(name.encode()).digest() + hashlib.sha256(data).digest())
-    shipped = _SHIPPED.setdefault(id(client), {})
+    shipped = _SHIPPED.setdefault(client.id, {})
     if digest.hexdigest() not in shipped:
         plugin = ShippedFmus(uuid.uuid4().hex, files)
         try:
@@ -129,7 +129,7 @@ def ship_fmus(client, fmu_dir, components=None):
 
 def _withdraw_fmus(client):
     """Remove the FMUs shipped on `client` from its workers (each deletes its copy)."""
-    for name, folder in _SHIPPED.pop(id(client), {}).values():
+    for name, folder in _SHIPPED.pop(client.id, {}).values():
         FOLDERS.pop(folder.key, None)
         _unregister(client, name)
 
