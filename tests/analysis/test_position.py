@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from musclesim.analysis import linear_sma_load, position as table
-from musclesim.batch import run_case
+from musclesim.batch import run_case, write_case
 from musclesim.cosim import Master, load_scenario
 from musclesim.errors import UserError
 
@@ -118,12 +118,13 @@ def test_the_figures_envelope_keeps_every_peak():
 def test_tables_are_written_from_the_finished_cases(tmp_path, fmu_dir):
     out = tmp_path / "matrix"
     first, second, third = table.cases()["stress-ignored"][:3]
+    s = load_scenario(POSITION, (), 0.4)
     for r, c, cid, sets in (first, second):
-        summary = run_case(str(POSITION), str(out / "cases" / cid), str(fmu_dir), sets, 0.4)
+        summary = write_case(out / "cases" / cid, run_case(s, fmu_dir, sets))
         assert summary["completed"] is True
     # a case that fails (no SP IX) is reported as failed, not as a case still to run
-    summary = run_case(str(POSITION), str(out / "cases" / third[2]), str(fmu_dir),
-                       [*third[3], "strain.profile=9.0"], 0.4)
+    summary = write_case(out / "cases" / third[2],
+                         run_case(s, fmu_dir, [*third[3], "strain.profile=9.0"]))
     assert summary["completed"] is False
     report = table.sma_position(out, POSITION, fmu_dir, 0.4, only=["stress-ignored"], run=False)
     _, col = table.read_case(out / "cases" / first[2] / "results.csv")

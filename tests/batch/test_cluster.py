@@ -1,8 +1,16 @@
 """musclesim.batch.cluster: the maps without a cluster (`dask_map` over a stand-in client), the
-worker plugin called as a worker would, and two local clusters started at once."""
+worker plugins called as a worker would, and two local clusters started at once. A cluster that
+shares no files with the client: test_cluster_without_shared_files.py."""
+import json
+import os
 from pathlib import Path
+from types import SimpleNamespace
 
-from musclesim.batch import dask_client, dask_map, serial_map
+import pytest
+
+from musclesim.batch import FmuFolder, dask_client, dask_map, serial_map
+from musclesim.batch.shipped import folder_files
+from musclesim.errors import UserError
 
 
 class FakeClient:
@@ -52,6 +60,48 @@ def test_a_worker_keeps_the_fmus_unpacked_for_its_life(fmu_dir):
     finally:
         plugin.teardown(worker=None)
     assert extracted_fmu(fmu) is None and not Path(folder).exists()
+
+
+def test_the_fmus_a_job_needs_are_read_with_build_json(fmu_dir):
+    files = folder_files(fmu_dir, ["Thermocouple", "PID", "Thermocouple", "NoSuchFmu"])
+    assert sorted(files) == ["BUILD.json", "PID.fmu", "Thermocouple.fmu"]  # the master names
+    assert files["PID.fmu"] == (fmu_dir / "PID.fmu").read_bytes()  # what is missing
+    assert len(folder_files(fmu_dir)) == len(list(fmu_dir.glob("*.fmu"))) + 1
+
+
+def test_a_worker_unpacks_the_fmus_it_is_sent_in_its_own_folder_and_removes_them(fmu_dir,
+                                                                                 tmp_path):
+    """Tasks name the worker's copy through the `FmuFolder` they carry; its text is no path."""
+    from musclesim.batch.plugins import ShippedFmus
+
+    files = folder_files(fmu_dir, ["Thermocouple"])
+    worker = SimpleNamespace(address="tcp://worker:1", local_directory=str(tmp_path))
+    plugin, folder = ShippedFmus("k1", files), FmuFolder("k1")
+    plugin.setup(worker)
+    try:
+        there = Path(folder)
+        assert there.parent == tmp_path and os.fspath(folder) == str(there)
+        assert {p.name: p.read_bytes() for p in there.iterdir()} == files
+        assert not Path(str(folder)).exists()
+    finally:
+        plugin.teardown(worker)
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(UserError, match="not unpacked in this process"):
+        os.fspath(folder)
+
+
+def test_a_worker_refuses_fmus_built_from_other_sources_than_its_own(fmu_dir, tmp_path):
+    """Their slaves would import the worker's own, other, modules: the worker says so."""
+    from musclesim.batch.plugins import ShippedFmus
+
+    files = folder_files(fmu_dir, ["Thermocouple"])
+    stamp = json.loads(files["BUILD.json"])
+    files["BUILD.json"] = json.dumps({**stamp, "sources": "0" * 64}).encode()
+    worker = SimpleNamespace(address="tcp://worker:1", local_directory=str(tmp_path))
+    with pytest.raises(UserError, match=r"^Dask worker tcp://worker:1 runs other musclesim "
+                                        r"sources than the FMUs were built from \(musclesim "):
+        ShippedFmus("k2", files).setup(worker)
+    assert list(tmp_path.iterdir()) == []
 
 
 def blas_threads():

@@ -195,9 +195,7 @@ def sma_position(out, scenario_path, fmu_dir="fmus", stop_time=None, scheduler=N
     todo = [(cid, sets) for rows in matrix.values() for _, _, cid, sets in rows
             if finished(out / "cases" / cid) is None]
     if todo and run:
-        run_cases(todo, lambda cid, sets: (str(scenario_path), str(out / "cases" / cid),
-                                           str(fmu_dir), sets, stop_time),
-                  scheduler, workers, lambda cid, sets, summary: None)
+        run_cases(out, todo, s, fmu_dir, scheduler, workers)
     report = {}
     for name, rows in matrix.items():
         cells, failed, failed_cells = {}, {}, set()

@@ -5,12 +5,18 @@ and one folder per case, ``out/cases/<id>/``, with the run's results and its ``s
 (``"completed": true`` and the metrics, or ``"completed": false`` and the ``"error"``). A case
 whose summary says it completed is `finished` and is not run again; `run_cases` runs the others
 on a Dask cluster. Sweeps (`sweep.run`) and the study's tables (``musclesim.analysis``) use them.
+
+A case runs on a worker (`run_case`) and writes nothing there: its results come back to this
+process, which alone writes the case's folder (`write_case`) with the run's writers, so that the
+workers need no access to the output folder, and the folder's guarantees are those of one run
+(`musclesim.cosim.write_results`).
 """
 import hashlib
 import json
+from dataclasses import dataclass
 from pathlib import Path
 
-from musclesim.batch.cluster import dask_client
+from musclesim.batch.cluster import dask_client, ship_fmus
 from musclesim.cosim import replace_file
 from musclesim.errors import UserError
 
@@ -23,19 +29,48 @@ def write_failure(case_dir, error):
     return summary
 
 
-def run_case(scenario_path, case_dir, fmu_dir, overrides, stop_time):
-    """Run one case into `case_dir` (on a Dask worker); return its summary, failed or not."""
-    from musclesim.cosim import run_scenario
+@dataclass(frozen=True)
+class Outcome:
+    """What a case's run hands back (`run_case`): the case's scenario, the master's `results`
+    (failed or not: ``results.error``) with the recorded signals' `units` and the host that ran
+    each instance (``Master.hosts``); or only the `error` of a run that could not start."""
+
+    scenario: object = None
+    results: object = None
+    units: dict = None
+    hosts: dict = None
+    error: str = None
+
+
+def run_case(scenario, fmu_dir, overrides=()):
+    """Run one case, the loaded `scenario` with `overrides` (``"inst.param=value"``) on the FMUs
+    in `fmu_dir` (a Dask worker's task); return its `Outcome`, failed or not. Writes nothing."""
+    from musclesim.cosim import Master, apply_overrides, signal_units
 
     try:
-        # no per-case plot: drawing it costs about a third of a 60 s case; sweep.png summarises
-        summary, _ = run_scenario(scenario_path, case_dir, fmu_dir, overrides, stop_time,
-                                  with_plot=False)
+        problems = []
+        s = apply_overrides(scenario, overrides, problems)
+        if problems:
+            raise UserError(f"scenario {scenario.path} has {len(problems)} problem(s): "
+                            + "; ".join(problems))
+        m = Master(s, fmu_dir)
+        res = m.run()
     except UserError as exc:
-        return write_failure(case_dir, str(exc))
+        return Outcome(error=str(exc))
     except Exception as exc:  # whatever breaks one case is recorded; the sweep goes on
-        return write_failure(case_dir, f"{type(exc).__name__}: {exc}")
-    return summary
+        return Outcome(error=f"{type(exc).__name__}: {exc}")
+    return Outcome(s, res, signal_units(m), dict(m.hosts))
+
+
+def write_case(case_dir, outcome):
+    """Write a case's `Outcome` into `case_dir` (results.csv and summary.json, no plot: drawing
+    it costs about a third of a 60 s case, and sweep.png summarises); return its summary."""
+    from musclesim.cosim import write_results
+
+    if outcome.results is None:
+        return write_failure(case_dir, outcome.error)
+    return write_results(case_dir, outcome.scenario, outcome.results, outcome.units,
+                         with_plot=False)
 
 
 def case_summary(case_dir):
@@ -84,34 +119,46 @@ def claim(out, scenario_path, **settings):
     replace_file(path, json.dumps(config, indent=2) + "\n")
 
 
-def run_cases(todo, submit, scheduler, workers, record):
-    """Run the cases `todo` on Dask (a LocalCluster unless `scheduler` is given), recording each
-    as it finishes.
+def run_cases(out, todo, scenario, fmu_dir, scheduler=None, workers=None, record=None):
+    """Run the cases `todo` of `scenario` on Dask (a LocalCluster unless `scheduler` is given),
+    writing each into out/cases/<id>/ in this process as it finishes.
+
+    The workers get the FMUs (`ship_fmus`) and the scenario once each, and send every case's
+    results back: they need no access to this machine's files.
 
     Parameters
     ----------
-    todo : list of (case id, point)
-        The cases to run; `point` is whatever `submit` and `record` need.
-    submit : callable
-        ``submit(case id, point)`` -> the arguments of `run_case` (its case folder second).
+    out : str or Path
+        The output folder (claimed: `claim`).
+    todo : list of (case id, overrides)
+        The cases to run, each with its ``"inst.param=value"`` overrides of `scenario`.
+    scenario : musclesim.cosim.Scenario
+        The loaded scenario every case starts from.
+    fmu_dir : str or Path
+        Folder of built FMUs, read here.
     scheduler : str or None
         Address of a running Dask scheduler.
     workers : int or None
         Worker processes of the local cluster (default: the cores, at most one per case).
-    record : callable
-        ``record(case id, point, summary)``, called in this process as each case ends (a case
-        whose worker died gets a failure summary written into its folder).
+    record : callable, optional
+        ``record(case id, summary)``, called as each case has been written (a case whose worker
+        died gets a failure summary).
     """
     from distributed import as_completed
     from tqdm import tqdm
 
+    components = {i.component for i in scenario.instances.values()}
     with dask_client(scheduler, workers, len(todo)) as client:
-        futures = {client.submit(run_case, *submit(cid, point), pure=False): (cid, point)
-                   for cid, point in todo}
+        fmus = ship_fmus(client, fmu_dir, components)
+        sent = client.scatter(scenario, broadcast=True, hash=False)
+        futures = {client.submit(run_case, sent, fmus, list(overrides), pure=False): cid
+                   for cid, overrides in todo}
         for fut in tqdm(as_completed(futures), total=len(futures), desc="sweep", unit="case"):
-            cid, point = futures.pop(fut)
+            cid = futures.pop(fut)
             try:
-                summary = fut.result()
+                outcome = fut.result()
             except Exception as exc:  # the worker itself died (e.g. KilledWorker)
-                summary = write_failure(submit(cid, point)[1], f"{type(exc).__name__}: {exc}")
-            record(cid, point, summary)
+                outcome = Outcome(error=f"{type(exc).__name__}: {exc}")
+            summary = write_case(Path(out) / "cases" / cid, outcome)
+            if record is not None:
+                record(cid, summary)

@@ -3,13 +3,19 @@
 A map is ``pmap(fn, items) -> [fn(item) for item in items]`` (results in the items' order): the
 diagnosis fits its candidates with the one it is given, `serial_map` by default, `dask_map`'s on
 the command line; sweeps and tables submit their cases on `dask_client` (`cases.run_cases`).
+The workers need none of the client's files: `ship_fmus` sends them the FMUs as bytes, a task
+takes its scenario as an object, and its results come back to the client.
 """
 import contextlib
+import hashlib
 import logging
 import os
 import signal
 import threading
+import uuid
+from pathlib import Path
 
+from musclesim.batch.shipped import FOLDERS, FmuFolder, folder_files
 from musclesim.errors import UserError
 
 
@@ -71,9 +77,68 @@ def dask_client(scheduler=None, workers=None, tasks=None):
                 contextlib.nullcontext()):
             yield client
     finally:
-        client.close()
+        try:
+            _withdraw_fmus(client)
+        finally:
+            client.close()
         if cluster is not None:
             cluster.close()
+
+
+# a client's id (`Client.id`, unique to it) -> {digest of the files: (plugin name, FmuFolder)}
+# of the FMUs shipped on it, withdrawn from its workers as `dask_client` closes it
+_SHIPPED = {}
+
+
+def ship_fmus(client, fmu_dir, components=None):
+    """Send the FMUs of `components` (default: all) in `fmu_dir`, with its BUILD.json, to every
+    worker of `client` (and to every worker that joins later), and return the `FmuFolder` that
+    tasks carry in the folder's place: each worker writes the files once into a folder of its
+    own, which the folder names there (in this process: `fmu_dir`).
+
+    The FMUs are checked fresh here (`musclesim.cosim.check_fresh`), and each worker checks that
+    it runs the musclesim they were built from (else the direct host could not take them, and
+    their slaves would import its other modules). The same files shipped again on the same
+    client are not sent again; `dask_client` withdraws them from the workers as it closes.
+
+    Raises
+    ------
+    UserError
+        When the FMUs are stale or unreadable, or a worker cannot take them.
+    """
+    from musclesim.batch.plugins import ShippedFmus
+    from musclesim.cosim import check_fresh
+
+    check_fresh(fmu_dir)
+    files = folder_files(fmu_dir, components)
+    digest = hashlib.sha256()
+    for name, data in sorted(files.items()):
+        digest.update(hashlib.sha256(name.encode()).digest() + hashlib.sha256(data).digest())
+    shipped = _SHIPPED.setdefault(client.id, {})
+    if digest.hexdigest() not in shipped:
+        plugin = ShippedFmus(uuid.uuid4().hex, files)
+        try:
+            client.register_plugin(plugin)
+        except BaseException:  # not left for the workers that took them, nor for later ones
+            _unregister(client, plugin.name)
+            raise
+        FOLDERS[plugin.key] = str(Path(fmu_dir).resolve())
+        shipped[digest.hexdigest()] = (plugin.name, FmuFolder(plugin.key))
+    return shipped[digest.hexdigest()][1]
+
+
+def _withdraw_fmus(client):
+    """Remove the FMUs shipped on `client` from its workers (each deletes its copy)."""
+    for name, folder in _SHIPPED.pop(client.id, {}).values():
+        FOLDERS.pop(folder.key, None)
+        _unregister(client, name)
+
+
+def _unregister(client, name):
+    try:
+        client.unregister_worker_plugin(name)
+    except Exception:  # a scheduler gone, or the plugin never registered: nothing to remove
+        pass
 
 
 @contextlib.contextmanager
@@ -98,13 +163,16 @@ def dask_map(client):
     threads at once (``pmap.concurrent``: the diagnosis's fits steer their simulations so).
     ``pmap.share(obj)`` sends `obj` to every worker once and returns what items carry in its
     place (a fit's unit and its data, rather than in each of its hundred tasks);
-    ``pmap.width()`` is how many tasks the cluster runs at once (its workers' threads)."""
+    ``pmap.width()`` is how many tasks the cluster runs at once (its workers' threads);
+    ``pmap.ship_fmus(fmu_dir, components)`` is `ship_fmus` on this client: what tasks carry in
+    place of an FMU folder."""
     def pmap(fn, items):
         items = list(items)
         return client.gather(client.map(fn, items, pure=False)) if items else []
     pmap.concurrent = True
     pmap.width = lambda: max(1, sum(client.nthreads().values()))  # tasks it runs at once
     pmap.share = lambda obj: client.scatter(obj, broadcast=True, hash=False)
+    pmap.ship_fmus = lambda fmu_dir, components=None: ship_fmus(client, fmu_dir, components)
     return pmap
 
 

@@ -176,12 +176,14 @@ def _check(sweep, path, fmu_dir, overrides, point, stop_time):
     """Check the scenario, axes and plot once, rather than fail every case the same way.
 
     `overrides` are the user's (``--set``), `point` the first case's grid values. Returns the
-    scenario of the first case, the metrics' units and the plot to draw.
+    scenario every case starts from (with `overrides` and `stop_time`), the scenario of the first
+    case, the metrics' units and the plot to draw.
     """
     from musclesim.cosim import (Master, check_fresh, load_scenario, metric_unit, signal_units,
                                  split_signal)
 
-    instances = load_scenario(sweep.scenario, overrides, stop_time).instances
+    base = load_scenario(sweep.scenario, overrides, stop_time)
+    instances = base.instances
     for axis in sweep.axes:
         if split_signal(axis)[0] not in instances:
             raise UserError(f"grid axis {axis!r}: no instance {split_signal(axis)[0]!r} in "
@@ -196,7 +198,7 @@ def _check(sweep, path, fmu_dir, overrides, point, stop_time):
     if unknown:
         raise UserError(f"sweep file {path}: plot metric(s) {', '.join(unknown)} not in the "
                         f"scenario's metrics ({', '.join(s.metrics)})")
-    return s, units, plot_spec
+    return base, s, units, plot_spec
 
 
 def run(scenario_path, grid, out, fmu_dir="fmus", scheduler=None, workers=None, overrides=(),
@@ -214,7 +216,8 @@ def run(scenario_path, grid, out, fmu_dir="fmus", scheduler=None, workers=None, 
     fmu_dir : str or Path
         Folder of built FMUs.
     scheduler : str, optional
-        Address of an existing Dask scheduler (its workers must see the same files).
+        Address of an existing Dask scheduler (its workers need none of this machine's files:
+        they get the FMUs and the scenario from here, and send the results back).
     workers : int, optional
         Worker processes of the local cluster (default: the machine's cores).
     overrides : sequence of str
@@ -239,8 +242,8 @@ def run(scenario_path, grid, out, fmu_dir="fmus", scheduler=None, workers=None, 
         raise UserError(f"--workers must be at least 1 (got {workers})")
     out, fmu_dir, scen_path = Path(out).resolve(), Path(fmu_dir).resolve(), sweep.scenario.resolve()
     all_cases = grid_cases(sweep.axes)
-    s, units, plot_spec = _check(sweep, scenario_path, fmu_dir, overrides,
-                                 _sets(all_cases[0][1]), stop_time)
+    base, s, units, plot_spec = _check(sweep, scenario_path, fmu_dir, overrides,
+                                       _sets(all_cases[0][1]), stop_time)
     claim(out, scen_path, overrides=list(overrides), stop_time=stop_time)
 
     columns = ["case", *sweep.axes, "completed", *s.metrics, "error"]
@@ -249,7 +252,10 @@ def run(scenario_path, grid, out, fmu_dir="fmus", scheduler=None, workers=None, 
     failed = {}
     csv_path = out / "sweep.csv"
 
-    def record(cid, point, summary):
+    points = dict(all_cases)
+
+    def record(cid, summary):
+        point = points[cid]
         if not summary.get("completed"):
             failed[cid] = summary.get("error") or "the case did not complete"
         with csv_path.open("a", newline="") as f:
@@ -259,16 +265,12 @@ def run(scenario_path, grid, out, fmu_dir="fmus", scheduler=None, workers=None, 
                                     summary.get("error") or ""])
 
     csv_path.write_text(",".join(columns) + "\n")
-    for cid, point in all_cases:
+    for cid, _ in all_cases:
         if done[cid] is not None:
-            record(cid, point, done[cid])
-
-    def submit(cid, point):
-        return (str(scen_path), str(out / "cases" / cid), str(fmu_dir),
-                [*overrides, *_sets(point)], stop_time)
-
+            record(cid, done[cid])
     if todo:
-        run_cases(todo, submit, scheduler, workers, record)
+        run_cases(out, [(cid, _sets(p)) for cid, p in todo], base, fmu_dir, scheduler, workers,
+                  record)
     png = out / "sweep.png"
     drawn = _plot(csv_path, png, plot_spec, sweep.axes, units,
                   sweep.title or f"{s.name}, {s.stop_time:g} s")

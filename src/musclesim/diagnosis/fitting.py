@@ -50,7 +50,7 @@ class FitJob:
 
     unit: object
     free: list
-    fmu_dir: str
+    fmu_dir: object  # a path, or what the map's tasks carry in its place (`pmap.ship_fmus`)
     fixed: dict = None
     x0: list = None
     scan: int = None

@@ -44,7 +44,10 @@ gap the named candidate leaves is structured (more than `STRUCTURED` noise floor
 
 The fits run on the ``pmap`` `diagnose` is given (`fitting.fit_all`): on Dask's (the CLI's, the
 same local cluster or scheduler as sweeps) every simulation of every fit is a task, the fits
-steered side by side from threads of this process; on any other map each fit is one task.
+steered side by side from threads of this process; on any other map each fit is one task. A map
+that can (``pmap.ship_fmus``, Dask's) gets the FMUs the data set's scenarios use as bytes, once
+per worker, and the tasks name the workers' copies: the workers need none of this machine's files
+(the units and their data travel as objects).
 
 This module runs the stages; the work is in the package's other modules: the thresholds named
 above in `musclesim.diagnosis.thresholds`, the units in `.problem`, simulation and residuals in
@@ -136,6 +139,9 @@ def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
 
 def _diagnose(ds, fmu_dir, pmap, say, traces):
     problem = Problem(ds, fmu_dir)
+    if hasattr(pmap, "ship_fmus"):  # workers that may not see this folder: what they read
+        problem.fmu_dir = pmap.ship_fmus(fmu_dir, {
+            i.component for s in problem.scenarios.values() for i in s.instances.values()})
     whole = problem.unit("model")
     say("1/5 the gap: nominal model")
     # calibrated with the loops cut open at the measurements (every measured signal replayed):

@@ -11,6 +11,7 @@ run of a fit (`Run.stepped`): the SMA tracking bench's runs take about a quarter
 """
 import math
 from dataclasses import dataclass, field, replace
+from pathlib import Path
 
 import numpy as np
 
@@ -68,7 +69,7 @@ def _span_scenario(s, duration):
 def _variables(s, fmu_dir):
     out = {}
     for name, inst in s.instances.items():
-        md = read_fmu(f"{fmu_dir}/{inst.component}.fmu")
+        md = read_fmu(Path(fmu_dir) / f"{inst.component}.fmu")
         out[name] = {v.name: v for v in md.modelVariables}
     return out
 
@@ -116,7 +117,7 @@ class Problem:
     """A data set prepared for diagnosis: the full model, the isolation units, the regimes."""
 
     def __init__(self, ds, fmu_dir="fmus"):
-        self.ds, self.fmu_dir = ds, str(fmu_dir)
+        self.ds, self.fmu_dir = ds, fmu_dir
         missing = {e.scenario for e in ds.experiments.values() if e.scenario_path is None}
         if missing:
             raise UserError(f"data set {ds.path}: scenario {sorted(missing)[0]!r} not found (a "
