@@ -6,6 +6,7 @@ package __init__), so it runs where only Python, numpy and scipy are installed. 
 records a digest of the sources the FMUs came from, so that the runner can tell when they are
 stale.
 """
+import functools
 import hashlib
 import json
 import shutil
@@ -110,6 +111,17 @@ def _file_digest(path):
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
+@functools.cache
+def _installed_digest():
+    """`source_digest` computed once: what `built_here` compares against for every run."""
+    return source_digest()
+
+
+@functools.cache
+def _cached_file_digest(path, size, mtime_ns):
+    return _file_digest(path)
+
+
 def _stamp(fmu_dir):
     """BUILD.json's content as a dict ({} when absent or unreadable)."""
     try:
@@ -117,6 +129,23 @@ def _stamp(fmu_dir):
     except (OSError, ValueError):
         return {}
     return stamp if isinstance(stamp, dict) else {}
+
+
+def built_here(fmu_path):
+    """Whether `musclesim build` made the FMU at `fmu_path` from the sources this process runs:
+    BUILD.json beside it lists it with its digest and those sources' digest (what
+    `check_fresh` checks, as a yes or no; digests of the sources computed once per process, the
+    code that runs being the code imported, and of each FMU file once per version of it)."""
+    path = Path(fmu_path)
+    stamp = _stamp(path.parent)
+    listed = stamp.get("fmus", {}).get(path.name) if isinstance(stamp.get("fmus"), dict) else None
+    if listed is None or stamp.get("sources") != _installed_digest():
+        return False
+    try:
+        stat = path.stat()
+    except OSError:
+        return False
+    return _cached_file_digest(str(path.resolve()), stat.st_size, stat.st_mtime_ns) == listed
 
 
 def check_fresh(fmu_dir):

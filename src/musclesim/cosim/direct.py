@@ -9,7 +9,7 @@ calls in the same order, hence the same results to the bit, without the round tr
 
 An archive qualifies only where the code it ships is the code this process has imported: the
 folder's ``BUILD.json`` (written by `musclesim.cosim.build_all`) lists the file with its digest,
-and the sources it was built from are the installed ones (`source_digest`). Its script imports the
+and the sources it was built from are the installed ones (`build.built_here`). Its script imports the
 slave from ``musclesim.components``, which here resolves to the installed package, equal by that
 digest to the copy the archive ships. Every other FMU (another tool's, a package's, a stale one of
 ours) is hosted by fmpy as before.
@@ -18,46 +18,14 @@ ours) is hosted by fmpy as before.
 logged as pythonfmu's C layer logs it (an fmi2Error message holding the exception's repr) and
 raised as fmpy's ``FMICallException``, so a failure reads the same on both hosts.
 """
-import functools
-import hashlib
 import importlib.util
-import json
 from pathlib import Path
 
 from fmpy.fmi1 import FMICallException
 
-from musclesim.cosim.build import source_digest
-
 ERROR = 3  # fmi2Error
 
-_DIGESTS = {}  # (path, size, mtime) -> sha256 of the file
 _CLASSES = {}  # content of the resources' script -> slave class
-
-
-def _digest(path):
-    stat = path.stat()
-    key = (str(path.resolve()), stat.st_size, stat.st_mtime_ns)
-    if key not in _DIGESTS:
-        _DIGESTS[key] = hashlib.sha256(path.read_bytes()).hexdigest()
-    return _DIGESTS[key]
-
-
-@functools.cache
-def _installed():
-    """The digest of the sources this process imported musclesim from (computed once: the code
-    that runs is the code imported, whatever happens to the files later)."""
-    return source_digest()
-
-
-def ours(fmu_path):
-    """Whether `musclesim build` made the FMU at `fmu_path` from the sources installed here."""
-    fmu_path = Path(fmu_path)
-    try:
-        stamp = json.loads((fmu_path.parent / "BUILD.json").read_text())
-        listed = stamp["fmus"][fmu_path.name]
-        return stamp["sources"] == _installed() and listed == _digest(fmu_path)
-    except (OSError, ValueError, KeyError, TypeError):
-        return False
 
 
 def slave_class(unzipped, model_identifier):
@@ -75,7 +43,8 @@ def slave_class(unzipped, model_identifier):
 
 
 class DirectSlave:
-    """One instance of a slave class, called the way pythonfmu's C layer calls it.
+    """One instance of a musclesim slave class (`musclesim.fmu.Slave`), called the way
+    pythonfmu's C layer calls it; its batched `Slave.reader` and `Slave.writer` serve the loop.
 
     The messages the slave logs go to `log` as (status, message) pairs after every call, as
     fmpy's logger callback delivers them.
@@ -129,9 +98,7 @@ class DirectSlave:
         """A function that writes the values of `vrs` into the array `out` (one batched call)."""
         if not vrs:
             return None
-        vrs, queue, failed = list(vrs), self.slave.log_queue, self.failed
-        fast = getattr(self.slave, "reader", None)  # musclesim's Slave batches the call
-        get = fast(vrs) if fast else lambda: self.slave.get_real(vrs)
+        get, queue, failed = self.slave.reader(list(vrs)), self.slave.log_queue, self.failed
 
         def read():
             try:
@@ -146,9 +113,7 @@ class DirectSlave:
         """A function that sets `vrs` to ``values[slots]`` (one batched call)."""
         if not vrs:
             return None
-        vrs, queue, failed = list(vrs), self.slave.log_queue, self.failed
-        fast = getattr(self.slave, "writer", None)
-        set_ = fast(vrs) if fast else lambda v: self.slave.set_real(vrs, v)
+        set_, queue, failed = self.slave.writer(list(vrs)), self.slave.log_queue, self.failed
 
         def write():
             try:

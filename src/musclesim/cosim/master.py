@@ -34,6 +34,7 @@ from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave
 
 from musclesim.cosim import direct, interrupt
+from musclesim.cosim.build import built_here
 from musclesim.cosim.host import (LOG_SINKS, callbacks, extract_fmu, extracted_fmu,
                                   forget_fmu_resource_paths, read_fmu)
 from musclesim.cosim.graph import Graph
@@ -424,6 +425,7 @@ class Master:
 
     def _instantiate(self, tmp):
         s = self.scenario
+        gauss_seidel = s.algorithm == "gauss-seidel"
         unzipped = {}
         for inst in self.instances.values():
             self.current = inst
@@ -437,7 +439,6 @@ class Master:
             inst.set_early, inst.set_late, inst.set_all = (
                 inst.slave.writer(vrs, slots, self.values) for vrs, slots in inst.transfers)
             inst.step = inst.slave.stepper()
-            gauss_seidel = s.algorithm == "gauss-seidel"
             inst.before_step = inst.set_all if gauss_seidel else inst.set_late
             inst.after_step = inst.get if gauss_seidel else None
             inst.slave.setup_experiment(s.start_time, s.stop_time)
@@ -453,7 +454,7 @@ class Master:
     def _load(self, inst, path, unzipped):
         """Instantiate `inst` from the FMU at `path` extracted in `unzipped`, on its host."""
         try:  # fmpy raises bare Exceptions for a missing or broken library, a failed instance
-            if self.host == "direct" and direct.ours(path):
+            if self.host == "direct" and built_here(path):
                 cls = direct.slave_class(unzipped, inst.md.coSimulation.modelIdentifier)
                 self.hosts[inst.name] = "direct"
                 return direct.DirectSlave(cls, inst.name, unzipped, inst.log)
