@@ -13,6 +13,13 @@ order: it is refused with the instances named. Then it *steps*:
   each refreshes its inputs right before its step from the instances already stepped, i.e. with
   their values at t_k+1.
 
+Multi-rate: an instance declared with ``every = m`` steps only at its own points t_k, k a multiple
+of m, from t_k to t_k+m at once (its last step ends at the stop time); it is exchanged only there
+(and at the stop time), so between its points the values read from it are held and its inputs are
+not taken. This is libcosim's decimation factor wherever the two ends of a connection step at
+rates that divide one another (libcosim passes a value only where both are at one of their points;
+here the later end takes the newest value it finds).
+
 Values move through one preallocated float64 buffer: one batched get and one batched set per
 instance and phase. Two hosts make those calls: the FMUs musclesim built from the installed
 sources are called directly in this process (`musclesim.cosim.direct`, the default), every other
@@ -353,7 +360,9 @@ class Master:
         """Values at communication point `row`: replayed inputs, then every instance's."""
         if self.replay_table is not None:
             self.values[self.replay_slots] = self.replay_table[row]
-        for inst, calls in self.exchange_calls:
+        for inst, every, calls in self.exchange_calls:
+            if every > 1 and row % every and row != self.scenario.n_steps:
+                continue  # between its own points: its outputs held, its inputs not taken
             self.current = inst
             for call in calls:
                 call()
@@ -439,8 +448,10 @@ class Master:
             inst.set_early, inst.set_late, inst.set_all = (
                 inst.slave.writer(vrs, slots, self.values) for vrs, slots in inst.transfers)
             inst.step = inst.slave.stepper()
+            inst.every = s.instances[inst.name].every
             inst.before_step = inst.set_all if gauss_seidel else inst.set_late
-            inst.after_step = inst.get if gauss_seidel else None
+            # an instance stepping several points at once is read at its own points only
+            inst.after_step = inst.get if gauss_seidel and inst.every == 1 else None
             inst.slave.setup_experiment(s.start_time, s.stop_time)
             params = s.instances[inst.name].parameters
             if params:
@@ -448,7 +459,7 @@ class Master:
                                     params.values())
         forget_fmu_resource_paths()
         self.exchange_calls = [
-            (inst, [c for c in (inst.set_early, inst.get) if c is not None])
+            (inst, inst.every, [c for c in (inst.set_early, inst.get) if c is not None])
             for inst in (self.instances[n] for n in self.exchange_order)]
 
     def _load(self, inst, path, unzipped):
@@ -483,7 +494,8 @@ class Master:
         """Record, step, exchange until the stop time; return an error sentence or None."""
         s = self.scenario
         n, h, t, row = s.n_steps, s.step, self.t, 0
-        order = [self.instances[x] for x in self.step_order]
+        order = [(inst, inst.every, inst.every * h)
+                 for inst in (self.instances[x] for x in self.step_order)]
         take, rec = self.values.take, self.record_slots
         state, due = interrupt.STATE, clock.monotonic() + FLUSH_SECONDS
         try:
@@ -500,11 +512,17 @@ class Master:
                     self.row = row
                     self._flush(time, data)
                     due = clock.monotonic() + FLUSH_SECONDS
-                for inst in order:
+                k = row - 1
+                for inst, every, h_every in order:
+                    if every > 1:
+                        if k % every:
+                            continue
+                        if k + every > n:  # its last step ends at the stop time
+                            h_every = (n - k) * h
                     self.current = inst
                     if inst.before_step is not None:
                         inst.before_step()
-                    inst.step(t, h)
+                    inst.step(t, h_every)
                     if inst.after_step is not None:
                         inst.after_step()
                 t += h  # accumulated like the FMUs' own time, so both agree to the bit

@@ -1,17 +1,18 @@
 """Scenario files: parse and check the TOML that wires FMU instances into an experiment.
 
-A scenario names instances (a component: the name of an FMU in the FMU folder, and parameter
+A scenario names instances (a component: the name of an FMU in the FMU folder, parameter
 values, inline or from a TOML file given as ``parameters_file`` relative to the scenario and
-inside its folder, inline values winning), connections ``"a.y" -> "b.u"``, the communication
-step, start and stop time, the master algorithm, the signals to record, the metrics to compute
-and the plot panels. A file may ``extends = "other.toml"`` (relative to it): its tables merge key
-by key onto the other's, its connections, recorded signals and plots are added to the other's, its
-other values replace them, so that variants of an experiment state only what differs. Checks
-collect every problem and raise once with the whole list. No message repeats a value read from a
+inside its folder, inline values winning, and ``every``: how many communication steps the
+instance takes at once), connections ``"a.y" -> "b.u"``, the communication step, start and stop
+time, the master algorithm, the signals to record, the metrics to compute and the plot panels.
+A file may ``extends = "other.toml"`` (relative to it): its tables merge key by key onto the
+other's, its connections, recorded signals and plots are added to the other's, its other values
+replace them, so that variants of an experiment state only what differs. Checks collect every
+problem and raise once with the whole list. No message repeats a value read from a
 parameters file (it may hold what is not ours to print), only its key.
 
 Limits: a step of at least `MIN_STEP`, at most `MAX_STEPS` communication steps, times of at most
-`MAX_TIME` in magnitude.
+`MAX_TIME` in magnitude, ``every`` at most `MAX_EVERY`.
 """
 import math
 import re
@@ -31,6 +32,7 @@ _TOP_KEYS = {"name", "description", "reference", "step", "start_time", "stop_tim
 MIN_STEP = 1e-7  # s: a communication step shorter than any physics here needs
 MAX_STEPS = 100_000_000  # communication steps of one run (hours of compute at the fastest)
 MAX_TIME = 1e9  # s: start and stop times (about 30 years)
+MAX_EVERY = 1_000_000  # communication steps an instance may take at once (multi-rate)
 _COMPONENT = re.compile(r"[A-Za-z_][A-Za-z0-9_-]*")  # an FMU's file name, never a path
 
 
@@ -53,11 +55,14 @@ class Metric(NamedTuple):
 
 @dataclass(frozen=True)
 class Instance:
-    """One FMU instance: its name, the component (FMU) it instantiates and parameter values."""
+    """One FMU instance: its name, the component (FMU) it instantiates, parameter values and
+    ``every``: it steps at every ``every``-th communication point, by ``every`` steps at once
+    (multi-rate; 1 = at every point)."""
 
     name: str
     component: str
     parameters: dict = field(default_factory=dict)
+    every: int = 1
 
 
 @dataclass(frozen=True)
@@ -190,15 +195,21 @@ def _parse(data, path, problems):
             continue
         params = {**_parameters_file(path, name, spec.get("parameters_file"), problems),
                   **spec.get("parameters", {})}
-        for key in sorted(set(spec) - {"component", "parameters", "parameters_file"}):
+        for key in sorted(set(spec) - {"component", "parameters", "parameters_file", "every"}):
             problems.append(f"instance {name!r}: unknown key {key!r} "
-                            "(known: component, parameters, parameters_file)")
+                            "(known: component, parameters, parameters_file, every)")
+        every = spec.get("every", 1)
+        if not isinstance(every, int) or isinstance(every, bool) or not 1 <= every <= MAX_EVERY:
+            problems.append(f"instance {name!r}: every = {every!r} must be a whole number of "
+                            f"communication steps from 1 to {MAX_EVERY:,}")
+            every = 1
         bad = [k for k, v in params.items() if not _number(v)]
         for k in bad:
             problems.append(f"parameter {name}.{k} is not a finite number (a "
                             f"{type(params[k]).__name__})")
         instances[name] = Instance(name, spec["component"],
-                                   {k: float(v) for k, v in params.items() if k not in bad})
+                                   {k: float(v) for k, v in params.items() if k not in bad},
+                                   every)
 
     connections = []
     for item in data.get("connections", []):

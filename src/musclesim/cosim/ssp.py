@@ -110,6 +110,10 @@ def system_structure(scenario, master):
                 referenced.add(var.unit)
         if spec.parameters:
             _parameter_binding(comp, scenario.name, spec.parameters)
+        if spec.every > 1:  # libcosim steps it every `every`-th point (its decimation factor)
+            note = _sub(_sub(comp, "ssd:Annotations"), "ssc:Annotation",
+                        type="com.opensimulationplatform")
+            _sub(note, "osp:StepSizeHint", value=repr(spec.every * scenario.step))
     connections = _sub(system, "ssd:Connections") if scenario.connections else None
     for src, dst in scenario.connections:
         (a, x), (b, y) = split_signal(src), split_signal(dst)
@@ -155,7 +159,8 @@ def export(scenario, fmu_dir, ssp_path):
     -----
     The archive describes the system, not how to step it: SSP 1.0 cannot state a master
     algorithm, so the communication step goes into the Open Simulation Platform annotation that
-    libcosim reads, and each tool steps the system with its own master. libcosim's fixed-step
+    libcosim reads, as does an instance's own step (``every`` steps: its ``StepSizeHint``), and
+    each tool steps the system with its own master. libcosim's fixed-step
     master passes values only after all instances stepped, so it delays direct feedthrough by one
     step where ours resolves it at each communication point (tests/cosim/test_ssp.py shows both).
 
