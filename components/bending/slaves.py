@@ -4,7 +4,7 @@ import math
 
 from musclesim.components.bending import actuator, beam
 from musclesim.components.sma import datasets, thermal, wire
-from musclesim.fmu import Slave
+from musclesim.fmu import Slave, experiment
 
 ZERO_C = 273.15  # K; the FMU speaks K, the cores C
 LASER_HEIGHT = 17e-3  # m, where the study's laser reads the deflection (§bending-actuator)
@@ -19,6 +19,7 @@ class BendingActuator(Slave):
     Equations, parameters and their reasons: §bending-actuator (docs/model/bending.md).
     """
 
+    default_experiment = experiment(4.0, 0.0005)  # bending-one-wire, §bending-actuator
     description = ("Bending actuator: two antagonistic 50 um SMA wires (thermal model, modified "
                    "Preisach hysteresis) bending a carbon-fibre beam pair, first bending mode "
                    "(§bending-actuator)")

@@ -3,7 +3,7 @@ import math
 
 from musclesim.components.control import pid, relay
 from musclesim.components.control.pid import SCHEDULE_K
-from musclesim.fmu import Slave
+from musclesim.fmu import Slave, experiment
 
 UNLIMITED = 1e30  # output limits that never act (FMI start values must be finite)
 
@@ -57,6 +57,7 @@ class GainScheduledPID(_PIDBase):
     """PID whose gains are interpolated from 21 sets scheduled on the reference
     (§temperature-control)."""
 
+    default_experiment = experiment(30.0, 0.0004)  # sma-temperature-tracking, §temperature-control
     description = ("Gain-scheduled PID: 21 gain sets on the reference, 30..130 C every 5 C, "
                    "linear in between (§temperature-control)")
 
@@ -91,6 +92,7 @@ class BangBang(Slave):
     A thin adapter over `relay`; equations: §bang-bang.
     """
 
+    default_experiment = experiment(20.0, 0.0004)  # §multiplier-experiments (bang-bang)
     description = ("Bang-bang (relay) temperature controller: on when T falls to T_on, off when T "
                    "rises to T_off; output u_on / u_off (§multiplier-experiments)")
 

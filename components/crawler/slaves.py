@@ -4,13 +4,14 @@ import math
 import numpy as np
 
 from musclesim.components.crawler import body, friction, gait, inputs
-from musclesim.fmu import Slave
+from musclesim.fmu import Slave, experiment
 
 
 class CrawlerBody(Slave):
     """Two-mass crawler body (§two-mass) discretised by zero-order hold at the communication
     step."""
 
+    default_experiment = experiment(60.0, 0.001)  # crawler-ideal, §ideal-actuation
     description = ("Crawler body: two blocks joined by the central actuator's spring, damper and "
                    "force (§two-mass)")
 
@@ -68,6 +69,7 @@ class CrawlerBody(Slave):
 class FrictionBlock(Slave):
     """Stick-slip friction of one block with coefficients switched by an indicator (§friction)."""
 
+    default_experiment = experiment(60.0, 0.001)  # crawler-ideal, §ideal-actuation
     description = "Stick-slip friction block with switchable high/low coefficients (§friction)"
 
     def __init__(self, **kwargs):
@@ -123,6 +125,7 @@ class FrictionSwitchingInputs(Slave):
     """Ideal actuation of §ideal-actuation: sinusoidal actuator force and square-wave friction
     indicators."""
 
+    default_experiment = experiment(60.0, 0.001)  # crawler-ideal, §ideal-actuation
     description = ("Open-loop friction-switching inputs: f_a sinusoid and indicators u1, u2 "
                    "(§ideal-actuation)")
 
@@ -151,6 +154,7 @@ class FrictionSwitchingInputs(Slave):
 class GaitSequencer(Slave):
     """Four-phase peristaltic gait (§gait): pressure references of the three actuators."""
 
+    default_experiment = experiment(30.0, 0.001)  # crawler-gait-forward, §gait
     description = ("Peristaltic gait sequencer: pressure references of the back, central and front "
                    "actuators (§gait)")
 

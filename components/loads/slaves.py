@@ -4,7 +4,7 @@ Every load reads the wire's contraction `flange.s` [m] and gives the tension `fl
 puts on the wire (the SmaWire FMU's convention); equations in §loads.
 """
 from musclesim.components.loads import loads
-from musclesim.fmu import Slave
+from musclesim.fmu import Slave, experiment
 
 S_DESCRIPTION = "Contraction of the wire (SmaWire flange.s); positive = the wire shortens"
 
@@ -12,6 +12,7 @@ S_DESCRIPTION = "Contraction of the wire (SmaWire flange.s); positive = the wire
 class BiasSpring(Slave):
     """Preloaded bias spring stretched by the wire's contraction (§loads)."""
 
+    default_experiment = experiment(10.0, 0.00025)  # §multiplier-experiments (pulses)
     description = "Bias spring: tension preload + k s on the wire (§loads: 490 N/m, ~125 MPa)"
 
     def __init__(self, **kwargs):
@@ -34,6 +35,7 @@ class DeadWeight(Slave):
     """Weight hanging from the wire, quasi-static by default; inertia is an effect (§loads,
     §named-effects)."""
 
+    default_experiment = experiment(20.0, 0.0004)  # §multiplier-experiments (bang-bang)
     description = ("Dead weight on the wire: tension m g, or (inertia effect) a mass on a "
                    "spring link pulled by the wire, its motion damped: m g + k_link (s - lift)")
 
@@ -83,6 +85,7 @@ class Electromagnet(Slave):
     """Calibration weight plus a PWM-driven coil pulling a rare-earth magnet (§sma-bench,
     §loads)."""
 
+    default_experiment = experiment(550.0, 0.0004)  # sma-position-control, §position-control
     description = ("Electromagnet load: 100 g calibration weight plus a coil (L di/dt = V duty - "
                    "R i) pulling a magnet with k_f i (1 + nonlinearity i) (§sma-bench)")
 

@@ -4,7 +4,7 @@ import math
 
 from musclesim.components.multiplier import capstan
 from musclesim.components.sma import datasets, thermal
-from musclesim.fmu import Slave
+from musclesim.fmu import Slave, experiment
 
 ZERO_C = 273.15  # K; the FMU speaks K, the cores C
 LOAD_150G = 0.150 * 9.80665  # N, the 150 g weight of the multiplier tests (§capstan-multiplier)
@@ -20,6 +20,7 @@ class CapstanMultiplier(Slave):
     around it without an algebraic loop. Per-segment outputs beyond ``n_segments`` stay 0.
     """
 
+    default_experiment = experiment(20.0, 0.0004)  # §multiplier-experiments (bang-bang)
     description = ("Capstan multiplier: one SMA wire folded over fixed capstans into segments with "
                    "their own temperature, stress and hysteresis memory (§capstan-multiplier)")
 

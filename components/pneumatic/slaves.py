@@ -3,13 +3,14 @@
 Equations, ports and sign conventions: §pneumatics (docs/model/pneumatics.md).
 """
 from musclesim.components.pneumatic import actuator
-from musclesim.fmu import Slave
+from musclesim.fmu import Slave, experiment
 
 
 class SoftActuator(Slave):
     """Silicone chamber fed through two PWM solenoid valves by an inflation and an exhaust pump
     (§crawler-hardware, §gait, §valves)."""
 
+    default_experiment = experiment(30.0, 0.001)  # crawler-gait-forward, §gait
     description = ("Soft pneumatic actuator: chamber (polytropic) filled and emptied through two "
                    "PWM solenoid valves (ISO 6358) from an inflation and an exhaust pump "
                    "(§crawler-hardware, §gait, §valves)")

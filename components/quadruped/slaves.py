@@ -3,7 +3,7 @@
 import math
 
 from musclesim.components.quadruped import body, sequencer
-from musclesim.fmu import Slave
+from musclesim.fmu import Slave, experiment
 
 
 class QuadrupedBody(Slave):
@@ -13,6 +13,7 @@ class QuadrupedBody(Slave):
     tip.v), held as a first-order hold over the step. Equations: §quadruped (docs/model/bending.md).
     """
 
+    default_experiment = experiment(4.0, 0.0005)  # quadruped-walk, §quadruped
     description = ("Quadruped body on four bending-actuator legs, feet with direction-dependent "
                    "stick-slip friction (§quadruped, friction of §friction)")
 
@@ -75,6 +76,7 @@ class LegSequencer(Slave):
     """Pulse voltages of the quadruped's eight wires: which leg's wire is pulsed when
     (§quadruped)."""
 
+    default_experiment = experiment(4.0, 0.0005)  # quadruped-walk, §quadruped
     description = ("Leg sequencer of the quadruped: the study's heating pulses (5 V, 5 % at "
                    "4 Hz, §quadruped) per wire, phased per leg")
 

@@ -1,6 +1,6 @@
 """FMU slaves of the sensors: thin adapters over musclesim.components.sensors.sensor."""
 from musclesim.components.sensors import sensor
-from musclesim.fmu import Slave
+from musclesim.fmu import Slave, experiment
 
 
 class _ScalarSensor(Slave):
@@ -64,6 +64,7 @@ class Thermocouple(_ScalarSensor):
     """Temperature sensor with lag, bias, noise and quantisation, all off by default
     (§sma-bench)."""
 
+    default_experiment = experiment(30.0, 0.0004)  # the SMA bench at 2.5 kHz, §sma-bench
     description = ("Thermocouple: first-order lag, bias, seeded noise, quantisation (§sma-bench, "
                    "§named-effects)")
     signal, measured, unit, start = "T", "T_meas", "K", 293.15
@@ -74,6 +75,7 @@ class Thermocouple(_ScalarSensor):
 class LoadCell(_ScalarSensor):
     """Load cell on the wire's load with lag, bias, noise and quantisation, all off (§sma-bench)."""
 
+    default_experiment = experiment(30.0, 0.0004)  # the SMA bench at 2.5 kHz, §sma-bench
     description = ("Load cell: tension on the wire with first-order lag, bias, seeded noise, "
                    "quantisation (§sma-bench, §named-effects)")
     signal, measured, unit = "f", "f_meas", "N"
@@ -83,6 +85,7 @@ class LoadCell(_ScalarSensor):
 class LaserSensor(_ScalarSensor):
     """Laser displacement sensor on the wire's contraction, imperfections off (§sma-bench)."""
 
+    default_experiment = experiment(30.0, 0.0004)  # the SMA bench at 2.5 kHz, §sma-bench
     description = ("Laser displacement sensor: wire contraction with first-order lag, bias, "
                    "seeded noise, quantisation (§sma-bench, §named-effects)")
     signal, measured, unit = "s", "s_meas", "m"
@@ -93,6 +96,7 @@ class PressureSensor(_ScalarSensor):
     """Pressure sensor on a soft actuator's chamber, imperfections off by default
     (§crawler-hardware)."""
 
+    default_experiment = experiment(30.0, 0.001)  # crawler-gait-forward, §gait
     description = ("Pressure sensor: chamber gauge pressure with first-order lag, bias, seeded "
                    "noise, quantisation (§crawler-hardware, §named-effects)")
     signal, measured, unit = "p", "p_meas", "Pa"

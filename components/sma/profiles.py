@@ -15,12 +15,16 @@ LOADING_PROFILES = ("LP I", "LP II", "LP III", "LP IV", "LP V", "LP VI")
 class Profile:
     """A signal of time: ``p(t)`` takes a float or an array of times [s], values in [lo, hi].
 
-    Attributes: ``name``, ``lo``, ``hi``, ``duration`` [s].
+    Attributes: ``name``, ``lo``, ``hi``, ``duration`` [s]. ``made``: the call that made it,
+    ``(function, arguments)``, which copying and pickling repeat (an FMU's saved state holds it).
     """
 
-    def __init__(self, name, fn, lo, hi, duration):
+    def __init__(self, name, fn, lo, hi, duration, made=None):
         self.name, self.lo, self.hi, self.duration = name, lo, hi, duration
-        self._fn = fn
+        self._fn, self.made = fn, made
+
+    def __reduce_ex__(self, protocol):
+        return self.made if self.made is not None else super().__reduce_ex__(protocol)
 
     def __call__(self, t):
         value = np.clip(self._fn(np.asarray(t, dtype=float)), self.lo, self.hi)
@@ -53,7 +57,8 @@ def strain_profile(name, lo=0.0, hi=EPS_MAX, duration=DURATION, seed=0):
         "SP III": lambda t: mid - half * np.minimum(t / duration, 1.0) * np.cos(w * t),
         "SP IV": random_peaks(lo, hi, duration, seed),
     }
-    return Profile(name, _pick(fns, name), lo, hi, duration)
+    return Profile(name, _pick(fns, name), lo, hi, duration,
+                   (strain_profile, (name, lo, hi, duration, seed)))
 
 
 def loading_profile(name, lo=SIGMA_LO, hi=SIGMA_HI, duration=DURATION, seed=0):
@@ -78,7 +83,8 @@ def loading_profile(name, lo=SIGMA_LO, hi=SIGMA_HI, duration=DURATION, seed=0):
         "LP V": random_peaks(lo, hi, duration, seed, start=mid),
         "LP VI": random_peaks(lo, hi, duration, seed + 1, start=mid),
     }
-    return Profile(name, _pick(fns, name), lo, hi, duration)
+    return Profile(name, _pick(fns, name), lo, hi, duration,
+                   (loading_profile, (name, lo, hi, duration, seed)))
 
 
 def random_peaks(lo, hi, duration, seed, start=None, segment=(4.0, 12.0)):

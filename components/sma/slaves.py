@@ -7,7 +7,7 @@ from musclesim.components.sma.inverse import InverseBases
 from musclesim.components.sma.inverse import PreisachInverse as InverseCore
 from musclesim.components.sma.preisach import PreisachModel
 from musclesim.components.sma.surface import clamp
-from musclesim.fmu import Slave
+from musclesim.fmu import Slave, experiment
 
 ZERO_C = 273.15  # K; the FMU speaks K, the cores C
 LOAD_150G = 0.150 * 9.80665  # N, the 150 g weight of the multiplier tests (§capstan-multiplier):
@@ -35,6 +35,7 @@ class SmaWire(Slave):
     are the wire's, averaged over its length. Equations: §thermal-model and §preisach (docs/model/).
     """
 
+    default_experiment = experiment(30.0, 0.0004)  # the SMA bench at 2.5 kHz, §sma-bench
     description = ("SMA wire: lumped thermal model with phase-dependent resistance and modified "
                    "Preisach hysteresis under stress (§thermal-model, §preisach)")
 
@@ -243,6 +244,7 @@ class PreisachInverse(Slave):
     Equations: §preisach-inverse.
     """
 
+    default_experiment = experiment(550.0, 0.0004)  # sma-position-control, §position-control
     description = ("Feed-forward inverse of the modified Preisach model: reference strain and "
                    "stress in, temperature reference out (§position-control)")
 

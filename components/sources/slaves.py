@@ -4,7 +4,7 @@ import math
 
 from musclesim.components.sma import profiles
 from musclesim.components.sources import forc, signals
-from musclesim.fmu import Slave
+from musclesim.fmu import Slave, experiment
 
 
 class SignalSource(Slave):
@@ -35,6 +35,7 @@ class SignalSource(Slave):
 class ForcReference(Slave):
     """Temperature reference of the FORC identification runs with run index and phase markers."""
 
+    default_experiment = experiment(420.0, 0.005)  # sma-forc-identification, §forc-identification
     description = ("FORC experiment reference (§forc-identification): run j heats from T_low to "
                    "T_low + j T_step along a raised cosine and cools back; outputs run index and "
                    "phase")
@@ -99,6 +100,7 @@ class _ProfileSlave(Slave):
 class StrainProfile(_ProfileSlave):
     """Reference strain SP I-IV of §reference-profiles."""
 
+    default_experiment = experiment(550.0, 0.0004)  # sma-position-control, §position-control
     description = ("Reference strain profile SP I-IV of §reference-profiles (contraction, within "
                    "[lo, hi])")
     names = profiles.STRAIN_PROFILES
@@ -115,6 +117,7 @@ class StrainProfile(_ProfileSlave):
 class LoadingProfile(_ProfileSlave):
     """Reference stress LP I-VI of §reference-profiles."""
 
+    default_experiment = experiment(550.0, 0.0004)  # sma-position-control, §position-control
     description = "Loading (stress) profile LP I-VI of §reference-profiles, within [lo, hi] Pa"
     names = profiles.LOADING_PROFILES
     make = staticmethod(profiles.loading_profile)

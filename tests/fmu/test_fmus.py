@@ -1,4 +1,5 @@
-"""Every FMU of the catalogue: clean fmpy validation, documented SI variables, real FMU state,
+"""Every FMU of the catalogue: clean fmpy validation, documented SI variables, real FMU state
+(restored in place and, serialized, in a fresh instance), what other tools need to import it,
 and self-containment (runs in a virtual environment with only numpy, scipy and fmpy)."""
 import gc
 import inspect
@@ -73,10 +74,24 @@ def test_variables_have_descriptions_and_si_units(fmu_dir, name):
     assert outputs == {v.name for v in md.modelVariables if v.causality == "output"}
 
 
-def _open(fmu_dir, name, tmp_path):
+@pytest.mark.parametrize("name", CATALOGUE)
+def test_other_tools_can_import_and_run_it_as_it_is(fmu_dir, name):
+    """No external-tool flag (PyFMI refuses an FMU that sets it), a serializable state, and a
+    default experiment from 0 to the stop time of the component's study experiment in whole
+    steps."""
+    md = read_model_description(str(fmu_dir / f"{name}.fmu"))
+    cs, ex = md.coSimulation, md.defaultExperiment
+    assert not cs.needsExecutionTool and cs.canSerializeFMUstate
+    assert float(ex.startTime) == 0.0 and float(ex.stopTime) > 0 and float(ex.stepSize) > 0
+    n = float(ex.stopTime) / float(ex.stepSize)
+    assert abs(n - round(n)) < 1e-6 * n
+
+
+def _open(fmu_dir, name, tmp_path, instance=None):
     md = read_model_description(str(fmu_dir / f"{name}.fmu"))
     slave = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu_dir / f"{name}.fmu", tmp_path),
-                      modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
+                      modelIdentifier=md.coSimulation.modelIdentifier,
+                      instanceName=instance or name)
     slave.instantiate()
     slave.setupExperiment(startTime=0.0)
     variables = {v.name: v.valueReference for v in md.modelVariables}
@@ -119,7 +134,16 @@ def test_state_save_step_restore_redo_is_bit_identical(fmu_dir, name, tmp_path):
     third = [step(u_next) for _ in range(5)]
     assert first == again == third
     assert first[0] != first[-1] or name in MEMORYLESS  # the steps did something
+    # serialized to bytes and restored in a fresh instance (another extraction, as another
+    # process would), it steps on to the same bits
+    data = slave.serializeFMUstate(saved)
     slave.freeFMUstate(saved)
+    slave.terminate()
+    slave.freeInstance()
+    slave, *_ = _open(fmu_dir, name, tmp_path / "fresh", instance=f"{name}_restored")
+    slave.setFMUstate(slave.deSerializeFMUstate(data))
+    t = t_saved
+    assert [step(u_next) for _ in range(5)] == first
     slave.terminate()
     slave.freeInstance()
 

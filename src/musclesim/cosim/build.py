@@ -96,7 +96,10 @@ def build_all(dest="fmus", names=None):
             script.write_text(_STUB.format(name=name, module=module, cls=cls))
             built.append(FmuBuilder.build_FMU(
                 script, dest=dest, project_files=[stage / "musclesim"],
-                canGetAndSetFMUstate=True, needsExecutionTool=True))
+                # no external-tool flag: PyFMI refuses an FMU that sets it, and the FMU carries
+                # its code; what it needs installed (Python, numpy, scipy) the docs say
+                canGetAndSetFMUstate=True, canSerializeFMUstate=True,
+                needsExecutionTool=False))
     sources, fmus = source_digest(), {}
     if names:  # a partial build keeps the digests of the FMUs built before from the same sources
         old = _stamp(dest)

@@ -1,10 +1,10 @@
-"""What ships inside every FMU: the project's pythonfmu base class `Slave` and the SI `UNITS` it
-declares.
+"""What ships inside every FMU: the project's pythonfmu base class `Slave`, the SI `UNITS` it
+declares and `experiment`, a component's default experiment.
 
 `musclesim build` copies this package into each FMU's resources, so it imports nothing but the
 standard library, numpy and pythonfmu: an FMU must run where only Python, numpy and scipy are
 installed.
 """
-from musclesim.fmu.slave import UNITS, Slave
+from musclesim.fmu.slave import UNITS, Slave, experiment
 
-__all__ = ["Slave", "UNITS"]
+__all__ = ["Slave", "UNITS", "experiment"]

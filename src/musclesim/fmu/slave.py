@@ -7,7 +7,13 @@ Every component's FMU slave derives from `Slave`. It fixes, once, what pythonfmu
   so that a master can order the exchange of values at a communication point;
 - units: every Real carries an SI unit, declared in ``UnitDefinitions``;
 - FMU state: pythonfmu's default ``_get_fmu_state`` copies registered variables only, losing
-  internal state (integrator state, memories, random generators); ours deep-copies all of it.
+  internal state (integrator state, memories, random generators); ours deep-copies all of it,
+  and serializes it with pickle (pythonfmu's JSON takes none of those), so that a tool can save a
+  state to a file and restore it in another instance (``canSerializeFMUstate``). Restore only
+  states you saved yourself: unpickling runs code, as loading any FMU does;
+- a default experiment (FMI ``DefaultExperiment``): start 0 and, per component, the stop time and
+  step of the study's experiment it comes from (`experiment`), which a tool runs when told
+  nothing else.
 
 A component slave declares its variables with `parameter`, `input` and `output`, turns parameters
 into its physics core in `setup`, computes outputs in `evaluate` and advances state in `advance`.
@@ -17,10 +23,12 @@ every FMU, which must run where only Python, numpy and scipy are installed.
 import copy
 import math
 import operator
+import pickle
 import warnings
 from xml.etree.ElementTree import Element, SubElement
 
-from pythonfmu import Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Real
+from pythonfmu import (DefaultExperiment, Fmi2Causality, Fmi2Initial, Fmi2Slave,
+                       Fmi2Variability, Real)
 from pythonfmu.enums import Fmi2Status
 
 # SI base-unit exponents of every unit a variable may carry (FMI 2.0 BaseUnit attributes).
@@ -65,6 +73,12 @@ _NOT_STATE = frozenset({"vars", "log_queue", "_getters", "_setters", "_attrs", "
                         "_parameters"})
 
 
+def experiment(stop_time, step):
+    """The FMI default experiment of a component: from 0 to `stop_time` [s] in steps of `step`
+    [s]."""
+    return DefaultExperiment(start_time=0.0, stop_time=stop_time, step_size=step)
+
+
 class Slave(Fmi2Slave):
     """Base of every musclesim FMU slave (FMI 2.0 co-simulation through pythonfmu).
 
@@ -84,6 +98,7 @@ class Slave(Fmi2Slave):
 
     author = "musclesim"
     license = "MIT"
+    default_experiment = experiment(10.0, 1e-3)  # components set their study's experiment
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
@@ -253,6 +268,14 @@ class Slave(Fmi2Slave):
     def _set_fmu_state(self, state):
         # copy again: the same saved state may be restored several times
         self.__dict__.update(copy.deepcopy(state))
+
+    @staticmethod
+    def _fmu_state_to_bytes(state):
+        return pickle.dumps(state, protocol=pickle.HIGHEST_PROTOCOL)
+
+    @staticmethod
+    def _fmu_state_from_bytes(data):
+        return pickle.loads(data)
 
     # ---- model description ---------------------------------------------------------------------
     def to_xml(self, model_options=None):
