@@ -59,6 +59,9 @@ class Unit:
     components: dict  # instance -> component
     alignable: tuple = ()  # columns compared allowing up to MAX_ALIGN samples of latency
     subjects: tuple = ()  # isolation units: the instances whose own closure this unit is
+    # upstream outputs of recent runs, for restarting downstream (`simulate.simulate`); a copy
+    # (dataclasses.replace) starts empty
+    restarts: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
 
 def _span_scenario(s, duration):

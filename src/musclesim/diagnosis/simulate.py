@@ -3,15 +3,26 @@
 `simulate` runs every experiment of a `musclesim.diagnosis.problem.Unit` with the master (its
 measured signals replayed) and samples the model at the data's times; `residuals` compares it
 with the data, normalised by each signal's range; `signal_gap` is the report's section 1.
+
+Downstream restarts: a fit's runs often differ only in the values of instances that feed no
+other fitted instance (a sensor's lag beside the wire's calibration, a Jacobian's column for
+it). `simulate` keeps the outputs that the other instances passed them in its last `RESTARTS`
+runs (`Unit.restarts`) and, when a run's values upstream are those of a kept run, simulates only
+the instances downstream, those outputs replayed into them: under the Jacobi algorithm, where
+every instance reads the others' outputs of the same communication point, the same bits as the
+whole run (tests/diagnosis/test_simulate_restart.py).
 """
 import math
 from dataclasses import replace
 
 import numpy as np
 
-from musclesim.cosim import Master, compute_metrics
+from musclesim.cosim import Graph, Master, compute_metrics, split_signal
 from musclesim.diagnosis.stats import HELD_OUT, TRAIN, advance, gap, lag
 from musclesim.diagnosis.thresholds import MAX_ALIGN
+
+
+RESTARTS = 16  # upstream runs a unit keeps for downstream restarts (a few signals each)
 
 
 class Failed(Exception):
@@ -38,7 +49,7 @@ def simulate(unit, values, fmu_dir, part=None):
     Raises `Failed` when a run fails (the effect's values are then not viable).
     """
     out = []
-    for run in unit.runs:
+    for index, run in enumerate(unit.runs):
         (s, inputs), rows = run.stepped(with_values(run.scenario, values)), None
         if part is not None:
             rows = np.flatnonzero(run.part == part)
@@ -50,19 +61,69 @@ def simulate(unit, values, fmu_dir, part=None):
                 n = min(s.n_steps, math.floor(run.time[rows[-1]] / s.step) + 2)
                 s = replace(s, stop_time=s.start_time + n * s.step)
                 inputs = {k: v[:s.n_steps + 1] for k, v in inputs.items()}
-        res = Master(s, fmu_dir, inputs).run()
-        if res.error:
-            raise Failed(res.error)
         if run.time is None:  # scalar-only: the scenario's metrics
+            res = Master(s, fmu_dir, inputs).run()
+            if res.error:
+                raise Failed(res.error)
             metrics = compute_metrics(res, s.metrics)
             out.append({m: np.array([metrics[m]]) for m in unit.observed})
         else:
-            sim = {c: np.interp(run.time, res.time, res[c]) for c in unit.observed}
+            time, cols = _run(unit, (index, part), s, inputs, values, fmu_dir)
+            sim = {c: np.interp(run.time, time, cols[c]) for c in unit.observed}
             if rows is not None:
                 for v in sim.values():
                     v[rows[-1] + 1:] = np.nan
             out.append(sim)
     return out
+
+
+def _downstream(s, values):
+    """(instances, links into them) of scenario `s` that a run with `values` may simulate alone:
+    those downstream of the fitted instances that feed no other fitted instance, and the links
+    from the others; None where there is nothing upstream, or under Gauss-Seidel (a reader
+    stepped after its source takes the source's output after its step)."""
+    if s.algorithm != "jacobi":
+        return None
+    graph = Graph(s)
+    fitted = {inst for inst, _ in values if inst in s.instances}
+    kept = graph.downstream({x for x in fitted if graph.downstream({x}) & fitted == {x}})
+    if not kept or kept == set(s.instances):
+        return None
+    return kept, [k for k in graph.links if k.target in kept and k.source not in kept]
+
+
+def _run(unit, which, s, inputs, values, fmu_dir):
+    """(time, {recorded column: values}) of scenario `s` with replayed `inputs`: restarted
+    downstream from a kept run (see the module's docstring) where `unit.restarts` holds one with
+    the same values upstream, else run whole and its upstream outputs kept. `which` names the run
+    and its part. Raises `Failed`."""
+    split = _downstream(s, values)
+    if split is None:
+        res = Master(s, fmu_dir, inputs).run()
+        if res.error:
+            raise Failed(res.error)
+        return res.time, {c: res[c] for c in s.record}
+    kept, cut = split
+    key = (which, frozenset(kept),
+           tuple(sorted((k, v) for k, v in values.items() if k[0] not in kept)))
+    if key not in unit.restarts:
+        # the cut links' sources are read at every exchange anyway: recording them changes nothing
+        record = tuple(dict.fromkeys((*s.record, *(k.src for k in cut))))
+        res = Master(replace(s, record=record), fmu_dir, inputs).run()
+        if res.error:
+            raise Failed(res.error)
+        unit.restarts[key] = ({k.dst: res[k.src] for k in cut},
+                              {c: res[c] for c in s.record if split_signal(c)[0] not in kept})
+        while len(unit.restarts) > RESTARTS:
+            del unit.restarts[next(iter(unit.restarts))]
+        return res.time, {c: res[c] for c in s.record}
+    fed, upstream = unit.restarts[key]
+    alone = Graph(s).restrict(kept, fed, [c for c in s.record if split_signal(c)[0] in kept])
+    res = Master(alone, fmu_dir, {**{k: v for k, v in inputs.items()
+                                     if split_signal(k)[0] in kept}, **fed}).run()
+    if res.error:
+        raise Failed(res.error)
+    return res.time, {**upstream, **{c: res[c] for c in alone.record}}
 
 
 def residuals(unit, sims, shifts=None, align=None):
