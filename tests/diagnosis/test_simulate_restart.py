@@ -1,6 +1,7 @@
 """Downstream restarts (musclesim.diagnosis.simulate): a run whose values differ from a kept run's
 only in instances that feed no other fitted instance simulates those alone, the upstream
 outputs replayed, and gives the same bits as the whole run."""
+import pickle
 from dataclasses import replace
 
 import numpy as np
@@ -47,6 +48,7 @@ def test_a_sensors_values_rerun_the_sensor_alone_to_the_same_bits(fmu_dir, monke
             assert ran[1] == ("thermocouple",) and len(ran[0]) > 1
             _same(restarted, sim.simulate(replace(unit), second, fmu_dir, part))
             assert len(ran[2]) == len(ran[0])  # the copy kept no run: it ran whole
+        assert unit.restarts and not pickle.loads(pickle.dumps(unit)).restarts  # nor a worker's
         # h changed: the kept run does not apply, the whole model runs again
         ran.clear()
         moved = sim.simulate(unit, {**second, ("wire", "h"): 120.0}, fmu_dir)

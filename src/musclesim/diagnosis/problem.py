@@ -60,8 +60,11 @@ class Unit:
     alignable: tuple = ()  # columns compared allowing up to MAX_ALIGN samples of latency
     subjects: tuple = ()  # isolation units: the instances whose own closure this unit is
     # upstream outputs of recent runs, for restarting downstream (`simulate.simulate`); a copy
-    # (dataclasses.replace) starts empty
+    # (dataclasses.replace) and one sent to a worker (pickled) start empty
     restarts: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    def __getstate__(self):
+        return {**self.__dict__, "restarts": {}}
 
 
 def _span_scenario(s, duration):
