@@ -155,6 +155,7 @@ class GaitSequencer(Slave):
     """Four-phase peristaltic gait (§gait): pressure references of the three actuators."""
 
     default_experiment = experiment(30.0, 0.001)  # crawler-gait-forward, §gait
+    display_units = {**Slave.display_units, "Pa": "kPa"}  # air pressures
     description = ("Peristaltic gait sequencer: pressure references of the back, central and front "
                    "actuators (§gait)")
 

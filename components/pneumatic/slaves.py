@@ -11,6 +11,7 @@ class SoftActuator(Slave):
     (§crawler-hardware, §gait, §valves)."""
 
     default_experiment = experiment(30.0, 0.001)  # crawler-gait-forward, §gait
+    display_units = {**Slave.display_units, "Pa": "kPa"}  # air pressures
     description = ("Soft pneumatic actuator: chamber (polytropic) filled and emptied through two "
                    "PWM solenoid valves (ISO 6358) from an inflation and an exhaust pump "
                    "(§crawler-hardware, §gait, §valves)")

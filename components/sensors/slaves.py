@@ -97,6 +97,7 @@ class PressureSensor(_ScalarSensor):
     (§crawler-hardware)."""
 
     default_experiment = experiment(30.0, 0.001)  # crawler-gait-forward, §gait
+    display_units = {**Slave.display_units, "Pa": "kPa"}  # air pressures
     description = ("Pressure sensor: chamber gauge pressure with first-order lag, bias, seeded "
                    "noise, quantisation (§crawler-hardware, §named-effects)")
     signal, measured, unit = "p", "p_meas", "Pa"

@@ -76,15 +76,26 @@ def test_variables_have_descriptions_and_si_units(fmu_dir, name):
 
 @pytest.mark.parametrize("name", CATALOGUE)
 def test_other_tools_can_import_and_run_it_as_it_is(fmu_dir, name):
-    """No external-tool flag (PyFMI refuses an FMU that sets it), a serializable state, and a
+    """No external-tool flag (PyFMI refuses an FMU that sets it), a serializable state, a
     default experiment from 0 to the stop time of the component's study experiment in whole
-    steps."""
+    steps, and display units (C, MPa or kPa, mm) on the SI units users read in another."""
     md = read_model_description(str(fmu_dir / f"{name}.fmu"))
     cs, ex = md.coSimulation, md.defaultExperiment
     assert not cs.needsExecutionTool and cs.canSerializeFMUstate
     assert float(ex.startTime) == 0.0 and float(ex.stopTime) > 0 and float(ex.stepSize) > 0
     n = float(ex.stopTime) / float(ex.stepSize)
     assert abs(n - round(n)) < 1e-6 * n
+    # display units where users read another unit: 293.15 K shows as 20 degC, 1 m as 1000 mm
+    shown = {u.name: {d.name: (d.factor, d.offset) for d in u.displayUnits}
+             for u in md.unitDefinitions}
+    for v in md.modelVariables:
+        expected = {"K": {"degC"}, "Pa": {"MPa", "kPa"}, "m": {"mm"}}.get(v.unit, {None})
+        assert v.displayUnit in expected, v.name
+        if v.displayUnit:
+            factor, offset = shown[v.unit][v.displayUnit]
+            assert {"degC": factor * 293.15 + offset, "MPa": factor * 1e6,
+                    "kPa": factor * 1e3, "mm": factor * 1.0}[v.displayUnit] == pytest.approx(
+                {"degC": 20.0, "MPa": 1.0, "kPa": 1.0, "mm": 1000.0}[v.displayUnit])
 
 
 def _open(fmu_dir, name, tmp_path, instance=None):

@@ -5,7 +5,8 @@ Every component's FMU slave derives from `Slave`. It fixes, once, what pythonfmu
 - ``ModelStructure/InitialUnknowns`` (pythonfmu writes none, so fmpy's ``validate_fmu`` complains
   about every calculated output) and ``Outputs`` dependencies, which declare direct feedthrough
   so that a master can order the exchange of values at a communication point;
-- units: every Real carries an SI unit, declared in ``UnitDefinitions``;
+- units: every Real carries an SI unit, declared in ``UnitDefinitions``, and where users read
+  another one a display unit (`DISPLAY_UNITS`: C, MPa or kPa, mm);
 - FMU state: pythonfmu's default ``_get_fmu_state`` copies registered variables only, losing
   internal state (integrator state, memories, random generators); ours deep-copies all of it,
   and serializes it with pickle (pythonfmu's JSON takes none of those), so that a tool can save a
@@ -68,6 +69,15 @@ UNITS = {
     "1": {},
 }
 
+# display units a tool may show a variable in (FMI 2.0 DisplayUnit: shown = factor * value +
+# offset): name -> (unit, factor, offset)
+DISPLAY_UNITS = {
+    "degC": ("K", 1.0, -273.15),
+    "MPa": ("Pa", 1e-6, 0.0),
+    "kPa": ("Pa", 1e-3, 0.0),
+    "mm": ("m", 1e3, 0.0),
+}
+
 # attributes that belong to the FMI plumbing, not to the model's state
 _NOT_STATE = frozenset({"vars", "log_queue", "_getters", "_setters", "_attrs", "_meta",
                         "_parameters"})
@@ -99,6 +109,9 @@ class Slave(Fmi2Slave):
     author = "musclesim"
     license = "MIT"
     default_experiment = experiment(10.0, 1e-3)  # components set their study's experiment
+    # the display unit of each unit that has one (`DISPLAY_UNITS`): temperatures in C, stresses
+    # in MPa, positions in mm; a component whose pascals are air pressures shows them in kPa
+    display_units = {"K": "degC", "Pa": "MPa", "m": "mm"}
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
@@ -286,11 +299,20 @@ class Slave(Fmi2Slave):
             unit = self._meta[v.get("name")][0]
             if unit != "1":
                 v.find("Real").set("unit", unit)
+                if unit in self.display_units:
+                    v.find("Real").set("displayUnit", self.display_units[unit])
                 used.add(unit)
         units = Element("UnitDefinitions")
         for unit in sorted(used):
-            SubElement(SubElement(units, "Unit", name=unit), "BaseUnit",
-                       {k: str(e) for k, e in UNITS[unit].items()})
+            node = SubElement(units, "Unit", name=unit)
+            SubElement(node, "BaseUnit", {k: str(e) for k, e in UNITS[unit].items()})
+            if unit in self.display_units:
+                name = self.display_units[unit]
+                base, factor, offset = DISPLAY_UNITS[name]
+                if base != unit:
+                    raise ValueError(f"display unit {name} is not one of {unit}")
+                SubElement(node, "DisplayUnit", name=name, factor=repr(factor),
+                           offset=repr(offset))
         root.insert(list(root).index(root.find("CoSimulation")) + 1, units)
 
         structure = root.find("ModelStructure")
