@@ -44,7 +44,7 @@ def simulate_ideal(body_p=body.BodyParams(), friction_p=(friction.FrictionParams
             mu_s, mu_k = friction.coefficients(s, p)
             forces.append(friction.friction_force(x[1 + 2 * i], f_n[i], normal[i], mu_s, mu_k, p.v_s))
             contact[i] = friction.advance_contact(contact[i], u, step, p.t_switch)
-        t_next = t + step
+        t_next = (k + 1) * step  # t0 + k h, as the master counts its points
         f_next, u1, u2 = inputs.signals(t_next, inputs_p)
         f_held = f_next if actuator_lead else f_a
         if body_p.k_slope:  # the stiffness follows the actuator force held over the step

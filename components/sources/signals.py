@@ -7,6 +7,11 @@ with w the unit wave of the kind (sine; square: +1 over the first `duty` of each
 the rest; triangle: -1 -> +1 -> -1; ramp: 0 -> 1 over the first period, then held), so a square
 wave alternates between two set-points (offset = amplitude = V/2: a pulse train 0 / V of that
 duty) and a ramp rises by `amplitude` over 1/f seconds.
+
+A square wave's edge belongs to the part after it, and a time within `EDGE` periods of an edge
+is taken on it: a master samples at t0 + k h, and f t + phase / 2 pi rounds either side of an
+edge that falls on a sample, so that otherwise a pulse of 25 steps could take 26 (the bending
+actuator's wire B, half a period behind wire A).
 """
 import math
 from dataclasses import dataclass
@@ -14,6 +19,7 @@ from dataclasses import dataclass
 from musclesim.components.checks import require
 
 KINDS = ("constant", "sine", "square", "triangle", "ramp")
+EDGE = 1e-9  # periods: the rounding of a sample's phase, far below any step a master takes
 
 
 @dataclass(frozen=True)
@@ -57,8 +63,9 @@ def unit_wave(kind, cycles, duty=0.5):
     frac = cycles - math.floor(cycles)
     if kind == "sine":
         return math.sin(2 * math.pi * cycles)
-    if kind == "square":
-        return 1.0 if frac < duty else -1.0
+    if kind == "square":  # edges belong to the part after them, to within EDGE
+        shifted = cycles + EDGE
+        return 1.0 if shifted - math.floor(shifted) < duty else -1.0
     return 4 * frac - 1 if frac < 0.5 else 3 - 4 * frac  # triangle
 
 

@@ -58,7 +58,7 @@ def naive_run(s, fmu_dir, tmp_path, step_order):
                     if inst == name:
                         slaves[inst].setReal([refs[inst][var]], [get(src)])
             slaves[name].doStep(t, s.step)
-        t += s.step
+        t = s.start_time + (k + 1) * s.step  # t0 + k h, as FMPy counts its points
         settle()
     for slave in slaves.values():
         slave.terminate()

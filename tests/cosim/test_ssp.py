@@ -19,6 +19,7 @@ from musclesim.components.crawler import body, friction, inputs
 from musclesim.components.crawler.monolithic import simulate_ideal
 from musclesim.errors import UserError
 from musclesim.cosim.master import Master
+from musclesim.fmu import step_end
 
 from conftest import SCENARIOS
 
@@ -149,11 +150,13 @@ def crawler_reference(s, libcosim):
     """Crawler-ideal (`s`, friction switching instantly) stepped as a master steps it, in numpy.
 
     libcosim=False, our master: at t_k the values are exchanged in feedthrough order, so the
-    friction sees v(t_k), f_n(x_k, f_a(t_k)) and u(t_k); time accumulates as t += h.
+    friction sees v(t_k), f_n(x_k, f_a(t_k)) and u(t_k); the points are t_k = k h.
     libcosim=True, libcosim's fixed-step master: every instance steps with the inputs transferred
     after the previous step and its outputs are read after its own step, so the feedthrough
     outputs at t_k are computed from inputs of t_k-1 (friction from v_k-1, f_n from f_a(t_k-1));
     time is t_k = k h counted in integer nanoseconds and each step is h = t_k+1 - t_k.
+    Either way the inputs' source reads the time its step ends at as every slave does
+    (`musclesim.fmu.step_end`).
     Returns (time, {signal: values}) for the signals crawler-ideal records.
     """
     bp, ip = (cls(**s.instances[n].parameters) for cls, n in
@@ -182,8 +185,9 @@ def crawler_reference(s, libcosim):
             zoh = {"h": h, "AB": body.discretise(bp, h)}
         held = f_a, x[1::2], f_n, u  # the inputs each instance steps with
         x = body.step_state(x, (f_a, *forces), *zoh["AB"])
-        t = t + h
-        f_a, *u = inputs.signals(t, ip)
+        t_end = step_end(s.start_time, t, h)  # the source's own time after its step
+        t = (k + 1) * ns / 1e9 if libcosim else s.start_time + (k + 1) * s.step
+        f_a, *u = inputs.signals(t_end, ip)
         f_n = body.nonfriction_forces(x, held[0] if libcosim else f_a, bp)
         forces = friction_forces(*held[1:]) if libcosim else friction_forces(x[1::2], f_n, u)
     names = ["body.flange1.s", "body.flange1.v", "body.flange2.s", "body.flange2.v", "body.x_cm",

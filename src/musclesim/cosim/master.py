@@ -525,7 +525,7 @@ class Master:
                     inst.step(t, h_every)
                     if inst.after_step is not None:
                         inst.after_step()
-                t += h  # accumulated like the FMUs' own time, so both agree to the bit
+                t = s.start_time + row * h  # t0 + k h, as FMPy and the FMUs count it
                 self._exchange(row)
         finally:
             self.row, self.t = row, t

@@ -90,7 +90,7 @@ def compute_metrics(results, metrics):
     window, no oscillation to count, nothing to divide by) is NaN, written null in summary.json."""
     out = {}
     for name, m in metrics.items():
-        # the master accumulates time step by step: a window edge on a sample counts it in
+        # the times t0 + k h are doubles: a window edge on a sample counts it in
         tol = 1e-9 * max(1.0, abs(results.time[-1])) if len(results.time) else 0.0
         window = (results.time >= m.start - tol) & (results.time <= m.stop + tol)
         t, y = results.time[window], results[m.signal][window]

@@ -1,10 +1,11 @@
 """What ships inside every FMU: the project's pythonfmu base class `Slave`, the SI `UNITS` it
-declares and `experiment`, a component's default experiment.
+declares, `experiment`, a component's default experiment, and `step_end`, the clock every slave
+keeps.
 
 `musclesim build` copies this package into each FMU's resources, so it imports nothing but the
 standard library, numpy and pythonfmu: an FMU must run where only Python, numpy and scipy are
 installed.
 """
-from musclesim.fmu.slave import UNITS, Slave, experiment
+from musclesim.fmu.slave import UNITS, Slave, experiment, step_end
 
-__all__ = ["Slave", "UNITS", "experiment"]
+__all__ = ["Slave", "UNITS", "experiment", "step_end"]

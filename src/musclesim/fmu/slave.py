@@ -83,6 +83,20 @@ _NOT_STATE = frozenset({"vars", "log_queue", "_getters", "_setters", "_attrs", "
                         "_parameters"})
 
 
+def step_end(t0, t, h):
+    """The time a step of `h` from `t` ends at: t0 + (k + 1) h where `t` is the point t0 + k h of
+    a master counting its points from the start time t0 (musclesim's, FMPy's), so that a
+    time-driven output reads the same instant whoever steps it; t + h otherwise.
+
+    Examples
+    --------
+    >>> step_end(0.0, 9 * 0.001, 0.001), 9 * 0.001 + 0.001
+    (0.01, 0.010000000000000002)
+    """
+    k = round((t - t0) / h) if h > 0 else None
+    return t0 + (k + 1) * h if k is not None and t0 + k * h == t else t + h
+
+
 def experiment(stop_time, step):
     """The FMI default experiment of a component: from 0 to `stop_time` [s] in steps of `step`
     [s]."""
@@ -97,8 +111,8 @@ class Slave(Fmi2Slave):
     - `setup()`: check parameters (raise ``ValueError`` with a sentence naming the parameter) and
       build the physics core; runs before outputs are first needed, again if a parameter changes
       during initialization;
-    - `initialize()`: set the initial internal state once inputs are known (leaving
-      initialization mode);
+    - `initialize()`: set the initial internal state from the parameters and the inputs, leaving
+      initialization mode and whenever outputs are read before (so it may run several times);
     - `evaluate()`: set the outputs from the current state, inputs and time, changing nothing
       else: it runs when outputs are read (or a step needs them) after a step or after an input
       was set, not after every step, so it may run any number of times (outputs declared with
@@ -124,7 +138,7 @@ class Slave(Fmi2Slave):
         self._initialized = False  # initialization mode has been left
         self._dirty = True  # an input changed since the outputs were evaluated
         self._clamped = set()  # inputs whose clamping has been warned about
-        self.time = 0.0
+        self.time = self.start_time = 0.0
 
     # ---- declaring variables -------------------------------------------------------------------
     def _declare(self, name, value, unit, description, causality, variability, initial, depends):
@@ -209,7 +223,7 @@ class Slave(Fmi2Slave):
 
     # ---- FMI calls -----------------------------------------------------------------------------
     def setup_experiment(self, start_time, stop_time=None, tolerance=None):
-        self.time = float(start_time)
+        self.time = self.start_time = float(start_time)
 
     def _refresh(self):
         if not self._configured:
@@ -217,6 +231,11 @@ class Slave(Fmi2Slave):
             self._configured = True
             self._dirty = True
         if self._dirty:
+            if not self._initialized:
+                # before initialization ends, outputs are those of the initial state for the
+                # inputs set so far, so that values passed in initialization mode hold after it
+                # (FMPy's container passes none after it)
+                self.initialize()
             self.evaluate()
             self._dirty = False
 
@@ -232,7 +251,7 @@ class Slave(Fmi2Slave):
     def do_step(self, current_time, step_size):
         self._refresh()  # advance may read what evaluate sets (a friction block's contact)
         self.advance(current_time, step_size)
-        self.time = current_time + step_size
+        self.time = step_end(self.start_time, current_time, step_size)
         self._dirty = True  # outputs evaluated when read: a master sets inputs first, mostly
         return True
 
