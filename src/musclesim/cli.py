@@ -50,11 +50,14 @@ def _cmd_run(args):
 
 
 def _cmd_export(args):
-    from musclesim.cosim import check_fresh, export_ssp, load_scenario
+    from musclesim.cosim import check_fresh, export_fmu, export_ssp, load_scenario
 
     s = load_scenario(args.scenario, args.set, args.stop_time)
     check_fresh(args.fmus)
-    print(f"wrote {export_ssp(s, args.fmus, args.ssp)}")
+    if args.ssp is not None:
+        print(f"wrote {export_ssp(s, args.fmus, args.ssp)}")
+    else:
+        print(f"wrote {export_fmu(s, args.fmus, args.fmu)}")
     return 0
 
 
@@ -261,9 +264,13 @@ def _parser():
                    "(other FMUs always run on fmpy)")
     q.set_defaults(func=_cmd_run)
 
-    q = sub.add_parser("export", help="export a scenario as an SSP archive")
+    q = sub.add_parser("export", help="export a scenario as an SSP archive or as one FMU")
     scenario_args(q)
-    q.add_argument("--ssp", required=True, help="the .ssp file to write")
+    to = q.add_mutually_exclusive_group(required=True)
+    to.add_argument("--ssp", help="the .ssp file to write (SSP 1.0: the scenario's FMUs, wiring "
+                    "and values)")
+    to.add_argument("--fmu", help="the .fmu file to write: the whole scenario as one FMI 2.0 "
+                    "co-simulation FMU (FMPy's container FMU; Jacobi scenarios)")
     q.set_defaults(func=_cmd_export)
 
     q = sub.add_parser("sweep", help="run a scenario over a parameter grid on Dask")
@@ -436,7 +443,8 @@ def _duration(text):
 
 
 # every command's outputs, checked before the command does any work: (option, folder or file)
-_OUTPUTS = {"build": [("fmus", "dir")], "run": [("out", "dir")], "export": [("ssp", "file")],
+_OUTPUTS = {"build": [("fmus", "dir")], "run": [("out", "dir")],
+            "export": [("ssp", "file"), ("fmu", "file")],
             "sweep": [("out", "dir")], "loops": [("plot", "file")], "identify": [("out", "file")],
             "diagnose": [("out", "dir")], "benchmark-diagnosis": [("out", "dir")],
             "table": [("out", "dir")], "characterise": [("out", "dir"), ("write", "file")],

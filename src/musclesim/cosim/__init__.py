@@ -1,6 +1,7 @@
 """One co-simulation run: build the FMUs, host them in this process, read and check a scenario
-file, step it with the master algorithm, write its results, export it as SSP, read time series.
-A scenario's data flow (`Graph`: which instance feeds which) serves the master and the diagnosis.
+file, step it with the master algorithm, write its results, export it (as SSP, or as one FMU),
+read time series. A scenario's data flow (`Graph`: which instance feeds which) serves the master
+and the diagnosis.
 
 The data path of a run is ``load_scenario`` -> ``Master(...).run()`` -> ``write_results``;
 ``run_scenario`` does all three (with the freshness check of the FMUs) for the command line and
@@ -22,6 +23,7 @@ from musclesim.cosim.results import write_all as write_results
 from musclesim.cosim.run import run_scenario
 from musclesim.cosim.scenario import Instance, Scenario, apply_overrides, split_signal
 from musclesim.cosim.scenario import load as load_scenario
+from musclesim.cosim.container import export as export_fmu
 from musclesim.cosim.ssp import export as export_ssp
 from musclesim.cosim.timeseries import read_time_series
 
@@ -29,7 +31,7 @@ __all__ = ["build_all", "check_fresh", "source_digest", "forget_fmu_resource_pat
            "reuse_fmus",
            "Master", "compute_metrics", "metric_unit", "signal_units", "write_results",
            "run_scenario", "Instance", "Scenario", "split_signal", "load_scenario",
-           "apply_overrides", "export_ssp",
+           "apply_overrides", "export_ssp", "export_fmu",
            "Graph", "Link",
            "read_time_series", "Interrupted", "interruptible", "check_output_dir",
            "check_output_file", "replace_file", "save_figure"]

@@ -1,0 +1,225 @@
+"""Export a scenario as one co-simulation FMU: FMPy's container FMU holding the scenario's FMUs.
+
+Tools that take one FMU (Simulink, Dymola, PyFMI) run a whole scenario this way. The container's
+runtime is FMPy's (its ``container_fmu`` binaries, read at export): at each of its fixed steps it
+steps every instance with the inputs it holds, then passes the connections' values in the order
+listed, each output read when its connection's turn comes, and counts its clock as our master
+does (t += h). Listing the connections in the order of the sources' exchange (direct
+feedthrough first, `Master.exchange_order`) makes that order the exchange of our Jacobi master,
+so a Jacobi scenario gives our results (tests/cosim/test_container.py). A Gauss-Seidel scenario
+runs as Jacobi there: it is refused rather than exported to other numbers. Multi-rate stepping
+(``every``) the container cannot express: refused too.
+
+The container FMU's variables: the scenario's values as parameters (``instance.parameter``, start
+= the value), every input no connection feeds as an input (``instance.input``, start = the value
+the scenario sets, else the FMU's start value: a replayed signal sets it), and the recorded
+signals as outputs, with their units. Its default experiment is the scenario's start, stop and
+step.
+
+FMPy 0.3.32's own packager writes connections of FMI 2.0 FMUs with a type its runtime refuses and
+leaves a stray archive inside the FMU; the packaging here is ours (a model description, the
+runtime's ``container.json``, the FMUs unpacked under ``resources/``).
+"""
+import json
+import os
+import uuid
+import zipfile
+from pathlib import Path
+from xml.etree import ElementTree as ET
+
+from musclesim.cosim.master import Master
+from musclesim.cosim.scenario import split_signal
+from musclesim.errors import UserError
+
+CONTAINER_VERSION = "0.1.0"  # the container.json format of FMPy's container runtime
+_PLATFORMS = (("x86_64-linux", "linux64", "container_fmu.so"),
+              ("x86_64-windows", "win64", "container_fmu.dll"),
+              ("x86_64-darwin", "darwin64", "container_fmu.dylib"))
+
+
+def _runtime():
+    """Folder of FMPy's container runtime binaries."""
+    import fmpy.container_fmu
+    return Path(fmpy.container_fmu.__file__).parent / "binaries"
+
+
+def _variables(scenario, master):
+    """[(name, causality, instance, its variable)] of the container, in value-reference order
+    (from 1)."""
+    targets = {dst for _, dst in scenario.connections}
+    out, named = [], set()
+
+    def add(name, causality, inst, var):
+        if name not in named:
+            named.add(name)
+            out.append((name, causality, inst, var))
+
+    for name, spec in scenario.instances.items():
+        for par in spec.parameters:
+            v = master.instances[name].vars[par]
+            if v.causality == "parameter":
+                add(f"{name}.{par}", "parameter", name, v)
+    for name, inst in master.instances.items():
+        for v in inst.md.modelVariables:
+            if v.causality == "input" and f"{name}.{v.name}" not in targets:
+                add(f"{name}.{v.name}", "input", name, v)
+    for signal in master.columns:  # the recorded signals
+        name, var = split_signal(signal)
+        add(signal, "output", name, master.instances[name].vars[var])
+    return out
+
+
+def _start(scenario, name, var):
+    value = scenario.instances[name].parameters.get(var.name, var.start)
+    return None if value is None else repr(float(value))
+
+
+def model_description(scenario, master, variables):
+    """The container's ``fmiModelDescription`` element (FMI 2.0 co-simulation)."""
+    root = ET.Element("fmiModelDescription", fmiVersion="2.0", modelName=scenario.name,
+                      guid="{" + str(uuid.uuid4()) + "}", generationTool="musclesim",
+                      description=scenario.description or f"scenario {scenario.name}",
+                      variableNamingConvention="flat", numberOfEventIndicators="0")
+    ET.SubElement(root, "CoSimulation", modelIdentifier="container_fmu",
+                  canHandleVariableCommunicationStepSize="true")
+    units = {}
+    for inst in master.instances.values():
+        for unit in inst.md.unitDefinitions:
+            units.setdefault(unit.name, unit)
+    used = sorted({v.unit for *_, v in variables if v.unit in units})
+    if used:
+        defs = ET.SubElement(root, "UnitDefinitions")
+        for name in used:
+            unit = ET.SubElement(defs, "Unit", name=name)
+            base = units[name].baseUnit
+            ET.SubElement(unit, "BaseUnit", {k: str(getattr(base, k)) for k in
+                                             ("kg", "m", "s", "A", "K", "mol", "cd", "rad")
+                                             if getattr(base, k)})
+            for d in units[name].displayUnits:
+                ET.SubElement(unit, "DisplayUnit", name=d.name, factor=repr(float(d.factor)),
+                              offset=repr(float(d.offset)))
+    ET.SubElement(root, "DefaultExperiment", startTime=repr(scenario.start_time),
+                  stopTime=repr(scenario.stop_time), stepSize=repr(scenario.step))
+    mv = ET.SubElement(root, "ModelVariables")
+    time = ET.SubElement(mv, "ScalarVariable", name="time", valueReference="0",
+                         causality="independent", variability="continuous",
+                         description="Simulation time")
+    ET.SubElement(time, "Real")
+    for vr, (name, causality, inst, v) in enumerate(variables, start=1):
+        attrs = {"name": name, "valueReference": str(vr), "causality": causality,
+                 "description": v.description or name}
+        real = {}
+        if causality == "parameter":
+            attrs.update(variability="fixed", initial="exact")
+            real["start"] = _start(scenario, inst, v)
+        elif causality == "input":
+            attrs["variability"] = "continuous"
+            real["start"] = _start(scenario, inst, v)
+        else:
+            attrs.update(variability="continuous", initial="calculated")
+        if v.unit in units:
+            real["unit"] = v.unit
+            if v.displayUnit:
+                real["displayUnit"] = v.displayUnit
+        ET.SubElement(ET.SubElement(mv, "ScalarVariable", attrs), "Real",
+                      {k: x for k, x in real.items() if x is not None})
+    structure = ET.SubElement(root, "ModelStructure")
+    outputs = [str(vr) for vr, (_, c, *_) in enumerate(variables, start=1) if c == "output"]
+    # a variable's index is its position in ModelVariables, counted from 1 (time is the first)
+    for section in ("Outputs", "InitialUnknowns"):
+        node = ET.SubElement(structure, section)
+        for vr in outputs:
+            ET.SubElement(node, "Unknown", index=str(int(vr) + 1))
+    return root
+
+
+def configuration(scenario, master, variables, guid):
+    """The container runtime's ``container.json`` for `scenario`."""
+    names = list(master.instances)
+    index = {n: i for i, n in enumerate(names)}
+    position = {n: i for i, n in enumerate(master.exchange_order)}
+
+    def ref(signal):
+        name, var = split_signal(signal)
+        return index[name], master.instances[name].vars[var].valueReference
+
+    connections = []
+    for src, dst in sorted(scenario.connections,
+                           key=lambda c: position[split_signal(c[0])[0]]):
+        (a, va), (b, vb) = ref(src), ref(dst)
+        connections.append({"variableType": "Float64", "srcComponent": a, "dstComponent": b,
+                             "srcValueReferences": [va], "dstValueReferences": [vb],
+                             "size": 1})
+    data = {
+        "containerVersion": CONTAINER_VERSION, "instantiationToken": guid,
+        "fixedStepSize": scenario.step, "parallelDoStep": False,
+        "components": [{"fmiMajorVersion": "2", "name": n,
+                        "instantiationToken": master.instances[n].md.guid,
+                        "modelIdentifier": master.instances[n].md.coSimulation.modelIdentifier,
+                        "path": master.instances[n].component} for n in names],
+        "variables": [], "connections": connections,
+    }
+    for name, causality, inst, v in variables:
+        variable = {"variableType": "Float64", "mappings": [[index[inst], v.valueReference]]}
+        if causality != "output":
+            start = _start(scenario, inst, v)
+            if start is not None:
+                variable["start"] = [start]
+        data["variables"].append(variable)
+    return data
+
+
+def export(scenario, fmu_dir, fmu_path):
+    """Write `scenario` with its FMUs as the one co-simulation FMU `fmu_path` (see the module).
+
+    Raises
+    ------
+    UserError
+        If the path does not end in ``.fmu`` or names a folder, the scenario's wiring does not
+        match its FMUs, it uses Gauss-Seidel or multi-rate stepping, or this platform has no
+        container runtime in the installed FMPy.
+    """
+    fmu_path, fmu_dir = Path(fmu_path), Path(fmu_dir)
+    if fmu_path.suffix != ".fmu":
+        raise UserError(f"the FMU {fmu_path} must have a name ending in .fmu")
+    if fmu_path.is_dir():
+        raise UserError(f"the FMU {fmu_path} names a folder, not a file")
+    if scenario.algorithm != "jacobi":
+        raise UserError(f"scenario {scenario.path}: the container FMU steps its FMUs as the "
+                        "Jacobi algorithm does; a Gauss-Seidel scenario would give other "
+                        "results there (set algorithm = \"jacobi\" to export it as such)")
+    slow = [n for n, i in scenario.instances.items() if i.every > 1]
+    if slow:
+        raise UserError(f"scenario {scenario.path}: instance {slow[0]!r} steps every "
+                        f"{scenario.instances[slow[0]].every} points; the container FMU steps "
+                        "every instance at every point")
+    runtime = _runtime()
+    if not runtime.is_dir():
+        raise UserError("the installed FMPy has no container runtime (fmpy/container_fmu/"
+                        "binaries): FMPy 0.3.32 or later has it")
+    master = Master(scenario, fmu_dir)
+    variables = _variables(scenario, master)
+    root = model_description(scenario, master, variables)
+    ET.indent(root)
+    config = configuration(scenario, master, variables, root.get("guid"))
+    fmu_path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = fmu_path.with_name(f".{fmu_path.name}.tmp")
+    try:
+        with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
+            zf.writestr("modelDescription.xml",
+                        ET.tostring(root, encoding="UTF-8", xml_declaration=True))
+            zf.writestr("resources/container.json", json.dumps(config, indent=2))
+            for platform, folder, library in _PLATFORMS:
+                if (runtime / platform / library).is_file():
+                    zf.write(runtime / platform / library, f"binaries/{folder}/{library}")
+            for comp in sorted({i.component for i in scenario.instances.values()}):
+                with zipfile.ZipFile(fmu_dir / f"{comp}.fmu") as inner:
+                    for item in inner.infolist():
+                        if not item.is_dir():
+                            zf.writestr(f"resources/{comp}/{item.filename}",
+                                        inner.read(item))
+    except BaseException:
+        tmp.unlink(missing_ok=True)  # no half-written FMU
+        raise
+    os.replace(tmp, fmu_path)
+    return fmu_path
