@@ -152,7 +152,7 @@ def run_hand_loop(s, fmu_dir):
             set1(bod.c, forces_vr, 2, forces)
             for do_step, c in steps:
                 do_step(c, t, h, 1)
-            t += h
+            t = s.start_time + (k + 1) * h  # t0 + k h, as the master counts its points
             exchange()
         for f in fmus:
             f.slave.terminate()

@@ -21,13 +21,13 @@ leaves a stray archive inside the FMU; the packaging here is ours (a model descr
 runtime's ``container.json``, the FMUs unpacked under ``resources/``).
 """
 import json
-import os
 import uuid
 import zipfile
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
 from musclesim.cosim.master import Master
+from musclesim.cosim.outputs import replace_zip
 from musclesim.cosim.scenario import split_signal
 from musclesim.errors import UserError
 
@@ -202,24 +202,17 @@ def export(scenario, fmu_dir, fmu_path):
     root = model_description(scenario, master, variables)
     ET.indent(root)
     config = configuration(scenario, master, variables, root.get("guid"))
-    fmu_path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = fmu_path.with_name(f".{fmu_path.name}.tmp")
-    try:
-        with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
-            zf.writestr("modelDescription.xml",
-                        ET.tostring(root, encoding="UTF-8", xml_declaration=True))
-            zf.writestr("resources/container.json", json.dumps(config, indent=2))
-            for platform, folder, library in _PLATFORMS:
-                if (runtime / platform / library).is_file():
-                    zf.write(runtime / platform / library, f"binaries/{folder}/{library}")
-            for comp in sorted({i.component for i in scenario.instances.values()}):
-                with zipfile.ZipFile(fmu_dir / f"{comp}.fmu") as inner:
-                    for item in inner.infolist():
-                        if not item.is_dir():
-                            zf.writestr(f"resources/{comp}/{item.filename}",
-                                        inner.read(item))
-    except BaseException:
-        tmp.unlink(missing_ok=True)  # no half-written FMU
-        raise
-    os.replace(tmp, fmu_path)
-    return fmu_path
+
+    def fill(archive):
+        archive.writestr("modelDescription.xml",
+                         ET.tostring(root, encoding="UTF-8", xml_declaration=True))
+        archive.writestr("resources/container.json", json.dumps(config, indent=2))
+        for platform, folder, library in _PLATFORMS:
+            if (runtime / platform / library).is_file():
+                archive.write(runtime / platform / library, f"binaries/{folder}/{library}")
+        for comp in sorted({i.component for i in scenario.instances.values()}):
+            with zipfile.ZipFile(fmu_dir / f"{comp}.fmu") as inner:
+                for item in inner.infolist():
+                    if not item.is_dir():
+                        archive.writestr(f"resources/{comp}/{item.filename}", inner.read(item))
+    return replace_zip(fmu_path, fill)

@@ -1,6 +1,7 @@
 """Output paths checked before the work, and files replaced whole (never left half-written)."""
 import os
 import tempfile
+import zipfile
 from pathlib import Path
 
 from musclesim.errors import UserError
@@ -59,3 +60,20 @@ def save_figure(fig, path, **options):
     tmp = path.with_name(f".{path.stem}.tmp{path.suffix}")  # the suffix names the format
     fig.savefig(tmp, **options)
     os.replace(tmp, path)
+
+
+def replace_zip(path, fill):
+    """Write the zip archive `path` (its folder made if missing) by `fill(archive)`, an open
+    ``zipfile.ZipFile``, under a temporary name renamed in place when `fill` returns: never a
+    half-written archive, even when `fill` fails. Returns `path`."""
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.tmp")
+    try:
+        with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as archive:
+            fill(archive)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    os.replace(tmp, path)
+    return path

@@ -1,11 +1,10 @@
 """SSP export: a scenario and its FMUs as an SSP 1.0 archive (SystemStructure.ssd + resources/)."""
-import os
-import zipfile
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
 from musclesim.errors import UserError
 from musclesim.cosim.master import Master
+from musclesim.cosim.outputs import replace_zip
 from musclesim.cosim.scenario import split_signal
 
 NS = {
@@ -178,16 +177,10 @@ def export(scenario, fmu_dir, ssp_path):
         raise UserError(f"the SSP archive {ssp_path} names a folder, not a file")
     root = system_structure(scenario, Master(scenario, fmu_dir))
     ET.indent(root)
-    ssp_path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = ssp_path.with_name(f".{ssp_path.name}.tmp")
-    try:
-        with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED) as zf:
-            zf.writestr("SystemStructure.ssd",
-                        ET.tostring(root, encoding="UTF-8", xml_declaration=True))
-            for comp in sorted({i.component for i in scenario.instances.values()}):
-                zf.write(fmu_dir / f"{comp}.fmu", f"resources/{comp}.fmu")
-    except BaseException:
-        tmp.unlink(missing_ok=True)  # no half-written archive
-        raise
-    os.replace(tmp, ssp_path)
-    return ssp_path
+
+    def fill(archive):
+        archive.writestr("SystemStructure.ssd",
+                         ET.tostring(root, encoding="UTF-8", xml_declaration=True))
+        for comp in sorted({i.component for i in scenario.instances.values()}):
+            archive.write(fmu_dir / f"{comp}.fmu", f"resources/{comp}.fmu")
+    return replace_zip(ssp_path, fill)
