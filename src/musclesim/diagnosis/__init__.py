@@ -4,7 +4,7 @@ The data path is a measured data set (``load_dataset``: data.csv + manifest.toml
 its scenario; ``write_data_set`` writes one) -> ``diagnose`` (where the model misses, which
 unmodelled effect of ``EFFECTS`` explains it, how far the held-out gap shrinks) ->
 ``write_report`` (report.json, report.md, plots). ``calibrate`` fits the open values a
-scalar-only set names to its training metrics and predicts the held-out ones (module calibrate).
+scalar-only set names to its training metrics and predicts the held-out ones (module openvalues).
 
 Modules: dataset (measured data sets), effects (the effect library and the per-component
 knowledge the diagnosis uses), thresholds (every threshold, documented), problem (the units
@@ -19,8 +19,8 @@ The stages' building blocks are public too, for the blind benchmark above this l
 ``HELD_OUT``), ``fit``, ``Free`` and ``values_of`` (bounded least squares of free parameters),
 ``calibration`` (the calibration parameters of a unit) and ``find_effect``.
 """
-from musclesim.diagnosis.calibrate import calibrate
-from musclesim.diagnosis.calibrate import markdown as calibration_markdown
+from musclesim.diagnosis.openvalues import calibrate
+from musclesim.diagnosis.openvalues import markdown as calibration_markdown
 from musclesim.diagnosis.dataset import DataSet
 from musclesim.diagnosis.dataset import load as load_dataset
 from musclesim.diagnosis.dataset import write as write_data_set

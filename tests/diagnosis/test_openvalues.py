@@ -1,4 +1,4 @@
-"""`musclesim calibrate` (musclesim.diagnosis.calibrate): the open values a scalar-only data set
+"""`musclesim calibrate` (musclesim.diagnosis.openvalues): the open values a scalar-only data set
 names, fitted to its training metrics with intervals from their uncertainties; the held-out
 metrics predicted."""
 import json
