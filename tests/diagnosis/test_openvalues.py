@@ -83,7 +83,10 @@ def test_a_set_without_open_values_or_with_an_unknown_instance_is_refused(bias_s
     for name, text, message in (
             ("none", manifest.split("[[calibrate]]")[0], "names no open value"),
             ("unknown", manifest.replace('"thermocouple.bias"', '"magnet.bias"'),
-             "no scenario of the data set has an instance 'magnet'")):
+             "no scenario of the data set has an instance 'magnet'"),
+            ("no-parameter", manifest.replace('"thermocouple.bias"',
+                                              '"thermocouple.bias", "wire.bias"'),
+             "SmaWire has no parameter 'bias'")):
         d = tmp_path / name
         d.mkdir()
         (d / "manifest.toml").write_text(text.replace("../bench-", f"{bias_set.parent}/bench-"))

@@ -42,8 +42,9 @@ def open_values(problem):
                 raise UserError(f"data set {problem.ds.path}: [[calibrate]] names {inst}.{name}, "
                                 "but no scenario of the data set has an instance "
                                 f"{inst!r}")
+        starts = [_nominal(problem, *p) for p in pairs]  # each target must exist
         name = pairs[0][1]
-        start = min(max(_nominal(problem, *pairs[0]), ov.lower), ov.upper)
+        start = min(max(starts[0], ov.lower), ov.upper)
         out.append(Free(tuple(i for i, n in pairs if n == name), name, ov.lower, ov.upper,
                         start, also=tuple(p for p in pairs if p[1] != name)))
     return out
