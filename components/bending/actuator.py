@@ -120,7 +120,9 @@ class WireLayout:
     pretension: float = 0.196  # N, each cold wire (100 MPa on 50 um; open)
     modulus_martensite: float = 28e9  # Pa, NiTi martensite (data-sheet value, open)
     modulus_austenite: float = 75e9  # Pa, NiTi austenite (data-sheet value, open)
-    series_resistance: float = 20.0  # Ohm, driver and leads in series with each wire (open)
+    # Ohm, driver and leads in series with each wire: open, fitted to the study's one-wire
+    # tip-to-tip (§study-outcomes: 16.47 [16.34, 16.61] Ohm)
+    series_resistance: float = 16.5
     max_substep: float = 5e-5  # s, mechanical sub-step (slack switching, moduli)
 
     def check(self):

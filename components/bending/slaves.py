@@ -54,7 +54,8 @@ class BendingActuator(Slave):
         self.parameter("modulus_austenite", w.modulus_austenite, "Pa",
                        "Young's modulus of the wires' austenite (open, §bending-actuator)")
         self.parameter("series_resistance", w.series_resistance, "Ohm", "Driver and lead "
-                       "resistance in series with each wire (open, §bending-actuator)")
+                       "resistance in series with each wire (open; fitted to the study's one-wire "
+                       "tip-to-tip, §study-outcomes)")
         self.parameter("max_substep", w.max_substep, "s", "Longest mechanical sub-step")
         t = actuator.wire_thermal(w.length)
         self.parameter("diameter", t.diameter, "m", "Wire diameter (§bending-actuator: 50 um)")

@@ -41,7 +41,9 @@ class CapstanParams:
     ``segment_lengths``: one entry per segment [m]; 0 (or an empty tuple) = an equal share of
     what the other entries leave of ``length``. ``wraps``: one angle [rad] per contact (n - 1);
     empty = pi at each. ``composition_shift`` [K]: the diagnosis's effect "composition
-    difference": the hysteresis sees T - shift (0 = off).
+    difference": the hysteresis sees T - shift (0 = off). ``contact_conductance`` [W/K]: the
+    effect "capstan heat loss", the heat each contact's PTFE tube draws per kelvin of the wire's
+    excess temperature, shared equally by the two segments it joins (0 = off).
     """
 
     length: float = LENGTH
@@ -50,11 +52,12 @@ class CapstanParams:
     wraps: tuple = ()
     mu_f: float = MU_F
     composition_shift: float = 0.0
+    contact_conductance: float = 0.0
     wire: thermal.ThermalParams = field(default_factory=thermal.ThermalParams)
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
-        require(self, positive=("length",), non_negative=("mu_f",))
+        require(self, positive=("length",), non_negative=("mu_f", "contact_conductance"))
         if not (self.n_segments == int(self.n_segments) and 1 <= self.n_segments <= MAX_SEGMENTS):
             raise ValueError(f"n_segments must be an integer within 1..{MAX_SEGMENTS} "
                              f"(got {self.n_segments!r})")
@@ -119,6 +122,26 @@ def tension_ratios(p):
     return [math.exp(p.mu_f * math.fsum(wraps[i:])) if p.mu_f else 1.0 for i in range(n)]
 
 
+def segment_h(p, lengths):
+    """Convection coefficient [W/(m^2 K)] of each segment with its contacts' heat loss lumped
+    into it: h + G_i / (pi d L_i), G_i the half conductances of the contacts at its ends.
+
+    A contact draws ``contact_conductance`` (T - T_amb) from the wire where it lies on a tube;
+    the segments are lumped, so that heat is taken from the two segments the contact joins,
+    half each, as if spread along them (§capstan-multiplier).
+
+    >>> p = CapstanParams(contact_conductance=2e-3)
+    >>> [round(h, 1) for h in segment_h(p, segment_lengths(p))]
+    [135.1, 170.3, 135.1]
+    """
+    n, h, d = len(lengths), p.wire.h, p.wire.diameter
+    out = []
+    for i, L in enumerate(lengths):
+        contacts = (i > 0) + (i < n - 1)
+        out.append(h + 0.5 * contacts * p.contact_conductance / (math.pi * d * L))
+    return out
+
+
 def segment_voltages(u, resistances):
     """Voltage [V] across each of the series segments: u R_i / sum R (u itself for one)."""
     total = sum(resistances)
@@ -175,7 +198,8 @@ class Multiplier:
         self.shares = [L / params.length for L in self.lengths]
         self.ratios = tension_ratios(params)
         self.area = thermal.cross_section(params.wire)
-        self.segments = [Segment(_with_length(params.wire, L), surface) for L in self.lengths]
+        self.segments = [Segment(_with_length(params.wire, L, h), surface)
+                         for L, h in zip(self.lengths, segment_h(params, self.lengths))]
         self._warned = set()
         self.power = 0.0
 
@@ -250,8 +274,8 @@ class Multiplier:
         return sum(s.eps * w for s, w in zip(self.segments, self.shares))
 
 
-def _with_length(wire, length):
-    """`wire`'s ThermalParams with another length."""
+def _with_length(wire, length, h):
+    """`wire`'s ThermalParams with another length and convection coefficient."""
     fields = {name: getattr(wire, name) for name in wire.__dataclass_fields__}
-    fields["length"] = length
+    fields.update(length=length, h=h)
     return thermal.ThermalParams(**fields)

@@ -58,6 +58,9 @@ class CapstanMultiplier(Slave):
                        "grid, 60-200 MPa); k >= 1 = FORC data set k of sma/data/forc-sets.toml")
         self.parameter("composition_shift", 0.0, "K", "Composition difference (effect, 0 = off): "
                        "the wire's hysteresis sees T - shift, transforming shift hotter")
+        self.parameter("contact_conductance", 0.0, "W/K", "Capstan heat loss (effect, 0 = off): "
+                       "heat conductance of each wire-on-PTFE contact to the room, shared by the "
+                       "two segments it joins (§capstan-multiplier)")
         self.input("u", 0.0, "1", "Electrical input: voltage across the wire [V], or current "
                    "through it [A] when drive_current = 1")
         self.input("T_amb", 293.15, "K", "Ambient air temperature")
@@ -99,7 +102,8 @@ class CapstanMultiplier(Slave):
             length=self.length, n_segments=n,
             segment_lengths=tuple(getattr(self, f"segment_length[{i}]") for i in range(1, n + 1)),
             wraps=tuple(getattr(self, f"wrap[{j}]") for j in range(1, n)),
-            mu_f=self.mu_f, composition_shift=self.composition_shift, wire=wire)
+            mu_f=self.mu_f, composition_shift=self.composition_shift,
+            contact_conductance=self.contact_conductance, wire=wire)
         self.p.check()
         self.surface = datasets.surface(self.hysteresis, 0.0, datasets.shipped(self.resources))
         self._start()

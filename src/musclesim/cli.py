@@ -1,5 +1,5 @@
 """The `musclesim` command line: build, run, export, sweep, loops, identify, drift, dataset,
-diagnose, benchmark-diagnosis, bench, linear, characterise, table.
+diagnose, calibrate, benchmark-diagnosis, bench, linear, characterise, table.
 
 The top layer: it parses arguments, calls the public interfaces of the layers below (cosim, batch,
 analysis, hysteresis, diagnosis, benchmark) and prints; nothing imports it.
@@ -197,6 +197,29 @@ def _cmd_diagnose(args):
     return 0
 
 
+def _cmd_calibrate(args):
+    import json
+    from pathlib import Path
+
+    from musclesim.batch import dask_client, dask_map
+    from musclesim.cosim import check_fresh
+    from musclesim.diagnosis import calibrate, calibration_markdown, load_dataset
+
+    ds = load_dataset(args.dataset, check_model=True, fmu_dir=args.fmus)
+    check_fresh(args.fmus)
+    with dask_client(args.scheduler, args.workers) as client:
+        report = calibrate(ds, args.fmus, dask_map(client),
+                           lambda text: print(f"musclesim: {text}", file=sys.stderr))
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / "calibration.json").write_text(json.dumps(report, indent=1) + "\n")
+    text = calibration_markdown(report)
+    (out / "calibration.md").write_text(text)
+    print(text, end="")
+    print(f"wrote {out / 'calibration.json'}, {out / 'calibration.md'}")
+    return 0
+
+
 def _cmd_benchmark_diagnosis(args):
     from musclesim.batch import dask_client, dask_map
     from musclesim.cosim import check_fresh
@@ -340,6 +363,14 @@ def _parser():
     common(q)
     q.set_defaults(func=_cmd_diagnose)
 
+    q = sub.add_parser("calibrate", help="fit the open values a scalar-only data set names "
+                       "([[calibrate]]) to its training metrics; predict the held-out ones")
+    q.add_argument("dataset", help="data set folder (manifest.toml)")
+    q.add_argument("--out", required=True, help="folder for calibration.json and calibration.md")
+    dask_args(q)
+    common(q)
+    q.set_defaults(func=_cmd_calibrate)
+
     q = sub.add_parser("benchmark-diagnosis",
                        help="blind check of the diagnosis on virtual hardware with hidden effects")
     q.add_argument("--cases", type=_count, default=40,
@@ -446,7 +477,8 @@ def _duration(text):
 _OUTPUTS = {"build": [("fmus", "dir")], "run": [("out", "dir")],
             "export": [("ssp", "file"), ("fmu", "file")],
             "sweep": [("out", "dir")], "loops": [("plot", "file")], "identify": [("out", "file")],
-            "diagnose": [("out", "dir")], "benchmark-diagnosis": [("out", "dir")],
+            "diagnose": [("out", "dir")], "calibrate": [("out", "dir")],
+            "benchmark-diagnosis": [("out", "dir")],
             "table": [("out", "dir")], "characterise": [("out", "dir"), ("write", "file")],
             "linear": [("write", "file")]}
 

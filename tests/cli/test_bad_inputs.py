@@ -32,6 +32,7 @@ from conftest import SCENARIOS
 IDEAL = SCENARIOS / "crawler-ideal.toml"
 POSITION = SCENARIOS / "sma-position-control.toml"
 MEASURED = SCENARIOS / "data" / "sma-stress-ignored"
+STUDY = SCENARIOS / "data" / "study-fast-actuation"
 CRAWLER_FMUS = ("CrawlerBody", "FrictionBlock", "FrictionSwitchingInputs")  # what IDEAL uses
 PREVIOUS = {"summary.json": '{"run_id": "previous", "completed": true, "status": "completed"}\n',
             "results.csv": "time,previous.run\n0,0\n0.001,1e-06\n",
@@ -321,6 +322,15 @@ REFUSED = {
     "diagnose-out-is-a-file": lambda ws: (
         ["diagnose", MEASURED, "--out", ws.afile, "--fmus", ws.fmus_dir],
         [f"--out {ws.afile} is a file"]),
+    "calibrate-out-is-a-file": lambda ws: (
+        ["calibrate", STUDY, "--out", ws.afile, "--fmus", ws.fmus_dir],
+        [f"--out {ws.afile} is a file"]),
+    "calibrate-time-series": lambda ws: (
+        ["calibrate", MEASURED, "--out", ws.root / "cal", "--fmus", ws.fmus_dir],
+        [MEASURED, "musclesim calibrate takes scalar metrics only"]),
+    "calibrate-no-open-value": lambda ws: (
+        ["calibrate", SCENARIOS / "data" / "crawler-real", "--out", ws.root / "cal", "--fmus",
+         ws.fmus_dir], ["crawler-real names no open value", "[[calibrate]]"]),
     "loops-plot-under-a-file": lambda ws: (
         ["loops", "--stress", "1.25e8", "--band", "30:130", "--plot", ws.afile / "x.png"],
         [f"--plot {ws.afile / 'x.png'} cannot be written"]),

@@ -10,7 +10,6 @@ from musclesim.components.control import relay
 from musclesim.components.control.slaves import BangBang
 from musclesim.components.multiplier import capstan
 from musclesim.components.multiplier.slaves import CapstanMultiplier
-from musclesim.components.sma import datasets
 from musclesim.components.sma.slaves import SmaWire
 from musclesim.components.sma.thermal import ThermalParams, cross_section
 
@@ -127,6 +126,31 @@ def test_composition_shift_makes_the_wire_transform_hotter():
     assert shifted["strain"][half] < 0.5 * base["strain"].max()
 
 
+def test_contact_heat_loss_is_each_contact_conductance_shared_by_its_two_segments():
+    # by hand: the extra conductance (h_i - h) pi d L_i of all segments together is one
+    # contact_conductance per contact, half on each side; none without contacts or at 0
+    p = capstan.CapstanParams(segment_lengths=(0.05, 0.0, 0.1), contact_conductance=3e-3)
+    lengths = capstan.segment_lengths(p)
+    hs = capstan.segment_h(p, lengths)
+    extra = [(h - p.wire.h) * math.pi * p.wire.diameter * L for h, L in zip(hs, lengths)]
+    assert extra == pytest.approx([1.5e-3, 3e-3, 1.5e-3])
+    assert capstan.segment_h(capstan.CapstanParams(n_segments=1), [0.214]) == [p.wire.h]
+    assert capstan.segment_h(capstan.CapstanParams(), [0.1, 0.05, 0.064]) == [p.wire.h] * 3
+
+
+def test_contact_heat_loss_cools_the_wire_and_its_steady_excess_by_hand():
+    # two equal segments over one contact, a steady current that holds the wire austenitic
+    # (fixed resistance): the excess temperature settles at P / (h A_s + G)
+    G, u, f = 4e-3, np.full(6000, 0.4), np.full(6000, 1.47)
+    runs = {g: run(in_process(CapstanMultiplier, f"m{g}", drive_current=1.0, n_segments=2.0,
+                              contact_conductance=g), u, f, dt=2e-3) for g in (0.0, G)}
+    t = ThermalParams(length=0.214)
+    conductance = t.h * math.pi * t.diameter * t.length
+    for g, r in runs.items():
+        assert r["T"][-1] - 293.15 == pytest.approx(r["P"][-1] / (conductance + g), rel=2e-3)
+    assert runs[G]["T"][-1] < runs[0.0]["T"][-1] - 50
+
+
 @pytest.mark.parametrize("params, message", [
     ({"n_segments": 7.0}, "n_segments must be an integer within 1..6"),
     ({"n_segments": 2.5}, "n_segments must be an integer"),
@@ -135,6 +159,7 @@ def test_composition_shift_makes_the_wire_transform_hotter():
      "segment_lengths add up to 0.3 m, not the wire's length 0.214 m"),
     ({"segment_length[1]": 0.3}, "segment_lengths leave no length"),
     ({"wrap[1]": -1.0}, "wraps must be non-negative"),
+    ({"contact_conductance": -1e-3}, "contact_conductance must be non-negative"),
 ])
 def test_bad_parameters_are_named(params, message):
     slave = in_process(CapstanMultiplier, "mult")

@@ -295,3 +295,51 @@ def test_bench_conditions_are_stated_in_the_manifest(tmp_path, fmu_dir):
         check_model=True, fmu_dir=fmu_dir)
     assert "has no variable 'nothing'" in message
     assert "body.flange1.s is an output, not a parameter or an input" in message
+
+
+SCALAR = ('scenario = "crawler-ideal"\n'
+          '[experiments.a]\nconditions = { "body.k" = 210.0 }\n'
+          'metrics.mean_speed = { value = 0.02, unit = "m/s" }\n'
+          '[experiments.b]\nmetrics.mean_speed = { value = 0.03, unit = "m/s" }\n'
+          '[conditions]\n"body.c" = 1.2\n[split]\nheld_out = ["b"]\n')
+
+
+def test_open_values_and_an_experiments_own_conditions_load(tmp_path):
+    manifest = SCALAR + ('[[calibrate]]\nset = ["body.k"]\nbounds = [150.0, 250.0]\n'
+                         'why = "the actuator\'s stiffness"\n'
+                         '[[calibrate]]\nset = ["friction1.mu_k_low", "friction2.mu_k_low"]\n'
+                         'bounds = [0.05, 0.2]\n')
+    ds = dataset.load(write_set(tmp_path / "set", manifest, rows=False))
+    assert ds.calibrate == (
+        dataset.OpenValue(("body.k",), 150.0, 250.0, "the actuator's stiffness"),
+        dataset.OpenValue(("friction1.mu_k_low", "friction2.mu_k_low"), 0.05, 0.2))
+    # the set's conditions, then the experiment's own (which may override them)
+    assert ds.overrides("a") == ["body.c=1.2", "body.k=210.0"]
+    assert ds.overrides("b") == ds.overrides() == ["body.c=1.2"]
+
+
+def test_bad_open_values_are_reported(tmp_path):
+    manifest = SCALAR + ('[[calibrate]]\nset = ["k"]\nbounds = [1.0, 2.0]\n'
+                         '[[calibrate]]\nset = ["body.k"]\nbounds = [2.0, 1.0]\n'
+                         '[[calibrate]]\nset = ["body.c"]\nbounds = [1.0, 2.0]\nstep = 1\n'
+                         '[[calibrate]]\nset = ["body.c"]\nbounds = [1.0, 3.0]\n')
+    manifest = manifest.replace('conditions = { "body.k" = 210.0 }',
+                                'conditions = { "body.k" = "stiff" }')
+    message = problems_of(write_set(tmp_path / "set", manifest, rows=False))
+    assert "[[calibrate]] 1: set must list one or more \"instance.parameter\" names" in message
+    assert "[[calibrate]] 2: bounds [2.0, 1.0] is not [lower, upper] with lower < upper" in message
+    assert "[[calibrate]] 3: unknown key 'step'" in message
+    assert "[[calibrate]]: 'body.c' is in more than one set" in message
+    assert "experiment 'a': [conditions] 'body.k' must be a finite number" in message
+
+
+def test_the_studys_outcomes_load_against_their_scenarios(fmu_dir):
+    ds = dataset.load(SCENARIOS / "data" / "study-fast-actuation", check_model=True,
+                      fmu_dir=fmu_dir)
+    assert ds.scalar_only and ds.parts() == (("bang_bang", "wire_a", "wire_b"), ("pulse",))
+    assert {e.scenario for e in ds.experiments.values()} == {
+        "sma-multiplier-bang-bang", "sma-multiplier-pulse", "bending-one-wire",
+        "bending-one-wire-b"}
+    for e in ds.experiments.values():  # every outcome has its uncertainty, and its conditions
+        assert e.conditions and all(m.uncertainty == pytest.approx(0.1 * m.value)
+                                    for m in e.metrics.values())

@@ -36,7 +36,7 @@ def test_library_covers_the_issue_list():
             "viscous ground drag", "load inertia", "electromagnet force nonlinearity",
             "load-cell lag", "laser noise", "valve delay", "supply-pressure drop",
             "chamber leakage", "actuator bending on an incline", "friction decay",
-            "capstan friction", "composition difference"} <= set(IDS)
+            "capstan friction", "composition difference", "capstan heat loss"} <= set(IDS)
     assert effects.find("anchoring slip").per_instance
     with pytest.raises(KeyError, match="known: stress dependence ignored"):
         effects.find("gremlins")

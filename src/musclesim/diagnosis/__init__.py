@@ -3,7 +3,8 @@
 The data path is a measured data set (``load_dataset``: data.csv + manifest.toml, checked against
 its scenario; ``write_data_set`` writes one) -> ``diagnose`` (where the model misses, which
 unmodelled effect of ``EFFECTS`` explains it, how far the held-out gap shrinks) ->
-``write_report`` (report.json, report.md, plots).
+``write_report`` (report.json, report.md, plots). ``calibrate`` fits the open values a
+scalar-only set names to its training metrics and predicts the held-out ones (module openvalues).
 
 Modules: dataset (measured data sets), effects (the effect library and the per-component
 knowledge the diagnosis uses), thresholds (every threshold, documented), problem (the units
@@ -18,6 +19,8 @@ The stages' building blocks are public too, for the blind benchmark above this l
 ``HELD_OUT``), ``fit``, ``Free`` and ``values_of`` (bounded least squares of free parameters),
 ``calibration`` (the calibration parameters of a unit) and ``find_effect``.
 """
+from musclesim.diagnosis.openvalues import calibrate
+from musclesim.diagnosis.openvalues import markdown as calibration_markdown
 from musclesim.diagnosis.dataset import DataSet
 from musclesim.diagnosis.dataset import load as load_dataset
 from musclesim.diagnosis.dataset import write as write_data_set
@@ -33,7 +36,8 @@ from musclesim.diagnosis.simulate import simulate as simulate_unit
 from musclesim.diagnosis.stats import HELD_OUT, TRAIN, Part, gap
 from musclesim.diagnosis.weigh import CALIBRATION_ONLY
 
-__all__ = ["load_dataset", "DataSet", "write_data_set", "diagnose", "write_report", "EFFECTS",
+__all__ = ["load_dataset", "DataSet", "write_data_set", "diagnose", "write_report", "calibrate",
+           "calibration_markdown", "EFFECTS",
            "REGIMES", "Effect", "find_effect", "Problem", "simulate_unit", "with_values",
            "residuals", "Failed", "gap", "fit", "Free", "values_of", "calibration", "Part",
            "TRAIN", "HELD_OUT", "CALIBRATION_ONLY"]

@@ -46,8 +46,9 @@ from musclesim.errors import UserError
 MANIFEST = "manifest.toml"
 DATA = "data.csv"
 _TOP_KEYS = {"description", "reference", "scenario", "inputs", "outputs", "units", "conditions",
-             "experiments", "split"}
-_EXPERIMENT_KEYS = {"span", "scenario", "description", "metrics", "stop_time"}
+             "experiments", "split", "calibrate"}
+_EXPERIMENT_KEYS = {"span", "scenario", "description", "metrics", "stop_time", "conditions"}
+_CALIBRATE_KEYS = {"set", "bounds", "why"}
 _METRIC_KEYS = {"value", "unit", "uncertainty", "description"}
 _SPLIT_KEYS = {"held_out", "train", "held_out_fraction"}
 _PARTS = ("train", "held_out")
@@ -78,6 +79,18 @@ class Experiment:
     metrics: dict = field(default_factory=dict)  # name -> MeasuredMetric
     description: str = ""
     stop_time: float = None  # scalar-only: how long the model runs (None: the scenario's)
+    conditions: dict = field(default_factory=dict)  # this experiment's own bench conditions
+
+
+@dataclass(frozen=True)
+class OpenValue:
+    """A value the data set asks `musclesim calibrate` to fit: one value for every parameter
+    in `targets` ("instance.parameter"), within (`lower`, `upper`), and why it is open."""
+
+    targets: tuple
+    lower: float
+    upper: float
+    why: str = ""
 
 
 @dataclass(frozen=True)
@@ -114,6 +127,7 @@ class DataSet:
     reference: str = ""
     conditions: dict = field(default_factory=dict)  # "instance.variable" -> known constant value
     condition_units: dict = field(default_factory=dict)  # the model's unit of each condition
+    calibrate: tuple = ()  # the open values `musclesim calibrate` fits (`OpenValue` each)
 
     @property
     def scalar_only(self):
@@ -123,9 +137,11 @@ class DataSet:
     def __getitem__(self, column):
         return self.data[:, self.columns.index(column)]
 
-    def overrides(self):
-        """The bench conditions as scenario overrides (``"instance.variable=value"``)."""
-        return [f"{name}={value!r}" for name, value in self.conditions.items()]
+    def overrides(self, experiment=None):
+        """The bench conditions as scenario overrides (``"instance.variable=value"``), with
+        those of the experiment named `experiment` after the set's."""
+        own = self.experiments[experiment].conditions if experiment else {}
+        return [f"{name}={value!r}" for name, value in {**self.conditions, **own}.items()]
 
     def parts(self):
         """Names of the training and the held-out parts: two tuples of names for `experiment`."""
@@ -348,29 +364,31 @@ def _build(path, m, table, has_data, scenarios_dir, problems):
     experiments = _experiments(m.get("experiments"), reference, path, scenarios_dir, time,
                                has_data, problems)
     split = _split(m.get("split"), experiments, time, has_data, problems)
+    calibrate = _calibrate(m.get("calibrate", []), problems)
     if problems:
         return None
     return DataSet(path=path, scenario=reference, scenario_path=scenario_path, inputs=inputs,
                    outputs=outputs, units={c: units.get(c) for c in columns},
                    experiments=experiments, split=split, time=time, columns=columns, data=data,
                    description=str(m.get("description", "")), reference=str(m.get("reference", "")),
-                   conditions=conditions)
+                   conditions=conditions, calibrate=calibrate)
 
 
-def _conditions(raw, columns, problems):
-    """``{"instance.variable": value}`` of the manifest's [conditions] table."""
+def _conditions(raw, columns, problems, where=MANIFEST):
+    """``{"instance.variable": value}`` of the manifest's [conditions] table (or an
+    experiment's, `where`)."""
     if not isinstance(raw, dict):
-        problems.append(f"{MANIFEST}: [conditions] must map \"instance.variable\" to numbers")
+        problems.append(f"{where}: [conditions] must map \"instance.variable\" to numbers")
         return {}
     out = {}
     for name, value in raw.items():
         inst, _, var = name.partition(".")
         if not inst or not var:
-            problems.append(f"{MANIFEST}: [conditions] {name!r} is not of the form "
+            problems.append(f"{where}: [conditions] {name!r} is not of the form "
                             "\"instance.variable\"")
         elif isinstance(value, bool) or not isinstance(value, (int, float)) \
                 or not math.isfinite(value):
-            problems.append(f"{MANIFEST}: [conditions] {name!r} must be a finite number")
+            problems.append(f"{where}: [conditions] {name!r} must be a finite number")
         elif name in columns:
             problems.append(f"{MANIFEST}: [conditions] {name!r} is also a column of {DATA}: "
                             "state it once")
@@ -418,13 +436,45 @@ def _experiments(raw, reference, path, scenarios_dir, time, has_data, problems):
             stop = None
         out[name] = Experiment(name, span, ref, find_scenario(ref, path, scenarios_dir)
                                if ref else None, metrics, str(spec.get("description", "")),
-                               None if stop is None else float(stop))
+                               None if stop is None else float(stop),
+                               _conditions(spec.get("conditions", {}), (), problems, where))
     spans = sorted((e.span, e.name) for e in out.values() if e.span is not None)
     for (a, na), (b, nb) in zip(spans, spans[1:]):
         if b[0] < a[1]:
             problems.append(f"{MANIFEST}: experiments {na!r} {list(a)} and {nb!r} {list(b)} "
                             "overlap")
     return out
+
+
+def _calibrate(raw, problems):
+    """The manifest's ``[[calibrate]]`` tables as `OpenValue`s."""
+    where = f"{MANIFEST}, [[calibrate]]"
+    if not isinstance(raw, list) or not all(isinstance(t, dict) for t in raw):
+        problems.append(f"{where} must be tables, each with set = [\"instance.parameter\", ...] "
+                        "and bounds = [lower, upper]")
+        return ()
+    out = []
+    for k, spec in enumerate(raw, start=1):
+        at = f"{where} {k}"
+        for key in sorted(set(spec) - _CALIBRATE_KEYS):
+            problems.append(f"{at}: unknown key {key!r} "
+                            f"(known: {', '.join(sorted(_CALIBRATE_KEYS))})")
+        targets = spec.get("set")
+        if not (isinstance(targets, list) and targets and all(
+                isinstance(t, str) and all(t.partition(".")[::2]) for t in targets)):
+            problems.append(f"{at}: set must list one or more \"instance.parameter\" names")
+            continue
+        bounds = spec.get("bounds")
+        if not (isinstance(bounds, list) and len(bounds) == 2 and all(_number(b) for b in bounds)
+                and bounds[0] < bounds[1]):
+            problems.append(f"{at}: bounds {bounds!r} is not [lower, upper] with lower < upper")
+            continue
+        out.append(OpenValue(tuple(targets), float(bounds[0]), float(bounds[1]),
+                             str(spec.get("why", ""))))
+    taken = [t for v in out for t in v.targets]
+    for t in sorted({t for t in taken if taken.count(t) > 1}):
+        problems.append(f"{where}: {t!r} is in more than one set")
+    return tuple(out)
 
 
 def _span(spec, where, time, problems):
@@ -526,7 +576,7 @@ def _check_units(ds, fmu_dir, problems):
     declared = {}
     for e in ds.experiments.values():
         try:
-            s = load_scenario(e.scenario_path, ds.overrides(), e.stop_time) \
+            s = load_scenario(e.scenario_path, ds.overrides(e.name), e.stop_time) \
                 if e.scenario_path is not None else None
             for inst in (s.instances.values() if s else ()):
                 fmu = Path(fmu_dir) / f"{inst.component}.fmu"
@@ -575,7 +625,8 @@ def _check_model(ds, fmu_dir, problems):
                             "the manifest, or a name in the scenarios folder)")
             continue
         try:
-            s = load_scenario(spath, ds.overrides(), stop_time)
+            s = load_scenario(spath, ds.overrides(metric_names[(ref, stop_time)][0].name),
+                              stop_time)
             m = Master(s, fmu_dir)
         except UserError as exc:
             problems.append(f"{MANIFEST}: scenario {ref!r} cannot be checked: {exc}")

@@ -180,6 +180,11 @@ EFFECTS = (
            "§capstan-multiplier, §named-effects",
            "the multiplier's wire is not the composition the hysteresis was identified on: it "
            "transforms at temperatures shifted by a constant"),
+    Effect("capstan heat loss", "CapstanMultiplier",
+           (Parameter("contact_conductance", 0.0, 0.0, 0.01),), "cooling",
+           "§capstan-multiplier, §named-effects",
+           "the PTFE tubes draw heat from the wire lying in their grooves: the segments cool "
+           "faster, the ones between two tubes fastest"),
 )
 
 

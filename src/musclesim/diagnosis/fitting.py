@@ -33,11 +33,16 @@ class Free:
     upper: float
     start: float  # its nominal value
     period: float = 0.0  # > 0: periodic (a phase), scanned over a whole period
+    also: tuple = ()  # further (instance, parameter) pairs that take the same value
 
 
 def values_of(free, x):
     """``{(instance, parameter): value}`` of the `Free` parameters `free` at values `x`."""
-    return {(inst, f.name): v for f, v in zip(free, x) for inst in f.instances}
+    out = {}
+    for f, v in zip(free, x):
+        out.update({(inst, f.name): v for inst in f.instances})
+        out.update({pair: v for pair in f.also})
+    return out
 
 
 @dataclass(frozen=True)

@@ -129,7 +129,7 @@ class Problem:
             raise UserError(f"data set {ds.path}: scenario {sorted(missing)[0]!r} not found (a "
                             ".toml path relative to the manifest, or a name in the scenarios "
                             "folder)")
-        self.scenarios = {name: load_scenario(e.scenario_path, ds.overrides(), e.stop_time)
+        self.scenarios = {name: load_scenario(e.scenario_path, ds.overrides(name), e.stop_time)
                           for name, e in ds.experiments.items()}
         first = next(iter(self.scenarios.values()))
         self.vars = _variables(first, fmu_dir)

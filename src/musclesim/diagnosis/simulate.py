@@ -66,7 +66,8 @@ def simulate(unit, values, fmu_dir, part=None):
             if res.error:
                 raise Failed(res.error)
             metrics = compute_metrics(res, s.metrics)
-            out.append({m: np.array([metrics[m]]) for m in unit.observed})
+            # a metric of another experiment's scenario: no comparison here (NaN, as measured)
+            out.append({m: np.array([metrics.get(m, math.nan)]) for m in unit.observed})
         else:
             time, cols = _run(unit, (index, part), s, inputs, values, fmu_dir)
             sim = {c: np.interp(run.time, time, cols[c]) for c in unit.observed}

@@ -1,0 +1,173 @@
+"""`musclesim calibrate`: the open values a data set names fitted to its training part, and what
+the model then predicts for the part held out (§diagnosis).
+
+A bench that reports a few numbers (a study's published outcomes) cannot pin every nominal
+value the diagnosis calibrates, but it can pin the few its author knows to be open: the data
+set lists them as ``[[calibrate]]`` tables (`dataset.OpenValue`: one value for every parameter
+of its ``set``, within its ``bounds``). They are fitted together by the diagnosis's own
+bounded least squares (`fitting.fit`) on the training metrics, each residual weighed by its
+metric's stated uncertainty, and their 95 % intervals follow from those uncertainties through
+the Jacobian at the fit. The held-out experiments are never fitted: their metrics, simulated at
+the fitted values, are the model's predictions.
+"""
+import math
+from pathlib import Path
+
+import numpy as np
+
+from musclesim.batch import serial_map
+from musclesim.cosim import read_fmu, reuse_fmus
+from musclesim.diagnosis.fitting import FitJob, Free, fit_all, values_of
+from musclesim.diagnosis.problem import Problem
+from musclesim.diagnosis.simulate import Failed, simulate
+from musclesim.diagnosis.stats import TRAIN, part_segments
+from musclesim.errors import UserError
+
+
+def open_values(problem):
+    """The data set's ``[[calibrate]]`` tables as `Free` parameters: one per table, on the
+    instances of its first target's parameter name, the other names as ``also``; the start is
+    the first target's value in its scenario (or its FMU's default), held within the bounds.
+
+    Raises
+    ------
+    UserError
+        If a target names no instance or parameter of the data set's scenarios.
+    """
+    out = []
+    for ov in problem.ds.calibrate:
+        pairs = [tuple(t.split(".", 1)) for t in ov.targets]
+        for inst, name in pairs:
+            if not any(inst in s.instances for s in problem.scenarios.values()):
+                raise UserError(f"data set {problem.ds.path}: [[calibrate]] names {inst}.{name}, "
+                                "but no scenario of the data set has an instance "
+                                f"{inst!r}")
+        starts = [_nominal(problem, *p) for p in pairs]  # each target must exist
+        name = pairs[0][1]
+        start = min(max(starts[0], ov.lower), ov.upper)
+        out.append(Free(tuple(i for i, n in pairs if n == name), name, ov.lower, ov.upper,
+                        start, also=tuple(p for p in pairs if p[1] != name)))
+    return out
+
+
+def _nominal(problem, inst, name):
+    for s in problem.scenarios.values():
+        if inst in s.instances:
+            if name in s.instances[inst].parameters:
+                return float(s.instances[inst].parameters[name])
+            component = s.instances[inst].component
+            break
+    md = read_fmu(Path(problem.fmu_dir) / f"{component}.fmu")
+    for v in md.modelVariables:
+        if v.name == name and v.start is not None:
+            return float(v.start)
+    raise UserError(f"data set {problem.ds.path}: [[calibrate]] names {inst}.{name}, but "
+                    f"{component} has no parameter {name!r}")
+
+
+def intervals(fit, free, unit):
+    """95 % intervals of the fitted values from the training metrics' stated uncertainties
+    (`unit.noise`, normalised like the residuals) through the fit's Jacobian (box
+    coordinates): covariance (J^T W J)^-1 with W the inverse variances; a value the metrics do
+    not pin (a singular matrix) spans its bounds."""
+    segments = part_segments(unit, fit.residuals, TRAIN)
+    sigma = np.concatenate([np.full(sum(len(a) for a in segments[c]), unit.noise[c])
+                            for c in unit.observed])
+    lo = np.array([f.lower for f in free])
+    span = np.array([f.upper - f.lower for f in free])
+    J = np.asarray(fit.jac) / sigma[:, None]
+    try:
+        half = 1.96 * np.sqrt(np.clip(np.diag(np.linalg.inv(J.T @ J)), 0, None))
+    except np.linalg.LinAlgError:
+        half = np.full(len(free), np.inf)
+    z = np.asarray(fit.z)
+    return [(float(a + w * max(c - h, 0.0)), float(a + w * min(c + h, 1.0)))
+            for a, w, c, h in zip(lo, span, z, half)]
+
+
+def metric_table(problem, unit, runs):
+    """Per experiment and metric: the measured value, its uncertainty, the part, and each
+    model's value with its relative error. `runs`: {label: simulated runs, or None}."""
+    table = []
+    held = set(problem.part_names[1])
+    for run, (ename, e) in zip(unit.runs, problem.ds.experiments.items()):
+        for m, mm in e.metrics.items():
+            row = {"experiment": ename, "metric": m, "part": "held_out" if ename in held
+                   else "train", "measured": mm.value, "uncertainty": mm.uncertainty,
+                   "unit": mm.unit}
+            for label, sims in runs.items():
+                index = list(problem.ds.experiments).index(ename)
+                v = None if sims is None else float(sims[index][m][0])
+                row[label] = v
+                row[f"{label}_error"] = None if v is None or not math.isfinite(v) \
+                    or mm.value == 0 else (v - mm.value) / abs(mm.value)
+            table.append(row)
+    return table
+
+
+def calibrate(ds, fmu_dir="fmus", pmap=None, progress=None):
+    """Fit the open values of scalar-only data set `ds` on its training part; return the
+    report: the values with their intervals and, per metric, the nominal and the fitted
+    model against the measurement (the held-out ones predictions).
+
+    Raises
+    ------
+    UserError
+        If the set has time series or names no open value.
+    """
+    if not ds.scalar_only:
+        raise UserError(f"data set {ds.path}: musclesim calibrate takes scalar metrics only; "
+                        "use musclesim diagnose for time series")
+    say = progress or (lambda text: None)
+    with reuse_fmus():
+        problem = Problem(ds, fmu_dir)
+        unit = problem.unit("model")
+        free = open_values(problem)
+        if not free:
+            raise UserError(f"data set {ds.path} names no open value: add [[calibrate]] tables")
+        say(f"nominal model: {len(unit.runs)} experiment(s)")
+        nominal = _runs(unit, {}, fmu_dir)
+        say(f"fitting {len(free)} open value(s) on {', '.join(problem.part_names[0])}")
+        fit, = fit_all([FitJob(unit, free, fmu_dir)], pmap or serial_map)
+        fitted = _runs(unit, values_of(free, fit.x), fmu_dir)
+    spans = intervals(fit, free, unit) if fit.jac is not None and fit.residuals is not None \
+        else [(f.lower, f.upper) for f in free]
+    values = [{"set": [f"{i}.{f.name}" for i in f.instances] + [f"{i}.{n}" for i, n in f.also],
+               "value": x, "interval95": list(iv), "bounds": [f.lower, f.upper],
+               "nominal": f.start, "why": ov.why}
+              for f, x, iv, ov in zip(free, fit.x, spans, ds.calibrate)]
+    return {"data_set": str(ds.path), "reference": ds.reference,
+            "parts": {"train": list(problem.part_names[0]),
+                      "held_out": list(problem.part_names[1])},
+            "open_values": values, "evaluations": fit.evaluations,
+            "metrics": metric_table(problem, unit, {"nominal": nominal, "fitted": fitted})}
+
+
+def _runs(unit, values, fmu_dir):
+    try:
+        return simulate(unit, values, fmu_dir)
+    except Failed:
+        return None
+
+
+def markdown(report):
+    """The calibration report as a readable page."""
+    lines = [f"# Calibration of {report['data_set']}", "",
+             f"Trained on {', '.join(report['parts']['train'])}; held out (predicted): "
+             f"{', '.join(report['parts']['held_out']) or 'none'}.", "",
+             "| open value | fitted | 95 % interval | bounds | start |", "|---|---|---|---|---|"]
+    for v in report["open_values"]:
+        lines.append(f"| {', '.join(v['set'])} | {v['value']:.4g} | "
+                     f"[{v['interval95'][0]:.4g}, {v['interval95'][1]:.4g}] | "
+                     f"[{v['bounds'][0]:.4g}, {v['bounds'][1]:.4g}] | {v['nominal']:.4g} |")
+    lines += ["", "| experiment | metric | part | measured | nominal model | fitted model |",
+              "|---|---|---|---|---|---|"]
+    for r in report["metrics"]:
+        cells = []
+        for label in ("nominal", "fitted"):
+            v, e = r[label], r[f"{label}_error"]
+            cells.append("failed" if v is None else f"{v:.4g} ({100 * e:+.0f} %)"
+                         if e is not None else f"{v:.4g}")
+        lines.append(f"| {r['experiment']} | {r['metric']} | {r['part']} | {r['measured']:.4g} "
+                     f"{r['unit']} | {cells[0]} | {cells[1]} |")
+    return "\n".join(lines) + "\n"
