@@ -22,9 +22,10 @@ REVERSED = {"mu_s_forward": 0.8, "mu_k_forward": 0.6, "mu_s_backward": 0.2,
 def walk(feet=None, gait=None, stop_time=1.5):
     """Distance [m] the body covers over the last of the gait's 0.25 s periods (means over the
     last two periods: legs pushing together move it back and forth within a period) with four
-    default legs, and its range over the run. Legs and body exchange values at the start of each
-    step (Jacobi, as in scenarios/quadruped-walk.toml)."""
-    layout = actuator.WireLayout()
+    legs as scenarios/quadruped-walk.toml has them (the default actuator with 20 Ohm in series,
+    not the 16.5 Ohm fitted to the lone actuator: see that file), and its range over the run.
+    Legs and body exchange values at the start of each step (Jacobi, as in the scenario)."""
+    layout = actuator.WireLayout(series_resistance=20.0)
     wire = actuator.wire_thermal(layout.length)
     surface = actuator.hysteresis_surface(load_params(),
                                           layout.pretension / (math.pi * 25e-6 ** 2))
