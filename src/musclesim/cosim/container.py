@@ -29,6 +29,7 @@ from xml.etree import ElementTree as ET
 from musclesim.cosim.master import Master
 from musclesim.cosim.outputs import replace_zip
 from musclesim.cosim.scenario import split_signal
+from musclesim.cosim.ssp import base_units
 from musclesim.errors import UserError
 
 CONTAINER_VERSION = "0.1.0"  # the container.json format of FMPy's container runtime
@@ -44,15 +45,19 @@ def _runtime():
 
 
 def _variables(scenario, master):
-    """[(name, causality, instance, its variable)] of the container, in value-reference order
-    (from 1)."""
+    """[(name, causality, instance, its variable, start value as text or None)] of the
+    container, in value-reference order (from 1): a parameter or input starts at the value the
+    scenario sets, else at the FMU's start value; an output has none."""
     targets = {dst for _, dst in scenario.connections}
     out, named = [], set()
 
     def add(name, causality, inst, var):
         if name not in named:
             named.add(name)
-            out.append((name, causality, inst, var))
+            value = None if causality == "output" else \
+                scenario.instances[inst].parameters.get(var.name, var.start)
+            out.append((name, causality, inst, var,
+                        None if value is None else repr(float(value))))
 
     for name, spec in scenario.instances.items():
         for par in spec.parameters:
@@ -69,11 +74,6 @@ def _variables(scenario, master):
     return out
 
 
-def _start(scenario, name, var):
-    value = scenario.instances[name].parameters.get(var.name, var.start)
-    return None if value is None else repr(float(value))
-
-
 def model_description(scenario, master, variables):
     """The container's ``fmiModelDescription`` element (FMI 2.0 co-simulation)."""
     root = ET.Element("fmiModelDescription", fmiVersion="2.0", modelName=scenario.name,
@@ -82,20 +82,16 @@ def model_description(scenario, master, variables):
                       variableNamingConvention="flat", numberOfEventIndicators="0")
     ET.SubElement(root, "CoSimulation", modelIdentifier="container_fmu",
                   canHandleVariableCommunicationStepSize="true")
-    units = {}
-    for inst in master.instances.values():
-        for unit in inst.md.unitDefinitions:
-            units.setdefault(unit.name, unit)
-    used = sorted({v.unit for *_, v in variables if v.unit in units})
+    units = base_units(master)
+    shown = {u.name: u.displayUnits for i in master.instances.values()
+             for u in i.md.unitDefinitions}
+    used = sorted({v.unit for _, _, _, v, _ in variables if v.unit in units})
     if used:
         defs = ET.SubElement(root, "UnitDefinitions")
         for name in used:
             unit = ET.SubElement(defs, "Unit", name=name)
-            base = units[name].baseUnit
-            ET.SubElement(unit, "BaseUnit", {k: str(getattr(base, k)) for k in
-                                             ("kg", "m", "s", "A", "K", "mol", "cd", "rad")
-                                             if getattr(base, k)})
-            for d in units[name].displayUnits:
+            ET.SubElement(unit, "BaseUnit", units[name])
+            for d in shown[name]:
                 ET.SubElement(unit, "DisplayUnit", name=d.name, factor=repr(float(d.factor)),
                               offset=repr(float(d.offset)))
     ET.SubElement(root, "DefaultExperiment", startTime=repr(scenario.start_time),
@@ -105,16 +101,14 @@ def model_description(scenario, master, variables):
                          causality="independent", variability="continuous",
                          description="Simulation time")
     ET.SubElement(time, "Real")
-    for vr, (name, causality, inst, v) in enumerate(variables, start=1):
+    for vr, (name, causality, _, v, start) in enumerate(variables, start=1):
         attrs = {"name": name, "valueReference": str(vr), "causality": causality,
                  "description": v.description or name}
-        real = {}
+        real = {"start": start}
         if causality == "parameter":
             attrs.update(variability="fixed", initial="exact")
-            real["start"] = _start(scenario, inst, v)
         elif causality == "input":
             attrs["variability"] = "continuous"
-            real["start"] = _start(scenario, inst, v)
         else:
             attrs.update(variability="continuous", initial="calculated")
         if v.unit in units:
@@ -124,12 +118,12 @@ def model_description(scenario, master, variables):
         ET.SubElement(ET.SubElement(mv, "ScalarVariable", attrs), "Real",
                       {k: x for k, x in real.items() if x is not None})
     structure = ET.SubElement(root, "ModelStructure")
-    outputs = [str(vr) for vr, (_, c, *_) in enumerate(variables, start=1) if c == "output"]
     # a variable's index is its position in ModelVariables, counted from 1 (time is the first)
+    outputs = [vr + 1 for vr, (_, c, *_) in enumerate(variables, start=1) if c == "output"]
     for section in ("Outputs", "InitialUnknowns"):
         node = ET.SubElement(structure, section)
-        for vr in outputs:
-            ET.SubElement(node, "Unknown", index=str(int(vr) + 1))
+        for index in outputs:
+            ET.SubElement(node, "Unknown", index=str(index))
     return root
 
 
@@ -159,12 +153,10 @@ def configuration(scenario, master, variables, guid):
                         "path": master.instances[n].component} for n in names],
         "variables": [], "connections": connections,
     }
-    for name, causality, inst, v in variables:
+    for _, _, inst, v, start in variables:
         variable = {"variableType": "Float64", "mappings": [[index[inst], v.valueReference]]}
-        if causality != "output":
-            start = _start(scenario, inst, v)
-            if start is not None:
-                variable["start"] = [start]
+        if start is not None:
+            variable["start"] = [start]
         data["variables"].append(variable)
     return data
 

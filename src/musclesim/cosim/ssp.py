@@ -46,8 +46,9 @@ def _used_variables(scenario):
     return used
 
 
-def _units(master):
-    """The components' unit definitions as SSC ``BaseUnit`` attributes, ``{name: {attr: text}}``."""
+def base_units(master):
+    """The components' unit definitions as ``BaseUnit`` attributes (SSC's and FMI 2.0's are the
+    same), ``{name: {attr: text}}``; a unit two FMUs define differently is refused."""
     units = {}
     for inst in master.instances.values():
         for unit in inst.md.unitDefinitions:
@@ -86,7 +87,7 @@ def system_structure(scenario, master):
     -------
     xml.etree.ElementTree.Element
     """
-    units = _units(master)
+    units = base_units(master)
     used = _used_variables(scenario)
     root = ET.Element(_tag("ssd:SystemStructureDescription"), version="1.0", name=scenario.name)
     system = _sub(root, "ssd:System", name=scenario.name)
