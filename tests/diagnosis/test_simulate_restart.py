@@ -62,7 +62,7 @@ def test_no_restart_where_the_master_is_gauss_seidel_or_nothing_is_upstream(fmu_
     s, _ = run.stepped(run.scenario)  # the constant load replayed already (`Run.stepped`)
     assert set(s.instances) == {"wire", "thermocouple"}
     values = {("wire", "h"): 110.0, ("thermocouple", "tau"): 0.2}
-    kept, cut = sim._downstream(s, values)
+    _, kept, cut = sim._downstream(s, values)
     assert kept == {"thermocouple"} and [k.dst for k in cut] == ["thermocouple.T"]
     assert sim._downstream(replace(s, algorithm="gauss-seidel"), values) is None
     assert sim._downstream(s, {("wire", "h"): 110.0}) is None  # the wire feeds the sensor

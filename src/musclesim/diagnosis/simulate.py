@@ -62,9 +62,7 @@ def simulate(unit, values, fmu_dir, part=None):
                 s = replace(s, stop_time=s.start_time + n * s.step)
                 inputs = {k: v[:s.n_steps + 1] for k, v in inputs.items()}
         if run.time is None:  # scalar-only: the scenario's metrics
-            res = Master(s, fmu_dir, inputs).run()
-            if res.error:
-                raise Failed(res.error)
+            res = _ran(s, fmu_dir, inputs)
             metrics = compute_metrics(res, s.metrics)
             # a metric of another experiment's scenario: no comparison here (NaN, as measured)
             out.append({m: np.array([metrics.get(m, math.nan)]) for m in unit.observed})
@@ -78,11 +76,19 @@ def simulate(unit, values, fmu_dir, part=None):
     return out
 
 
+def _ran(s, fmu_dir, inputs):
+    """The master's `Results` of scenario `s` with replayed `inputs`; raises `Failed`."""
+    res = Master(s, fmu_dir, inputs).run()
+    if res.error:
+        raise Failed(res.error)
+    return res
+
+
 def _downstream(s, values):
-    """(instances, links into them) of scenario `s` that a run with `values` may simulate alone:
-    those downstream of the fitted instances that feed no other fitted instance, and the links
-    from the others; None where there is nothing upstream, or under Gauss-Seidel (a reader
-    stepped after its source takes the source's output after its step)."""
+    """(graph, instances, links into them) of scenario `s` that a run with `values` may
+    simulate alone: those downstream of the fitted instances that feed no other fitted instance,
+    and the links from the others; None where there is nothing upstream, or under Gauss-Seidel
+    (a reader stepped after its source takes the source's output after its step)."""
     if s.algorithm != "jacobi":
         return None
     graph = Graph(s)
@@ -90,7 +96,7 @@ def _downstream(s, values):
     kept = graph.downstream({x for x in fitted if graph.downstream({x}) & fitted == {x}})
     if not kept or kept == set(s.instances):
         return None
-    return kept, [k for k in graph.links if k.target in kept and k.source not in kept]
+    return graph, kept, [k for k in graph.links if k.target in kept and k.source not in kept]
 
 
 def _run(unit, which, s, inputs, values, fmu_dir):
@@ -100,30 +106,24 @@ def _run(unit, which, s, inputs, values, fmu_dir):
     and its part. Raises `Failed`."""
     split = _downstream(s, values)
     if split is None:
-        res = Master(s, fmu_dir, inputs).run()
-        if res.error:
-            raise Failed(res.error)
+        res = _ran(s, fmu_dir, inputs)
         return res.time, {c: res[c] for c in s.record}
-    kept, cut = split
+    graph, kept, cut = split
     key = (which, frozenset(kept),
            tuple(sorted((k, v) for k, v in values.items() if k[0] not in kept)))
     if key not in unit.restarts:
         # the cut links' sources are read at every exchange anyway: recording them changes nothing
         record = tuple(dict.fromkeys((*s.record, *(k.src for k in cut))))
-        res = Master(replace(s, record=record), fmu_dir, inputs).run()
-        if res.error:
-            raise Failed(res.error)
+        res = _ran(replace(s, record=record), fmu_dir, inputs)
         unit.restarts[key] = ({k.dst: res[k.src] for k in cut},
                               {c: res[c] for c in s.record if split_signal(c)[0] not in kept})
         while len(unit.restarts) > RESTARTS:
             del unit.restarts[next(iter(unit.restarts))]
         return res.time, {c: res[c] for c in s.record}
     fed, upstream = unit.restarts[key]
-    alone = Graph(s).restrict(kept, fed, [c for c in s.record if split_signal(c)[0] in kept])
-    res = Master(alone, fmu_dir, {**{k: v for k, v in inputs.items()
-                                     if split_signal(k)[0] in kept}, **fed}).run()
-    if res.error:
-        raise Failed(res.error)
+    alone = graph.restrict(kept, fed, [c for c in s.record if split_signal(c)[0] in kept])
+    res = _ran(alone, fmu_dir, {**{k: v for k, v in inputs.items()
+                                   if split_signal(k)[0] in kept}, **fed})
     return res.time, {**upstream, **{c: res[c] for c in alone.record}}
 
 
