@@ -9,10 +9,11 @@ timed as a whole in this process -> real-time factors (simulated time / wall tim
 faster than real time) and their ratio. Then the same on the direct host with the reference chain
 (the two profiles and the Preisach inverse) stepping every `--every` points (multi-rate,
 docs/user/scenarios.md): its real-time factor and how far the wire's strain moves from the
-single-rate run (a choice a user makes, not the study's scenario). Then a profiled run of the direct host: the time spent
-in each component's `advance` and `evaluate`, and in the master's loop around them (the
-profiler's overhead inflates all of them; the split is what it is for). Goal: at least 10x faster
-than real time. Run it on a quiet machine; nothing here is part of the test suite.
+single-rate run (a choice a user makes, not the study's scenario). Then a profiled run of the
+direct host: the time spent in each component's `advance` and `evaluate`, and in the master's
+loop around them (the profiler's overhead inflates all of them; the split is what it is for).
+Goal: at least 10x faster than real time. Run it on a quiet machine; nothing here is part of the
+test suite.
 """
 import argparse
 import cProfile

@@ -9,10 +9,10 @@ calls in the same order, hence the same results to the bit, without the round tr
 
 An archive qualifies only where the code it ships is the code this process has imported: the
 folder's ``BUILD.json`` (written by `musclesim.cosim.build_all`) lists the file with its digest,
-and the sources it was built from are the installed ones (`build.built_here`). Its script imports the
-slave from ``musclesim.components``, which here resolves to the installed package, equal by that
-digest to the copy the archive ships. Every other FMU (another tool's, a package's, a stale one of
-ours) is hosted by fmpy as before.
+and the sources it was built from are the installed ones (`build.built_here`). Its script imports
+the slave from ``musclesim.components``, which here resolves to the installed package, equal by
+that digest to the copy the archive ships. Every other FMU (another tool's, a package's, a stale
+one of ours) is hosted by fmpy as before.
 
 `DirectSlave` mirrors what the master uses of fmpy's ``FMU2Slave``: an exception a slave raises is
 logged as pythonfmu's C layer logs it (an fmi2Error message holding the exception's repr) and

@@ -240,13 +240,9 @@ class Slave(Fmi2Slave):
             self._dirty = False
 
     def exit_initialization_mode(self):
-        if not self._configured:
-            self.setup()
-            self._configured = True
-        self.initialize()
+        self._dirty = True  # the initial state from the inputs as they are now, then its outputs
+        self._refresh()
         self._initialized = True
-        self.evaluate()
-        self._dirty = False
 
     def do_step(self, current_time, step_size):
         self._refresh()  # advance may read what evaluate sets (a friction block's contact)
