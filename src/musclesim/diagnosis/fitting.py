@@ -413,13 +413,18 @@ def _interval(r, J, z, lo, span):
     m, n = J.shape
     rho = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if m > 2 and np.std(r) > 0 else 0.0
     inflate = (1 + max(rho, 0)) / max(1 - max(rho, 0), 1e-3)
-    s2 = float(r @ r) / max(m - n, 1) * inflate
+    return box_intervals(J, z, lo, span, float(r @ r) / max(m - n, 1) * inflate)
+
+
+def box_intervals(J, z, lo, span, variance=1.0):
+    """95 % intervals of values at box coordinates `z` (a value is ``lo + span * z``) from the
+    Jacobian `J` of residuals of `variance` there (1: residuals already weighed by their standard
+    deviations): covariance ``variance (J^T J)^-1``, clipped to the box; a value the residuals do
+    not pin (a singular matrix) spans its bounds."""
     try:
-        cov = s2 * np.linalg.inv(J.T @ J)
+        cov = variance * np.linalg.inv(J.T @ J)
         half = 1.96 * np.sqrt(np.clip(np.diag(cov), 0, None))
     except np.linalg.LinAlgError:
-        half = np.full(n, np.inf)
-    out = []
-    for c, h, l, w in zip(z, half, lo, span):
-        out.append((float(l + w * max(c - h, 0)), float(l + w * min(c + h, 1))))
-    return out
+        half = np.full(J.shape[1], np.inf)
+    return [(float(l + w * max(c - h, 0)), float(l + w * min(c + h, 1)))
+            for c, h, l, w in zip(z, half, lo, span)]

@@ -17,7 +17,7 @@ import numpy as np
 
 from musclesim.batch import serial_map
 from musclesim.cosim import read_fmu, reuse_fmus
-from musclesim.diagnosis.fitting import FitJob, Free, fit_all, values_of
+from musclesim.diagnosis.fitting import FitJob, Free, box_intervals, fit_all, values_of
 from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.simulate import Failed, simulate
 from musclesim.diagnosis.stats import TRAIN, part_segments
@@ -68,21 +68,13 @@ def _nominal(problem, inst, name):
 def intervals(fit, free, unit):
     """95 % intervals of the fitted values from the training metrics' stated uncertainties
     (`unit.noise`, normalised like the residuals) through the fit's Jacobian (box
-    coordinates): covariance (J^T W J)^-1 with W the inverse variances; a value the metrics do
-    not pin (a singular matrix) spans its bounds."""
+    coordinates, `fitting.box_intervals`): covariance (J^T W J)^-1 with W the inverse
+    variances."""
     segments = part_segments(unit, fit.residuals, TRAIN)
     sigma = np.concatenate([np.full(sum(len(a) for a in segments[c]), unit.noise[c])
                             for c in unit.observed])
-    lo = np.array([f.lower for f in free])
-    span = np.array([f.upper - f.lower for f in free])
-    J = np.asarray(fit.jac) / sigma[:, None]
-    try:
-        half = 1.96 * np.sqrt(np.clip(np.diag(np.linalg.inv(J.T @ J)), 0, None))
-    except np.linalg.LinAlgError:
-        half = np.full(len(free), np.inf)
-    z = np.asarray(fit.z)
-    return [(float(a + w * max(c - h, 0.0)), float(a + w * min(c + h, 1.0)))
-            for a, w, c, h in zip(lo, span, z, half)]
+    return box_intervals(np.asarray(fit.jac) / sigma[:, None], np.asarray(fit.z),
+                         [f.lower for f in free], [f.upper - f.lower for f in free])
 
 
 def metric_table(problem, unit, runs):
