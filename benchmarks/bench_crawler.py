@@ -1,12 +1,13 @@
-"""Benchmark: the 60 s crawler-ideal scenario run five ways in one process, timed.
+"""Benchmark: the 60 s crawler-ideal scenario run seven ways in one process, timed.
 
     .venv/bin/python benchmarks/bench_crawler.py [--fmus fmus] [--stop-time 60] [--json out.json]
 
 (i) our master on its direct host (`musclesim.cosim.Master`, the default), (ii) our master with
 fmpy as the host (``host="fmpy"``), (iii) libcosim (libcosimpy) on the exported SSP archive,
-(iv) a hand-written fmpy loop over the same FMUs doing what our Jacobi master does, (v) the
-monolithic numpy model. Each time covers loading the FMUs, initializing and stepping; exporting
-the archive and building FMUs are not timed. Goals: ours within 3x the monolithic model's time,
+(iv) ecos (ecospy) and (v) FMPy's SSP simulator on the same archive, (vi) a hand-written fmpy
+loop over the same FMUs doing what our Jacobi master does, (vii) the monolithic numpy model. Each
+time covers loading the FMUs, initializing and stepping; exporting the archive and building FMUs
+are not timed. Goals: ours within 3x the monolithic model's time,
 ours on fmpy at most 1.5x the time of the hand loop, >= 4x faster than libcosim. Run on a quiet
 machine: libcosim's worker threads and pythonfmu's FMUs share one GIL, so other load skews it most.
 """
@@ -64,6 +65,35 @@ def run_libcosim(s, ssp_path):
     # step n only: libcosimpy 0.0.6 drops a sample from reads that include step 0
     return {sig: observer.time_series_real_samples(i, r, s.n_steps, 1)[2][0]
             for sig, (i, r) in ids.items()}
+
+
+def run_ecos(s, ssp_path):
+    """ecos's fixed-step master on the archive (ecospy; the scenario's parameter set named),
+    the scenario's signals after the last step."""
+    # libecosc.so needs libtbb.so.12, which the pip package tbb puts in sys.prefix/lib
+    ctypes.CDLL(str(Path(sys.prefix) / "lib" / "libtbb.so.12"), mode=ctypes.RTLD_GLOBAL)
+    from ecospy import EcosSimulation
+
+    with EcosSimulation(ssp_path=str(ssp_path), step_size=s.step) as sim:
+        sim.init(parameter_set=s.name)
+        sim.step(s.n_steps)
+        return {sig: sim.get_real("::".join(split_signal(sig))) for sig in s.record}
+
+
+def run_fmpy_ssp(s, ssp_path):
+    """FMPy's SSP simulator on the archive, given the parameters the archive binds (it applies
+    only the set it is passed); the scenario's signals after the last step."""
+    from fmpy.ssp.simulation import simulate_ssp
+    from fmpy.ssp.ssd import Parameter, ParameterSet, find_components, read_ssd
+
+    bound = ParameterSet(name="bound")
+    for component in find_components(read_ssd(str(ssp_path)).system):
+        bound.parameters += [Parameter(name=f"{component.name}.{p.name}", type=p.type,
+                                       value=p.value) for b in component.parameterBindings
+                             for pset in b.parameterValues for p in pset.parameters]
+    rows = simulate_ssp(str(ssp_path), stop_time=s.stop_time, step_size=s.step,
+                        parameter_set=bound)
+    return {sig: rows[sig][-1] for sig in s.record}
 
 
 class _Fmu:
@@ -215,6 +245,8 @@ def measure(s, fmu_dir, ssp_path, repeat):
                            ("ours_fmpy", run_ours, (s, fmu_dir, "fmpy")),
                            ("hand_loop", run_hand_loop, (s, fmu_dir)),
                            ("libcosim", run_libcosim, (s, ssp_path)),
+                           ("ecos", run_ecos, (s, ssp_path)),
+                           ("fmpy_ssp", run_fmpy_ssp, (s, ssp_path)),
                            ("monolithic", run_monolithic, (s,))):
         times[name], results[name], meter = timed(fn, *args, repeat=repeat)
         discretise[name] = {"calls": meter.calls, "seconds": meter.seconds}
@@ -238,6 +270,8 @@ def report(times, results, discretise):
               "ours_fmpy_over_hand_loop": times["ours_fmpy"] / times["hand_loop"],
               "ours_over_hand_loop": times["ours"] / times["hand_loop"],
               "ours_over_monolithic": times["ours"] / times["monolithic"],
+              "ecos_over_ours": times["ecos"] / times["ours"],
+              "fmpy_ssp_over_ours": times["fmpy_ssp"] / times["ours"],
               # libcosim hands the FMUs t_k+1 - t_k from its integer-nanosecond clock, which
               # varies in the last bits, and CrawlerBody re-discretises on every change
               "libcosim_less_discretisation_over_ours":
@@ -258,9 +292,12 @@ def report(times, results, discretise):
           f"(goal >= {GOAL_VS_LIBCOSIM}x: {said('libcosim_over_ours')})")
     print(f"ours vs libcosim less its {discretise['libcosim']['calls']} re-discretisations: "
           f"{ratios['libcosim_less_discretisation_over_ours']:.2f}x faster")
-    # libcosim delays direct feedthrough by a step (tests/cosim/test_ssp.py), so it ends elsewhere
-    print(f"final x_cm: ours {ours['body.x_cm'][-1]:.6f} m, "
-          f"libcosim {results['libcosim']['body.x_cm']:.6f} m")
+    # the Jacobi masters delay direct feedthrough by a step (tests/cosim/test_ssp.py), FMPy's
+    # starts every input at 0: they end elsewhere
+    print(f"final x_cm: ours {ours['body.x_cm'][-1]:.6f} m, " + ", ".join(
+        f"{name} {results[name]['body.x_cm']:.6f} m" for name in ("libcosim", "ecos", "fmpy_ssp")))
+    for name in ("ecos", "fmpy_ssp"):
+        print(f"ours vs {name}: {ratios[name + '_over_ours']:.2f}x faster")
     return ratios, goals
 
 
@@ -286,7 +323,9 @@ def main(argv=None):
         Path(args.json).write_text(json.dumps({
             "scenario": s.name, "stop_time": s.stop_time, "step": s.step, "n_steps": s.n_steps,
             "repeat": args.repeat, "times_s": times, "ratios": ratios, "goals_met": goals,
-            "body_discretisations": discretise, "python": sys.version.split()[0],
+            "body_discretisations": discretise, "final_x_cm": {
+                name: float(np.asarray(r["body.x_cm"]).ravel()[-1]) for name, r in results.items()},
+            "python": sys.version.split()[0],
             "machine": platform.platform()}, indent=2) + "\n")
         print(f"wrote {args.json}")
     return 0

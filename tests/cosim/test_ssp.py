@@ -1,4 +1,4 @@
-"""SSP export: the archive is valid SSP 1.0, and libcosim (Open Simulation Platform) runs it.
+"""SSP export: the archive is valid SSP 1.0, and libcosim, ecos and FMPy's SSP simulator run it.
 
 Topology of scenarios/crawler-ideal.toml::
 
@@ -6,10 +6,13 @@ Topology of scenarios/crawler-ideal.toml::
            --u1---------------------->  friction1
            --u2---------------------->  friction2 (like friction1, block 2)
 """
+import ctypes
 import dataclasses
 import math
+import sys
 import xml.etree.ElementTree as ET
 import zipfile
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -146,19 +149,38 @@ def run_libcosim(path, signals, n_steps, step):
     return time, values
 
 
-def crawler_reference(s, libcosim):
-    """Crawler-ideal (`s`, friction switching instantly) stepped as a master steps it, in numpy.
+# how each engine steps the system: Jacobi (every instance steps on the inputs transferred after
+# the previous step) or ours (feedthrough resolved at each point); its clock; whether the inputs
+# start from the instances' initial outputs or from 0; whether a row is stamped with the time the
+# step that computed it started (FMPy's SSP simulator) or ended; whether a recorded output is read
+# after the new inputs are set (`late`: a feedthrough output then shows them, as FMI 2 requires)
+MASTERS = {
+    "ours": dict(jacobi=False, clock="t0+kh", zero_start=False, stamp_start=False, late=False),
+    "libcosim": dict(jacobi=True, clock="ns", zero_start=False, stamp_start=False, late=False),
+    "ecos": dict(jacobi=True, clock="t+=h", zero_start=False, stamp_start=False, late=True),
+    "fmpy-ssp": dict(jacobi=True, clock="t+=h", zero_start=True, stamp_start=True, late=False),
+}
 
-    libcosim=False, our master: at t_k the values are exchanged in feedthrough order, so the
-    friction sees v(t_k), f_n(x_k, f_a(t_k)) and u(t_k); the points are t_k = k h.
-    libcosim=True, libcosim's fixed-step master: every instance steps with the inputs transferred
-    after the previous step and its outputs are read after its own step, so the feedthrough
-    outputs at t_k are computed from inputs of t_k-1 (friction from v_k-1, f_n from f_a(t_k-1));
-    time is t_k = k h counted in integer nanoseconds and each step is h = t_k+1 - t_k.
+
+def crawler_reference(s, master):
+    """Crawler-ideal (`s`, friction switching instantly) stepped as `master` steps it, in numpy.
+
+    ours: at t_k the values are exchanged in feedthrough order, so the friction sees v(t_k),
+    f_n(x_k, f_a(t_k)) and u(t_k); the points are t_k = t0 + k h.
+    Jacobi (libcosim, ecos, FMPy's SSP simulator): every instance steps with the inputs
+    transferred after the previous step and its outputs are read after its own step, so the
+    feedthrough outputs at t_k are computed from inputs of t_k-1 (friction from v_k-1, f_n from
+    f_a(t_k-1)). Their clocks: libcosim counts integer nanoseconds (t_k = k h in ns, each step
+    t_k+1 - t_k); ecos and FMPy add the step (t += h). FMPy's SSP simulator starts every input
+    at 0 (not the initial outputs) and stamps the values after a step with the time it started,
+    one row per step while t < the stop time. ecos reads the values it records after it has
+    set the new inputs: the friction force it shows at t_k is the one of v_k, f_n(x_k,
+    f_a(t_k-1)) and u(t_k), not the one it passed to the body.
     Either way the inputs' source reads the time its step ends at as every slave does
     (`musclesim.fmu.step_end`).
     Returns (time, {signal: values}) for the signals crawler-ideal records.
     """
+    m = MASTERS[master]
     bp, ip = (cls(**s.instances[n].parameters) for cls, n in
               ((body.BodyParams, "body"), (inputs.InputParams, "inputs")))
     fps = [friction.FrictionParams(**s.instances[n].parameters) for n in ("friction1", "friction2")]
@@ -169,27 +191,38 @@ def crawler_reference(s, libcosim):
         return [friction.friction_force(v[i], f_n[i], normal[i], *friction.coefficients(u[i], fp),
                                         fp.v_s) for i, fp in enumerate(fps)]
 
+    def clock(k, t):  # the point after k + 1 steps, from the point t after k
+        return {"t0+kh": s.start_time + (k + 1) * s.step, "ns": (k + 1) * ns / 1e9,
+                "t+=h": t + s.step}[m["clock"]]
+
     ns = round(s.step * 1e9)
     t, x = s.start_time, np.zeros(4)
     f_a, *u = inputs.signals(t, ip)
     f_n = body.nonfriction_forces(x, f_a, bp)
     forces = friction_forces(x[1::2], f_n, u)
-    rows, zoh = [], {}
-    for k in range(s.n_steps + 1):
-        rows.append((t, x[0], x[1], x[2], x[3], body.centre_of_mass(x, bp), f_a, *u, *forces))
-        if k == s.n_steps:
+    if m["zero_start"]:  # every input 0 in the first step
+        f_a, u, f_n, forces = 0.0, [0.0, 0.0], [0.0, 0.0], [0.0, 0.0]
+    rows, zoh, k, t_start = [], {}, 0, t
+    while True:
+        shown = friction_forces(x[1::2], f_n, u) if m["late"] else forces
+        row = (x[0], x[1], x[2], x[3], body.centre_of_mass(x, bp), f_a, *u, *shown)
+        if not m["stamp_start"]:
+            rows.append((t, *row))
+        elif k:
+            rows.append((t_start, *row))
+        if (k == s.n_steps) if not m["stamp_start"] else not t < s.stop_time:
             break
-        h = (k + 1) * ns / 1e9 - k * ns / 1e9 if libcosim else s.step
+        h = clock(k, t) - t if m["clock"] == "ns" else s.step
         # like CrawlerBody: hold matrices are kept for steps within 1e-9 relative of the last
         if not zoh or not math.isclose(h, zoh["h"], rel_tol=1e-9):
             zoh = {"h": h, "AB": body.discretise(bp, h)}
         held = f_a, x[1::2], f_n, u  # the inputs each instance steps with
         x = body.step_state(x, (f_a, *forces), *zoh["AB"])
         t_end = step_end(s.start_time, t, h)  # the source's own time after its step
-        t = (k + 1) * ns / 1e9 if libcosim else s.start_time + (k + 1) * s.step
+        t_start, t, k = t, clock(k, t), k + 1
         f_a, *u = inputs.signals(t_end, ip)
-        f_n = body.nonfriction_forces(x, held[0] if libcosim else f_a, bp)
-        forces = friction_forces(*held[1:]) if libcosim else friction_forces(x[1::2], f_n, u)
+        f_n = body.nonfriction_forces(x, held[0] if m["jacobi"] else f_a, bp)
+        forces = friction_forces(*held[1:]) if m["jacobi"] else friction_forces(x[1::2], f_n, u)
     names = ["body.flange1.s", "body.flange1.v", "body.flange2.s", "body.flange2.v", "body.x_cm",
              "inputs.f_a", "inputs.u1", "inputs.u2", "friction1.flange.f", "friction2.flange.f"]
     columns = np.array(rows).T
@@ -218,22 +251,20 @@ def test_libcosim_runs_the_archive_as_a_jacobi_master_that_delays_feedthrough(
     Our master resolves feedthrough at each communication point (friction from the body's state
     at t_k), the zero-order-hold model the study uses (§ideal-actuation). The two results therefore
     differ once a block sticks or slips (nominal case: from 73 ms on, by 5-8 % of the block
-    positions after 2 s and 1 % of x_cm after 60 s), and for a second reason: our time
-    accumulates t += h, so u1's edges, which fall on samples (t = 0.5 s, 1 s, ...), can switch
-    one sample apart. `crawler_reference` reproduces each master with these two differences as
-    its only switch; both runners match it to 1e-9.
+    positions after 2 s and 1 % of x_cm after 60 s). `crawler_reference` reproduces each master
+    with that difference as its only switch; both runners match it to 1e-9.
     """
     s = scenario.load(IDEAL, overrides, stop_time=2.0)
     path = ssp.export(s, fmu_dir, tmp_path / "crawler.ssp")
     time, values = run_libcosim(path, s.record, s.n_steps, s.step)
     np.testing.assert_array_equal(time, np.arange(s.n_steps + 1) * round(s.step * 1e9) / 1e9)
-    assert_close(time, values, *crawler_reference(s, libcosim=True))
+    assert_close(time, values, *crawler_reference(s, "libcosim"))
 
     ours = Master(s, fmu_dir).run()
     assert ours.error is None
-    assert_close(ours.time, {c: ours[c] for c in ours.names}, *crawler_reference(s, libcosim=False))
+    assert_close(ours.time, {c: ours[c] for c in ours.names}, *crawler_reference(s, "ours"))
     # the reference without libcosim's delays is the project's monolithic model
-    ref_time, ref = crawler_reference(s, libcosim=False)
+    ref_time, ref = crawler_reference(s, "ours")
     mono_time, states = simulate_ideal(
         body.BodyParams(**s.instances["body"].parameters),
         [friction.FrictionParams(**s.instances[n].parameters) for n in ("friction1", "friction2")],
@@ -242,3 +273,71 @@ def test_libcosim_runs_the_archive_as_a_jacobi_master_that_delays_feedthrough(
     assert_close(mono_time, dict(zip(flanges, states.T)), ref_time, {k: ref[k] for k in flanges})
     # and the delay matters: libcosim and our master part once the friction sticks or slips
     assert not np.allclose(values["body.flange1.s"], ours["body.flange1.s"], rtol=0, atol=1e-6)
+
+
+# ---- running the archive in ecos and in FMPy's SSP simulator -------------------------------------
+def run_ecos(path, signals, n_steps, step, parameter_set=None):
+    """Run the SSP archive at `path` with ecos (ecospy); return (time, {signal: values}) of rows
+    0..n, each read after the step (ecos's own clock)."""
+    # ecospy's libecosc.so needs libtbb.so.12, which the pip package tbb (a test requirement) puts
+    # in sys.prefix/lib, outside the loader's path: load it first
+    ctypes.CDLL(str(Path(sys.prefix) / "lib" / "libtbb.so.12"), mode=ctypes.RTLD_GLOBAL)
+    from ecospy import EcosSimulation
+
+    ids = ["::".join(scenario.split_signal(signal)) for signal in signals]
+    times, rows = [], []
+    with EcosSimulation(ssp_path=str(path), step_size=step) as sim:
+        sim.init(parameter_set=parameter_set)
+        for k in range(n_steps + 1):
+            if k:
+                sim.step()
+            times.append(sim.get_time())
+            rows.append([sim.get_real(i) for i in ids])
+        sim.terminate()
+    return np.array(times), dict(zip(signals, np.array(rows).T))
+
+
+def run_fmpy_ssp(path, stop_time, step):
+    """Run the SSP archive at `path` with FMPy's SSP simulator, with the parameters the archive
+    binds to each component (FMPy applies only the set it is given); return (time, {signal:
+    values})."""
+    from fmpy.ssp.simulation import simulate_ssp
+    from fmpy.ssp.ssd import Parameter, ParameterSet, find_components, read_ssd
+
+    bound = ParameterSet(name="bound")
+    for component in find_components(read_ssd(str(path)).system):
+        for binding in component.parameterBindings:
+            for pset in binding.parameterValues:
+                bound.parameters += [Parameter(name=f"{component.name}.{p.name}", type=p.type,
+                                               value=p.value) for p in pset.parameters]
+    rows = simulate_ssp(str(path), stop_time=stop_time, step_size=step, parameter_set=bound)
+    return rows["time"], {name: rows[name] for name in rows.dtype.names[1:]}
+
+
+@pytest.mark.parametrize("overrides", OVERRIDES.values(), ids=OVERRIDES.keys())
+def test_ecos_and_fmpys_ssp_simulator_run_the_archive_each_as_its_master_steps(
+        fmu_dir, tmp_path, overrides):
+    """ecos and FMPy's SSP simulator both run the archive as Jacobi masters, like libcosim, each
+    with its own clock and reading (`MASTERS`); `crawler_reference` reproduces each bit for bit.
+
+    ecos adds the step to its clock (t += h) and reads what it records after it has set the new
+    inputs, so a feedthrough output it shows (the friction force) is not the one it passed on.
+    FMPy's simulator also adds the step, starts every input at 0 rather than at the instances'
+    initial outputs, and stamps the values after a step with the time the step started.
+    """
+    s = scenario.load(IDEAL, overrides, stop_time=2.0)
+    path = ssp.export(s, fmu_dir, tmp_path / "crawler.ssp")
+    for master, (time, values) in (("ecos", run_ecos(path, s.record, s.n_steps, s.step, s.name)),
+                                   ("fmpy-ssp", run_fmpy_ssp(path, s.stop_time, s.step))):
+        ref_time, ref = crawler_reference(s, master)
+        np.testing.assert_array_equal(time, ref_time, err_msg=master)
+        for signal in s.record:
+            np.testing.assert_array_equal(values[signal], ref[signal], err_msg=f"{master} {signal}")
+    # each switch matters: ecos's late reading shows other friction forces than libcosim's
+    # observer, and FMPy's zero start moves the blocks
+    refs = {m: crawler_reference(s, m)[1] for m in ("libcosim", "ecos", "fmpy-ssp")}
+    assert not np.array_equal(refs["ecos"]["friction1.flange.f"],
+                              refs["libcosim"]["friction1.flange.f"])
+    n = s.n_steps  # FMPy's row k holds what ecos's row k + 1 does
+    assert not np.allclose(refs["fmpy-ssp"]["body.flange1.s"][:n],
+                           refs["ecos"]["body.flange1.s"][1:], rtol=0, atol=1e-6)
