@@ -210,9 +210,10 @@ class Calibrated:
     period: float = 0.0
 
     def bounds(self, nominal):
-        """Absolute (lower, upper) around the scenario's `nominal` value."""
+        """Absolute (lower, upper) around the scenario's `nominal` value (a relative pair on a
+        negative value, such as a vacuum's gauge pressure, comes out in increasing order)."""
         if self.relative:
-            return self.lower * nominal, self.upper * nominal
+            return tuple(sorted((self.lower * nominal, self.upper * nominal)))
         return nominal + self.lower, nominal + self.upper
 
 
@@ -254,6 +255,19 @@ CALIBRATION = (
                "the soft actuator's damping"),
     Calibrated("FrictionBlock", "mu_k_low", 0.7, 1.3, True, "§friction",
                "the ground's kinetic friction"),
+    # the casing's static friction too; not the silicone's (high) coefficients: on a constant
+    # incline the effect "actuator bending on an incline" scales them by a constant
+    Calibrated("FrictionBlock", "mu_s_low", 0.7, 1.3, True, "§friction",
+               "the ground's static friction on the casing"),
+    # the robot's own conditions (§crawler-hardware): a soft chamber's walls carry part of the
+    # pressure force, a vacuum pump's level and the pressure of firm contact are assumptions. Not
+    # the supply pressure: the effect "supply-pressure drop" scales it by a constant
+    Calibrated("SoftActuator", "s_a", 0.8, 1.1, True, "§two-mass, §crawler-hardware",
+               "the central actuator's effective area: its walls take part of the force"),
+    Calibrated("SoftActuator", "p_exhaust", 0.7, 1.3, True, "§crawler-hardware",
+               "the exhaust pump's vacuum"),
+    Calibrated("SoftActuator", "p_contact", 0.7, 1.25, True, "§crawler-hardware, §gait",
+               "the pressure above which an extremal actuator's silicone grips the ground"),
     # the valves' sonic conductances are assumptions (§crawler-hardware names no valve; §valves the
     # law)
     Calibrated("SoftActuator", "C_in", 0.5, 2.0, True, "§crawler-hardware, §valves",
