@@ -30,6 +30,14 @@ def fmu_dir(tmp_path_factory):
 
 
 @pytest.fixture(scope="session")
+def fmu3_dir(tmp_path_factory):
+    """Folder holding freshly built FMI 3.0 FMUs of the whole catalogue (`build_all(fmi=3)`)."""
+    path = tmp_path_factory.mktemp("fmus3")
+    build_all(path, fmi=3)
+    return path
+
+
+@pytest.fixture(scope="session")
 def cluster_map():
     """`dask_map` over a local cluster of two worker processes, as `--workers 2` runs: the map of
     the tests that diagnose whole data sets or several cases (started once, when first asked)."""

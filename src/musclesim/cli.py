@@ -21,7 +21,7 @@ __all__ = ["main"]
 def _cmd_build(args):
     from musclesim.cosim import build_all
 
-    for path in build_all(args.fmus):
+    for path in build_all(args.fmus, fmi=args.fmi):
         print(f"built {path}")
     return 0
 
@@ -57,7 +57,7 @@ def _cmd_export(args):
     if args.ssp is not None:
         print(f"wrote {export_ssp(s, args.fmus, args.ssp)}")
     else:
-        print(f"wrote {export_fmu(s, args.fmus, args.fmu)}")
+        print(f"wrote {export_fmu(s, args.fmus, args.fmu, args.fmi)}")
     return 0
 
 
@@ -275,7 +275,10 @@ def _parser():
         common(q)
 
     q = sub.add_parser("build", help="build every component into FMUs")
-    common(q)
+    q.add_argument("--fmus", help="folder to build into (default: fmus; fmus3 with --fmi 3)")
+    q.add_argument("--fmi", type=int, choices=(2, 3), default=2,
+                   help="FMI version: 2.0 co-simulation FMUs (default) or 3.0 ones, from the "
+                   "same slaves; the runner runs either")
     q.set_defaults(func=_cmd_build)
 
     q = sub.add_parser("run", help="run a scenario, write results.csv, summary.json, a plot")
@@ -292,8 +295,11 @@ def _parser():
     to = q.add_mutually_exclusive_group(required=True)
     to.add_argument("--ssp", help="the .ssp file to write (SSP 1.0: the scenario's FMUs, wiring "
                     "and values)")
-    to.add_argument("--fmu", help="the .fmu file to write: the whole scenario as one FMI 2.0 "
+    to.add_argument("--fmu", help="the .fmu file to write: the whole scenario as one "
                     "co-simulation FMU (FMPy's container FMU; Jacobi scenarios)")
+    q.add_argument("--fmi", type=int, choices=(2, 3), default=2,
+                   help="with --fmu: FMI 2.0 (default) or 3.0 for the one FMU; the FMUs inside "
+                   "are those in --fmus, of either version")
     q.set_defaults(func=_cmd_export)
 
     q = sub.add_parser("sweep", help="run a scenario over a parameter grid on Dask")
@@ -503,6 +509,8 @@ def main(argv=None):
     130 / 143 stopped by SIGINT / SIGTERM (what was written so far is kept).
     """
     args = _parser().parse_args(argv)
+    if args.command == "build" and args.fmus is None:  # each FMI version its own folder
+        args.fmus = "fmus" if args.fmi == 2 else "fmus3"
     if getattr(args, "cases", None) == 0 and not args.crawler:  # benchmark-diagnosis
         args.subparser.error("argument --cases: 0 must be at least 1 (0 only with --crawler)")
     try:

@@ -55,6 +55,27 @@ def test_fmpy_runs_the_exported_scenario_to_our_bits(fmu_dir, tmp_path, path):
         assert differ == []
 
 
+@pytest.mark.parametrize("name, inner", [("crawler-ideal", 3), ("sma-temperature-tracking", 3),
+                                         ("crawler-pneumatic", 2)])
+def test_an_fmi3_container_of_fmi3_or_fmi2_fmus_runs_to_our_bits(fmu_dir, fmu3_dir, tmp_path, name,
+                                                                inner):
+    """``--fmi 3``: the same container as an FMI 3.0 FMU, around the FMI 3.0 FMUs or the FMI 2.0
+    ones (FMPy's runtime takes either)."""
+    s = load_scenario(SCENARIOS / f"{name}.toml")
+    s = load_scenario(SCENARIOS / f"{name}.toml",
+                      stop_time=s.start_time + min(STEPS, round(SECONDS / s.step)) * s.step)
+    fmu = export_fmu(s, fmu3_dir if inner == 3 else fmu_dir, tmp_path / f"{name}.fmu", fmi=3)
+    assert validate_fmu(str(fmu)) == []
+    md = read_model_description(str(fmu))
+    assert md.fmiVersion == "3.0" and md.modelVariables[0].causality == "independent"
+    ours = Master(s, fmu_dir).run()
+    theirs = simulate_fmu(str(fmu), start_time=s.start_time, stop_time=s.stop_time,
+                          output_interval=s.step, output=list(ours.names))
+    forget_fmu_resource_paths()
+    assert np.array_equal(theirs["time"], ours.time)
+    assert [c for c in ours.names if not np.array_equal(theirs[c], ours[c])] == []
+
+
 def test_its_variables_are_the_scenarios_values_free_inputs_and_recorded_signals(fmu_dir,
                                                                                 tmp_path):
     s = load_scenario(SCENARIOS / "crawler-ideal.toml", ["body.k=150"], stop_time=1.0)
@@ -83,6 +104,8 @@ def test_what_a_container_cannot_do_is_refused(fmu_dir, tmp_path):
         export_fmu(replace(s, instances=slow), fmu_dir, tmp_path / "b.fmu")
     with pytest.raises(UserError, match="must have a name ending in .fmu"):
         export_fmu(s, fmu_dir, tmp_path / "c.zip")
+    with pytest.raises(UserError, match="FMI version 1: a container FMU is FMI 2.0 or 3.0"):
+        export_fmu(s, fmu_dir, tmp_path / "d.fmu", fmi=1)
     assert not list(tmp_path.iterdir())  # nothing written
 
 
@@ -91,6 +114,8 @@ def test_cli_writes_one_fmu_or_an_archive_not_both(fmu_dir, tmp_path, capsys):
            "--stop-time", "0.1"]
     assert main([*cli, "--fmu", str(tmp_path / "c.fmu")]) == 0
     assert "wrote" in capsys.readouterr().out and (tmp_path / "c.fmu").is_file()
+    assert main([*cli, "--fmu", str(tmp_path / "c3.fmu"), "--fmi", "3"]) == 0
+    assert read_model_description(str(tmp_path / "c3.fmu")).fmiVersion == "3.0"
     with pytest.raises(SystemExit) as stop:
         main([*cli, "--fmu", str(tmp_path / "d.fmu"), "--ssp", str(tmp_path / "d.ssp")])
     assert stop.value.code == 2 and "not allowed with argument" in capsys.readouterr().err

@@ -177,7 +177,7 @@ def test_instances_leave_the_slave_namespace_with_every_reference_its_holders_re
     assert sys.getrefcount(namespace) - 2 >= held  # less this frame's name and the call's argument
 
 
-def test_fmu_runs_in_a_venv_without_musclesim(fmu_dir, tmp_path):
+def test_fmu_runs_in_a_venv_without_musclesim(fmu_dir, fmu3_dir, tmp_path):
     """An FMU needs only Python, numpy and scipy (fmpy is the host here), not this project;
     SmaWire finds its data files (wire parameters, FORC data sets) inside the FMU."""
     venv = tmp_path / "venv"
@@ -194,6 +194,7 @@ def test_fmu_runs_in_a_venv_without_musclesim(fmu_dir, tmp_path):
             from fmpy import simulate_fmu
             assert importlib.util.find_spec("musclesim") is None
             assert importlib.util.find_spec("pythonfmu") is None
+            assert importlib.util.find_spec("pythonfmu3") is None
         """) + textwrap.dedent(body) + textwrap.dedent(release) + "release_pythonfmu_libraries()\n"
         out = subprocess.run([str(py), "-c", script], capture_output=True, text=True, cwd=tmp_path)
         assert out.returncode == 0, out.stderr
@@ -205,6 +206,12 @@ def test_fmu_runs_in_a_venv_without_musclesim(fmu_dir, tmp_path):
         print(json.dumps([float(r["flange1.s"][-1]), float(r["flange2.s"][-1]), float(r["x_cm"][-1])]))
     """)
     assert x1 < 0 < x2 and abs(x_cm) < 1e-12  # pushed apart, centre of mass fixed
+    # its FMI 3.0 build too, which ships pythonfmu3's and pythonfmu's Python files: the same bits
+    assert run(f"""
+        r = simulate_fmu({str(fmu3_dir / 'CrawlerBody.fmu')!r}, stop_time=0.5, output_interval=1e-3,
+                         start_values={{"f_a": 2.0}}, output=["flange1.s", "flange2.s", "x_cm"])
+        print(json.dumps([float(r[c][-1]) for c in ("flange1.s", "flange2.s", "x_cm")]))
+    """) == [x1, x2, x_cm]
     # in the same process: simulate_fmu deleted CrawlerBody's folder, whose copy of musclesim the
     # process imported; SmaWire must bring its own
     wires = run(f"""

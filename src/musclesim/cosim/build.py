@@ -1,8 +1,11 @@
-"""`musclesim build`: package every component of the catalogue as an FMI 2.0 co-simulation FMU.
+"""`musclesim build`: package every component of the catalogue as an FMI 2.0 co-simulation FMU
+(pythonfmu), or with ``--fmi 3`` as an FMI 3.0 one (pythonfmu3, the same slave behind
+`musclesim.fmu.fmi3.Fmi3Face`).
 
 Each FMU is self-contained: its resources hold the slave, the physics cores with the data files
-they read, and the FMU base (`musclesim.fmu`, under the `musclesim` package name with an empty
-package __init__), so it runs where only Python, numpy and scipy are installed. fmus/BUILD.json
+they read, the FMU base (`musclesim.fmu`, under the `musclesim` package name with an empty
+package __init__) and pythonfmu's Python files, so it runs where only Python, numpy and scipy are
+installed. fmus/BUILD.json
 records a digest of the sources the FMUs came from, so that the runner can tell when they are
 stale.
 """
@@ -13,7 +16,9 @@ import shutil
 import tempfile
 from pathlib import Path
 
+import pythonfmu
 from pythonfmu import FmuBuilder
+from pythonfmu3 import FmuBuilder as Fmu3Builder
 
 import musclesim
 import musclesim.fmu
@@ -50,6 +55,21 @@ class {name}(_Slave):
 '''
 
 
+# FMI 3.0: the same slave behind `musclesim.fmu.fmi3.Fmi3Face` (pythonfmu3's builder finds the class
+# whose bases name Fmi3Slave in the script)
+_STUB3 = _STUB.replace("class {name}(_Slave):\n    pass\n", """from pythonfmu3 import Fmi3Slave
+from musclesim.fmu.fmi3 import Fmi3Face
+class {name}(Fmi3Face, Fmi3Slave):
+    inner_class = _Slave
+""")
+assert _STUB3 != _STUB
+
+# the FMU state can be saved, restored and serialized (the options' names per FMI version); the
+# step may vary (pythonfmu3 0.3.4 writes false unless told)
+_OPTIONS = {2: {"canGetAndSetFMUstate": True, "canSerializeFMUstate": True},
+            3: {"canGetAndSetFMUState": True, "canSerializeFMUState": True,
+                "canHandleVariableCommunicationStepSize": True}}
+
 # what every FMU ships from components/: the code, and the data files the cores read at run time
 # (wire parameter sets, FORC data sets and their index) — not reference results such as CSVs of
 # scenario outputs
@@ -71,15 +91,19 @@ def _component_sources():
 
 def source_digest():
     """SHA-256 over the sources an FMU is built from (names and contents, and its entry point)."""
-    h = hashlib.sha256(musclesim.__version__.encode() + _STUB.encode())
+    h = hashlib.sha256(musclesim.__version__.encode() + _STUB.encode() + _STUB3.encode())
     for rel, src in _component_sources().items():
         h.update(str(rel).encode())
         h.update(src.read_bytes())
     return h.hexdigest()
 
 
-def build_all(dest="fmus", names=None):
-    """Build the FMUs of `names` (default: the whole catalogue) into `dest`; return their paths."""
+def build_all(dest="fmus", names=None, fmi=2):
+    """Build the FMUs of `names` (default: the whole catalogue) into `dest`, as FMI `fmi` (2 or 3)
+    co-simulation FMUs; return their paths."""
+    if fmi not in (2, 3):
+        raise UserError(f"FMI version {fmi!r}: musclesim builds FMI 2.0 or 3.0 FMUs (2 or 3)")
+    builder = FmuBuilder if fmi == 2 else Fmu3Builder
     dest = Path(dest)
     dest.mkdir(parents=True, exist_ok=True)
     built = []
@@ -89,17 +113,24 @@ def build_all(dest="fmus", names=None):
             (stage / rel).parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(src, stage / rel)
         (stage / "musclesim" / "__init__.py").write_text('"""musclesim FMU runtime."""\n')
+        shipped = [stage / "musclesim"]
+        if fmi == 3:  # the FMI 2.0 base the slaves derive from, as pythonfmu ships it in its FMUs
+            (stage / "pythonfmu").mkdir()
+            for src in Path(pythonfmu.__file__).parent.glob("*.py"):
+                shutil.copy2(src, stage / "pythonfmu" / src.name)
+            shipped.append(stage / "pythonfmu")
         for name in names or CATALOGUE:
             module, cls = CATALOGUE[name].split(":")
             # pythonfmu loads the deepest Fmi2Slave subclass of a one-class script: a stub per FMU
-            script = Path(tmp) / f"musclesim_fmu_{name}.py"
-            script.write_text(_STUB.format(name=name, module=module, cls=cls))
-            built.append(FmuBuilder.build_FMU(
-                script, dest=dest, project_files=[stage / "musclesim"],
+            # the script's module name, unique per FMI version: FMUs of both in one process
+            script = Path(tmp) / f"musclesim_fmu{'' if fmi == 2 else '3'}_{name}.py"
+            script.write_text((_STUB if fmi == 2 else _STUB3).format(name=name, module=module,
+                                                                     cls=cls))
+            built.append(builder.build_FMU(
+                script, dest=dest, project_files=shipped,
                 # no external-tool flag: PyFMI refuses an FMU that sets it, and the FMU carries
                 # its code; what it needs installed (Python, numpy, scipy) the docs say
-                canGetAndSetFMUstate=True, canSerializeFMUstate=True,
-                needsExecutionTool=False))
+                needsExecutionTool=False, **_OPTIONS[fmi]))
     sources, fmus = source_digest(), {}
     if names:  # a partial build keeps the digests of the FMUs built before from the same sources
         old = _stamp(dest)

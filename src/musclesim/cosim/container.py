@@ -74,12 +74,15 @@ def _variables(scenario, master):
     return out
 
 
-def model_description(scenario, master, variables):
-    """The container's ``fmiModelDescription`` element (FMI 2.0 co-simulation)."""
-    root = ET.Element("fmiModelDescription", fmiVersion="2.0", modelName=scenario.name,
-                      guid="{" + str(uuid.uuid4()) + "}", generationTool="musclesim",
-                      description=scenario.description or f"scenario {scenario.name}",
-                      variableNamingConvention="flat", numberOfEventIndicators="0")
+def model_description(scenario, master, variables, fmi=2):
+    """The container's ``fmiModelDescription`` element (FMI `fmi`.0 co-simulation)."""
+    token = {2: "guid", 3: "instantiationToken"}[fmi]
+    root = ET.Element("fmiModelDescription", {
+        "fmiVersion": f"{fmi}.0", "modelName": scenario.name, token: "{" + str(uuid.uuid4()) + "}",
+        "generationTool": "musclesim",
+        "description": scenario.description or f"scenario {scenario.name}",
+        "variableNamingConvention": "flat",
+        **({"numberOfEventIndicators": "0"} if fmi == 2 else {})})
     ET.SubElement(root, "CoSimulation", modelIdentifier="container_fmu",
                   canHandleVariableCommunicationStepSize="true")
     units = base_units(master)
@@ -97,10 +100,17 @@ def model_description(scenario, master, variables):
     ET.SubElement(root, "DefaultExperiment", startTime=repr(scenario.start_time),
                   stopTime=repr(scenario.stop_time), stepSize=repr(scenario.step))
     mv = ET.SubElement(root, "ModelVariables")
-    time = ET.SubElement(mv, "ScalarVariable", name="time", valueReference="0",
-                         causality="independent", variability="continuous",
-                         description="Simulation time")
-    ET.SubElement(time, "Real")
+
+    def variable(attrs, real):
+        """An FMI 2.0 ScalarVariable with its Real, or an FMI 3.0 Float64 holding both."""
+        real = {k: x for k, x in real.items() if x is not None}
+        if fmi == 3:
+            ET.SubElement(mv, "Float64", {**attrs, **real})
+        else:
+            ET.SubElement(ET.SubElement(mv, "ScalarVariable", attrs), "Real", real)
+
+    variable({"name": "time", "valueReference": "0", "causality": "independent",
+              "variability": "continuous", "description": "Simulation time"}, {})
     for vr, (name, causality, _, v, start) in enumerate(variables, start=1):
         attrs = {"name": name, "valueReference": str(vr), "causality": causality,
                  "description": v.description or name}
@@ -115,15 +125,19 @@ def model_description(scenario, master, variables):
             real["unit"] = v.unit
             if v.displayUnit:
                 real["displayUnit"] = v.displayUnit
-        ET.SubElement(ET.SubElement(mv, "ScalarVariable", attrs), "Real",
-                      {k: x for k, x in real.items() if x is not None})
+        variable(attrs, real)
     structure = ET.SubElement(root, "ModelStructure")
-    # a variable's index is its position in ModelVariables, counted from 1 (time is the first)
-    outputs = [vr + 1 for vr, (_, c, *_) in enumerate(variables, start=1) if c == "output"]
+    outputs = [vr for vr, (_, c, *_) in enumerate(variables, start=1) if c == "output"]
+    if fmi == 3:  # by value reference
+        for kind in ("Output", "InitialUnknown"):
+            for vr in outputs:
+                ET.SubElement(structure, kind, valueReference=str(vr))
+        return root
+    # FMI 2.0: a variable's index is its position in ModelVariables, from 1 (time is the first)
     for section in ("Outputs", "InitialUnknowns"):
         node = ET.SubElement(structure, section)
-        for index in outputs:
-            ET.SubElement(node, "Unknown", index=str(index))
+        for vr in outputs:
+            ET.SubElement(node, "Unknown", index=str(vr + 1))
     return root
 
 
@@ -147,7 +161,7 @@ def configuration(scenario, master, variables, guid):
     data = {
         "containerVersion": CONTAINER_VERSION, "instantiationToken": guid,
         "fixedStepSize": scenario.step, "parallelDoStep": False,
-        "components": [{"fmiMajorVersion": "2", "name": n,
+        "components": [{"fmiMajorVersion": master.instances[n].md.fmiVersion[0], "name": n,
                         "instantiationToken": master.instances[n].md.guid,
                         "modelIdentifier": master.instances[n].md.coSimulation.modelIdentifier,
                         "path": master.instances[n].component} for n in names],
@@ -161,8 +175,9 @@ def configuration(scenario, master, variables, guid):
     return data
 
 
-def export(scenario, fmu_dir, fmu_path):
-    """Write `scenario` with its FMUs as the one co-simulation FMU `fmu_path` (see the module).
+def export(scenario, fmu_dir, fmu_path, fmi=2):
+    """Write `scenario` with its FMUs (FMI 2.0 or 3.0, or both) as the one FMI `fmi`.0
+    co-simulation FMU `fmu_path` (see the module).
 
     Raises
     ------
@@ -172,6 +187,8 @@ def export(scenario, fmu_dir, fmu_path):
         container runtime in the installed FMPy.
     """
     fmu_path, fmu_dir = Path(fmu_path), Path(fmu_dir)
+    if fmi not in (2, 3):
+        raise UserError(f"FMI version {fmi!r}: a container FMU is FMI 2.0 or 3.0 (2 or 3)")
     if fmu_path.suffix != ".fmu":
         raise UserError(f"the FMU {fmu_path} must have a name ending in .fmu")
     if fmu_path.is_dir():
@@ -191,17 +208,19 @@ def export(scenario, fmu_dir, fmu_path):
                         "binaries): FMPy 0.3.32 or later has it")
     master = Master(scenario, fmu_dir)
     variables = _variables(scenario, master)
-    root = model_description(scenario, master, variables)
+    root = model_description(scenario, master, variables, fmi)
     ET.indent(root)
-    config = configuration(scenario, master, variables, root.get("guid"))
+    config = configuration(scenario, master, variables,
+                           root.get("guid") or root.get("instantiationToken"))
 
     def fill(archive):
         archive.writestr("modelDescription.xml",
                          ET.tostring(root, encoding="UTF-8", xml_declaration=True))
         archive.writestr("resources/container.json", json.dumps(config, indent=2))
         for platform, folder, library in _PLATFORMS:
-            if (runtime / platform / library).is_file():
-                archive.write(runtime / platform / library, f"binaries/{folder}/{library}")
+            if (runtime / platform / library).is_file():  # FMI 3.0 names its folders so
+                archive.write(runtime / platform / library,
+                              f"binaries/{folder if fmi == 2 else platform}/{library}")
         for comp in sorted({i.component for i in scenario.instances.values()}):
             with zipfile.ZipFile(fmu_dir / f"{comp}.fmu") as inner:
                 for item in inner.infolist():

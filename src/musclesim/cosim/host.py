@@ -62,7 +62,8 @@ def release_pythonfmu_libraries():
     at process exit, runs after the handle's own C++ destructor: a use-after-free that corrupts
     the heap now and then as the process ends. Resetting the handle earlier through the
     library's exported ``finalizePythonInterpreter`` (safe while Python runs: the handle owns
-    nothing when the host started Python) makes both later resets no-ops. Registered with atexit,
+    nothing when the host started Python) makes both later resets no-ops. pythonfmu3's library
+    (FMI 3.0, ``binaries/x86_64-linux``) has the same handle and export. Registered with atexit,
     so it covers the FMUs any library (fmpy, libcosim) loaded into this process.
     """
     try:
@@ -70,7 +71,8 @@ def release_pythonfmu_libraries():
     except OSError:
         return
     paths = {line.split(None, 5)[5].removesuffix(" (deleted)") for line in maps
-             if len(line.split(None, 5)) == 6 and "/binaries/linux64/" in line}
+             if len(line.split(None, 5)) == 6 and ("/binaries/linux64/" in line
+                                                    or "/binaries/x86_64-linux/" in line)}
     for path in paths:
         try:
             lib = ctypes.CDLL(path)  # already loaded: the loader matches the name, even if deleted

@@ -1,4 +1,4 @@
-"""The co-simulation master: fixed communication step over fmpy's FMU2Slave.
+"""The co-simulation master: fixed communication step over FMI 2.0 and 3.0 co-simulation FMUs.
 
 At every communication point t_k the master first *exchanges* values: it visits the instances in
 the order of direct feedthrough (an output that depends on an input at the same instant, declared
@@ -39,6 +39,7 @@ from pathlib import Path
 import numpy as np
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave
+from fmpy.fmi3 import FMU3Slave
 
 from musclesim.cosim import direct, interrupt
 from musclesim.cosim.build import built_here
@@ -162,6 +163,60 @@ class _FmpySlave:
         return step
 
 
+class _Fmpy3Slave(_FmpySlave):
+    """An FMI 3.0 co-simulation FMU instantiated by fmpy, with the same calls as `_FmpySlave`:
+    Float64 values, the start and stop time given when initialization mode is entered, log
+    messages (formatted by the FMU) appended to `log` as (status, message)."""
+
+    def __init__(self, md, unzipped, name, log):
+        def route(env, status, category, message):
+            log.append((status, message.decode("utf-8", "replace").strip()))
+
+        self.fmu = FMU3Slave(guid=md.guid, unzipDirectory=unzipped, instanceName=name,
+                             modelIdentifier=md.coSimulation.modelIdentifier)
+        self.fmu.instantiate(loggingOn=True, logMessage=route)
+        self.c = self.fmu.component
+        self.get, self.set, self.do_step = (self.fmu._functions[f] for f in (
+            "fmi3GetFloat64", "fmi3SetFloat64", "fmi3DoStep"))
+        self.span = (0.0, None)
+
+    def setup_experiment(self, start_time, stop_time):
+        self.span = (start_time, stop_time)
+
+    def enter_initialization_mode(self):
+        self.fmu.enterInitializationMode(startTime=self.span[0], stopTime=self.span[1])
+
+    def set_real(self, vrs, values):
+        self.fmu.setFloat64(list(vrs), list(values))
+
+    def reader(self, vrs, out):
+        n, vr = len(vrs), (ctypes.c_uint * max(1, len(vrs)))(*vrs)
+        ptr, get, c = out.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), self.get, self.c
+
+        def read():
+            _check(get(c, vr, n, ptr, n), "fmi3GetFloat64")
+        return read if n else None
+
+    def writer(self, vrs, slots, values):
+        n, vr = len(vrs), (ctypes.c_uint * max(1, len(vrs)))(*vrs)
+        vals = (ctypes.c_double * max(1, n))()
+        view, set_, c = np.ctypeslib.as_array(vals)[:n], self.set, self.c
+
+        def write():
+            values.take(slots, out=view)
+            _check(set_(c, vr, n, vals, n), "fmi3SetFloat64")
+        return write if n else None
+
+    def stepper(self):
+        do_step, c = self.do_step, self.c
+        flags, last = [ctypes.c_bool() for _ in range(3)], ctypes.c_double()
+        refs = [ctypes.byref(f) for f in flags] + [ctypes.byref(last)]
+
+        def step(t, h):
+            _check(do_step(c, t, h, True, *refs), "fmi3DoStep")
+        return step
+
+
 class _Instance:
     """An instantiated FMU with the value-reference and buffer-slot tables the loop uses."""
 
@@ -247,8 +302,9 @@ class Master:
         if v is None:
             problems.append(f"{what} {signal!r}: {self.instances[inst].component} has no variable "
                             f"{var!r} (variables: {', '.join(self.instances[inst].vars)})")
-        elif v.type != "Real":
-            problems.append(f"{what} {signal!r}: only Real variables are supported, not {v.type}")
+        elif v.type not in ("Real", "Float64"):
+            problems.append(f"{what} {signal!r}: only Real (FMI 2.0) and Float64 (FMI 3.0) "
+                            f"variables are supported, not {v.type}")
             return None
         return v
 
@@ -465,6 +521,9 @@ class Master:
     def _load(self, inst, path, unzipped):
         """Instantiate `inst` from the FMU at `path` extracted in `unzipped`, on its host."""
         try:  # fmpy raises bare Exceptions for a missing or broken library, a failed instance
+            if inst.md.fmiVersion.startswith("3"):  # through the FMI 3.0 C API, always
+                self.hosts[inst.name] = "fmpy"
+                return _Fmpy3Slave(inst.md, unzipped, inst.name, inst.log)
             if self.host == "direct" and built_here(path):
                 cls = direct.slave_class(unzipped, inst.md.coSimulation.modelIdentifier)
                 self.hosts[inst.name] = "direct"

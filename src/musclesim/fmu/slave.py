@@ -306,17 +306,13 @@ class Slave(Fmi2Slave):
         return pickle.loads(data)
 
     # ---- model description ---------------------------------------------------------------------
-    def to_xml(self, model_options=None):
-        root = super().to_xml(model_options or {})
-        index = {v.get("name"): i for i, v in enumerate(root.find("ModelVariables"), start=1)}
-        used = set()
-        for v in root.find("ModelVariables"):
-            unit = self._meta[v.get("name")][0]
-            if unit != "1":
-                v.find("Real").set("unit", unit)
-                if unit in self.display_units:
-                    v.find("Real").set("displayUnit", self.display_units[unit])
-                used.add(unit)
+    def unit_of(self, name):
+        """(unit, display unit or None) of variable `name`; unit "1" for a dimensionless one."""
+        unit = self._meta[name][0]
+        return unit, self.display_units.get(unit)
+
+    def unit_definitions(self, used):
+        """The ``UnitDefinitions`` element of the units `used` (FMI 2.0 and 3.0 alike)."""
         units = Element("UnitDefinitions")
         for unit in sorted(used):
             node = SubElement(units, "Unit", name=unit)
@@ -328,12 +324,29 @@ class Slave(Fmi2Slave):
                     raise ValueError(f"display unit {name} is not one of {unit}")
                 SubElement(node, "DisplayUnit", name=name, factor=repr(factor),
                            offset=repr(offset))
-        root.insert(list(root).index(root.find("CoSimulation")) + 1, units)
+        return units
+
+    def feedthrough(self):
+        """[(output name, names of the inputs it depends on directly)], in declaration order."""
+        return [(n, deps) for n, (_, deps) in self._meta.items() if deps is not None]
+
+    def to_xml(self, model_options=None):
+        root = super().to_xml(model_options or {})
+        index = {v.get("name"): i for i, v in enumerate(root.find("ModelVariables"), start=1)}
+        used = set()
+        for v in root.find("ModelVariables"):
+            unit, display = self.unit_of(v.get("name"))
+            if unit != "1":
+                v.find("Real").set("unit", unit)
+                if display:
+                    v.find("Real").set("displayUnit", display)
+                used.add(unit)
+        root.insert(list(root).index(root.find("CoSimulation")) + 1, self.unit_definitions(used))
 
         structure = root.find("ModelStructure")
         for child in list(structure):
             structure.remove(child)
-        outputs = [(n, deps) for n, (_, deps) in self._meta.items() if deps is not None]
+        outputs = self.feedthrough()
         if outputs:
             node = SubElement(structure, "Outputs")
             for name, deps in outputs:

@@ -1,0 +1,114 @@
+"""The FMI 3.0 face of every musclesim slave: one physics, two standards.
+
+`Fmi3Face` is a pythonfmu3 co-simulation slave that holds one instance of a component's FMI 2.0
+`Slave` class (`inner_class`) and passes every call to it: the same variables, in the same order,
+as Float64 after the independent variable ``time`` (value reference 0, so a variable's value
+reference is the FMI 2.0 one plus 1), with the same units, display units, descriptions, start
+values, direct feedthrough and default experiment; its FMU state is the inner slave's, serialized
+the same way. `musclesim build --fmi 3` ships it in FMI 3.0 FMUs only: it imports pythonfmu3,
+besides pythonfmu, which the FMI 2.0 base needs.
+"""
+from xml.etree.ElementTree import SubElement
+
+from pythonfmu3 import (DefaultExperiment, Fmi3Causality, Fmi3Initial, Fmi3Slave, Fmi3Variability,
+                        Float64)
+
+from musclesim.fmu.slave import Slave
+
+
+def _enum(cls, fmi2_value):
+    return None if fmi2_value is None else cls[fmi2_value.name]
+
+
+class Fmi3Face(Fmi3Slave):
+    """An FMI 3.0 co-simulation slave passing every call to an FMI 2.0 musclesim `Slave`."""
+
+    inner_class = None  # the component's `musclesim.fmu.Slave` subclass, set per FMU
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        inner = self.inner = self.inner_class(instance_name=kwargs["instance_name"],
+                                              resources=kwargs.get("resources"),
+                                              visible=kwargs.get("visible", False))
+        self.log_queue = inner.log_queue  # one queue: the inner slave logs, the C layer reads
+        for attr in ("author", "license", "description", "modelName"):
+            # pythonfmu reads them from the class first, as components declare them
+            setattr(self, attr, getattr(type(inner), attr, getattr(inner, attr)))
+        d = type(inner).default_experiment
+        self.default_experiment = DefaultExperiment(d.start_time, d.stop_time, d.step_size,
+                                                    d.tolerance)
+        self.register_variable(Float64("time", causality=Fmi3Causality.independent,
+                                       variability=Fmi3Variability.continuous,
+                                       description="Simulation time", getter=self._time))
+        for vr, v in inner.vars.items():
+            self.register_variable(Float64(
+                v.name, causality=_enum(Fmi3Causality, v.causality),
+                variability=_enum(Fmi3Variability, v.variability),
+                initial=_enum(Fmi3Initial, v.initial), description=v.description,
+                getter=v.getter, setter=v.setter))
+
+    def _time(self):
+        return self.inner.time
+
+    # ---- FMI calls, passed on -------------------------------------------------------------------
+    def setup_experiment(self, start_time):
+        self.inner.setup_experiment(start_time)
+
+    def enter_initialization_mode(self):
+        self.inner.enter_initialization_mode()
+
+    def exit_initialization_mode(self):
+        self.inner.exit_initialization_mode()
+
+    def do_step(self, current_time, step_size):
+        return self.inner.do_step(current_time, step_size)
+
+    def terminate(self):
+        self.inner.terminate()
+
+    def get_float64(self, vrs):
+        if 0 in vrs:
+            return [self.inner.time if vr == 0 else self.inner.get_real([vr - 1])[0]
+                    for vr in vrs]
+        return self.inner.get_real([vr - 1 for vr in vrs])
+
+    def set_float64(self, vrs, values):
+        if 0 in vrs:
+            raise ValueError("time is the independent variable: it cannot be set")
+        self.inner.set_real([vr - 1 for vr in vrs], values)
+
+    def _get_fmu_state(self):
+        return self.inner._get_fmu_state()
+
+    def _set_fmu_state(self, state):
+        self.inner._set_fmu_state(state)
+
+    # static, as pythonfmu3's C layer calls them: the FMI 2.0 slave's own (pickle)
+    _fmu_state_to_bytes = staticmethod(Slave._fmu_state_to_bytes)
+    _fmu_state_from_bytes = staticmethod(Slave._fmu_state_from_bytes)
+
+    # ---- model description ---------------------------------------------------------------------
+    def to_xml(self, model_options=None):
+        root = super().to_xml(model_options or {})
+        inner, used = self.inner, {"s"}
+        vr = {}
+        for v in root.find("ModelVariables"):
+            vr[v.get("name")] = v.get("valueReference")
+            unit, display = ("s", None) if v.get("name") == "time" else inner.unit_of(v.get("name"))
+            if unit != "1":
+                v.set("unit", unit)
+                if display:
+                    v.set("displayUnit", display)
+                used.add(unit)
+        root.insert(list(root).index(root.find("CoSimulation")) + 1, inner.unit_definitions(used))
+        structure = root.find("ModelStructure")
+        for child in list(structure):
+            structure.remove(child)
+        outputs = inner.feedthrough()
+        for name, deps in outputs:
+            SubElement(structure, "Output", valueReference=vr[name],
+                       dependencies=" ".join(vr[d] for d in deps))
+        # outputs are initial="calculated": initial unknowns, depending on everything
+        for name, _ in outputs:
+            SubElement(structure, "InitialUnknown", valueReference=vr[name])
+        return root
