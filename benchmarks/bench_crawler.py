@@ -297,7 +297,7 @@ def report(times, results, discretise):
     print(f"final x_cm: ours {ours['body.x_cm'][-1]:.6f} m, " + ", ".join(
         f"{name} {results[name]['body.x_cm']:.6f} m" for name in ("libcosim", "ecos", "fmpy_ssp")))
     for name in ("ecos", "fmpy_ssp"):
-        print(f"ours vs {name}: {ratios[name + '_over_ours']:.2f}x faster")
+        print(f"{name} vs ours: {ratios[name + '_over_ours']:.2f}x our time")
     return ratios, goals
 
 
@@ -324,7 +324,8 @@ def main(argv=None):
             "scenario": s.name, "stop_time": s.stop_time, "step": s.step, "n_steps": s.n_steps,
             "repeat": args.repeat, "times_s": times, "ratios": ratios, "goals_met": goals,
             "body_discretisations": discretise, "final_x_cm": {
-                name: float(np.asarray(r["body.x_cm"]).ravel()[-1]) for name, r in results.items()},
+                name: float(np.asarray(r["body.x_cm"]).ravel()[-1]) for name, r in results.items()
+                if "body.x_cm" in r},
             "python": sys.version.split()[0],
             "machine": platform.platform()}, indent=2) + "\n")
         print(f"wrote {args.json}")
