@@ -134,7 +134,7 @@ held_out = ["second"]
     assert schema_errors("report", report) == []
     assert report["verdict"] == "thermocouple lag"
     assert [u["instances"] for u in report["units"]] == [["thermocouple"]]
-    # up to MAX_LATENCY (2 samples of ~25 ms here) of a lag on a channel nothing reads is taken
+    # up to MAX_ALIGN samples (~25 ms each here) of a lag on a channel nothing reads are taken
     # as acquisition latency: the lag and the latency found add up to the true 0.4 s
     tau = report["effects"][0]["parameters"]["tau"]["value"]
     latency = report["aligned_samples"].get("thermocouple.T_meas", 0)

@@ -109,7 +109,7 @@ def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency
     given), taken again there when the last Jacobian was an update. The sensor channels'
     latencies (`residuals`) are held during each pass: the given `latency` ({column: samples}, a
     calibration's), else chosen again between passes; the result's ``latency`` is the one held
-    last. A latency trades against a lag effect on its channel (up to MAX_LATENCY of it):
+    last. A latency trades against a lag effect on its channel (up to MAX_ALIGN samples of it):
     holding the calibration's while an effect is fitted keeps that trade the same for every
     candidate. Every point of the scan and of least squares is simulated as far as the training
     part reaches (``simulate(..., part=TRAIN)``); only the fitted values are run to the end, for the

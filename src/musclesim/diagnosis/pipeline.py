@@ -7,7 +7,7 @@ The steps, on a measured data set (`musclesim.diagnosis.dataset`), each printed 
    observed signal is compared: NRMSE by the measured range, bias (measured - model), lag (the
    shift of the model that best matches the data); scalar metrics by relative error. A sensor
    channel nothing in the model reads is compared allowing an acquisition latency of up to
-   `MAX_LATENCY` (40 ms), chosen on the training part in every comparison (`residuals`). Nothing
+   `MAX_ALIGN` samples, chosen on the training part in every comparison (`residuals`). Nothing
    deviating beyond the noise anywhere: verdict ``none``.
 2. Calibration. A real bench differs from the model in nominal values no effect library lists
    (its ambient, h, material data, the hysteresis's temperature shift and strain scale, ...):

@@ -57,7 +57,7 @@ class Unit:
     scale: dict  # observed column -> normalising range
     noise: dict  # observed column -> noise std, normalised
     components: dict  # instance -> component
-    alignable: tuple = ()  # columns compared allowing up to MAX_LATENCY of latency
+    alignable: tuple = ()  # columns compared allowing up to MAX_ALIGN samples of latency
     subjects: tuple = ()  # isolation units: the instances whose own closure this unit is
     # upstream outputs of recent runs, for restarting downstream (`simulate.simulate`); a copy
     # (dataclasses.replace) and one sent to a worker (pickled) start empty

@@ -19,7 +19,7 @@ import numpy as np
 
 from musclesim.cosim import Graph, Master, compute_metrics, split_signal
 from musclesim.diagnosis.stats import HELD_OUT, TRAIN, advance, gap, lag
-from musclesim.diagnosis.thresholds import MAX_LATENCY
+from musclesim.diagnosis.thresholds import MAX_ALIGN
 
 
 RESTARTS = 16  # upstream runs a unit keeps for downstream restarts (a few signals each)
@@ -127,28 +127,18 @@ def _run(unit, which, s, inputs, values, fmu_dir):
     return res.time, {**upstream, **{c: res[c] for c in alone.record}}
 
 
-def latency_samples(unit):
-    """The most samples of acquisition latency `residuals` tries: MAX_LATENCY at the data's
-    sampling interval (the first run's median)."""
-    time = unit.runs[0].time
-    if len(time) < 2:
-        return 0
-    return int(round(MAX_LATENCY / float(np.median(np.diff(time)))))
-
-
 def residuals(unit, sims, shifts=None, align=None):
     """Normalised residuals (model - measured) / range: ``{column: [array per run]}``.
 
     An alignable column (a sensor channel nothing simulated in the unit reads) is compared
-    shifted back by the whole number of samples, up to MAX_LATENCY, that fits the training part
+    shifted back by the whole number of samples, 0..MAX_ALIGN, that fits the training part
     best: its acquisition latency, a nuisance; `align` ({column: samples}) imposes the shifts
     instead. `shifts`, a dict, receives the samples chosen.
     """
     out = {}
-    most = latency_samples(unit)
     for c in unit.observed:
         best = None
-        choices = range(most + 1 if c in unit.alignable else 1)
+        choices = range(MAX_ALIGN + 1 if c in unit.alignable else 1)
         for d in ([align[c]] if align and c in align else choices):
             res = [(sim[c] - advance(run.measured[c], d)) / unit.scale[c]
                    for run, sim in zip(unit.runs, sims)]

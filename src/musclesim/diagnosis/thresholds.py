@@ -23,13 +23,11 @@ NOISE_FLOOR = 2e-3
 # a modest repeatability is assumed; a data set that knows better gives `uncertainty`.
 METRIC_FLOOR = 0.02
 
-# Acquisition latency [s] allowed for a sensor channel nothing in the model reads (a strain gauge
-# logged by another device, a camera's positions): the whole number of samples, from 0 to this
-# time (two samples at 50 Hz, 40 at 1 kHz), that fits the training part best is taken. A time, as
-# a latency is: a video frame and its processing take a few tens of milliseconds. No more on
-# purpose: a larger shift would start to absorb a real lag, which is an effect to diagnose (the
-# library's thermocouple lag), not a nuisance.
-MAX_LATENCY = 0.04
+# Samples of acquisition latency allowed for a sensor channel nothing in the model reads (a strain
+# gauge logged by another device): the shift 0..MAX_ALIGN that fits the training part best is
+# taken. A small number on purpose: a larger shift would start to absorb a real lag, which is an
+# effect to diagnose (the library's thermocouple lag), not a nuisance.
+MAX_ALIGN = 2
 
 # -- calibration ----------------------------------------------------------------------------------
 # Training values needed per calibration parameter: below it (a few scalar metrics) nothing is
@@ -85,12 +83,12 @@ PERIOD_POINTS = 8
 # there with every column fresh, as calibration alone was.
 REFINED = 2
 
-# Least-squares passes of a fit at most: the sensor channels' latencies (MAX_LATENCY) chosen again
+# Least-squares passes of a fit at most: the sensor channels' latencies (MAX_ALIGN) chosen again
 # between passes and held within each (a latency switching inside a pass makes the residuals jump,
 # and the trust region stalls next to the jump), and a pass from fresh differences after one that
 # stopped short while its cost still fell (a trust region can collapse where an updated Jacobian is
 # wrong; a fresh one shows whether the optimum is there). Each pass lowers the cost; two or three
-# end it in practice (a lag trades at most MAX_LATENCY against the latency).
+# end it in practice (a lag trades at most MAX_ALIGN samples against the latency).
 PASSES = 4
 
 # -- statistics -----------------------------------------------------------------------------------
