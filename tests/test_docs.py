@@ -34,3 +34,32 @@ def test_public_objects_have_docstrings(module):
 def test_docstring_examples(module):
     result = doctest.testmod(module)
     assert result.failed == 0
+
+
+def test_the_modelica_table_names_every_component_and_only_ports_it_has(fmu_dir):
+    """docs/user/modelica.md: a row per component, and every port a row lists (with ``/`` and
+    ``*`` shorthands expanded against the FMU) is one of the FMU's inputs or outputs."""
+    import re
+    from pathlib import Path
+
+    from fmpy import read_model_description
+
+    from musclesim.components import CATALOGUE
+
+    text = (Path(__file__).parents[1] / "docs" / "user" / "modelica.md").read_text()
+    rows = {m.group(1): m.group(2) for m in re.finditer(r"^\| `(\w+)`[^|]*\| ([^|]*→[^|]*)\|",
+                                                           text, re.M)}
+    for pair in re.finditer(r"^\| `(\w+)`, `(\w+)` \| ([^|]*→[^|]*)\|", text, re.M):
+        rows.update({pair.group(1): pair.group(3), pair.group(2): pair.group(3)})
+    assert set(CATALOGUE) <= set(rows)
+    for name in CATALOGUE:
+        md = read_model_description(str(fmu_dir / f"{name}.fmu"))
+        ports = {v.name for v in md.modelVariables if v.causality in ("input", "output")}
+        for port in re.findall(r"`([\w.\[\]/*]+)`", rows[name]):
+            head, _, tails = port.rpartition(".")
+            for one in ([f"{head}.{t}" for t in tails.split("/")] if "/" in port else [port]):
+                if "*" in one or "[" in one:
+                    prefix = one.split("*")[0].split("[")[0]
+                    assert any(p.startswith(prefix) for p in ports), (name, one)
+                else:
+                    assert one in ports, (name, one)
