@@ -21,10 +21,11 @@ import pytest
 
 from musclesim import cli
 from musclesim.batch import dask_client, run_case, ship_fmus
+from musclesim.benchmark import blind
 from musclesim.cosim import Master, load_scenario, run_scenario
 from musclesim.diagnosis import diagnose, load_dataset
 
-from conftest import SCENARIOS
+from conftest import SCENARIOS, schema_errors
 
 AUDIT = Path(__file__).with_name("worker_audit.py")
 GRID = "inputs.phi=0,1.5,3"
@@ -214,4 +215,31 @@ def test_a_diagnosis_on_workers_that_see_none_of_the_clients_files(cluster, clie
     here = diagnose(load_dataset(data, check_model=True, fmu_dir=fmus), fmus)  # in this process
     assert json.loads((out / "report.json").read_text()) == json.loads(json.dumps(here,
                                                                                   default=float))
+    check_isolation(folders, client_dir)
+
+
+def test_a_blind_benchmark_on_workers_that_see_none_of_the_clients_files(cluster, client_dir,
+                                                                         tmp_path, capsys):
+    """`benchmark-diagnosis --scheduler`: the workers record, diagnose and score each case from
+    data and shipped FMUs; the data sets, reports and scores are written by the client (the
+    recording the same bits as one made here; a diagnosis on such a cluster equals one here,
+    `test_a_diagnosis_on_workers_that_see_none_of_the_clients_files`)."""
+    address, folders = cluster
+    scenarios, fmus, out = client_dir / "scenarios", client_dir / "fmus", client_dir / "blind"
+    shutil.copytree(SCENARIOS, scenarios)
+    before = _tree(client_dir)
+    assert cli.main(["benchmark-diagnosis", "--bench", "independent", "--cases", "1", "--seed",
+                     "102", "--duration", "20", "--fmus", str(fmus), "--scenarios",
+                     str(scenarios), "--out", str(out), "--scheduler", address]) == 0
+    capsys.readouterr()
+    after = _tree(client_dir)
+    assert {p: after[p] for p in before} == before
+    assert all(p.is_relative_to(out) for p in set(after) - set(before))
+    case = json.loads((out / "independent" / "key.json").read_text())["cases"][0]
+    here = blind.make_case(case, tmp_path, fmus, scenarios)
+    there = out / "independent" / "cases" / case["case"]
+    assert (there / "data.csv").read_bytes() == (here / "data.csv").read_bytes()
+    report = json.loads((there / "report.json").read_text())
+    assert schema_errors("report", report) == [] and report["verdict"] != "error"
+    assert json.loads((out / "scores.json").read_text())["independent"]["cases"] == 1
     check_isolation(folders, client_dir)

@@ -51,7 +51,7 @@ def test_crawler_bench_hides_one_draw_in_every_actuator(fmu_dir, tmp_path):
                                                  for a in ("act1", "actc", "act2")})):
         case = {"case": name, "kind": "effect", "bench": "crawler", "effect": "chamber leakage",
                 "values": values, "latency_samples": 0, "seed": 9}
-        blind._make((case, tmp_path, SCENARIOS, fmu_dir))
+        blind.make_case(case, tmp_path, fmu_dir, SCENARIOS)
         ds = load_dataset(tmp_path / "cases" / name, check_model=True, fmu_dir=fmu_dir)
         assert ds.inputs == ("act1.duty", "actc.duty", "act2.duty")
         recorded[name] = ds
@@ -67,7 +67,7 @@ def test_crawler_bench_hides_one_draw_in_every_actuator(fmu_dir, tmp_path):
     # replayed there would be differentiated): the true leakage closes the gap there
     replayed = Problem(recorded["leak"], fmu_dir).replayed()
     assert not any("flange" in dst for dst in replayed.runs[0].inputs)
-    gaps = blind._oracle((case, tmp_path / "cases" / "leak", {}, fmu_dir))
+    gaps = blind._oracle((case, recorded["leak"], {}, fmu_dir))
     assert gaps["oracle"] < 0.5 * gaps["before"]
 
 
@@ -83,7 +83,7 @@ def test_weight_bench_hides_the_weights_inertia(fmu_dir, tmp_path):
     for name, values in (("none", {}), ("ringing", {"weight.inertia": 0.5})):
         case = {"case": name, "kind": "effect", "bench": "weight", "effect": "load inertia",
                 "values": values, "latency_samples": 1, "seed": 5}
-        blind._make((case, tmp_path, SCENARIOS, fmu_dir))
+        blind.make_case(case, tmp_path, fmu_dir, SCENARIOS)
         ds = load_dataset(tmp_path / "cases" / name, check_model=True, fmu_dir=fmu_dir)
         assert ds.inputs == ("wire.u",) and ds.outputs == ("laser.s_meas",)
         recorded[name] = ds.experiment("all")

@@ -125,7 +125,7 @@ def test_crawler_plan_is_reproducible_and_its_data_load_against_the_model(fmu_di
     t1, cols1, _ = independent_plan.record(case)
     t2, cols2, _ = independent_plan.record(case)
     assert all(np.array_equal(cols1[c], cols2[c]) for c in cols1)
-    blind._make_independent((case, tmp_path, ROOT / "scenarios"))
+    blind.make_case(case, tmp_path, scenarios_dir=ROOT / "scenarios")
     ds = load_dataset(tmp_path / "cases" / case["case"], check_model=True, fmu_dir=fmu_dir)
     assert ds.inputs == tuple(independent_plan.CRAWLER_INPUTS)
     assert ds.outputs == tuple(independent_plan.CRAWLER_OUTPUTS)

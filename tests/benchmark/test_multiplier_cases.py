@@ -32,8 +32,8 @@ def test_a_hidden_multiplier_effect_changes_the_recording(fmu_dir, effect):
             "latency_samples": 0, "seed": 5}
     hidden = dict(base, kind="effect", effect=effect,
                   values={f"mult.{p}": v for (_, p, _, v) in blind.MAGNITUDES[effect]})
-    t, nominal = blind.record(base, SCENARIOS, fmu_dir)
-    _, changed = blind.record(hidden, SCENARIOS, fmu_dir)
+    t, nominal = blind.record(base, blind.bench_scenario(base, SCENARIOS), fmu_dir)
+    _, changed = blind.record(hidden, blind.bench_scenario(hidden, SCENARIOS), fmu_dir)
     assert t[-1] == pytest.approx(blind.STOP_TIME["multiplier"])
     assert sorted(nominal) == ["laser.s_meas", "mult.u", "thermocouple.T_meas"]
     assert not np.allclose(nominal["laser.s_meas"], changed["laser.s_meas"], atol=2e-5)

@@ -176,7 +176,7 @@ def test_a_generated_data_set_loads_against_the_model(fmu_dir, tmp_path):
     case = next(c for c in independent_plan.plan(8, 2, blind.DECOYS, duration=12.0)
                 if c["kind"] == "none")
     case["ambient_known"] = True
-    blind._make_independent((case, tmp_path, ROOT / "scenarios"))
+    blind.make_case(case, tmp_path, scenarios_dir=ROOT / "scenarios")
     ds = load_dataset(tmp_path / "cases" / case["case"], check_model=True, fmu_dir=fmu_dir)
     assert ds.inputs == ("pid.u",) and ds.outputs == ("thermocouple.T_meas", "wire.strain")
     assert ds.conditions == {"wire.T_amb": pytest.approx(case["ambient_read"], abs=0.01)}

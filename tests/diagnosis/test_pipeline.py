@@ -22,7 +22,7 @@ def lag_case(fmu_dir, tmp_path_factory, cluster_map):
     out = tmp_path_factory.mktemp("lag")
     case = {"case": "lag", "kind": "effect", "bench": "tracking", "effect": "thermocouple lag",
             "values": {"thermocouple.tau": 0.3}, "latency_samples": 1, "seed": 7}
-    blind._make((case, out, SCENARIOS, fmu_dir))
+    blind.make_case(case, out, fmu_dir, SCENARIOS)
     traces = {}
     report = diagnose(dataset.load(out / "cases" / "lag"), fmu_dir, cluster_map, traces=traces)
     return report, traces, out
@@ -89,7 +89,7 @@ def test_report_json_keeps_its_documented_shape(lag_case, tmp_path):
 def test_the_model_matching_its_data_has_no_gap(fmu_dir, tmp_path):
     case = {"case": "null", "kind": "none", "bench": "tracking", "effect": None, "values": {},
             "latency_samples": 0, "seed": 3}
-    blind._make((case, tmp_path, SCENARIOS, fmu_dir))
+    blind.make_case(case, tmp_path, fmu_dir, SCENARIOS)
     report = diagnose(dataset.load(tmp_path / "cases" / "null"), fmu_dir)
     assert report["verdict"] == "none" and report["effects"] == report["stand_ins"] == []
     assert not report["gap"]["deviates"]

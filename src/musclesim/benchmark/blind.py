@@ -227,12 +227,17 @@ def _scenario_path(bench, scenarios_dir):
     return Path(scenarios_dir) / f"{BENCHES[bench][0]}.toml"
 
 
-def record(case, scenarios_dir, fmu_dir):
-    """Run the virtual hardware of `case`: (time, {column: values}) as the bench records them."""
-    name, inputs, outputs, _ = BENCHES[case["bench"]]
+def bench_scenario(case, scenarios_dir):
+    """The scenario of `case`'s bench with its hidden values set (what `record` runs)."""
     sets = [f"{k}={v!r}" for k, v in case["values"].items()]
-    s = load_scenario(_scenario_path(case["bench"], scenarios_dir), sets,
-                      STOP_TIME.get(case["bench"]))
+    return load_scenario(_scenario_path(case["bench"], scenarios_dir), sets,
+                         STOP_TIME.get(case["bench"]))
+
+
+def record(case, s, fmu_dir):
+    """Run the virtual hardware of `case` on its bench's scenario `s` (`bench_scenario`): (time,
+    {column: values}) as the bench records them."""
+    name, inputs, outputs, _ = BENCHES[case["bench"]]
     # the nuisances on the sensors this bench has (with_values skips the others)
     s = with_values(s, {(inst, par): v for inst, noise, quantum, modulus in NUISANCES
                         for par, v in (("noise_std", noise), ("quantum", quantum),
@@ -268,33 +273,25 @@ def _outside_strain(case, t):
     return add
 
 
-def _make(args):
-    case, out, scenarios_dir, fmu_dir = args
-    time, cols = record(case, scenarios_dir, fmu_dir)
-    name, inputs, outputs, _ = BENCHES[case["bench"]]
-    ref = str(_scenario_path(case["bench"], scenarios_dir).resolve())
-    write_data_set(Path(out) / "cases" / case["case"], time, cols, inputs, outputs, ref,
-                   f"blind case {case['case']} on bench {name}",
-                   held_out_fraction=HELD_OUT_FRACTION)
-    return case["case"]
+def _record(args):
+    case, s, fmu_dir = args
+    return record(case, s, fmu_dir)
 
 
 def _diagnose(args):
-    case_dir, fmu_dir = args
+    ds, fmu_dir = args
     try:
-        report = diagnose(load_dataset(case_dir, fmu_dir=fmu_dir), fmu_dir)
+        return diagnose(ds, fmu_dir)
     except UserError as exc:
-        report = {"verdict": "error", "error": str(exc)}
-    (Path(case_dir) / "report.json").write_text(json.dumps(report, indent=1, default=float) + "\n")
-    return report
+        return {"verdict": "error", "error": str(exc)}
 
 
 def _oracle(args):
     """Held-out gap of the model with every measured signal replayed (the report's section 4):
     nominal and with our selected effects' values, as the report has them, and with the true
     values (the oracle), simulated here."""
-    case, case_dir, report, fmu_dir = args
-    problem = Problem(load_dataset(case_dir, fmu_dir=fmu_dir), fmu_dir)
+    case, ds, report, fmu_dir = args
+    problem = Problem(ds, fmu_dir)
     whole = problem.replayed()
 
     def heldout(values):
@@ -308,20 +305,6 @@ def _oracle(args):
     ours = report.get("shrinkage", {}).get("all")
     before = ours["before"] if ours else heldout({})  # no report section 4: the case failed
     return {"before": before, "oracle": heldout(truth), "ours": ours["after"] if ours else before}
-
-
-def _make_independent(args):
-    case, out, scenarios_dir = args
-    time, cols, stated = independent_plan.record(case)
-    ip = independent_plan
-    scenario, inputs, outputs, what = (
-        (ip.CRAWLER_SCENARIO, ip.CRAWLER_INPUTS, ip.CRAWLER_OUTPUTS, "crawler")
-        if case["bench"] == "independent-crawler" else (ip.SCENARIO, ip.INPUTS, ip.OUTPUTS, "SMA"))
-    ref = str((Path(scenarios_dir) / f"{scenario}.toml").resolve())
-    write_data_set(Path(out) / "cases" / case["case"], time, cols, inputs, outputs, ref,
-                   f"blind case {case['case']} on the independent {what} bench", stated,
-                   held_out_fraction=HELD_OUT_FRACTION)
-    return case["case"]
 
 
 def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, progress=None,
@@ -351,29 +334,88 @@ def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, 
     top = Path(out)
     out = top / "independent" if bench == "independent" else top
     out.mkdir(parents=True, exist_ok=True)
+    # the workers get the FMUs as bytes and every case as data: they need none of this
+    # process's files, and the data sets and reports are written here
+    fmus = pmap.ship_fmus(fmu_dir) if hasattr(pmap, "ship_fmus") else fmu_dir
     if bench == "own":
         cases = plan(count, seed) + plan_multiplier(multiplier, seed)
-        jobs = (_make, [(c, out, scenarios_dir, fmu_dir) for c in cases])
+        recorded = (_record, [(c, bench_scenario(c, scenarios_dir), fmus) for c in cases])
         oracle = _oracle
     else:
         cases = (independent_plan.plan(count, seed, DECOYS, duration or independent_plan.DURATION)
                  + independent_plan.plan_crawler(crawler, seed))
-        jobs = (_make_independent, [(c, out, scenarios_dir) for c in cases])
+        recorded = (independent_plan.record, cases)
         oracle = independent_plan.oracle
     say(f"recording {len(cases)} cases on the {bench} virtual hardware")
-    pmap(*jobs)
+    dirs = [out / "cases" / c["case"] for c in cases]
+    for case, folder, (time, cols, *stated) in zip(cases, dirs, pmap(*recorded)):
+        _write_case(case, folder, time, cols, (stated or [None])[0], scenarios_dir)
     key = json.dumps({"seed": seed, "cases": cases}, indent=1, sort_keys=True) + "\n"
     # sealed: `sha256sum -c key.sha256` checks key.json once it is written, after the diagnosis
     (out / "key.sha256").write_text(hashlib.sha256(key.encode()).hexdigest() + "  key.json\n")
     say("diagnosing blind")
-    dirs = [out / "cases" / c["case"] for c in cases]
-    reports = pmap(_diagnose, [(d, fmu_dir) for d in dirs])
+    sets = [load_dataset(d, fmu_dir=fmu_dir).loaded() for d in dirs]
+
+    def written(i, report):  # each report as its case ends
+        text = json.dumps(report, indent=1, default=float) + "\n"
+        (dirs[i] / "report.json").write_text(text)
+    reports = each(pmap, _diagnose, [(ds, fmus) for ds in sets], written)
     (out / "key.json").write_text(key)
     say("scoring against the key and the oracle")
-    gaps = pmap(oracle, [(c, d, r, fmu_dir) for c, d, r in zip(cases, dirs, reports)])
+    gaps = pmap(oracle, [(c, ds, r, fmus) for c, ds, r in zip(cases, sets, reports)])
     scores = score(cases, reports, gaps)
     _write_scores(top / "scores.json", scores, bench)
     return scores
+
+
+def make_case(case, out, fmu_dir="fmus", scenarios_dir="scenarios"):
+    """Record `case` on its bench and write its data set into ``out/cases/<case>``, here (what
+    `run` does on its map); return that folder."""
+    if case["bench"] in ("independent-crawler", independent_plan.BENCH):
+        time, cols, stated = independent_plan.record(case)
+    else:
+        (time, cols), stated = record(case, bench_scenario(case, scenarios_dir), fmu_dir), None
+    folder = Path(out) / "cases" / case["case"]
+    _write_case(case, folder, time, cols, stated, scenarios_dir)
+    return folder
+
+
+def _write_case(case, folder, time, cols, stated, scenarios_dir):
+    """Write `case`'s recording as a data set in `folder`, naming its model's scenario and the
+    conditions the bench `stated`."""
+    ip = independent_plan
+    if case["bench"] == "independent-crawler":
+        scenario, inputs, outputs = ip.CRAWLER_SCENARIO, ip.CRAWLER_INPUTS, ip.CRAWLER_OUTPUTS
+        what = "the independent crawler bench"
+    elif case["bench"] == ip.BENCH:
+        scenario, inputs, outputs = ip.SCENARIO, ip.INPUTS, ip.OUTPUTS
+        what = "the independent SMA bench"
+    else:
+        scenario, inputs, outputs, _ = BENCHES[case["bench"]]
+        what = f"bench {scenario}"
+    ref = str((Path(scenarios_dir) / f"{scenario}.toml").resolve())
+    write_data_set(folder, time, cols, inputs, outputs, ref, f"blind case {case['case']} on {what}",
+                   stated, held_out_fraction=HELD_OUT_FRACTION)
+
+
+def each(pmap, fn, items, done):
+    """[fn(item) for item in items] on `pmap`, calling done(index, result) as each ends: several
+    at once where the map takes calls from several threads (a Dask map), one after the other
+    otherwise."""
+    if not getattr(pmap, "concurrent", False):
+        out = []
+        for i, item in enumerate(items):
+            out.append(fn(item) if pmap is serial_map else pmap(fn, [item])[0])
+            done(i, out[-1])
+        return out
+    from concurrent.futures import ThreadPoolExecutor
+
+    def one(i):
+        result = pmap(fn, [items[i]])[0]
+        done(i, result)
+        return result
+    with ThreadPoolExecutor(max_workers=max(1, pmap.width())) as pool:
+        return list(pool.map(one, range(len(items))))
 
 
 def _write_scores(path, scores, bench):

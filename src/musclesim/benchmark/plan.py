@@ -31,7 +31,7 @@ import numpy as np
 from musclesim.benchmark.benches import crawler
 from musclesim.benchmark.benches.sma import LENGTH, STRESS, Bench, run
 from musclesim.diagnosis import (HELD_OUT, TRAIN, Failed, Free, Problem, calibration,
-                                 find_effect, fit, gap, load_dataset, residuals, simulate_unit,
+                                 find_effect, fit, gap, residuals, simulate_unit,
                                  values_of)
 
 BENCH = "independent"
@@ -261,12 +261,12 @@ def oracle(args):
     library's terms, and its conditions differ from the model's). The oracle is None for a case
     without a library key. (No oracle judges identifiability by the diagnosis's own rules: that
     would measure the rules, not the data.)"""
-    case, case_dir, report, fmu_dir = args
+    case, ds, report, fmu_dir = args
     ours = report.get("shrinkage", {}).get("all")
     keyed = case["kind"] in ("effect", "decoy")
     if ours is not None and not keyed:
         return {"before": ours["before"], "oracle": None, "ours": ours["after"]}
-    problem = Problem(load_dataset(case_dir, fmu_dir=fmu_dir), fmu_dir)
+    problem = Problem(ds, fmu_dir)
     unit = problem.replayed()
     if ours is None:  # no report section 5: the case failed, our model is the nominal one
         try:

@@ -128,6 +128,9 @@ class DataSet:
     conditions: dict = field(default_factory=dict)  # "instance.variable" -> known constant value
     condition_units: dict = field(default_factory=dict)  # the model's unit of each condition
     calibrate: tuple = ()  # the open values `musclesim calibrate` fits (`OpenValue` each)
+    # experiment -> its Scenario, loaded with the conditions (`loaded`): a data set that carries
+    # them is diagnosed where the scenario files are not (a Dask worker of another machine)
+    scenarios: dict = None
 
     @property
     def scalar_only(self):
@@ -136,6 +139,19 @@ class DataSet:
 
     def __getitem__(self, column):
         return self.data[:, self.columns.index(column)]
+
+    def scenario_of(self, experiment):
+        """The Scenario experiment `experiment` runs: the one the set carries, else its file
+        loaded with the bench conditions and the experiment's stop time."""
+        if self.scenarios is not None:
+            return self.scenarios[experiment]
+        e = self.experiments[experiment]
+        return load_scenario(e.scenario_path, self.overrides(experiment), e.stop_time)
+
+    def loaded(self):
+        """This data set carrying its experiments' scenarios (`scenario_of`), to be diagnosed
+        without their files."""
+        return replace(self, scenarios={name: self.scenario_of(name) for name in self.experiments})
 
     def overrides(self, experiment=None):
         """The bench conditions as scenario overrides (``"instance.variable=value"``), with

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from musclesim.cosim import Graph, Master, load_scenario, read_fmu, split_signal
+from musclesim.cosim import Graph, Master, read_fmu, split_signal
 from musclesim.diagnosis.effects import COUPLED_PORTS, by_component, calibration_of
 from musclesim.diagnosis.stats import HELD_OUT, TRAIN, noise_estimate
 from musclesim.diagnosis.thresholds import METRIC_FLOOR, NOISE_FLOOR
@@ -124,13 +124,13 @@ class Problem:
 
     def __init__(self, ds, fmu_dir="fmus"):
         self.ds, self.fmu_dir = ds, fmu_dir
-        missing = {e.scenario for e in ds.experiments.values() if e.scenario_path is None}
+        missing = {e.scenario for e in ds.experiments.values()
+                   if e.scenario_path is None and ds.scenarios is None}
         if missing:
             raise UserError(f"data set {ds.path}: scenario {sorted(missing)[0]!r} not found (a "
                             ".toml path relative to the manifest, or a name in the scenarios "
                             "folder)")
-        self.scenarios = {name: load_scenario(e.scenario_path, ds.overrides(name), e.stop_time)
-                          for name, e in ds.experiments.items()}
+        self.scenarios = {name: ds.scenario_of(name) for name in ds.experiments}
         first = next(iter(self.scenarios.values()))
         self.vars = _variables(first, fmu_dir)
         self.components = {n: i.component for n, i in first.instances.items()}
