@@ -116,9 +116,13 @@ class _FmpySlave:
         self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped, instanceName=name,
                              modelIdentifier=md.coSimulation.modelIdentifier)
         self.fmu.instantiate(callbacks=fmi_callbacks, loggingOn=True)
-        self.c = self.fmu.component
-        self.get, self.set, self.do_step = (self.fmu._functions[f] for f in (
-            "fmi2GetReal", "fmi2SetReal", "fmi2DoStep"))
+        self._bind("fmi2GetReal", "fmi2SetReal", "fmi2DoStep")
+        self.sized = False
+
+    def _bind(self, *names):
+        """The FMU's get, set and step functions, called straight (fmpy's checks bypassed)."""
+        self.c, self.names = self.fmu.component, names
+        self.get, self.set, self.do_step = (self.fmu._functions[f] for f in names)
 
     def setup_experiment(self, start_time, stop_time):
         self.fmu.setupExperiment(startTime=start_time, stopTime=stop_time)
@@ -140,19 +144,21 @@ class _FmpySlave:
     def reader(self, vrs, out):
         n, vr = len(vrs), (ctypes.c_uint * max(1, len(vrs)))(*vrs)
         ptr, get, c = out.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), self.get, self.c
+        sized, name = (n,) if self.sized else (), self.names[0]
 
         def read():
-            _check(get(c, vr, n, ptr), "fmi2GetReal")
+            _check(get(c, vr, n, ptr, *sized), name)
         return read if n else None
 
     def writer(self, vrs, slots, values):
         n, vr = len(vrs), (ctypes.c_uint * max(1, len(vrs)))(*vrs)
         vals = (ctypes.c_double * max(1, n))()
         view, set_, c = np.ctypeslib.as_array(vals)[:n], self.set, self.c
+        sized, name = (n,) if self.sized else (), self.names[1]
 
         def write():
             values.take(slots, out=view)
-            _check(set_(c, vr, n, vals), "fmi2SetReal")
+            _check(set_(c, vr, n, vals, *sized), name)
         return write if n else None
 
     def stepper(self):
@@ -175,9 +181,8 @@ class _Fmpy3Slave(_FmpySlave):
         self.fmu = FMU3Slave(guid=md.guid, unzipDirectory=unzipped, instanceName=name,
                              modelIdentifier=md.coSimulation.modelIdentifier)
         self.fmu.instantiate(loggingOn=True, logMessage=route)
-        self.c = self.fmu.component
-        self.get, self.set, self.do_step = (self.fmu._functions[f] for f in (
-            "fmi3GetFloat64", "fmi3SetFloat64", "fmi3DoStep"))
+        self._bind("fmi3GetFloat64", "fmi3SetFloat64", "fmi3DoStep")
+        self.sized = True  # FMI 3.0's get and set take the number of values too
         self.span = (0.0, None)
 
     def setup_experiment(self, start_time, stop_time):
@@ -188,24 +193,6 @@ class _Fmpy3Slave(_FmpySlave):
 
     def set_real(self, vrs, values):
         self.fmu.setFloat64(list(vrs), list(values))
-
-    def reader(self, vrs, out):
-        n, vr = len(vrs), (ctypes.c_uint * max(1, len(vrs)))(*vrs)
-        ptr, get, c = out.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), self.get, self.c
-
-        def read():
-            _check(get(c, vr, n, ptr, n), "fmi3GetFloat64")
-        return read if n else None
-
-    def writer(self, vrs, slots, values):
-        n, vr = len(vrs), (ctypes.c_uint * max(1, len(vrs)))(*vrs)
-        vals = (ctypes.c_double * max(1, n))()
-        view, set_, c = np.ctypeslib.as_array(vals)[:n], self.set, self.c
-
-        def write():
-            values.take(slots, out=view)
-            _check(set_(c, vr, n, vals, n), "fmi3SetFloat64")
-        return write if n else None
 
     def stepper(self):
         do_step, c = self.do_step, self.c

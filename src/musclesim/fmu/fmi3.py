@@ -90,21 +90,9 @@ class Fmi3Face(Fmi3Slave):
     # ---- model description ---------------------------------------------------------------------
     def to_xml(self, model_options=None):
         root = super().to_xml(model_options or {})
-        inner, used = self.inner, {"s"}
-        vr = {}
-        for v in root.find("ModelVariables"):
-            vr[v.get("name")] = v.get("valueReference")
-            unit, display = ("s", None) if v.get("name") == "time" else inner.unit_of(v.get("name"))
-            if unit != "1":
-                v.set("unit", unit)
-                if display:
-                    v.set("displayUnit", display)
-                used.add(unit)
-        root.insert(list(root).index(root.find("CoSimulation")) + 1, inner.unit_definitions(used))
-        structure = root.find("ModelStructure")
-        for child in list(structure):
-            structure.remove(child)
-        outputs = inner.feedthrough()
+        vr = {v.get("name"): v.get("valueReference") for v in root.find("ModelVariables")}
+        structure = self.inner.describe_units(root, typed=lambda v: v)
+        outputs = self.inner.feedthrough()
         for name, deps in outputs:
             SubElement(structure, "Output", valueReference=vr[name],
                        dependencies=" ".join(vr[d] for d in deps))

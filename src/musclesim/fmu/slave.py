@@ -306,12 +306,26 @@ class Slave(Fmi2Slave):
         return pickle.loads(data)
 
     # ---- model description ---------------------------------------------------------------------
-    def unit_of(self, name):
-        """(unit, display unit or None) of variable `name`; unit "1" for a dimensionless one."""
-        unit = self._meta[name][0]
-        return unit, self.display_units.get(unit)
+    def describe_units(self, root, typed=lambda v: v.find("Real")):
+        """Give each variable of model description `root` its unit and display unit (on the
+        element `typed` returns for it: FMI 2.0's Real child, FMI 3.0's variable itself; a
+        variable this slave does not declare, FMI 3.0's time, is in s), add the UnitDefinitions
+        after CoSimulation, and return the ModelStructure element, emptied."""
+        used = set()
+        for v in root.find("ModelVariables"):
+            unit = self._meta[v.get("name")][0] if v.get("name") in self._meta else "s"
+            if unit != "1":
+                typed(v).set("unit", unit)
+                if unit in self.display_units:
+                    typed(v).set("displayUnit", self.display_units[unit])
+                used.add(unit)
+        root.insert(list(root).index(root.find("CoSimulation")) + 1, self._unit_definitions(used))
+        structure = root.find("ModelStructure")
+        for child in list(structure):
+            structure.remove(child)
+        return structure
 
-    def unit_definitions(self, used):
+    def _unit_definitions(self, used):
         """The ``UnitDefinitions`` element of the units `used` (FMI 2.0 and 3.0 alike)."""
         units = Element("UnitDefinitions")
         for unit in sorted(used):
@@ -333,19 +347,7 @@ class Slave(Fmi2Slave):
     def to_xml(self, model_options=None):
         root = super().to_xml(model_options or {})
         index = {v.get("name"): i for i, v in enumerate(root.find("ModelVariables"), start=1)}
-        used = set()
-        for v in root.find("ModelVariables"):
-            unit, display = self.unit_of(v.get("name"))
-            if unit != "1":
-                v.find("Real").set("unit", unit)
-                if display:
-                    v.find("Real").set("displayUnit", display)
-                used.add(unit)
-        root.insert(list(root).index(root.find("CoSimulation")) + 1, self.unit_definitions(used))
-
-        structure = root.find("ModelStructure")
-        for child in list(structure):
-            structure.remove(child)
+        structure = self.describe_units(root)
         outputs = self.feedthrough()
         if outputs:
             node = SubElement(structure, "Outputs")
