@@ -402,18 +402,14 @@ def each(pmap, fn, items, done):
     """[fn(item) for item in items] on `pmap`, calling done(index, result) as each ends: several
     at once where the map takes calls from several threads (a Dask map), one after the other
     otherwise."""
-    if not getattr(pmap, "concurrent", False):
-        out = []
-        for i, item in enumerate(items):
-            out.append(fn(item) if pmap is serial_map else pmap(fn, [item])[0])
-            done(i, out[-1])
-        return out
     from concurrent.futures import ThreadPoolExecutor
 
     def one(i):
         result = pmap(fn, [items[i]])[0]
         done(i, result)
         return result
+    if not getattr(pmap, "concurrent", False):
+        return [one(i) for i in range(len(items))]
     with ThreadPoolExecutor(max_workers=max(1, pmap.width())) as pool:
         return list(pool.map(one, range(len(items))))
 
