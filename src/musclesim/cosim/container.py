@@ -3,10 +3,12 @@
 Tools that take one FMU (Simulink, Dymola, PyFMI) run a whole scenario this way. The container's
 runtime is FMPy's (its ``container_fmu`` binaries, read at export): at each of its fixed steps it
 steps every instance with the inputs it holds, then passes the connections' values in the order
-listed, each output read when its connection's turn comes, and counts its clock as our master
-does (t += h). Listing the connections in the order of the sources' exchange (direct
-feedthrough first, `Master.exchange_order`) makes that order the exchange of our Jacobi master,
-so a Jacobi scenario gives our results (tests/cosim/test_container.py). A Gauss-Seidel scenario
+listed, each output read when its connection's turn comes, on the communication points our
+master steps on (its results' time column is ours, bit for bit). Listing the connections in the
+order of the sources' exchange (direct feedthrough first, `Master.exchange_order`) makes that
+order the exchange of our Jacobi master, so a Jacobi scenario gives our results
+(tests/cosim/test_container.py). With ``fmi=3`` the container is an FMI 3.0 FMU; the FMUs inside
+may be of either version. A Gauss-Seidel scenario
 runs as Jacobi there: it is refused rather than exported to other numbers. Multi-rate stepping
 (``every``) the container cannot express: refused too.
 
