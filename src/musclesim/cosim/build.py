@@ -5,9 +5,8 @@
 Each FMU is self-contained: its resources hold the slave, the physics cores with the data files
 they read, the FMU base (`musclesim.fmu`, under the `musclesim` package name with an empty
 package __init__) and pythonfmu's Python files, so it runs where only Python, numpy and scipy are
-installed. fmus/BUILD.json
-records a digest of the sources the FMUs came from, so that the runner can tell when they are
-stale.
+installed. BUILD.json beside them records a digest of the sources the FMUs came from, so that the
+runner can tell when they are stale.
 """
 import functools
 import hashlib
