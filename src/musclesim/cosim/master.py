@@ -112,12 +112,13 @@ class _FmpySlave:
     a status above fmi2Warning raises as fmpy would. `reader` and `writer` give None where there
     is nothing to get or set, as `direct.DirectSlave`'s do."""
 
+    sized = False  # FMI 2.0's get and set take the number of value references only
+
     def __init__(self, md, unzipped, name, fmi_callbacks):
         self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped, instanceName=name,
                              modelIdentifier=md.coSimulation.modelIdentifier)
         self.fmu.instantiate(callbacks=fmi_callbacks, loggingOn=True)
         self._bind("fmi2GetReal", "fmi2SetReal", "fmi2DoStep")
-        self.sized = False
 
     def _bind(self, *names):
         """The FMU's get, set and step functions, called straight (fmpy's checks bypassed)."""
@@ -162,10 +163,10 @@ class _FmpySlave:
         return write if n else None
 
     def stepper(self):
-        do_step, c = self.do_step, self.c
+        do_step, c, name = self.do_step, self.c, self.names[2]
 
         def step(t, h):
-            _check(do_step(c, t, h, 1), "fmi2DoStep")
+            _check(do_step(c, t, h, 1), name)
         return step
 
 
@@ -173,6 +174,8 @@ class _Fmpy3Slave(_FmpySlave):
     """An FMI 3.0 co-simulation FMU instantiated by fmpy, with the same calls as `_FmpySlave`:
     Float64 values, the start and stop time given when initialization mode is entered, log
     messages (formatted by the FMU) appended to `log` as (status, message)."""
+
+    sized = True  # FMI 3.0's get and set take the number of values too
 
     def __init__(self, md, unzipped, name, log):
         def route(env, status, category, message):
@@ -182,7 +185,6 @@ class _Fmpy3Slave(_FmpySlave):
                              modelIdentifier=md.coSimulation.modelIdentifier)
         self.fmu.instantiate(loggingOn=True, logMessage=route)
         self._bind("fmi3GetFloat64", "fmi3SetFloat64", "fmi3DoStep")
-        self.sized = True  # FMI 3.0's get and set take the number of values too
         self.span = (0.0, None)
 
     def setup_experiment(self, start_time, stop_time):
@@ -195,12 +197,12 @@ class _Fmpy3Slave(_FmpySlave):
         self.fmu.setFloat64(list(vrs), list(values))
 
     def stepper(self):
-        do_step, c = self.do_step, self.c
+        do_step, c, name = self.do_step, self.c, self.names[2]
         flags, last = [ctypes.c_bool() for _ in range(3)], ctypes.c_double()
         refs = [ctypes.byref(f) for f in flags] + [ctypes.byref(last)]
 
         def step(t, h):
-            _check(do_step(c, t, h, True, *refs), "fmi3DoStep")
+            _check(do_step(c, t, h, True, *refs), name)
         return step
 
 
