@@ -29,7 +29,7 @@ from pathlib import Path
 from xml.etree import ElementTree as ET
 
 from musclesim.cosim.master import Master
-from musclesim.cosim.outputs import replace_zip
+from musclesim.cosim.outputs import check_archive, replace_zip
 from musclesim.cosim.scenario import split_signal
 from musclesim.cosim.ssp import base_units
 from musclesim.errors import UserError
@@ -188,13 +188,9 @@ def export(scenario, fmu_dir, fmu_path, fmi=2):
         match its FMUs, it uses Gauss-Seidel or multi-rate stepping, or this platform has no
         container runtime in the installed FMPy.
     """
-    fmu_path, fmu_dir = Path(fmu_path), Path(fmu_dir)
     if fmi not in (2, 3):
         raise UserError(f"FMI version {fmi!r}: a container FMU is FMI 2.0 or 3.0 (2 or 3)")
-    if fmu_path.suffix != ".fmu":
-        raise UserError(f"the FMU {fmu_path} must have a name ending in .fmu")
-    if fmu_path.is_dir():
-        raise UserError(f"the FMU {fmu_path} names a folder, not a file")
+    fmu_path, fmu_dir = check_archive(fmu_path, ".fmu", "the FMU"), Path(fmu_dir)
     if scenario.algorithm != "jacobi":
         raise UserError(f"scenario {scenario.path}: the container FMU steps its FMUs as the "
                         "Jacobi algorithm does; a Gauss-Seidel scenario would give other "

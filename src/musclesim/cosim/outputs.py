@@ -62,6 +62,17 @@ def save_figure(fig, path, **options):
     os.replace(tmp, path)
 
 
+def check_archive(path, suffix, what):
+    """`path` as a Path if it names a file ending in `suffix`; else UserError naming it as
+    `what` (e.g. "the FMU")."""
+    path = Path(path)
+    if path.suffix != suffix:
+        raise UserError(f"{what} {path} must have a name ending in {suffix}")
+    if path.is_dir():
+        raise UserError(f"{what} {path} names a folder, not a file")
+    return path
+
+
 def replace_zip(path, fill):
     """Write the zip archive `path` (its folder made if missing) by `fill(archive)`, an open
     ``zipfile.ZipFile``, under a temporary name renamed in place when `fill` returns: never a

@@ -4,7 +4,7 @@ from xml.etree import ElementTree as ET
 
 from musclesim.errors import UserError
 from musclesim.cosim.master import Master
-from musclesim.cosim.outputs import replace_zip
+from musclesim.cosim.outputs import check_archive, replace_zip
 from musclesim.cosim.scenario import split_signal
 
 NS = {
@@ -171,11 +171,7 @@ def export(scenario, fmu_dir, ssp_path):
     >>> export_ssp(s, "fmus", "crawler.ssp")  # doctest: +SKIP
     PosixPath('crawler.ssp')
     """
-    ssp_path, fmu_dir = Path(ssp_path), Path(fmu_dir)
-    if ssp_path.suffix != ".ssp":
-        raise UserError(f"the SSP archive {ssp_path} must have a name ending in .ssp")
-    if ssp_path.is_dir():
-        raise UserError(f"the SSP archive {ssp_path} names a folder, not a file")
+    ssp_path, fmu_dir = check_archive(ssp_path, ".ssp", "the SSP archive"), Path(fmu_dir)
     root = system_structure(scenario, Master(scenario, fmu_dir))
     ET.indent(root)
 
