@@ -2,7 +2,11 @@
 
 Each subsystem folder holds pure physics cores (no FMI), thin FMU slaves (`slaves.py`) and a
 README saying where the equations are: the model reference in docs/model (§model-reference).
+`declarations` gives what a component declares of each variable (its unit, default, source and
+role for the diagnosis), read from the slave class without building an FMU.
 """
+import importlib
+from functools import cache
 
 # component name -> "module:class" of its FMU slave (the FMU file is fmus/<name>.fmu)
 CATALOGUE = {
@@ -32,3 +36,10 @@ CATALOGUE = {
     "QuadrupedBody": "musclesim.components.quadruped.slaves:QuadrupedBody",
     "LegSequencer": "musclesim.components.quadruped.slaves:LegSequencer",
 }
+
+
+@cache
+def declarations(component):
+    """{variable name: `musclesim.fmu.Declaration`} of the component named `component`."""
+    module, cls = CATALOGUE[component].split(":")
+    return getattr(importlib.import_module(module), cls).declarations()

@@ -9,6 +9,7 @@ import math
 from dataclasses import dataclass, field, fields
 
 from musclesim.components.checks import require
+from musclesim.fmu import Calibration, declare
 
 P_ATM = 101325.0  # Pa, standard atmosphere (gauge 0)
 RHO_0 = 1.185  # kg/m^3, ISO 6358 reference density
@@ -20,41 +21,69 @@ V_MIN = 0.1  # share of V0 a chamber squeezed flat keeps (assumption: walls, con
 @dataclass(frozen=True)
 class ActuatorParams:
     """One soft actuator with its valves and pumps; defaults: the central one (§crawler-hardware,
-    §two-mass)."""
+    §two-mass). Each parameter is declared once here (`declare`): the FMU, the docs' tables and
+    the diagnosis's catalogues read it."""
 
-    central: float = 1.0  # 1 = central longitudinal actuator, 0 = extremal friction one
-    #                       (§crawler-hardware)
-    s_a: float = 9.62e-4  # m^2, cross-section: f_a = s_a p (§two-mass)
-    V0: float = 5.87e-5  # m^3, 30 mm inner diameter (35 mm OD, 2.5 mm walls) x 83 mm
-    #                      (§crawler-hardware)
-    dV_contact: float = 3e-6  # m^3, extremal chamber's growth from casing to silicone contact
-    #                           (assumption: a few mm of bulge on a 30 mm chamber)
-    p_supply: float = 40e3  # Pa gauge, inflation pump (assumption: above the 20.7 kPa the
-    #                         study reaches, §ideal-actuation)
-    p_exhaust: float = -20e3  # Pa gauge, exhaust pump (assumption: a small vacuum pump)
-    C_in: float = 5e-10  # m^3/(s Pa), inflation valve (assumption: a miniature solenoid valve)
-    C_out: float = 5e-10  # m^3/(s Pa), exhaust valve (assumption: the same valve)
-    b: float = 0.3  # critical pressure ratio of the valves (assumption: a typical valve, §valves)
-    T: float = T_0  # K, air temperature (room temperature, the ISO 6358 reference)
-    kappa: float = 1.2  # polytropic exponent (assumption: between 1 isothermal and 1.4
-    #                     adiabatic, §chamber)
-    f_pwm: float = 50.0  # Hz, PWM carrier (assumption: the study gives none)
-    pwm_phase: float = 0.0  # of a period: where the carrier's periods start on the master's
-    #                         clock (assumption: the study gives none); a bench's own PWM
-    #                         timer starts anywhere, which matters when its duties are replayed;
-    #                         periodic: 1.25 is 0.25
-    p_contact: float = 8e3  # Pa gauge, firm ground contact above it (assumption; §gait by eye)
-    t_contact: float = 0.2  # s, contact 0 -> 1 (assumption: §crawler-hardware's up to 0.4 s
-    #                         switching
-    #                         includes the pressure build-up); <= 0: at once (bulge_contact)
-    dt_sub: float = 1e-4  # s, internal step (assumption: 10 per 1 ms step, §crawler-hardware DAQ
-    #                       at 1 kHz)
-    # effects, off by default (§named-effects: pneumatic actuation; §valves: valve delays of a few
-    # ms)
-    t_open_delay: float = 0.0  # s, valve opens this long after its command rises
-    t_close_delay: float = 0.0  # s, valve closes this long after its command falls
-    C_leak: float = 0.0  # m^3/(s Pa), leak of the chamber to the atmosphere (ISO 6358 orifice)
-    supply_drop: float = 0.0  # 1, the supply sags to p_supply (1 - supply_drop)
+    central: float = declare(1.0, "1", "1 = central longitudinal actuator (volume from the "
+                             "elongation), 0 = extremal friction actuator (volume from the "
+                             "contact)", source="§crawler-hardware")
+    s_a: float = declare(9.62e-4, "m2", "Cross-section: f_a = s_a p (a 35 mm tube)",
+                         source="§two-mass", calibrate=Calibration(
+                             0.8, 1.1, True, "the central actuator's effective area: its walls "
+                             "take part of the force"))
+    V0: float = declare(5.87e-5, "m3", "Chamber volume at rest (central: 30 mm inner diameter "
+                        "(35 mm OD, 2.5 mm walls) x 83 mm; extremal: 1.41e-5 m3, 30 mm x 20 mm)",
+                        source="§crawler-hardware")
+    dV_contact: float = declare(3e-6, "m3", "Extremal chamber's growth from casing to silicone "
+                                "contact (assumption: a few mm of bulge on a 30 mm chamber)")
+    p_supply: float = declare(40e3, "Pa", "Gauge pressure of the inflation pump (assumption: "
+                              "above the 20.7 kPa the study reaches)", source="§ideal-actuation")
+    p_exhaust: float = declare(-20e3, "Pa", "Gauge pressure of the exhaust pump, <= 0 "
+                               "(assumption: a small vacuum pump)", source="§crawler-hardware",
+                               calibrate=Calibration(0.7, 1.3, True, "the exhaust pump's vacuum"))
+    C_in: float = declare(5e-10, "m3/(s.Pa)", "Sonic conductance of the inflation valve (ISO "
+                          "6358; assumption: a miniature solenoid valve)",
+                          source="§crawler-hardware, §valves",
+                          calibrate=Calibration(0.5, 2.0, True, "inflation valve"))
+    C_out: float = declare(5e-10, "m3/(s.Pa)", "Sonic conductance of the exhaust valve (ISO "
+                           "6358; assumption: the same valve)",
+                           source="§crawler-hardware, §valves",
+                           calibrate=Calibration(0.5, 2.0, True, "exhaust valve"))
+    b: float = declare(0.3, "1", "Critical pressure ratio of the valves (ISO 6358; assumption: "
+                       "a typical valve)", source="§valves")
+    T: float = declare(T_0, "K", "Air temperature (room temperature, the ISO 6358 reference)")
+    kappa: float = declare(1.2, "1", "Polytropic exponent, 1 (isothermal) .. 1.4 (adiabatic) "
+                           "(assumption: between the two)", source="§chamber")
+    f_pwm: float = declare(50.0, "Hz", "PWM carrier frequency (assumption: the study gives none)")
+    # a bench's own PWM timer starts anywhere, which matters when its duties are replayed
+    pwm_phase: float = declare(
+        0.0, "1", "Phase of a period at which the carrier's periods start on the master's clock, "
+        "periodic (1.25 is 0.25; assumption: 0)", source="§crawler-hardware, §valves",
+        calibrate=Calibration(-0.5, 1.5, False, "where the valves' PWM carrier starts on the "
+                              "data's clock", period=1.0))
+    p_contact: float = declare(8e3, "Pa", "Gauge pressure above which the silicone makes firm "
+                               "ground contact (assumption; the study found it by eye)",
+                               source="§crawler-hardware, §gait", calibrate=Calibration(
+                                   0.7, 1.25, True, "the pressure above which an extremal "
+                                   "actuator's silicone grips the ground"))
+    t_contact: float = declare(0.2, "s", "Time of the contact's 0 -> 1 change; <= 0: at once "
+                               "(assumption: the study's up to 0.4 s switching includes the "
+                               "pressure build-up)", source="§crawler-hardware")
+    dt_sub: float = declare(1e-4, "s", "Internal step (assumption: 10 per 1 ms communication "
+                            "step, the DAQ's 1 kHz)", source="§crawler-hardware")
+    # effects, off by default
+    t_open_delay: float = declare(0.0, "s", "Effect, 0 = off: the valve opens this long after "
+                                  "its command rises (a few ms)", source="§valves",
+                                  effect=(0.0, 0.02))
+    t_close_delay: float = declare(0.0, "s", "Effect, 0 = off: the valve closes this long after "
+                                   "its command falls (a few ms)", source="§valves",
+                                   effect=(0.0, 0.02))
+    C_leak: float = declare(0.0, "m3/(s.Pa)", "Effect, 0 = off: sonic conductance of a leak "
+                            "from the chamber to the atmosphere (ISO 6358 orifice)",
+                            source="§named-effects", effect=(0.0, 5e-11))
+    supply_drop: float = declare(0.0, "1", "Effect, 0 = off: the supply pressure sags to "
+                                 "p_supply (1 - supply_drop)", source="§named-effects",
+                                 effect=(0.0, 0.5))
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""

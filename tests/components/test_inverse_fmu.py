@@ -89,7 +89,7 @@ def test_variables_and_units():
         "hysteresis": "parameter", "sigma_surface": "parameter", "eps_ref": "input",
         "sigma_ref": "input", "T_ref": "output"}
     slave = _inverse()
-    assert {n: slave._meta[n][0] for n in variables} == {
+    assert {n: slave._meta[n].unit for n in variables} == {
         "hysteresis": "1", "sigma_surface": "Pa", "eps_ref": "1", "sigma_ref": "Pa", "T_ref": "K"}
 
 

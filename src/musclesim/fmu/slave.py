@@ -16,12 +16,18 @@ Every component's FMU slave derives from `Slave`. It fixes, once, what pythonfmu
   step of the study's experiment it comes from (`experiment`), which a tool runs when told
   nothing else.
 
-A component slave declares its variables with `parameter`, `input` and `output`, turns parameters
-into its physics core in `setup`, computes outputs in `evaluate` and advances state in `advance`.
+A component's parameters are declared once, where its physics core takes them: a field of the
+core's parameter dataclass made with `declare` carries its default, unit, description, the docs
+section it comes from and its role for the diagnosis (an effect's fitting bounds, a `Calibration`).
+The slave declares them with `parameters_of`, its other variables with `parameter`, `input` and
+`output`; `Slave.declarations` gives every variable's `Declaration` (the docs' tables and the
+diagnosis's effect and calibration catalogues read them). The slave turns parameters into its
+physics core in `setup`, computes outputs in `evaluate` and advances state in `advance`.
 This module must import nothing but the standard library, numpy and pythonfmu: it is shipped inside
 every FMU, which must run where only Python, numpy and scipy are installed.
 """
 import copy
+import dataclasses
 import math
 import operator
 import pickle
@@ -83,6 +89,59 @@ _NOT_STATE = frozenset({"vars", "log_queue", "_getters", "_setters", "_attrs", "
                         "_parameters"})
 
 
+@dataclasses.dataclass(frozen=True)
+class Calibration:
+    """The role of a nominal value a real bench has differently: the diagnosis calibrates it
+    before it tests any effect. The bounds are factors on the scenario's value (`relative`) or
+    offsets added to it; `why` says what differs on a bench; a `period` (> 0) makes it periodic
+    (a phase)."""
+
+    lower: float
+    upper: float
+    relative: bool
+    why: str
+    period: float = 0.0
+
+
+@dataclasses.dataclass(frozen=True)
+class Declaration:
+    """One variable as its component declares it. `effect`: the (lower, upper) fitting bounds of
+    an effect parameter, whose default is the effect off; `calibrate`: its `Calibration`;
+    `source`: the model reference section the value comes from (``§label``); `depends`: the
+    inputs an output depends on directly (None for other variables)."""
+
+    name: str
+    causality: str  # "parameter", "input" or "output"
+    default: float
+    unit: str
+    description: str
+    source: str = ""
+    effect: tuple = None
+    calibrate: Calibration = None
+    depends: tuple = None
+
+
+def declare(default, unit, description, *, source="", effect=None, calibrate=None):
+    """A field of a core's parameter dataclass declaring the parameter once: its `default`, SI
+    `unit` (a key of `UNITS`), `description`, `source` (a ``§label`` of the model reference) and
+    role: an effect's fitting bounds `effect` = (lower, upper) (the default is the effect off) or
+    a `Calibration`. `Slave.parameters_of` declares such fields as the FMU's parameters.
+
+    Examples
+    --------
+    >>> @dataclasses.dataclass(frozen=True)
+    ... class Params:
+    ...     m: float = declare(0.2, "kg", "Block mass", source="§two-mass")
+    >>> Params().m, dataclasses.fields(Params)[0].metadata["unit"]
+    (0.2, 'kg')
+    """
+    if unit not in UNITS:
+        raise ValueError(f"unit {unit!r} is not in musclesim.fmu.UNITS")
+    return dataclasses.field(default=default, metadata={
+        "unit": unit, "description": description, "source": source,
+        "effect": tuple(effect) if effect is not None else None, "calibrate": calibrate})
+
+
 def step_end(t0, t, h):
     """The time a step of `h` from `t` ends at: t0 + (k + 1) h where `t` is the point t0 + k h of
     a master counting its points from the start time t0 (musclesim's, FMPy's), so that a
@@ -141,13 +200,17 @@ class Slave(Fmi2Slave):
         self.time = self.start_time = 0.0
 
     # ---- declaring variables -------------------------------------------------------------------
-    def _declare(self, name, value, unit, description, causality, variability, initial, depends):
+    def _declare(self, name, value, unit, description, causality, variability, initial, depends,
+                 **role):
         if unit not in UNITS:
             raise ValueError(f"variable {name}: unit {unit!r} is not in musclesim.fmu.UNITS")
+        # the FMU's description names the section its value comes from
+        source = role.get("source")
         attr = name.replace(".", "_")
         setattr(self, attr, float(value))  # assign before registering, or pythonfmu makes no setter
         self.register_variable(Real(
-            name, causality=causality, description=description, variability=variability,
+            name, causality=causality, variability=variability,
+            description=f"{description} ({source})" if source else description,
             initial=initial, getter=lambda: getattr(self, attr),
             setter=lambda v: setattr(self, attr, float(v))))
         var = self.vars[len(self.vars) - 1]
@@ -156,22 +219,43 @@ class Slave(Fmi2Slave):
         self._attrs.append(attr)
         if causality == Fmi2Causality.parameter:
             self._parameters.add(var.value_reference)
-        self._meta[name] = (unit, depends)
+        self._meta[name] = Declaration(name, causality.name, float(value), unit, description,
+                                       depends=depends, **role)
 
-    def parameter(self, name, default, unit, description):
-        """Declare a fixed Real parameter (set before initialization), stored as attribute."""
+    def parameter(self, name, default, unit, description, **role):
+        """Declare a fixed Real parameter (set before initialization), stored as attribute;
+        `role`: `declare`'s source, effect or calibrate, for a parameter no core dataclass holds."""
         self._declare(name, default, unit, description, Fmi2Causality.parameter,
-                      Fmi2Variability.fixed, Fmi2Initial.exact, None)
+                      Fmi2Variability.fixed, Fmi2Initial.exact, None, **role)
 
-    def input(self, name, start, unit, description):
-        """Declare a continuous Real input with its start value."""
+    def parameters_of(self, cls, skip=(), **overrides):
+        """Declare as parameters the fields of the core's dataclass `cls` made with `declare`, in
+        their order, but not those in `skip`. A core shared by several components (the sensors')
+        has per-component defaults or roles: ``overrides[name]`` is a dict replacing any of the
+        field's declared default, description, source, effect or calibrate."""
+        for f in dataclasses.fields(cls):
+            if "unit" in f.metadata and f.name not in skip:
+                m = {**f.metadata, "default": f.default, **overrides.pop(f.name, {})}
+                self.parameter(f.name, m["default"], m["unit"], m["description"],
+                               source=m["source"], effect=m["effect"], calibrate=m["calibrate"])
+        if overrides:
+            raise ValueError(f"{cls.__name__} declares no {', '.join(overrides)}")
+
+    def input(self, name, start, unit, description, **role):
+        """Declare a continuous Real input with its start value (`role`: a `Calibration` of an
+        input held constant, such as the ambient temperature; `declare`'s source)."""
         self._declare(name, start, unit, description, Fmi2Causality.input,
-                      Fmi2Variability.continuous, None, None)
+                      Fmi2Variability.continuous, None, None, **role)
 
     def output(self, name, unit, description, depends=()):
         """Declare a calculated Real output; ``depends`` names the inputs it depends on directly."""
         self._declare(name, 0.0, unit, description, Fmi2Causality.output,
                       Fmi2Variability.continuous, Fmi2Initial.calculated, tuple(depends))
+
+    @classmethod
+    def declarations(cls):
+        """{name: `Declaration`} of every variable the slave class declares, in order."""
+        return dict(cls(instance_name=cls.__name__)._meta)
 
     def logged(self, call, *args):
         """call(*args) with the warnings it raises (a core's one-time range warnings) sent to the
@@ -313,7 +397,7 @@ class Slave(Fmi2Slave):
         after CoSimulation, and return the ModelStructure element, emptied."""
         used = set()
         for v in root.find("ModelVariables"):
-            unit = self._meta[v.get("name")][0] if v.get("name") in self._meta else "s"
+            unit = self._meta[v.get("name")].unit if v.get("name") in self._meta else "s"
             if unit != "1":
                 typed(v).set("unit", unit)
                 if unit in self.display_units:
@@ -342,7 +426,7 @@ class Slave(Fmi2Slave):
 
     def feedthrough(self):
         """[(output name, names of the inputs it depends on directly)], in declaration order."""
-        return [(n, deps) for n, (_, deps) in self._meta.items() if deps is not None]
+        return [(n, d.depends) for n, d in self._meta.items() if d.depends is not None]
 
     def to_xml(self, model_options=None):
         root = super().to_xml(model_options or {})
