@@ -391,13 +391,16 @@ class Slave(Fmi2Slave):
 
     # ---- model description ---------------------------------------------------------------------
     def describe_units(self, root, typed=lambda v: v.find("Real")):
-        """Give each variable of model description `root` its unit and display unit (on the
-        element `typed` returns for it: FMI 2.0's Real child, FMI 3.0's variable itself; a
-        variable this slave does not declare, FMI 3.0's time, is in s), add the UnitDefinitions
-        after CoSimulation, and return the ModelStructure element, emptied."""
+        """Give each variable of model description `root` its unit, display unit and exact start
+        value (on the element `typed` returns for it: FMI 2.0's Real child, FMI 3.0's variable
+        itself; a variable this slave does not declare, FMI 3.0's time, is in s), add the
+        UnitDefinitions after CoSimulation, and return the ModelStructure element, emptied."""
         used = set()
         for v in root.find("ModelVariables"):
-            unit = self._meta[v.get("name")].unit if v.get("name") in self._meta else "s"
+            declared = self._meta.get(v.get("name"))
+            unit = declared.unit if declared else "s"
+            if declared and typed(v).get("start") is not None:  # pythonfmu writes 16 digits,
+                typed(v).set("start", repr(declared.default))  # a double needs up to 17
             if unit != "1":
                 typed(v).set("unit", unit)
                 if unit in self.display_units:
