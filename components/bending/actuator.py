@@ -25,6 +25,7 @@ from musclesim.components.checks import require
 from musclesim.components.sma import thermal
 from musclesim.components.sma.preisach import PreisachModel
 from musclesim.components.sma.wire import ReferenceWire
+from musclesim.fmu import declare
 
 from . import beam
 
@@ -113,17 +114,33 @@ def hysteresis_surface(wire_params, sigma):
 @dataclass(frozen=True)
 class WireLayout:
     """The wires' placement, pretension, elasticity and drive (defaults: §bending-actuator,
-    §sma-material; open values and their reasons in §bending-actuator)."""
+    §sma-material; open values and their reasons in §bending-actuator). Each parameter but
+    `length` is declared once here (`declare`): the FMU and the docs' tables read it. The FMU
+    declares the wires' length itself, as wire_length: its length is the beams'."""
 
-    offset: float = 1.7e-3  # m, each wire beside the beams (§bending-actuator)
-    length: float = 10e-3  # m, free length, about the cap spacing (§bending-actuator, open)
-    pretension: float = 0.196  # N, each cold wire (100 MPa on 50 um; open)
-    modulus_martensite: float = 28e9  # Pa, NiTi martensite (data-sheet value, open)
-    modulus_austenite: float = 75e9  # Pa, NiTi austenite (data-sheet value, open)
-    # Ohm, driver and leads in series with each wire: open, fitted to the study's one-wire
-    # tip-to-tip (§study-outcomes: 16.47 [16.34, 16.61] Ohm)
-    series_resistance: float = 16.5
-    max_substep: float = 5e-5  # s, mechanical sub-step (slack switching, moduli)
+    offset: float = declare(1.7e-3, "m", "Distance of each wire from the beams (the study)",
+                            source="§bending-actuator")
+    length: float = 10e-3  # m, free length, about the cap spacing (the FMU's wire_length)
+    pretension: float = declare(0.196, "N", "Tension of each cold wire at rest (open; "
+                                "assumption: 100 MPa on 50 um, below the data sheet's "
+                                "recommended 172 MPa, so that a pulsed wire's extra pull keeps "
+                                "it near that stress)", source="§bending-actuator, §sma-material")
+    modulus_martensite: float = declare(28e9, "Pa", "Young's modulus of the wires' martensite "
+                                        "(open; the data sheet's, Flexinol)",
+                                        source="§bending-actuator, §sma-material")
+    modulus_austenite: float = declare(75e9, "Pa", "Young's modulus of the wires' austenite "
+                                       "(open; the data sheet's, Flexinol)",
+                                       source="§bending-actuator, §sma-material")
+    # the study's circuit must limit the current: 5 V straight across a 4.7 Ohm, 10 mm wire
+    # would heat it some 600 K per pulse
+    series_resistance: float = declare(16.5, "Ohm", "Driver and lead resistance in series with "
+                                       "each wire (open; fitted to the study's one-wire "
+                                       "tip-to-tip: 16.47 Ohm, 95 % interval [16.34, 16.61] "
+                                       "Ohm; a 15 to 18 Ohm resistor is a common current limit)",
+                                       source="§study-outcomes")
+    max_substep: float = declare(5e-5, "s", "Longest mechanical sub-step (slack switching, "
+                                 "moduli; numerics: well below the first mode's period, about "
+                                 "3 ms)")
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""

@@ -17,22 +17,40 @@ import math
 from dataclasses import dataclass
 
 from musclesim.components.checks import require
+from musclesim.fmu import declare
 
 
 @dataclass(frozen=True)
 class BeamParams:
     """Beam pair, caps and foot (§bending-actuator leaves all but the cap spacing open: defaults and
-    their reasons in §bending-actuator)."""
+    their reasons in §bending-actuator). Each parameter is declared once here (`declare`): the FMU
+    and the docs' tables read it."""
 
-    length: float = 10e-3  # m, free length between the caps (§bending-actuator: caps 10 mm apart)
-    n_beams: float = 2.0  # two coplanar beams (§bending-actuator)
-    width: float = 1.0e-3  # m, each beam (open)
-    thickness: float = 0.2e-3  # m, each beam, in the bending direction (open)
-    modulus: float = 120e9  # Pa, unidirectional carbon fibre along the fibres (open)
-    density: float = 1600.0  # kg/m^3, carbon-fibre composite (open)
-    tip_mass: float = 0.2e-3  # kg, top FR4 cap and foot (open)
-    tip_height: float = 13e-3  # m, their centre of mass above the base (open)
-    damping_ratio: float = 0.03  # first mode's damping ratio with the wires cold (open)
+    length: float = declare(10e-3, "m", "Free beam length between the caps (the study: caps "
+                            "10 mm apart)", source="§bending-actuator")
+    n_beams: float = declare(2.0, "1", "Number of coplanar beams (the study: 2)",
+                             source="§bending-actuator")
+    width: float = declare(1.0e-3, "m", "Width of each beam (open; assumption: a common "
+                           "pultruded carbon-fibre strip)", source="§bending-actuator")
+    thickness: float = declare(0.2e-3, "m", "Thickness of each beam in the bending direction "
+                               "(open; at 0.2 mm the beams' EI / L, 0.016 N m/rad, equals one "
+                               "cold wire's e^2 E_M A_w / L_w: the beams are the return spring "
+                               "without the wires pulling against a wall)",
+                               source="§bending-actuator")
+    modulus: float = declare(120e9, "Pa", "Young's modulus of the beams (open; assumption: "
+                             "unidirectional carbon fibre along the fibres, 110 to 140 GPa)",
+                             source="§bending-actuator")
+    density: float = declare(1600.0, "kg/m3", "Density of the beams (open; assumption: "
+                             "carbon-fibre composite; the beams hardly count in the modal "
+                             "inertia)", source="§bending-actuator")
+    tip_mass: float = declare(0.2e-3, "kg", "Mass of the top cap and foot (open; assumption: an "
+                              "FR4 cap of about 10 x 4 x 1.6 mm, 0.12 g, and the foot above it up "
+                              "to the laser's 17 mm)", source="§bending-actuator")
+    tip_height: float = declare(13e-3, "m", "Height of their centre of mass above the base "
+                                "(open)", source="§bending-actuator")
+    damping_ratio: float = declare(0.03, "1", "Damping ratio of the first bending mode with both "
+                                   "wires cold (open; assumption: a carbon-fibre beam in air with "
+                                   "the wires' internal friction)", source="§bending-actuator")
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""

@@ -26,52 +26,34 @@ class BendingActuator(Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        b, w = beam.BeamParams(), actuator.WireLayout()
-        self.parameter("length", b.length, "m", "Free beam length between the caps "
-                       "(§bending-actuator: caps 10 mm apart)")
-        self.parameter("n_beams", b.n_beams, "1", "Number of coplanar beams (§bending-actuator: 2)")
-        self.parameter("width", b.width, "m", "Width of each beam (open, §bending-actuator)")
-        self.parameter("thickness", b.thickness, "m", "Thickness of each beam in the bending "
-                       "direction (open, §bending-actuator)")
-        self.parameter("modulus", b.modulus, "Pa", "Young's modulus of the beams (open, "
-                       "§bending-actuator)")
-        self.parameter("density", b.density, "kg/m3", "Density of the beams (open, "
-                       "§bending-actuator)")
-        self.parameter("tip_mass", b.tip_mass, "kg", "Mass of the top cap and foot (open, "
-                       "§bending-actuator)")
-        self.parameter("tip_height", b.tip_height, "m", "Height of their centre of mass above the "
-                       "base (open, §bending-actuator)")
-        self.parameter("damping_ratio", b.damping_ratio, "1", "Damping ratio of the first "
-                       "bending mode with both wires cold (open, §bending-actuator)")
-        self.parameter("offset", w.offset, "m", "Distance of each wire from the beams "
-                       "(§bending-actuator)")
-        self.parameter("wire_length", w.length, "m", "Free length of each wire (§bending-actuator: "
-                       "about the cap spacing)")
-        self.parameter("pretension", w.pretension, "N", "Tension of each cold wire at rest "
-                       "(open, §bending-actuator: 100 MPa)")
-        self.parameter("modulus_martensite", w.modulus_martensite, "Pa",
-                       "Young's modulus of the wires' martensite (open, §bending-actuator)")
-        self.parameter("modulus_austenite", w.modulus_austenite, "Pa",
-                       "Young's modulus of the wires' austenite (open, §bending-actuator)")
-        self.parameter("series_resistance", w.series_resistance, "Ohm", "Driver and lead "
-                       "resistance in series with each wire (open; fitted to the study's one-wire "
-                       "tip-to-tip, §study-outcomes)")
-        self.parameter("max_substep", w.max_substep, "s", "Longest mechanical sub-step")
-        t = actuator.wire_thermal(w.length)
-        self.parameter("diameter", t.diameter, "m", "Wire diameter (§bending-actuator: 50 um)")
-        self.parameter("wire_density", t.density, "kg/m3", "Density of NiTi (§sma-material)")
+        self.parameters_of(beam.BeamParams)
+        self.parameters_of(actuator.WireLayout)
+        # not fields of a core's dataclass: the wires' length is WireLayout.length (the FMU's
+        # length is the beams'); the thermal values are the 50 um wire file's, through
+        # sma.thermal.ThermalParams (whose density is the FMU's wire_density); the FMU speaks K
+        # where the core takes T_init in C
+        length = actuator.WireLayout().length
+        self.parameter("wire_length", length, "m", "Free length of each wire (the study: about "
+                       "the cap spacing)", source="§bending-actuator")
+        t = actuator.wire_thermal(length)
+        self.parameter("diameter", t.diameter, "m", "Wire diameter (the study: 50 um)",
+                       source="§bending-actuator")
+        self.parameter("wire_density", t.density, "kg/m3", "Density of NiTi (public data)",
+                       source="§sma-material")
         self.parameter("specific_heat", t.specific_heat, "J/(kg.K)",
-                       "Specific heat of NiTi (§sma-material)")
+                       "Specific heat of NiTi (public data)", source="§sma-material")
         self.parameter("rho_martensite", t.rho_martensite, "Ohm.m", "Resistivity of the wire's "
-                       "martensite (§sma-material: 470 Ohm/m on 50 um)")
+                       "martensite (the data sheets' 470 Ohm/m on 50 um, not the bulk "
+                       "80 uOhm cm, which would give 407 Ohm/m)", source="§sma-material")
         self.parameter("rho_austenite", t.rho_austenite, "Ohm.m", "Resistivity of the wire's "
-                       "austenite (§sma-material: 490 Ohm/m on 50 um)")
-        self.parameter("h", t.h, "W/(m2.K)", "Convection coefficient of the 50 um wire "
-                       "(§convection: 230)")
-        self.parameter("T_init", 293.15, "K", "Initial temperature of both wires (martensitic, "
-                       "heated to it)")
+                       "austenite (the data sheets' 490 Ohm/m on 50 um, not the bulk "
+                       "100 uOhm cm, which would give 509 Ohm/m)", source="§sma-material")
+        self.parameter("h", t.h, "W/(m2.K)", "Convection coefficient of the 50 um wire (natural "
+                       "convection; time constant rho c d / 4h = 0.29 s)", source="§convection")
+        self.parameter("T_init", 293.15, "K", "Initial temperature of both wires (room "
+                       "temperature, martensitic, heated to it)")
         self.parameter("z_tip", LASER_HEIGHT, "m", "Height above the base where tip.s is read "
-                       "(§bending-actuator: the laser, 17 mm)")
+                       "(the study: the laser, 17 mm)", source="§bending-actuator")
         self.input("wireA.u", 0.0, "V", "Voltage across wire A and its series resistance")
         self.input("wireB.u", 0.0, "V", "Voltage across wire B and its series resistance")
         self.input("T_amb", 293.15, "K", "Ambient air temperature")

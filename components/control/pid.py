@@ -13,6 +13,7 @@ import math
 from dataclasses import dataclass
 
 from musclesim.components.checks import require
+from musclesim.fmu import declare
 
 # §temperature-control: 21 operating points of the temperature reference, 30..130 C every 5 C (in
 # K): the GainScheduledPID's default scheduling points, and those its gains are designed at
@@ -21,12 +22,15 @@ SCHEDULE_K = [273.15 + 30.0 + 5.0 * i for i in range(21)]
 
 @dataclass(frozen=True)
 class PIDParams:
-    """Gains, derivative filter time and output limits (defaults: a unit P controller)."""
+    """Gains, derivative filter time and output limits (defaults: a unit P controller, §pid).
+    The gains and the filter time are declared here once (`declare`); the FMUs declare the limits,
+    whose "none" is a finite 1e30 there (FMI start values must be finite)."""
 
-    Kp: float = 1.0
-    Ki: float = 0.0  # 1/s
-    Kd: float = 0.0  # s
-    Tf: float = 0.0  # s, derivative filter time constant (0: plain backward difference)
+    Kp: float = declare(1.0, "1", "Proportional gain (neutral default: the scenarios set it)")
+    Ki: float = declare(0.0, "1", "Integral gain [1/s]")
+    Kd: float = declare(0.0, "1", "Derivative gain [s]")
+    Tf: float = declare(0.0, "s", "Derivative filter time constant (0: none, a plain backward "
+                        "difference)")
     u_min: float = -math.inf
     u_max: float = math.inf
 

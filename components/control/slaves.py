@@ -13,9 +13,9 @@ class _PIDBase(Slave):
     parameters."""
 
     def _declare_common(self):
-        self.parameter("Tf", 0.0, "s", "Derivative filter time constant (0: none)")
-        self.parameter("u_min", -UNLIMITED, "1", "Lower output limit")
-        self.parameter("u_max", UNLIMITED, "1", "Upper output limit")
+        # the core's limits are infinite by default; an FMU's start values must be finite
+        self.parameter("u_min", -UNLIMITED, "1", "Lower output limit (-1e30: none)")
+        self.parameter("u_max", UNLIMITED, "1", "Upper output limit (1e30: none)")
         self.input("r", 0.0, "1", "Reference")
         self.input("y", 0.0, "1", "Measurement")
         self.output("u", "1", "Controller output", depends=["r", "y"])
@@ -43,9 +43,7 @@ class PID(_PIDBase):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.parameter("Kp", 1.0, "1", "Proportional gain")
-        self.parameter("Ki", 0.0, "1", "Integral gain [1/s]")
-        self.parameter("Kd", 0.0, "1", "Derivative gain [s]")
+        self.parameters_of(pid.PIDParams)
         self._declare_common()
 
     def gains(self):
@@ -63,14 +61,16 @@ class GainScheduledPID(_PIDBase):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
+        # the scheduled gains are tables, not the core's single gains
         for i, x in enumerate(SCHEDULE_K, start=1):
-            self.parameter(f"x[{i}]", x, "1",
-                           f"Scheduling point {i} of the reference (§temperature-control)")
+            self.parameter(f"x[{i}]", x, "1", f"Scheduling point {i} of the reference",
+                           source="§temperature-control")
         for name, what in (("Kp", "Proportional gain"), ("Ki", "Integral gain [1/s]"),
                            ("Kd", "Derivative gain [s]")):
             for i in range(1, 22):
                 self.parameter(f"{name}[{i}]", 1.0 if name == "Kp" else 0.0, "1",
                                f"{what} at scheduling point {i}")
+        self.parameters_of(pid.PIDParams, skip=("Kp", "Ki", "Kd"))
         self._declare_common()
 
     def setup(self):
@@ -99,15 +99,12 @@ class BangBang(Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         d = relay.RelayParams()
-        self.parameter("T_on", d.y_on, "K", "Switch on when the temperature falls to this "
-                       "(§multiplier-experiments: 75 C)")
-        self.parameter("T_off", d.y_off, "K", "Switch off when the temperature rises to this "
-                       "(§multiplier-experiments: 90 C)")
-        self.parameter("u_on", d.u_on, "1", "Output when on: the heating supply voltage [V] "
-                       "(open in §multiplier-experiments; the scenarios set it per wire)")
-        self.parameter("u_off", d.u_off, "1", "Output when off")
-        self.parameter("initially_on", d.initially_on, "1", "State at the start when the "
-                       "temperature lies between the thresholds (1 on, 0 off)")
+        # the core's thresholds y_on, y_off, named here for the temperature they compare
+        self.parameter("T_on", d.y_on, "K", "Switch on when the temperature falls to this (the "
+                       "study's 75 C)", source="§multiplier-experiments")
+        self.parameter("T_off", d.y_off, "K", "Switch off when the temperature rises to this (the "
+                       "study's 90 C)", source="§multiplier-experiments")
+        self.parameters_of(relay.RelayParams)
         self.input("T", 293.15, "K", "Measured temperature (e.g. a thermocouple's T_meas)")
         self.output("u", "1", "Controller output u_on or u_off", depends=["T"])
         self.output("on", "1", "Relay state: 1 on, 0 off", depends=["T"])

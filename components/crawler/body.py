@@ -12,22 +12,40 @@ import numpy as np
 
 from musclesim.components import fixedorder
 from musclesim.components.checks import require
+from musclesim.fmu import Calibration, declare
+
 G = 9.81  # m/s^2
 
 
 @dataclass(frozen=True)
 class BodyParams:
-    """Crawler body parameters (defaults: §ideal-actuation, flat ground)."""
+    """Crawler body parameters (defaults: §ideal-actuation, flat ground). Each parameter is
+    declared once here (`declare`): the FMU, the docs' tables and the diagnosis's catalogues read
+    it."""
 
-    m1: float = 0.2  # kg, rear block (§ideal-actuation)
-    m2: float = 0.2  # kg, front block (§ideal-actuation)
-    k: float = 200.0  # N/m, central actuator stiffness from its tensile test (§ideal-actuation)
-    c: float = 1.3  # N s/m, central actuator damping (§ideal-actuation)
-    theta: float = 0.0  # rad, incline of the ground, climbing positive (§two-mass)
-    # effects, off by default (diagnosis candidates, §named-effects):
-    k_slope: float = 0.0  # 1/N, k grows by this fraction per newton of f_a: the real stiffness is
-    #                       nonlinear and pressure dependent (§two-mass, §named-effects)
-    c_ground: float = 0.0  # N s/m, viscous drag of the ground on each block
+    m1: float = declare(0.2, "kg", "Mass of the rear block 1 (the study's simulation; on the "
+                        "hardware an extremal actuator, its casing, its steel plate and half the "
+                        "central actuator make 0.19 kg)",
+                        source="§ideal-actuation, §crawler-hardware")
+    m2: float = declare(0.2, "kg", "Mass of the front block 2 (as block 1)",
+                        source="§ideal-actuation, §crawler-hardware")
+    k: float = declare(200.0, "N/m", "Stiffness of the central actuator, from its tensile test; "
+                       "the real one is nonlinear and depends on the pressure (see k_slope)",
+                       source="§ideal-actuation", calibrate=Calibration(
+                           0.7, 1.3, True, "the soft actuator's stiffness"))
+    c: float = declare(1.3, "N.s/m", "Damping of the central actuator (the study's simulation "
+                       "value; it gives no separate measurement)", source="§ideal-actuation",
+                       calibrate=Calibration(0.5, 2.0, True, "the soft actuator's damping"))
+    theta: float = declare(0.0, "rad", "Incline of the ground, climbing positive, within "
+                           "(-pi/2, pi/2) (flat; the incline scenario sets 7.5 deg, 0.1309 rad)",
+                           source="§two-mass")
+    # effects, off by default (diagnosis candidates)
+    k_slope: float = declare(0.0, "1", "Effect, 0 = off: relative stiffness change per newton of "
+                             "actuator force [1/N]: the real stiffness is nonlinear and pressure "
+                             "dependent", source="§two-mass, §named-effects",
+                             effect=(-0.04, 0.04))
+    c_ground: float = declare(0.0, "N.s/m", "Effect, 0 = off: viscous drag of the ground on "
+                              "each block", source="§named-effects", effect=(0.0, 5.0))
 
     def check(self):
         """Raise ValueError naming the first parameter outside its physical range."""

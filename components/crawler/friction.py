@@ -12,22 +12,41 @@ import math
 from dataclasses import dataclass
 
 from musclesim.components.checks import require
+from musclesim.fmu import Calibration, declare
+
 
 @dataclass(frozen=True)
 class FrictionParams:
-    """Friction coefficients and numerics (defaults: §friction)."""
+    """Friction coefficients and numerics (defaults: §friction). Each parameter is declared once
+    here (`declare`): the FMU, the docs' tables and the diagnosis's catalogues read it."""
 
-    mu_s_high: float = 1.0  # inflated silicone, static (§friction)
-    mu_k_high: float = 0.75  # inflated silicone, kinetic = 0.75 mu_s (§friction)
-    mu_s_low: float = 0.13  # ABS casing, static (§friction)
-    mu_k_low: float = 0.0975  # ABS casing, kinetic = 0.75 mu_s (§friction)
-    v_s: float = 1e-3  # m/s, stick velocity band (§friction)
-    t_switch: float = 0.0  # s, low<->high transition time; 0 = the study's square switching
-    # effects, off by default (diagnosis candidates, §named-effects):
-    bending: float = 0.0  # 1/rad, high coefficients scaled by max(0, 1 - bending |theta|): the soft
-    #                       actuator bends under shear on an incline (§friction, §gait)
-    mu_decay: float = 0.0  # 1/s, high coefficients scaled by exp(-mu_decay t): particles collect
-    #                        on the silicone and lower its friction over time (§gait wood)
+    # the high coefficients are the effect "anchoring slip": off, they are the study's
+    mu_s_high: float = declare(1.0, "1", "Static coefficient, high friction: the inflated "
+                               "silicone (the study's slip angle on HDPE)", source="§friction",
+                               effect=(0.2, 1.0))
+    mu_k_high: float = declare(0.75, "1", "Kinetic coefficient, high friction: 0.75 mu_s_high, "
+                               "the study's ratio", source="§friction", effect=(0.15, 0.75))
+    # not the high ones: on a constant incline the effect "actuator bending on an incline" scales
+    # them by a constant
+    mu_s_low: float = declare(0.13, "1", "Static coefficient, low friction: the ABS casing (the "
+                              "study's slip angle on HDPE)", source="§friction",
+                              calibrate=Calibration(0.7, 1.3, True, "the ground's static "
+                                                    "friction on the casing"))
+    mu_k_low: float = declare(0.0975, "1", "Kinetic coefficient, low friction: 0.75 mu_s_low, "
+                              "the study's ratio", source="§friction",
+                              calibrate=Calibration(0.7, 1.3, True,
+                                                    "the ground's kinetic friction"))
+    v_s: float = declare(1e-3, "m/s", "Stick velocity band (the study's)", source="§friction")
+    # effects, off by default (diagnosis candidates)
+    t_switch: float = declare(0.0, "s", "Effect, 0 = off: low/high friction transition time "
+                              "(the study switches at once; the robot takes up to 0.4 s)",
+                              source="§crawler-hardware", effect=(0.0, 0.4))
+    bending: float = declare(0.0, "1/rad", "Effect, 0 = off: high coefficients scaled by "
+                             "max(0, 1 - bending |theta|): the soft actuator bends under shear on "
+                             "an incline", source="§friction, §gait", effect=(0.0, 4.0))
+    mu_decay: float = declare(0.0, "1/s", "Effect, 0 = off: high coefficients scaled by "
+                              "exp(-mu_decay t): particles collect on the silicone and lower its "
+                              "friction over time", source="§gait", effect=(0.0, 0.02))
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""

@@ -22,6 +22,7 @@ import math
 from dataclasses import dataclass
 
 from musclesim.components.checks import require
+from musclesim.fmu import declare
 
 # s: times within this of a phase boundary count as past it, so that a time accumulated step by
 # step (0.001 + 0.001 + ...) switches on the same sample as the exact time would
@@ -30,24 +31,36 @@ EPS = 1e-9
 
 @dataclass(frozen=True)
 class GaitParams:
-    """Gait timing and pressure references (defaults: §gait timing)."""
+    """Gait timing and pressure references (defaults: §gait timing). Each parameter is declared
+    once here (`declare`): the FMU and the docs' tables read it."""
 
-    t_protrusion: float = 1.2  # s, phase 2 (§gait)
-    t_stance: float = 1.8  # s, phases 1, 3 and 4 together, 0.6 s each (§gait; equal split assumed)
-    direction: float = 1.0  # direction of the first stride: +1 forward, -1 backward
-    t_reverse: float = 0.0  # s, direction reversal period; 0 = never (§gait test: 32.5 s)
-    # Pa: scenarios set these from the off-line characterisation (scenarios/params,
+    t_protrusion: float = declare(1.2, "s", "Protrusion time, phase 2 (the study's)",
+                                  source="§gait")
+    t_stance: float = declare(1.8, "s", "Stance time, split equally over phases 1, 3 and 4, "
+                              "0.6 s each (assumption: the study gives only the protrusion and "
+                              "stance times; a stride takes 3 s)", source="§gait")
+    direction: float = declare(1.0, "1", "Direction of the first stride: +1 forward, -1 "
+                               "backward", source="§gait")
+    t_reverse: float = declare(0.0, "s", "Direction reversal period; 0 = never (the study's "
+                               "bidirectional test: 32.5 s)", source="§gait")
+    # scenarios set these from the off-line characterisation (scenarios/params,
     # §pressure-control); the defaults only make the FMU runnable on its own
-    p_central: float = 10e3  # central actuator while protruding
-    p_anchor1: float = 10e3  # back extremal actuator while anchoring
-    p_anchor2: float = 10e3  # front extremal actuator while anchoring
-    p_off: float = 0.0  # Pa, reference of a deflated actuator
+    p_central: float = declare(10e3, "Pa", "Central actuator reference while protruding (a "
+                               "placeholder: the scenarios set the characterisation's, "
+                               "scenarios/params/crawler-gait-references.toml)",
+                               source="§pressure-control")
+    p_anchor1: float = declare(10e3, "Pa", "Back extremal actuator reference while anchoring (a "
+                               "placeholder, as p_central)", source="§pressure-control")
+    p_anchor2: float = declare(10e3, "Pa", "Front extremal actuator reference while anchoring (a "
+                               "placeholder, as p_central)", source="§pressure-control")
+    p_off: float = declare(0.0, "Pa", "Reference of a deflated actuator")
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("t_protrusion", "t_stance"), non_negative=("t_reverse",))
         if self.direction not in (1.0, -1.0):
-            raise ValueError(f"direction must be +1 (forward) or -1 (backward) (got {self.direction!r})")
+            raise ValueError(f"direction must be +1 (forward) or -1 (backward) "
+                             f"(got {self.direction!r})")
         for name in ("p_central", "p_anchor1", "p_anchor2", "p_off"):
             if not math.isfinite(getattr(self, name)):
                 raise ValueError(f"{name} must be a finite pressure (got {getattr(self, name)!r})")

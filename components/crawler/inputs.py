@@ -4,18 +4,25 @@ import math
 from dataclasses import dataclass
 
 from musclesim.components.checks import require
+from musclesim.fmu import declare
+
 
 @dataclass(frozen=True)
 class InputParams:
-    """Signal parameters (defaults: §ideal-actuation nominal case)."""
+    """Signal parameters (defaults: §ideal-actuation nominal case). Each parameter is declared
+    once here (`declare`): the FMU and the docs' tables read it."""
 
-    f_mean: float = 10.28  # N, mean of f_a, which oscillates between 0.66 N and 19.9 N
-    #                        (§ideal-actuation)
-    f_amp: float = 9.62  # N, amplitude of f_a (§ideal-actuation)
-    f_f: float = 1.0  # Hz, frequency of f_a (§ideal-actuation)
-    f_u: float = 1.0  # Hz, frequency of the friction indicators (§ideal-actuation)
-    phi: float = 1.64  # rad, phase lag of u2 behind u1; steers the direction (§ideal-actuation)
-    direction: float = 1.0  # +1; -1 swaps the indicators: the mirror image, driven backward
+    f_mean: float = declare(10.28, "N", "Mean actuator force (the study's f_a oscillates between "
+                            "0.66 N and 19.9 N)", source="§ideal-actuation")
+    f_amp: float = declare(9.62, "N", "Amplitude of the actuator force", source="§ideal-actuation")
+    f_f: float = declare(1.0, "Hz", "Frequency of the actuator force (the nominal case; all the "
+                         "study's frequencies are at most 1 Hz)", source="§ideal-actuation")
+    f_u: float = declare(1.0, "Hz", "Frequency of the friction indicators (the nominal case)",
+                         source="§ideal-actuation")
+    phi: float = declare(1.64, "rad", "Phase lag of u2 behind u1, which steers the direction "
+                         "(the nominal case)", source="§ideal-actuation")
+    direction: float = declare(1.0, "1", "1, as in the study; -1 swaps u1 and u2: the mirror "
+                               "image of the gait, driven backward")
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""

@@ -17,26 +17,15 @@ class CrawlerBody(Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        d = body.BodyParams()
-        self.parameter("m1", d.m1, "kg", "Mass of the rear block 1 (§ideal-actuation)")
-        self.parameter("m2", d.m2, "kg", "Mass of the front block 2 (§ideal-actuation)")
-        self.parameter("k", d.k, "N/m", "Stiffness of the central actuator (§ideal-actuation)")
-        self.parameter("c", d.c, "N.s/m", "Damping of the central actuator (§ideal-actuation)")
-        self.parameter("theta", d.theta, "rad", "Incline of the ground, climbing positive "
-                       "(§two-mass)")
-        self.parameter("k_slope", d.k_slope, "1", "Effect, 0 = off: relative stiffness change per "
-                       "newton of actuator force [1/N] (pressure-dependent stiffness, §two-mass, "
-                       "§named-effects)")
-        self.parameter("c_ground", d.c_ground, "N.s/m",
-                       "Effect, 0 = off: viscous drag of the ground on each block (§named-effects)")
+        self.parameters_of(body.BodyParams)
         self.input("f_a", 0.0, "N", "Actuator force pushing the blocks apart")
         self.input("flange1.f", 0.0, "N", "Friction force on block 1")
         self.input("flange2.f", 0.0, "N", "Friction force on block 2")
         for i in (1, 2):
             self.output(f"flange{i}.s", "m", f"Position of block {i} (variation from rest)")
             self.output(f"flange{i}.v", "m/s", f"Velocity of block {i}")
-            self.output(f"flange{i}.f_n", "N", f"Net non-friction force along the surface on block {i}",
-                        depends=["f_a"])
+            self.output(f"flange{i}.f_n", "N",
+                        f"Net non-friction force along the surface on block {i}", depends=["f_a"])
             self.output(f"flange{i}.N", "N", f"Normal force of block {i} on the ground")
         self.output("x_cm", "m", "Position of the centre of mass")
         self.output("incline", "rad", "Incline of the ground, the parameter theta (for the "
@@ -63,7 +52,8 @@ class CrawlerBody(Slave):
         if self.dt is None or not math.isclose(dt, self.dt, rel_tol=1e-9) or f_held != self.f_held:
             self.Ad, self.Bd = body.discretise(self.p, dt, f_held)
             self.dt, self.f_held = dt, f_held
-        self.x = body.step_state(self.x, (self.f_a, self.flange1_f, self.flange2_f), self.Ad, self.Bd)
+        self.x = body.step_state(self.x, (self.f_a, self.flange1_f, self.flange2_f), self.Ad,
+                                 self.Bd)
 
 
 class FrictionBlock(Slave):
@@ -74,20 +64,7 @@ class FrictionBlock(Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        d = friction.FrictionParams()
-        self.parameter("mu_s_high", d.mu_s_high, "1", "Static coefficient, high friction "
-                       "(§friction)")
-        self.parameter("mu_k_high", d.mu_k_high, "1", "Kinetic coefficient, high friction "
-                       "(§friction)")
-        self.parameter("mu_s_low", d.mu_s_low, "1", "Static coefficient, low friction (§friction)")
-        self.parameter("mu_k_low", d.mu_k_low, "1", "Kinetic coefficient, low friction (§friction)")
-        self.parameter("v_s", d.v_s, "m/s", "Stick velocity band (§friction)")
-        self.parameter("t_switch", d.t_switch, "s", "Low/high friction transition time; 0 = "
-                       "instantaneous (§crawler-hardware, effect off)")
-        self.parameter("bending", d.bending, "1/rad", "Effect, 0 = off: high coefficients scaled "
-                       "by max(0, 1 - bending |theta|) (actuator bending on an incline, §friction)")
-        self.parameter("mu_decay", d.mu_decay, "1/s", "Effect, 0 = off: high coefficients scaled "
-                       "by exp(-mu_decay t) (contamination of the silicone, §gait)")
+        self.parameters_of(friction.FrictionParams)
         self.input("flange.v", 0.0, "m/s", "Velocity of the block")
         self.input("flange.f_n", 0.0, "N", "Net non-friction force along the surface on the block")
         self.input("flange.N", 0.0, "N", "Normal force of the block on the ground")
@@ -114,7 +91,8 @@ class FrictionBlock(Slave):
         mu_s, mu_k = friction.coefficients(self.contact, p, scale)
         self.flange_f = friction.friction_force(self.flange_v, self.flange_f_n, self.flange_N,
                                                 mu_s, mu_k, p.v_s)
-        self.stuck = float(abs(self.flange_v) <= p.v_s and abs(self.flange_f_n) <= mu_s * self.flange_N)
+        self.stuck = float(abs(self.flange_v) <= p.v_s
+                           and abs(self.flange_f_n) <= mu_s * self.flange_N)
 
     def advance(self, t, dt):
         self.slip = friction.accumulate_slip(self.slip, self.flange_v, self.contact, dt, self.p.v_s)
@@ -131,15 +109,7 @@ class FrictionSwitchingInputs(Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        d = inputs.InputParams()
-        self.parameter("f_mean", d.f_mean, "N", "Mean actuator force (§ideal-actuation)")
-        self.parameter("f_amp", d.f_amp, "N", "Amplitude of the actuator force (§ideal-actuation)")
-        self.parameter("f_f", d.f_f, "Hz", "Frequency of the actuator force (§ideal-actuation)")
-        self.parameter("f_u", d.f_u, "Hz", "Frequency of the friction indicators "
-                       "(§ideal-actuation)")
-        self.parameter("phi", d.phi, "rad", "Phase lag of u2 behind u1 (§ideal-actuation)")
-        self.parameter("direction", d.direction, "1", "1; -1 swaps u1 and u2: the mirror image "
-                       "of the gait, driven backward")
+        self.parameters_of(inputs.InputParams)
         self.output("f_a", "N", "Actuator force")
         self.output("u1", "1", "Friction indicator of block 1")
         self.output("u2", "1", "Friction indicator of block 2")
@@ -161,21 +131,7 @@ class GaitSequencer(Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        d = gait.GaitParams()
-        self.parameter("t_protrusion", d.t_protrusion, "s", "Protrusion time, phase 2 (§gait)")
-        self.parameter("t_stance", d.t_stance, "s",
-                       "Stance time, split equally over phases 1, 3 and 4 (§gait)")
-        self.parameter("direction", d.direction, "1",
-                       "Direction of the first stride: +1 forward, -1 backward (§gait)")
-        self.parameter("t_reverse", d.t_reverse, "s",
-                       "Direction reversal period; 0 = never (§gait bidirectional test: 32.5 s)")
-        self.parameter("p_central", d.p_central, "Pa",
-                       "Central actuator reference while protruding (from the characterisation)")
-        self.parameter("p_anchor1", d.p_anchor1, "Pa", "Back extremal actuator reference while "
-                       "anchoring (from the characterisation)")
-        self.parameter("p_anchor2", d.p_anchor2, "Pa", "Front extremal actuator reference while "
-                       "anchoring (from the characterisation)")
-        self.parameter("p_off", d.p_off, "Pa", "Reference of a deflated actuator")
+        self.parameters_of(gait.GaitParams)
         self.output("p_ref1", "Pa", "Pressure reference of the back extremal actuator 1")
         self.output("p_ref_c", "Pa", "Pressure reference of the central actuator")
         self.output("p_ref2", "Pa", "Pressure reference of the front extremal actuator 2")

@@ -1,14 +1,17 @@
 """Loads of the SMA wire (§sma-bench, §loads): bias spring, dead weight, electromagnet.
 
 Sign convention (the SmaWire FMU's): s [m] is the wire's contraction, positive when the wire
-shortens and lifts or pulls its load; f [N] is the tension the load puts on the wire. Equations
-and where every default comes from: §loads (docs/model/loads-sensors.md).
+shortens and lifts or pulls its load; f [N] is the tension the load puts on the wire. Equations:
+§loads (docs/model/loads-sensors.md). Each parameter is declared once, in its dataclass
+(`musclesim.fmu.declare`), with its unit, description, source and diagnosis role: the FMUs, the
+docs' tables and the diagnosis read it there.
 """
 import math
 from dataclasses import dataclass
 
 from musclesim.components import fixedorder
 from musclesim.components.checks import require
+from musclesim.fmu import declare
 
 G = 9.80665  # m/s^2, standard gravity
 AREA = math.pi * 127e-6 ** 2 / 4  # m^2, the 127 um main wire (§sma-bench), as SmaWire computes it
@@ -25,8 +28,11 @@ def _require_finite(params, names):
 class SpringParams:
     """Preloaded bias spring (§loads: 490 N/m, baseline stress about 125 MPa)."""
 
-    k: float = 490.0  # N/m
-    preload: float = PRELOAD_125MPA  # N, tension at s = 0
+    k: float = declare(490.0, "N/m", "Spring stiffness (the study's spring of the pulse-heating "
+                       "test, 2.8 lbf/in)", source="§multiplier-experiments")
+    preload: float = declare(PRELOAD_125MPA, "N", "Tension at zero contraction: about 125 MPa on "
+                             "the 127 um wire, that spring's preload",
+                             source="§multiplier-experiments")
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
@@ -50,12 +56,21 @@ class WeightParams:
     """Dead weight hanging from the wire on a springy link; default: 125 MPa on the wire (§loads,
     3.1). Quasi-static (tension m g) unless its inertia is on (effect)."""
 
-    mass: float = PRELOAD_125MPA / G  # kg
-    g: float = G  # m/s^2
-    inertia: float = 0.0  # effect: share of the weight moving on its link (on inertia x k_link),
-                          # 0 = off (m g)
-    k_link: float = 300.0  # N/m, assumption: softer than the wire's transformation stiffness
-    zeta: float = 0.02  # 1, assumption: damping ratio of the weight's motion on the link
+    mass: float = declare(PRELOAD_125MPA / G, "kg", "Mass of the weight: 125 MPa on the 127 um "
+                          "wire, the middle of the study's 105 to 145 MPa (the multiplier "
+                          "scenarios set the study's 150 g)", source="§loads")
+    g: float = declare(G, "m/s2", "Gravitational acceleration (standard gravity)")
+    inertia: float = declare(0.0, "1", "Effect, 0 = off (tension m g): the share r in (0, 1] of "
+                             "the weight moving on its link, the dynamics of a hanging load at "
+                             "high frequency", source="§position-control, §named-effects",
+                             effect=(0.0, 1.0))
+    k_link: float = declare(300.0, "N/m", "Stiffness of the link from the wire to the weight "
+                            "(assumption, the study gives none: soft enough for a stable "
+                            "coupling with the wire, stiff enough to act as a weight; 7.1 Hz "
+                            "with 150 g)", source="§loads")
+    zeta: float = declare(0.02, "1", "Damping ratio of the weight's motion on its link "
+                          "(assumption: lightly damped, the ringing of 150 g decays by 1/e in "
+                          "about 1.1 s)")
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""
@@ -117,13 +132,24 @@ def weight_lift(x, s, p):
 class MagnetParams:
     """Calibration weight plus an electromagnet driven by PWM (§sma-bench); coil values assumed."""
 
-    m_cal: float = 0.1  # kg, the 100 g calibration weight (§sma-bench)
-    g: float = G  # m/s^2
-    V_supply: float = 12.0  # V, assumption
-    R: float = 24.0  # Ohm, assumption
-    L: float = 0.05  # H, assumption
-    k_f: float = 2.0  # N/A, assumption: full duty adds 1.0 N (77..156 MPa on the wire)
-    nonlinearity: float = 0.0  # 1/A, effect: 0 = off (force linear in the current)
+    m_cal: float = declare(0.1, "kg", "Calibration weight (the study's 100 g)",
+                           source="§sma-bench")
+    g: float = declare(G, "m/s2", "Gravitational acceleration (standard gravity)")
+    V_supply: float = declare(12.0, "V", "Supply voltage switched by the PWM (assumption: a "
+                              "common supply for a small coil switched by a transistor from an "
+                              "Arduino)")
+    R: float = declare(24.0, "Ohm", "Coil resistance (assumption: 0.5 A, 6 W at full duty, a "
+                       "small coil's rating)")
+    L: float = declare(0.05, "H", "Coil inductance (assumption: L/R = 2.1 ms, a small "
+                       "iron-cored coil, fast against the loading profiles' 1/17 Hz at most)",
+                       source="§reference-profiles")
+    k_f: float = declare(2.0, "N/A", "Force per coil current (assumption: the duty range spans "
+                         "77..156 MPa on the wire, covering the study's 105..145 MPa, for "
+                         "which k_f V_supply / R must reach 0.86 N)", source="§loads")
+    nonlinearity: float = declare(0.0, "1/A", "Effect, 0 = off (linear): force k_f i (1 + "
+                                  "nonlinearity i); negative: saturation, positive: a gain "
+                                  "growing as the gap closes", source="§loads, §named-effects",
+                                  effect=(-0.5, 0.5))
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""

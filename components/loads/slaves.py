@@ -17,10 +17,7 @@ class BiasSpring(Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        d = loads.SpringParams()
-        self.parameter("k", d.k, "N/m", "Spring stiffness (§loads: 490 N/m)")
-        self.parameter("preload", d.preload, "N", "Tension at zero contraction: 125 MPa on the "
-                       "127 um wire (the preload of §multiplier-experiments)")
+        self.parameters_of(loads.SpringParams)
         self.input("flange.s", 0.0, "m", S_DESCRIPTION)
         self.output("flange.f", "N", "Tension of the spring on the wire", depends=["flange.s"])
 
@@ -41,16 +38,7 @@ class DeadWeight(Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        d = loads.WeightParams()
-        self.parameter("mass", d.mass, "kg", "Mass of the weight: 125 MPa on the 127 um wire "
-                       "(§loads)")
-        self.parameter("g", d.g, "m/s2", "Gravitational acceleration (standard gravity)")
-        self.parameter("inertia", d.inertia, "1", "Inertia of the weight (effect): 0 = off, "
-                       "tension m g; r in (0, 1]: the share r of the weight moving on its link")
-        self.parameter("k_link", d.k_link, "N/m", "Stiffness of the link from the wire to the "
-                       "weight (assumption: 300 N/m, softer than the wire's transformation)")
-        self.parameter("zeta", d.zeta, "1", "Damping ratio of the weight's motion on its link "
-                       "(assumption)")
+        self.parameters_of(loads.WeightParams)
         self.input("flange.s", 0.0, "m", S_DESCRIPTION + ", lifting the weight")
         self.output("flange.f", "N", "Tension of the weight on the wire", depends=["flange.s"])
         self.output("lift", "m", "Lift of the weight (= flange.s unless its inertia is on)",
@@ -91,17 +79,7 @@ class Electromagnet(Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        d = loads.MagnetParams()
-        self.parameter("m_cal", d.m_cal, "kg", "Calibration weight (§sma-bench: 100 g)")
-        self.parameter("g", d.g, "m/s2", "Gravitational acceleration (standard gravity)")
-        self.parameter("V_supply", d.V_supply, "V", "Supply voltage switched by the PWM "
-                       "(assumption: 12 V)")
-        self.parameter("R", d.R, "Ohm", "Coil resistance (assumption: 24 Ohm, 0.5 A at full duty)")
-        self.parameter("L", d.L, "H", "Coil inductance (assumption: 0.05 H, L/R = 2.1 ms)")
-        self.parameter("k_f", d.k_f, "N/A", "Force per coil current (assumption: 2 N/A, so the "
-                       "duty range spans 77..156 MPa, covering §loads's 105..145 MPa)")
-        self.parameter("nonlinearity", d.nonlinearity, "1/A", "Force nonlinearity (effect, "
-                       "0 = off = linear): force k_f i (1 + nonlinearity i)")
+        self.parameters_of(loads.MagnetParams)
         self.input("duty", 0.0, "1", "PWM duty of the coil voltage, 0..1 (clamped, with one "
                    "warning)")
         self.input("flange.s", 0.0, "m", S_DESCRIPTION + " (the force does not depend on it)")

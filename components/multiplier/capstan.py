@@ -25,6 +25,7 @@ from musclesim.components.checks import require
 from musclesim.components.sma import thermal
 from musclesim.components.sma.preisach import PreisachModel
 from musclesim.components.sma.surface import clamp
+from musclesim.fmu import declare
 
 MAX_SEGMENTS = 6  # variables the FMU declares per segment (§capstan-multiplier suggests three)
 WRAP = math.pi  # rad, sweep per turning tube: a ratio 1.060-1.085 fits about pi
@@ -36,23 +37,35 @@ LENGTH = 0.214  # m, the multiplier wire (§capstan-multiplier)
 @dataclass(frozen=True)
 class CapstanParams:
     """Geometry of the fold and the wire (defaults §capstan-multiplier; material §sma-material via
-    `wire`).
+    `wire`). Each FMU parameter is declared once here (`declare`), the wire's in
+    `thermal.ThermalParams`.
 
     ``segment_lengths``: one entry per segment [m]; 0 (or an empty tuple) = an equal share of
     what the other entries leave of ``length``. ``wraps``: one angle [rad] per contact (n - 1);
-    empty = pi at each. ``composition_shift`` [K]: the diagnosis's effect "composition
-    difference": the hysteresis sees T - shift (0 = off). ``contact_conductance`` [W/K]: the
-    effect "capstan heat loss", the heat each contact's PTFE tube draws per kelvin of the wire's
-    excess temperature, shared equally by the two segments it joins (0 = off).
+    empty = pi at each. ``composition_shift`` is the diagnosis's effect "composition difference",
+    ``contact_conductance`` (the heat each contact's PTFE tube draws per kelvin of the wire's
+    excess temperature) its effect "capstan heat loss".
     """
 
-    length: float = LENGTH
-    n_segments: int = 3
-    segment_lengths: tuple = ()
-    wraps: tuple = ()
-    mu_f: float = MU_F
-    composition_shift: float = 0.0
-    contact_conductance: float = 0.0
+    length: float = declare(LENGTH, "m", "Total wire length (the study: 214 mm)",
+                            source="§capstan-multiplier")
+    n_segments: int = declare(3, "1", f"Number of segments, 1..{MAX_SEGMENTS} (the study's "
+                              "sensing, one thermocouple per segment, suggests three over two "
+                              "turning tubes)", source="§capstan-multiplier")
+    segment_lengths: tuple = ()  # the FMU's segment_length[i]
+    wraps: tuple = ()  # the FMU's wrap[j]
+    mu_f: float = declare(MU_F, "1", "Friction coefficient of the wire on the capstans (the "
+                          "study: 0.0237 +/- 0.0037, wire on PTFE)", source="§capstan-multiplier",
+                          effect=(0.0, 0.1))
+    composition_shift: float = declare(0.0, "K", "Effect, 0 = off: composition difference, the "
+                                       "wire's hysteresis sees T - shift and transforms shift "
+                                       "hotter", source="§capstan-multiplier, §named-effects",
+                                       effect=(-10.0, 10.0))
+    contact_conductance: float = declare(0.0, "W/K", "Effect, 0 = off: capstan heat loss, the "
+                                         "heat conductance of each wire-on-PTFE contact to the "
+                                         "room, shared by the two segments it joins",
+                                         source="§capstan-multiplier, §named-effects",
+                                         effect=(0.0, 0.01))
     wire: thermal.ThermalParams = field(default_factory=thermal.ThermalParams)
 
     def check(self):

@@ -26,46 +26,37 @@ class CapstanMultiplier(Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        t = thermal.ThermalParams()
-        self.parameter("length", capstan.LENGTH, "m", "Total wire length (§capstan-multiplier: 214 "
-                       "mm)")
-        self.parameter("n_segments", 3.0, "1", f"Number of segments, 1..{N} "
-                       "(§capstan-multiplier: three, one thermocouple each)")
+        # the fold's length and number of segments, the capstans' friction and the effects
+        self.parameters_of(capstan.CapstanParams)
         for i in range(1, N + 1):
             self.parameter(f"segment_length[{i}]", 0.0, "m", f"Length of segment {i} (1 at the "
-                           "clamp); 0 = an equal share of what the others leave of length")
+                           "clamp); 0 = an equal share of what the others leave of length (the "
+                           "study leaves the spans open)", source="§capstan-multiplier")
         for j in range(1, N):
             self.parameter(f"wrap[{j}]", capstan.WRAP, "rad", f"Angle the wire sweeps on "
-                           f"capstan {j}, between segments {j} and {j + 1} "
-                           "(§capstan-multiplier: about pi)")
-        self.parameter("mu_f", capstan.MU_F, "1", "Friction coefficient of the wire on the "
-                       "capstans (§capstan-multiplier: 0.0237, PTFE)")
-        self.parameter("diameter", t.diameter, "m", "Wire diameter (§capstan-multiplier: 127 um)")
-        self.parameter("density", t.density, "kg/m3", "Density of NiTi (§sma-material)")
-        self.parameter("specific_heat", t.specific_heat, "J/(kg.K)", "Specific heat of NiTi "
-                       "(§sma-material)")
-        self.parameter("rho_martensite", t.rho_martensite, "Ohm.m",
-                       "Resistivity of martensite, 80 uOhm cm (§sma-material)")
-        self.parameter("rho_austenite", t.rho_austenite, "Ohm.m",
-                       "Resistivity of austenite, 100 uOhm cm (§sma-material)")
-        self.parameter("h", t.h, "W/(m2.K)", "Convection coefficient at 50 K excess (§convection)")
-        self.parameter("T_init", 293.15, "K", "Initial temperature of every segment; the wire "
-                       "starts fully martensitic and heated to it (§preisach memory)")
+                           f"capstan {j}, between segments {j} and {j + 1} (about pi: the study's "
+                           "tension ratio of 1.060-1.085 per contact; the exact wraps are open)",
+                           source="§capstan-multiplier")
+        # the straight wire's material and convection, declared with their calibrations once in
+        # its core; the multiplier's length is the fold's and it has none of the wire's effects
+        self.parameters_of(thermal.ThermalParams, skip=("length", "latent_heat", "h_exponent"),
+                           diameter={"source": "§capstan-multiplier"})
+        self.parameter("T_init", 293.15, "K", "Initial temperature of every segment (assumption: "
+                       "room temperature); the wire starts fully martensitic and heated to it",
+                       source="§preisach")
         self.parameter("drive_current", 0.0, "1",
                        "Electrical input u: 0 = voltage [V] across the whole wire (default), "
-                       "1 = current [A] through it")
+                       "1 = current [A] through it (the kind of source is open in the study)",
+                       source="§capstan-multiplier")
         self.parameter("hysteresis", 0.0, "1", "Hysteresis data set: 0 = reference wire (1 C "
-                       "grid, 60-200 MPa); k >= 1 = FORC data set k of sma/data/forc-sets.toml")
-        self.parameter("composition_shift", 0.0, "K", "Composition difference (effect, 0 = off): "
-                       "the wire's hysteresis sees T - shift, transforming shift hotter")
-        self.parameter("contact_conductance", 0.0, "W/K", "Capstan heat loss (effect, 0 = off): "
-                       "heat conductance of each wire-on-PTFE contact to the room, shared by the "
-                       "two segments it joins (§capstan-multiplier)")
+                       "grid, 60-200 MPa, which covers the clamp-side 135 MPa under 150 g); "
+                       "k >= 1 = FORC data set k of sma/data/forc-sets.toml", source="§preisach")
         self.input("u", 0.0, "1", "Electrical input: voltage across the wire [V], or current "
                    "through it [A] when drive_current = 1")
-        self.input("T_amb", 293.15, "K", "Ambient air temperature")
+        self.input("T_amb", 293.15, "K", "Ambient air temperature (assumption: a 20 C "
+                   "laboratory)", source="§thermal-model", calibrate=thermal.AMBIENT)
         self.input("flange.f", LOAD_150G, "N", "Tensile load at the wire's load end, positive "
-                   "pulling (start: a 150 g weight, §capstan-multiplier)")
+                   "pulling (start: a 150 g weight)", source="§capstan-multiplier")
         self.output("flange.s", "m", "End displacement: sum of the segments' contractions; "
                     "positive = the load end moves toward the clamp")
         self.output("strain", "1", "Mean strain flange.s / length")

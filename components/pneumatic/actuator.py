@@ -36,21 +36,25 @@ class ActuatorParams:
                         source="§crawler-hardware")
     dV_contact: float = declare(3e-6, "m3", "Extremal chamber's growth from casing to silicone "
                                 "contact (assumption: a few mm of bulge on a 30 mm chamber)")
+    # not calibrated: the effect "supply-pressure drop" scales it by a constant, so calibrating it
+    # would absorb the effect exactly
     p_supply: float = declare(40e3, "Pa", "Gauge pressure of the inflation pump (assumption: "
                               "above the 20.7 kPa the study reaches)", source="§ideal-actuation")
-    p_exhaust: float = declare(-20e3, "Pa", "Gauge pressure of the exhaust pump, <= 0 "
-                               "(assumption: a small vacuum pump)", source="§crawler-hardware",
+    p_exhaust: float = declare(-20e3, "Pa", "Gauge pressure of the exhaust pump, in "
+                               "(-101.3 kPa, 0] (assumption: a small vacuum pump)",
+                               source="§crawler-hardware",
                                calibrate=Calibration(0.7, 1.3, True, "the exhaust pump's vacuum"))
     C_in: float = declare(5e-10, "m3/(s.Pa)", "Sonic conductance of the inflation valve (ISO "
-                          "6358; assumption: a miniature solenoid valve)",
+                          "6358; assumption: a miniature solenoid valve of 3 l/(min bar), about "
+                          "6 Nl/min at 1 bar gauge)",
                           source="§crawler-hardware, §valves",
                           calibrate=Calibration(0.5, 2.0, True, "inflation valve"))
     C_out: float = declare(5e-10, "m3/(s.Pa)", "Sonic conductance of the exhaust valve (ISO "
                            "6358; assumption: the same valve)",
                            source="§crawler-hardware, §valves",
                            calibrate=Calibration(0.5, 2.0, True, "exhaust valve"))
-    b: float = declare(0.3, "1", "Critical pressure ratio of the valves (ISO 6358; assumption: "
-                       "a typical valve)", source="§valves")
+    b: float = declare(0.3, "1", "Critical pressure ratio of the valves, in [0, 1) (ISO 6358; "
+                       "assumption: a typical valve)", source="§valves")
     T: float = declare(T_0, "K", "Air temperature (room temperature, the ISO 6358 reference)")
     kappa: float = declare(1.2, "1", "Polytropic exponent, 1 (isothermal) .. 1.4 (adiabatic) "
                            "(assumption: between the two)", source="§chamber")

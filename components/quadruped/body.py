@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from musclesim.components.bending import actuator, beam
 from musclesim.components.checks import require
 from musclesim.components.crawler import friction
+from musclesim.fmu import declare
 
 G = 9.81  # m/s^2
 LEGS = 4
@@ -46,20 +47,37 @@ LEG_STIFFNESS = leg_stiffness()
 
 @dataclass(frozen=True)
 class QuadrupedParams:
-    """Body, legs and feet (§quadruped leaves them open: defaults and reasons in
-    §quadruped)."""
+    """Body, legs and feet (§quadruped leaves them open: defaults and reasons in §quadruped).
+    Each parameter is declared once here (`declare`): the FMU and the docs' tables read it."""
 
-    body_mass: float = 5e-3  # kg, FR4 frame and four actuators (open)
-    foot_mass: float = 1e-5  # kg, the foot's tip and hook (open): its mode on the leg's
-    #   stiffness (~900 Hz) stays well above the leg's own (~300 Hz), which the leg's FMU has
-    leg_stiffness: float = LEG_STIFFNESS  # N/m, a default leg's stiffness at its foot
-    leg_damping_ratio: float = 0.03  # as the bending actuator's first mode (open)
-    mu_s_forward: float = 0.2  # foot sliding toward +x, hook trailing, static (open)
-    mu_k_forward: float = 0.15  # kinetic = 0.75 static, as §friction
-    mu_s_backward: float = 0.8  # foot sliding toward -x, hook gripping, static (open)
-    mu_k_backward: float = 0.6  # kinetic = 0.75 static, as §friction
-    v_s: float = 1e-5  # m/s, stick band: far below the feet's mm/s (open)
-    max_substep: float = 2e-5  # s, ~1/8 of a radian of the foot's mode
+    body_mass: float = declare(5e-3, "kg", "Mass of the frame and the four actuators (open; "
+                               "assumption: an FR4 frame with eight wires, caps and feet)",
+                               source="§quadruped")
+    foot_mass: float = declare(1e-5, "kg", "Mass of each foot's tip and hook (open; its mode on "
+                               "the leg's stiffness, about 900 Hz, stays well above the leg's "
+                               "own, about 300 Hz, so the two do not ring together)",
+                               source="§quadruped")
+    leg_stiffness: float = declare(LEG_STIFFNESS, "N/m", "Lateral stiffness of a leg at its "
+                                   "foot (default: a default BendingActuator's cold stiffness "
+                                   "there, K_cold / (z - L/2)^2 at z = 17 mm)",
+                                   source="§quadruped")
+    leg_damping_ratio: float = declare(0.03, "1", "Damping ratio of a foot on its leg's "
+                                       "stiffness (open: as the bending actuator's first mode)",
+                                       source="§quadruped")
+    mu_s_forward: float = declare(0.2, "1", "Static friction of a foot toward +x, hook trailing "
+                                  "(open; assumption: carbon fibre on a board)",
+                                  source="§quadruped")
+    mu_k_forward: float = declare(0.15, "1", "Kinetic friction of a foot toward +x: 0.75 "
+                                  "static, as the crawler's", source="§quadruped, §friction")
+    mu_s_backward: float = declare(0.8, "1", "Static friction of a foot toward -x, hook gripping "
+                                   "(open)", source="§quadruped")
+    mu_k_backward: float = declare(0.6, "1", "Kinetic friction of a foot toward -x: 0.75 "
+                                   "static, as the crawler's", source="§quadruped, §friction")
+    v_s: float = declare(1e-5, "m/s", "Stick velocity band of the feet in the crawler's "
+                         "friction law (open: far below the feet's mm/s; the crawler's 1 mm/s "
+                         "band is faster than this robot)", source="§quadruped, §friction")
+    max_substep: float = declare(2e-5, "s", "Longest internal sub-step (numerics: about 1/8 of a "
+                                 "radian of the foot's mode)", source="§quadruped")
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""

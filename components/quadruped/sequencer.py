@@ -13,22 +13,33 @@ from dataclasses import dataclass
 
 from musclesim.components.checks import require
 from musclesim.components.sources.signals import unit_wave
+from musclesim.fmu import declare
 
 LEGS = 4
 
 
 @dataclass(frozen=True)
 class SequencerParams:
-    """Pulse train and gait phasing (defaults: §quadruped's pulses; phasing open, §quadruped)."""
+    """Pulse train and gait phasing (defaults: §quadruped's pulses; phasing open, §quadruped).
+    Each parameter is declared once here (`declare`): the FMU and the docs' tables read it."""
 
-    frequency: float = 4.0  # Hz (§quadruped)
-    duty: float = 0.05  # 12.5 ms on per 250 ms (§quadruped)
-    voltage: float = 5.0  # V (§quadruped)
-    wire_delay: float = 0.5  # periods from a leg's wire A to its wire B (§quadruped: 0.125 s)
-    phase1: float = 0.0  # periods, leg 1 (front left) (open: a trot, diagonal pairs together)
-    phase2: float = 0.5  # leg 2 (front right)
-    phase3: float = 0.5  # leg 3 (rear left)
-    phase4: float = 0.0  # leg 4 (rear right)
+    frequency: float = declare(4.0, "Hz", "Pulse frequency of every wire (the study's pulse "
+                               "test: 4 Hz)", source="§quadruped")
+    duty: float = declare(0.05, "1", "Share of a period a wire is heated (the study: 5 %, "
+                          "12.5 ms per 250 ms)", source="§quadruped")
+    voltage: float = declare(5.0, "V", "Pulse voltage (the study: 5 V)", source="§quadruped")
+    wire_delay: float = declare(0.5, "1", "Periods from a leg's wire A pulse to its wire B pulse "
+                                "(the study's alternating case: 0.125 s at 4 Hz)",
+                                source="§quadruped")
+    phase1: float = declare(0.0, "1", "Phase of leg 1's wire A (front left) in periods (open; "
+                            "default: a trot, legs 1 and 4 together, 2 and 3 half a period "
+                            "later)", source="§quadruped")
+    phase2: float = declare(0.5, "1", "Phase of leg 2's wire A (front right) in periods (open; "
+                            "default: a trot)", source="§quadruped")
+    phase3: float = declare(0.5, "1", "Phase of leg 3's wire A (rear left) in periods (open; "
+                            "default: a trot)", source="§quadruped")
+    phase4: float = declare(0.0, "1", "Phase of leg 4's wire A (rear right) in periods (open; "
+                            "default: a trot)", source="§quadruped")
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""

@@ -19,23 +19,7 @@ class QuadrupedBody(Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        d = body.QuadrupedParams()
-        self.parameter("body_mass", d.body_mass, "kg", "Mass of the frame and the four actuators "
-                       "(open, §quadruped)")
-        self.parameter("foot_mass", d.foot_mass, "kg", "Mass of each foot's tip (open, §quadruped)")
-        self.parameter("leg_stiffness", d.leg_stiffness, "N/m", "Lateral stiffness of a leg at "
-                       "its foot (default: a default BendingActuator at 17 mm)")
-        self.parameter("leg_damping_ratio", d.leg_damping_ratio, "1",
-                       "Damping ratio of a foot on its leg's stiffness")
-        self.parameter("mu_s_forward", d.mu_s_forward, "1", "Static friction of a foot toward "
-                       "+x, hook trailing (open, §quadruped)")
-        self.parameter("mu_k_forward", d.mu_k_forward, "1", "Kinetic friction of a foot toward +x")
-        self.parameter("mu_s_backward", d.mu_s_backward, "1", "Static friction of a foot toward "
-                       "-x, hook gripping (open, §quadruped)")
-        self.parameter("mu_k_backward", d.mu_k_backward, "1", "Kinetic friction of a foot toward "
-                       "-x")
-        self.parameter("v_s", d.v_s, "m/s", "Stick velocity band of the feet (§friction form)")
-        self.parameter("max_substep", d.max_substep, "s", "Longest internal sub-step")
+        self.parameters_of(body.QuadrupedParams)
         for i in range(1, body.LEGS + 1):
             self.input(f"leg{i}.s", 0.0, "m", f"Unloaded deflection of leg {i} at its foot, +x "
                        "forward")
@@ -82,15 +66,7 @@ class LegSequencer(Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        d = sequencer.SequencerParams()
-        self.parameter("frequency", d.frequency, "Hz", "Pulse frequency of every wire (§quadruped)")
-        self.parameter("duty", d.duty, "1", "Share of a period a wire is heated (§quadruped: 5 %)")
-        self.parameter("voltage", d.voltage, "V", "Pulse voltage (§quadruped: 5 V)")
-        self.parameter("wire_delay", d.wire_delay, "1", "Periods from a leg's wire A pulse to its "
-                       "wire B pulse (§quadruped: 0.5)")
-        for i, phase in enumerate(sequencer.phases(d), start=1):
-            self.parameter(f"phase{i}", phase, "1", f"Phase of leg {i}'s wire A in periods "
-                           "(open; default: a trot, legs 1 and 4 with each other)")
+        self.parameters_of(sequencer.SequencerParams)
         for i in range(1, sequencer.LEGS + 1):
             self.output(f"leg{i}.uA", "V", f"Voltage on leg {i}'s wire A")
             self.output(f"leg{i}.uB", "V", f"Voltage on leg {i}'s wire B")

@@ -11,20 +11,26 @@ from dataclasses import dataclass
 import numpy as np
 
 from musclesim.components.checks import require
+from musclesim.fmu import declare
 
 
 @dataclass(frozen=True)
 class SensorParams:
     """Lag, gain, bias, noise and quantisation of a scalar sensor; the defaults = a perfect
-    sensor."""
+    sensor (§sensors). The parameters of one unit are declared here once (`declare`); each sensor
+    FMU declares `bias`, `noise_std` and `quantum` in its signal's unit, and a sensor's diagnosis
+    roles (effect bounds, calibrations) differ per sensor: its slave gives them."""
 
-    tau: float = 0.0  # s, first-order lag (0: none)
-    gain: float = 1.0  # reading per unit of signal, about `origin` (1: exact)
+    tau: float = declare(0.0, "s", "Time constant of the sensing element's first-order lag "
+                         "(0 = none)", source="§sensors")
+    gain: float = declare(1.0, "1", "Reading gain about the sensor's origin (0 C for a "
+                          "thermocouple, 0 for the others; 1 = exact)", source="§sensors")
     origin: float = 0.0  # signal value the gain leaves as it is (a thermocouple's 0 C)
     bias: float = 0.0  # same unit as the signal
     noise_std: float = 0.0  # same unit as the signal
     quantum: float = 0.0  # resolution (0: none)
-    seed: float = 0.0  # noise seed (a Real so that it is an FMU parameter like the others)
+    # a Real so that it is an FMU parameter like the others
+    seed: float = declare(0.0, "1", "Seed of the noise generator (a whole number >= 0)")
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""

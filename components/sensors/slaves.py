@@ -1,6 +1,10 @@
 """FMU slaves of the sensors: thin adapters over musclesim.components.sensors.sensor."""
 from musclesim.components.sensors import sensor
-from musclesim.fmu import Slave, experiment
+from musclesim.fmu import Calibration, Slave, experiment
+
+# the diagnosis's calibration of a load cell's, laser's or pressure sensor's gain
+AMPLIFIER_GAIN = Calibration(0.95, 1.05, True, "the sensor's and its amplifier's "
+                             "calibration")
 
 
 class _ScalarSensor(Slave):
@@ -8,22 +12,33 @@ class _ScalarSensor(Slave):
     default.
 
     Subclasses name the measured input and the reading (`signal`, `measured`, `unit`), the input's
-    start value, what lags (`element`) and the signal value its gain leaves as it is (`origin`).
+    start value, what lags (`element`), the signal value its gain leaves as it is (`origin`) and
+    the diagnosis roles of their parameters (`roles`: name -> `declare`'s source, effect or
+    calibrate).
     """
 
     signal = measured = unit = element = signal_description = ""
     start = origin = 0.0
+    roles = {}
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         u = self.unit
-        self.parameter("tau", 0.0, "s", f"Lag time constant of the {self.element} (effect off: 0)")
-        self.parameter("gain", 1.0, "1", f"Reading gain about {self.origin:g} {u} (calibration: "
-                       "1 = exact)")
-        self.parameter("bias", 0.0, u, "Reading bias (effect off: 0)")
-        self.parameter("noise_std", 0.0, u, "Standard deviation of the reading noise (off: 0)")
-        self.parameter("quantum", 0.0, u, "Quantisation step of the reading (off: 0)")
-        self.parameter("seed", 0.0, "1", "Seed of the noise generator")
+        # in the signal's unit, so declared here rather than in the core
+        own = {"bias": "Reading bias (0 = off)",
+               "noise_std": "Standard deviation of the reading's Gaussian noise (0 = off)",
+               "quantum": "Quantisation step of the reading (0 = off)"}
+        overrides = {"tau": {"description": f"Time constant of the first-order lag of the "
+                                            f"{self.element} (0 = none)"},
+                     "gain": {"description": f"Reading gain about {self.origin:g} {u} "
+                                             "(1 = exact)"}}
+        for name, role in self.roles.items():
+            if name not in own:
+                overrides[name] = {**overrides.get(name, {}), **role}
+        self.parameters_of(sensor.SensorParams, **overrides)
+        for name, description in own.items():
+            self.parameter(name, 0.0, u, description,
+                           **{"source": "§sensors", **self.roles.get(name, {})})
         self.input(self.signal, self.start, u, self.signal_description)
         self.output(self.measured, u, f"Measured {self.signal_description[0].lower()}"
                     f"{self.signal_description[1:]}", depends=[self.signal])
@@ -70,6 +85,12 @@ class Thermocouple(_ScalarSensor):
     signal, measured, unit, start = "T", "T_meas", "K", 293.15
     origin = 273.15  # K: a thermocouple's gain error is a share of the reading in C
     element, signal_description = "junction", "Temperature of the wire"
+    # its offset is the effect "thermocouple bias", so its gain alone is calibrated
+    roles = {"tau": {"source": "§sma-wire, §named-effects", "effect": (0.0, 2.0)},
+             "bias": {"source": "§named-effects, §sensors", "effect": (-10.0, 10.0)},
+             "gain": {"source": "§sma-bench", "calibrate": Calibration(
+                 0.9925, 1.0075, True, "a standard thermocouple's tolerance: 0.75 % of the "
+                 "reading in C (IEC 60584 class 2)")}}
 
 
 class LoadCell(_ScalarSensor):
@@ -80,6 +101,8 @@ class LoadCell(_ScalarSensor):
                    "quantisation (§sma-bench, §named-effects)")
     signal, measured, unit = "f", "f_meas", "N"
     element, signal_description = "load cell and its amplifier", "Tension on the wire"
+    roles = {"tau": {"source": "§sma-bench, §named-effects", "effect": (0.0, 0.5)},
+             "gain": {"source": "§sma-bench", "calibrate": AMPLIFIER_GAIN}}
 
 
 class LaserSensor(_ScalarSensor):
@@ -90,6 +113,8 @@ class LaserSensor(_ScalarSensor):
                    "seeded noise, quantisation (§sma-bench, §named-effects)")
     signal, measured, unit = "s", "s_meas", "m"
     element, signal_description = "sensor's filter", "Contraction of the wire (SmaWire flange.s)"
+    roles = {"noise_std": {"source": "§sma-bench, §named-effects", "effect": (0.0, 2e-5)},
+             "gain": {"source": "§sma-bench", "calibrate": AMPLIFIER_GAIN}}
 
 
 class PressureSensor(_ScalarSensor):
@@ -102,3 +127,4 @@ class PressureSensor(_ScalarSensor):
                    "noise, quantisation (§crawler-hardware, §named-effects)")
     signal, measured, unit = "p", "p_meas", "Pa"
     element, signal_description = "pressure sensor", "Gauge pressure of the chamber"
+    roles = {"gain": {"source": "§crawler-hardware", "calibrate": AMPLIFIER_GAIN}}

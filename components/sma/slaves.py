@@ -7,7 +7,7 @@ from musclesim.components.sma.inverse import InverseBases
 from musclesim.components.sma.inverse import PreisachInverse as InverseCore
 from musclesim.components.sma.preisach import PreisachModel
 from musclesim.components.sma.surface import clamp
-from musclesim.fmu import Slave, experiment
+from musclesim.fmu import Calibration, Slave, experiment
 
 ZERO_C = 273.15  # K; the FMU speaks K, the cores C
 LOAD_150G = 0.150 * 9.80665  # N, the 150 g weight of the multiplier tests (§capstan-multiplier):
@@ -41,58 +41,62 @@ class SmaWire(Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        t, d = thermal.ThermalParams(), drift.DriftParams()
-        self.parameter("length", t.length, "m", "Wire length (§sma-wire)")
-        self.parameter("diameter", t.diameter, "m", "Wire diameter (§sma-wire)")
-        self.parameter("density", t.density, "kg/m3", "Density of NiTi (§sma-material)")
-        self.parameter("specific_heat", t.specific_heat, "J/(kg.K)", "Specific heat of NiTi "
-                       "(§sma-material)")
-        self.parameter("rho_martensite", t.rho_martensite, "Ohm.m",
-                       "Resistivity of martensite, 80 uOhm cm (§sma-material)")
-        self.parameter("rho_austenite", t.rho_austenite, "Ohm.m",
-                       "Resistivity of austenite, 100 uOhm cm (§sma-material)")
-        self.parameter("h", t.h, "W/(m2.K)", "Convection coefficient at 50 K excess (§convection)")
-        self.parameter("T_init", 293.15, "K", "Initial wire temperature; the wire starts fully "
-                       "martensitic and heated to it (§preisach memory)")
-        self.parameter("drive_current", 0.0, "1", "Electrical input u: 0 = voltage [V] (default), "
-                       "1 = current [A] (§thermal-model)")
-        self.parameter("hysteresis", 0.0, "1", HYSTERESIS)
-        self.parameter("sigma_surface", 0.0, "Pa",
-                       "Stress ignored (effect, 0 = off): > 0 uses the single surface at this "
-                       "stress for every stress (§position-control)")
-        self.parameter("stress_blend", 0.0, "1",
-                       "With sigma_surface > 0, how much the hysteresis follows the stress "
-                       "(effect 'stress dependence ignored', 0 = off): it sees sigma_surface + "
-                       "stress_blend (stress - sigma_surface) on the stress-aware data set")
-        self.parameter("latent_heat", t.latent_heat, "J/kg", "Latent heat of transformation "
-                       "(effect, 0 = off; 12e3-24e3 on, §sma-material)")
-        self.parameter("end_cooling", 0.0, "1", "Cold ends: share of the core's excess "
-                       "temperature lost at the clamps, G_c / (G_c + G_fin) (effect, 0 = off: "
-                       "insulating clamps; metal clamps ~0.9; §named-effects, §sma-material)")
-        self.parameter("conductivity", 18.0, "W/(m.K)", "Thermal conductivity of NiTi, sets "
-                       "the cold ends' fin length (§sma-material)")
-        self.parameter("h_exponent", t.h_exponent, "1", "Convection h (|T - T_amb| / 50 K)^n "
-                       "(effect, 0 = off; 0.06-0.15 on, §sma-material)")
-        self.parameter("drift_amplitude", d.amplitude_change, "1", "Training/fatigue drift: "
-                       "settled relative change of the strain (effect, 0 = off, §drift)")
-        self.parameter("drift_shift", d.shift, "K", "Training/fatigue drift: settled shift of "
-                       "the transformation temperatures (effect, 0 = off, §drift)")
-        self.parameter("drift_settle_cycles", d.cycles_to_settle, "1",
-                       "Training/fatigue drift: e-folding number of cycles (§drift)")
-        self.parameter("drift_cycles_start", 0.0, "1",
-                       "Training/fatigue drift: transformation cycles done before the run")
+        # geometry, material, convection and the thermal effects: declared in the thermal core
+        self.parameters_of(thermal.ThermalParams)
+        d = drift.DriftParams()
+        self.parameter("T_init", 293.15, "K", "Initial wire temperature (assumption: room "
+                       "temperature); the wire starts fully martensitic, as below 30 C, and "
+                       "heated to it", source="§thermal-model, §preisach",
+                       calibrate=Calibration(-5.0, 5.0, False, "the wire's temperature when the "
+                                             "record starts"))
+        self.parameter("drive_current", 0.0, "1", "Electrical input u: 0 = voltage [V] (default; "
+                       "the study heated with 0-2.5 V), 1 = current [A] (the data sheets' "
+                       "ratings, such as 0.3 A)", source="§thermal-model")
+        self.parameter("hysteresis", 0.0, "1", HYSTERESIS, source="§preisach")
+        self.parameter("sigma_surface", 0.0, "Pa", "Stress ignored, 0 = off: > 0 uses the single "
+                       "constant-stress surface at this stress (within the data set's stresses) "
+                       "for every stress, as the study's comparison controller did",
+                       source="§position-control")
+        self.parameter("stress_blend", 0.0, "1", "Effect, 0 = off: with sigma_surface > 0, how "
+                       "much the hysteresis follows the stress: it sees sigma_surface + "
+                       "stress_blend (stress - sigma_surface) on the stress-aware data set",
+                       source="§position-control, §named-effects", effect=(0.0, 1.0))
+        self.parameter("end_cooling", 0.0, "1", "Effect, 0 = off: cold ends, the share of the "
+                       "core's excess temperature lost at the clamps, G_c / (G_c + G_f) "
+                       "(insulating clamps 0, metal clamps about 0.9)",
+                       source="§named-effects, §thermal-model", effect=(0.0, 1.0))
+        self.parameter("conductivity", 18.0, "W/(m.K)", "Thermal conductivity of NiTi "
+                       "(literature); used only by the cold ends, whose fin length it sets",
+                       source="§sma-material")
+        self.parameter("drift_amplitude", d.amplitude_change, "1", "Effect, 0 = off: training/"
+                       "fatigue drift, the settled relative change of the strain amplitude (the "
+                       "study gives no magnitude)", source="§drift", effect=(-0.2, 0.2))
+        self.parameter("drift_shift", d.shift, "K", "Effect, 0 = off: training/fatigue drift, "
+                       "the settled shift of the transformation temperatures (the study gives no "
+                       "magnitude)", source="§drift", effect=(-10.0, 10.0))
+        self.parameter("drift_settle_cycles", d.cycles_to_settle, "1", "Training/fatigue drift: "
+                       "e-folding number of cycles (95 % of the drift after the study's 13 tests "
+                       "of 20 cycles, read as 13 tests in all)", source="§drift")
+        self.parameter("drift_cycles_start", 0.0, "1", "Training/fatigue drift: transformation "
+                       "cycles done before the run (a new wire 0, a later test of the study's "
+                       "protocol 20 per earlier test)", source="§drift")
         self.parameter("hysteresis_shift", 0.0, "K", "Static shift of the transformation "
-                       "temperatures: the hysteresis sees T - shift (calibration: composition, "
-                       "heat treatment, a core hotter than the mean; §preisach, §named-effects, "
-                       "§sma-material)")
-        self.parameter("strain_scale", 1.0, "1", "Factor on the transformation strain "
-                       "(calibration: the wire's recoverable strain, its gauge length; "
-                       "§forc-identification, §sma-material)")
+                       "temperatures: the hysteresis sees T - shift (composition, heat "
+                       "treatment, a core hotter than the temperature measured)",
+                       source="§preisach, §named-effects, §sma-material",
+                       calibrate=Calibration(-8.0, 8.0, False, "transformation temperatures "
+                                             "shift with composition and training"))
+        self.parameter("strain_scale", 1.0, "1", "Factor on the transformation strain (the "
+                       "wire's recoverable strain, its gauge length)",
+                       source="§forc-identification, §sma-material",
+                       calibrate=Calibration(0.85, 1.15, True, "the recoverable strain differs "
+                                             "from wire to wire"))
         self.input("u", 0.0, "1", "Electrical input: voltage across the wire [V], or current "
                    "through it [A] when drive_current = 1")
-        self.input("T_amb", 293.15, "K", "Ambient air temperature")
+        self.input("T_amb", 293.15, "K", "Ambient air temperature (assumption: a 20 C "
+                   "laboratory)", source="§thermal-model", calibrate=thermal.AMBIENT)
         self.input("flange.f", LOAD_150G, "N", "Tensile load on the wire, positive pulling "
-                   "(start: a 150 g weight, §capstan-multiplier)")
+                   "(start: a 150 g weight)", source="§capstan-multiplier")
         self.output("T", "K", "Wire temperature")
         self.output("strain", "1", "Strain: contraction / length, positive = contraction "
                     "(§sma-wire)")
@@ -250,12 +254,16 @@ class PreisachInverse(Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.parameter("hysteresis", 0.0, "1", HYSTERESIS)
+        self.parameter("hysteresis", 0.0, "1", HYSTERESIS + "; set it to the data set the "
+                       "wire is modelled with", source="§preisach")
         self.parameter("sigma_surface", 0.0, "Pa",
                        "0 = stress-aware inverse over the hypersurface; > 0 = the single surface "
-                       "at this stress for every stress, stress ignored (§position-control)")
+                       "at this stress for every stress, stress ignored, the study's comparison "
+                       "inverse (within the data set's stresses: 105-145 MPa for data sets 1 and "
+                       "2, 60-200 MPa for 0)", source="§position-control")
         self.input("eps_ref", 0.0, "1", "Reference strain: contraction / length, positive = "
-                   "contraction, within [0, maximum strain of the data set]")
+                   "contraction, within [0, maximum strain of the data set] (start: a cold "
+                   "wire)")
         self.input("sigma_ref", LOAD_150G / thermal.cross_section(thermal.ThermalParams()), "Pa",
                    "Reference stress (start: the 150 g weight on the 127 um wire, 116 MPa)")
         self.output("T_ref", "K", "Temperature reference for the wire's temperature controller",

@@ -18,25 +18,46 @@ from typing import NamedTuple
 from scipy.optimize import brentq
 
 from musclesim.components.checks import require
+from musclesim.fmu import Calibration, declare
+
 DRIVES = ("voltage", "current")
 
 
 @dataclass(frozen=True)
 class ThermalParams:
     """Wire geometry, material data and effects (defaults: §sma-wire, §sma-material; effects
-    off)."""
+    off). Each FMU parameter is declared once here (`declare`): the SmaWire and CapstanMultiplier
+    FMUs, the docs' tables and the diagnosis's catalogues read it."""
 
-    length: float = 58.42e-3  # m, main wire (§sma-wire)
-    diameter: float = 127e-6  # m, main wire (§sma-wire)
-    density: float = 6450.0  # kg/m^3, NiTi (§sma-material)
-    specific_heat: float = 837.0  # J/(kg K), NiTi (§sma-material)
-    rho_martensite: float = 80e-8  # Ohm m, 80 uOhm cm (§sma-material)
-    rho_austenite: float = 100e-8  # Ohm m, 100 uOhm cm (§sma-material)
-    h: float = 100.0  # W/(m^2 K), natural convection, 127 um wire at 50 K excess (§convection)
-    drive: str = "voltage"  # electrical input: "voltage" [V] or "current" [A] (§thermal-model)
+    length: float = declare(58.42e-3, "m", "Wire length (the study's main wire)",
+                            source="§sma-wire")
+    diameter: float = declare(127e-6, "m", "Wire diameter (the study's wires)", source="§sma-wire")
+    density: float = declare(6450.0, "kg/m3", "Density of NiTi (data sheets, literature)",
+                             source="§sma-material")
+    specific_heat: float = declare(837.0, "J/(kg.K)", "Specific heat of NiTi (data sheets, "
+                                   "literature)", source="§sma-material", calibrate=Calibration(
+                                       0.8, 1.2, True, "data-sheet value of NiTi, alloy dependent"))
+    rho_martensite: float = declare(80e-8, "Ohm.m", "Resistivity of martensite, 80 uOhm cm (data "
+                                    "sheets: 63 Ohm/m for a 127 um wire)", source="§sma-material",
+                                    calibrate=Calibration(0.85, 1.15, True, "resistivity varies "
+                                                          "with the alloy and the contacts"))
+    rho_austenite: float = declare(100e-8, "Ohm.m", "Resistivity of austenite, 100 uOhm cm (data "
+                                   "sheets: 79 Ohm/m for a 127 um wire)", source="§sma-material",
+                                   calibrate=Calibration(0.85, 1.15, True, "resistivity varies "
+                                                         "with the alloy and the contacts"))
+    h: float = declare(100.0, "W/(m2.K)", "Convection coefficient at 50 K excess (literature: "
+                       "natural convection from a 127 um wire in still air)", source="§convection",
+                       calibrate=Calibration(0.6, 1.6, True, "convection depends on the air "
+                                             "around the wire (§convection: 50-150 W/(m^2 K))"))
+    # electrical input: "voltage" [V] or "current" [A] (§thermal-model); the FMUs' drive_current
+    drive: str = "voltage"
     max_substep: float = 1e-3  # s, sub-step of h(T) (second order: about 1e-6 K off at 50 Hz)
-    latent_heat: float = 0.0  # J/kg, effect: 12e3-24e3 when on (§sma-material); 0 = off
-    h_exponent: float = 0.0  # effect: n of h(T) (thin-wire correlations give 0.06-0.15); 0 = off
+    latent_heat: float = declare(0.0, "J/kg", "Effect, 0 = off: latent heat of transformation "
+                                 "(12e3-24e3 when on)", source="§thermal-model, §sma-material",
+                                 effect=(0.0, 30e3))
+    h_exponent: float = declare(0.0, "1", "Effect, 0 = off: exponent n of the convection h "
+                                "(|T - T_amb| / 50 K)^n (thin-wire correlations give 0.06-0.15)",
+                                source="§named-effects, §convection", effect=(0.0, 0.5))
     h_dT_ref: float = 50.0  # K, excess temperature at which h holds (§convection)
 
     def check(self):
@@ -55,6 +76,12 @@ class ThermalInputs(NamedTuple):
     T_amb: float  # C, ambient air
     xi: float = 1.0  # martensite fraction (1 = cold wire), sets the resistance
     xi_rate: float = 0.0  # 1/s, d xi / dt; matters only with latent heat
+
+
+# the role of a wire FMU's input T_amb for the diagnosis (SmaWire, CapstanMultiplier): calibrated as
+# a constant, unless the data set states the bench's ambient
+AMBIENT = Calibration(-8.0, 8.0, False, "the bench's room air; stated in the data set's "
+                      "[conditions] when measured")
 
 
 def cross_section(p):

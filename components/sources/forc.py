@@ -20,19 +20,29 @@ import math
 from dataclasses import dataclass
 
 from musclesim.components.checks import require
+from musclesim.fmu import declare
 
 IDLE, HEATING, COOLING = 0.0, 1.0, -1.0  # values of the phase flag
 
 
 @dataclass(frozen=True)
 class ForcParams:
-    """Grid [K], grid step [K], period of one run [s] and start of the first run [s]."""
+    """Grid [K], grid step [K], period of one run [s] and start of the first run [s]; each
+    declared here once (`declare`)."""
 
-    T_low: float = 303.15
-    T_high: float = 403.15
-    T_step: float = 5.0
-    period: float = 20.0
-    t_start: float = 0.0
+    T_low: float = declare(303.15, "K", "Lower grid temperature b0, start and end of every run "
+                           "(the study's 30 C, a saturation temperature)",
+                           source="§forc-identification")
+    T_high: float = declare(403.15, "K", "Peak of the last run a0 (the study's 130 C, a "
+                            "saturation temperature)", source="§forc-identification")
+    T_step: float = declare(5.0, "K", "Grid step between the runs' peaks (the study's grid); "
+                            "T_high - T_low must be a whole number of it", source="§preisach")
+    period: float = declare(20.0, "s", "Duration of one run, heating half and cooling half "
+                            "(assumption: the shortest period free cooling can follow, 16.2 s, "
+                            "with a margin for the temperature loop)",
+                            source="§forc-identification")
+    t_start: float = declare(0.0, "s", "Start of the first run, T_low held before (assumption: "
+                             "at once)")
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""

@@ -17,6 +17,7 @@ import math
 from dataclasses import dataclass
 
 from musclesim.components.checks import require
+from musclesim.fmu import declare
 
 KINDS = ("constant", "sine", "square", "triangle", "ramp")
 EDGE = 1e-9  # periods: the rounding of a sample's phase, far below any step a master takes
@@ -25,15 +26,17 @@ EDGE = 1e-9  # periods: the rounding of a sample's phase, far below any step a m
 @dataclass(frozen=True)
 class SignalParams:
     """Wave kind (an index into KINDS), offset, amplitude, frequency [Hz], phase [rad], start [s],
-    share of the period a square wave is high."""
+    share of the period a square wave is high; each declared here once (`declare`)."""
 
-    kind: float = 0.0
-    offset: float = 0.0
-    amplitude: float = 0.0
-    frequency: float = 0.0
-    phase: float = 0.0
-    t_start: float = 0.0
-    duty: float = 0.5
+    kind: float = declare(0.0, "1", "Wave: 0 constant, 1 sine, 2 square, 3 triangle, 4 ramp "
+                          "(rises by amplitude over 1/frequency s, then holds)")
+    offset: float = declare(0.0, "1", "Offset (the value before t_start)")
+    amplitude: float = declare(0.0, "1", "Amplitude")
+    frequency: float = declare(0.0, "Hz", "Frequency")
+    phase: float = declare(0.0, "rad", "Phase")
+    t_start: float = declare(0.0, "s", "Start of the wave")
+    duty: float = declare(0.5, "1", "Square wave: share of each period at offset + amplitude "
+                          "(0..1 exclusive; a pulse train of this duty)")
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""

@@ -14,15 +14,7 @@ class SignalSource(Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.parameter("kind", 0.0, "1", "Wave: 0 constant, 1 sine, 2 square, 3 triangle, "
-                       "4 ramp (rises by amplitude over 1/frequency s, then holds)")
-        self.parameter("offset", 0.0, "1", "Offset (the value before t_start)")
-        self.parameter("amplitude", 0.0, "1", "Amplitude")
-        self.parameter("frequency", 0.0, "Hz", "Frequency")
-        self.parameter("phase", 0.0, "rad", "Phase")
-        self.parameter("t_start", 0.0, "s", "Start of the wave")
-        self.parameter("duty", 0.5, "1", "Square wave: share of each period at offset + amplitude "
-                       "(0..1 exclusive; a pulse train of this duty)")
+        self.parameters_of(signals.SignalParams)
         self.output("y", "1", "Signal")
 
     def setup(self):
@@ -42,16 +34,7 @@ class ForcReference(Slave):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        d = forc.ForcParams()
-        self.parameter("T_low", d.T_low, "K", "Lower grid temperature b0, start and end of every "
-                       "run (§forc-identification: 30 C)")
-        self.parameter("T_high", d.T_high, "K", "Peak of the last run a0 (§forc-identification: "
-                       "130 C)")
-        self.parameter("T_step", d.T_step, "K", "Grid step between the runs' peaks (§preisach: 5 "
-                       "K)")
-        self.parameter("period", d.period, "s", "Duration of one run (heating half + cooling "
-                       "half); must not outrun free cooling")
-        self.parameter("t_start", d.t_start, "s", "Start of the first run (T_low held before)")
+        self.parameters_of(forc.ForcParams)
         self.output("T_ref", "K", "Reference temperature")
         self.output("run", "1", "Run index j = 0..n-1 (peak T_low + j T_step); -1 outside the runs")
         self.output("phase", "1", "+1 heating half, -1 cooling half, 0 outside the runs")
@@ -76,13 +59,16 @@ class _ProfileSlave(Slave):
     def __init__(self, lo, hi, unit, **kwargs):
         super().__init__(**kwargs)
         self.parameter("profile", 1.0, "1", "Profile number: " + ", ".join(
-            f"{i} = {n}" for i, n in enumerate(self.names, 1)))
-        self.parameter("lo", lo, unit, "Bottom of the profile's range (§reference-profiles)")
-        self.parameter("hi", hi, unit, "Top of the profile's range (§reference-profiles; = lo: "
-                       "constant)")
+            f"{i} = {n}" for i, n in enumerate(self.names, 1)), source="§reference-profiles")
+        # the profiles are functions (components/sma/profiles.py), no parameter dataclass
+        self.parameter("lo", lo, unit, "Bottom of the profile's range",
+                       source="§reference-profiles")
+        self.parameter("hi", hi, unit, "Top of the profile's range (= lo: constant)",
+                       source="§reference-profiles")
         self.parameter("duration", profiles.DURATION, "s", "Length of the run the profile is laid "
-                       "out over (§reference-profiles: 550 s)")
-        self.parameter("seed", 0.0, "1", "Seed of the random peaks and troughs")
+                       "out over (the study's runs of about 550 s)", source="§reference-profiles")
+        self.parameter("seed", 0.0, "1", "Seed of the random peaks and troughs",
+                       source="§reference-profiles")
 
     def setup(self):
         k = self.profile
@@ -125,7 +111,7 @@ class LoadingProfile(_ProfileSlave):
     def __init__(self, **kwargs):
         super().__init__(profiles.SIGMA_LO, profiles.SIGMA_HI, "Pa", **kwargs)
         self.parameter("area", AREA_127UM, "m2", "Wire cross-section the force reference is for "
-                       "(§sma-wire: 127 um diameter)")
+                       "(127 um diameter)", source="§sma-wire")
         self.output("sigma_ref", "Pa", "Reference stress")
         self.output("f_ref", "N", "Reference tension sigma_ref x area")
 
