@@ -5,8 +5,9 @@ what the code declares and cannot drift from it.
     ```
 
 a component's FMU variables (parameters, inputs, outputs: name, unit, default or start,
-description), read from the modelDescription.xml of the FMU that `musclesim build` makes (built
-once per docs build into a temporary folder);
+description and source, and a parameter's role for the diagnosis), as the component declares them
+(`musclesim.components.declarations`, what `musclesim build` writes into the FMU's
+modelDescription.xml);
 
     ```{effect-library}
     ```
@@ -19,37 +20,13 @@ the diagnosis's effects and calibration parameters (`musclesim.diagnosis.effects
 what ``musclesim run --help`` prints (no argument: ``musclesim --help``).
 A ``§label`` in a table's text becomes a link to that section of the docs.
 """
-import atexit
 import re
-import shutil
-import tempfile
-from functools import cache
-from pathlib import Path
 
 from docutils import nodes
 from sphinx import addnodes
 from sphinx.util.docutils import SphinxDirective
 
 CITATION = re.compile(r"§([a-z][a-z0-9-]*[a-z0-9])")
-
-
-@cache
-def _fmu_dir():
-    from musclesim.cosim import build_all
-
-    path = Path(tempfile.mkdtemp(prefix="musclesim-docs-fmus-"))
-    atexit.register(shutil.rmtree, path, ignore_errors=True)
-    build_all(path)
-    return path
-
-
-@cache
-def _variables(component):
-    from fmpy import read_model_description
-
-    md = read_model_description(str(_fmu_dir() / f"{component}.fmu"))
-    return [(v.name, v.causality, v.unit or "1", v.start, v.description or "")
-            for v in md.modelVariables]
 
 
 def _linked(text, docname):
@@ -95,13 +72,28 @@ def _table(title, header, rows, docname, widths=None):
     return table
 
 
+def _bounds(lo, hi, relative):
+    return f"{lo:g}x to {hi:g}x" if relative else f"{lo:+g} to {hi:+g}"
+
+
+def _role(d):
+    """A parameter's role for the diagnosis, in words ("" for none)."""
+    if d.effect:
+        return f"effect, off at the default; fitted within {d.effect[0]:g} to {d.effect[1]:g}"
+    c = d.calibrate
+    if c:
+        return (f"calibrated within {_bounds(c.lower, c.upper, c.relative)}"
+                + (f", period {c.period:g}" if c.period else "") + f": {c.why}")
+    return ""
+
+
 class FmuVariables(SphinxDirective):
     """The parameters, inputs and outputs of the component named in the argument."""
 
     required_arguments = 1
 
     def run(self):
-        from musclesim.components import CATALOGUE
+        from musclesim.components import CATALOGUE, declarations
 
         name = self.arguments[0]
         if name not in CATALOGUE:
@@ -109,17 +101,19 @@ class FmuVariables(SphinxDirective):
         out = []
         for causality, title, column in (("parameter", "parameters", "default"),
                                          ("input", "inputs", "start"), ("output", "outputs", None)):
-            rows = [(n, unit, f"{float(start):.6g}", d) if column else (n, unit, d)
-                    for n, c, unit, start, d in _variables(name) if c == causality]
+            rows = []
+            for d in declarations(name).values():
+                if d.causality != causality:
+                    continue
+                text = " ".join(t for t in (d.description, d.source and f"({d.source})",
+                                            _role(d) and f"Diagnosis: {_role(d)}.") if t)
+                rows.append((d.name, d.unit, f"{d.default:.6g}", text) if column
+                            else (d.name, d.unit, text))
             if rows:
                 header = ("name", "unit", column, "description") if column else \
                     ("name", "unit", "description")
                 out.append(_table(f"{name}: {title}", header, rows, self.env.docname))
         return out
-
-
-def _bounds(lo, hi, relative):
-    return f"{lo:g}x to {hi:g}x" if relative else f"{lo:+g} to {hi:+g}"
 
 
 class EffectLibrary(SphinxDirective):
