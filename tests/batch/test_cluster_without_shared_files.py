@@ -83,13 +83,16 @@ def cluster(tmp_path_factory):
             client.wait_for_workers(2, timeout=60)
         yield address, folders
     finally:
-        for p in reversed(procs):
-            p.terminate()
-        for p in procs:
-            try:
-                p.wait(timeout=20)
-            except subprocess.TimeoutExpired:
-                p.kill()
+        # the workers first, and gone before the scheduler: a worker whose scheduler went
+        # away with it tries to reach it again for tens of seconds
+        for group in (procs[1:], procs[:1]):
+            for p in group:
+                p.terminate()
+            for p in group:
+                try:
+                    p.wait(timeout=20)
+                except subprocess.TimeoutExpired:
+                    p.kill()
         for log in logs:
             log.close()
 
