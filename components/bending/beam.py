@@ -29,7 +29,7 @@ class BeamParams:
     length: float = declare(10e-3, "m", "Free beam length between the caps (the study: caps "
                             "10 mm apart)", source="§bending-actuator")
     n_beams: float = declare(2.0, "1", "Number of coplanar beams (the study: 2)",
-                             source="§bending-actuator")
+                             source="§bending-actuator", type="Integer")
     width: float = declare(1.0e-3, "m", "Width of each beam (open; assumption: a common "
                            "pultruded carbon-fibre strip)", source="§bending-actuator")
     thickness: float = declare(0.2e-3, "m", "Thickness of each beam in the bending direction "

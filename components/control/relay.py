@@ -33,7 +33,7 @@ class RelayParams:
     u_off: float = declare(0.0, "1", "Output when off (the supply switched off)")
     initially_on: float = declare(1.0, "1", "State at the start when the measurement lies "
                                   "between the thresholds (1 on, 0 off): a wire started between "
-                                  "them heats first")
+                                  "them heats first", type="Boolean")
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""

@@ -107,7 +107,7 @@ class BangBang(Slave):
         self.parameters_of(relay.RelayParams)
         self.input("T", 293.15, "K", "Measured temperature (e.g. a thermocouple's T_meas)")
         self.output("u", "1", "Controller output u_on or u_off", depends=["T"])
-        self.output("on", "1", "Relay state: 1 on, 0 off", depends=["T"])
+        self.output("on", "1", "Relay state: 1 on, 0 off", depends=["T"], type="Boolean")
 
     def setup(self):
         self.p = relay.RelayParams(y_on=self.T_on, y_off=self.T_off, u_on=self.u_on,

@@ -40,7 +40,7 @@ class GaitParams:
                               "0.6 s each (assumption: the study gives only the protrusion and "
                               "stance times; a stride takes 3 s)", source="§gait")
     direction: float = declare(1.0, "1", "Direction of the first stride: +1 forward, -1 "
-                               "backward", source="§gait")
+                               "backward", source="§gait", type="Integer")
     t_reverse: float = declare(0.0, "s", "Direction reversal period; 0 = never (the study's "
                                "bidirectional test: 32.5 s)", source="§gait")
     # scenarios set these from the off-line characterisation (scenarios/params,

@@ -22,7 +22,7 @@ class InputParams:
     phi: float = declare(1.64, "rad", "Phase lag of u2 behind u1, which steers the direction "
                          "(the nominal case)", source="§ideal-actuation")
     direction: float = declare(1.0, "1", "1, as in the study; -1 swaps u1 and u2: the mirror "
-                               "image of the gait, driven backward")
+                               "image of the gait, driven backward", type="Integer")
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""

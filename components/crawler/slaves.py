@@ -73,7 +73,7 @@ class FrictionBlock(Slave):
         ins = ["flange.v", "flange.f_n", "flange.N", "u", "theta"]
         self.output("flange.f", "N", "Friction force on the block", depends=ins)
         self.output("contact", "1", "Contact state: 0 = low, 1 = high friction", depends=["u"])
-        self.output("stuck", "1", "1 while the block sticks, else 0", depends=ins)
+        self.output("stuck", "1", "1 while the block sticks, else 0", depends=ins, type="Boolean")
         self.output("slip", "m", "Anchoring slip: distance slid while the contact is high")
 
     def setup(self):
@@ -138,8 +138,9 @@ class GaitSequencer(Slave):
         self.output("phase", "1", "Gait phase 1..4 (§gait)")
         # not "direction": that is the parameter's name
         self.output("stride_direction", "1",
-                    "Direction of the current stride: +1 forward, -1 backward")
-        self.output("stride", "1", "Index of the current stride since the start, from 1")
+                    "Direction of the current stride: +1 forward, -1 backward", type="Integer")
+        self.output("stride", "1", "Index of the current stride since the start, from 1",
+                    type="Integer")
 
     def setup(self):
         self.p = self.core_params(gait.GaitParams)

@@ -51,7 +51,7 @@ class CapstanParams:
                             source="§capstan-multiplier")
     n_segments: int = declare(3, "1", f"Number of segments, 1..{MAX_SEGMENTS} (the study's "
                               "sensing, one thermocouple per segment, suggests three over two "
-                              "turning tubes)", source="§capstan-multiplier")
+                              "turning tubes)", source="§capstan-multiplier", type="Integer")
     segment_lengths: tuple = ()  # the FMU's segment_length[i]
     wraps: tuple = ()  # the FMU's wrap[j]
     mu_f: float = declare(MU_F, "1", "Friction coefficient of the wire on the capstans (the "

@@ -47,10 +47,11 @@ class CapstanMultiplier(Slave):
         self.parameter("drive_current", 0.0, "1",
                        "Electrical input u: 0 = voltage [V] across the whole wire (default), "
                        "1 = current [A] through it (the kind of source is open in the study)",
-                       source="§capstan-multiplier")
+                       source="§capstan-multiplier", type="Boolean")
         self.parameter("hysteresis", 0.0, "1", "Hysteresis data set: 0 = reference wire (1 C "
                        "grid, 60-200 MPa, which covers the clamp-side 135 MPa under 150 g); "
-                       "k >= 1 = FORC data set k of sma/data/forc-sets.toml", source="§preisach")
+                       "k >= 1 = FORC data set k of sma/data/forc-sets.toml", source="§preisach",
+                       type="Integer")
         self.input("u", 0.0, "1", "Electrical input: voltage across the wire [V], or current "
                    "through it [A] when drive_current = 1")
         self.input("T_amb", 293.15, "K", "Ambient air temperature (assumption: a 20 C "

@@ -26,7 +26,7 @@ class ActuatorParams:
 
     central: float = declare(1.0, "1", "1 = central longitudinal actuator (volume from the "
                              "elongation), 0 = extremal friction actuator (volume from the "
-                             "contact)", source="§crawler-hardware")
+                             "contact)", source="§crawler-hardware", type="Boolean")
     s_a: float = declare(9.62e-4, "m2", "Cross-section: f_a = s_a p (a 35 mm tube)",
                          source="§two-mass", calibrate=Calibration(
                              0.8, 1.1, True, "the central actuator's effective area: its walls "

@@ -29,7 +29,8 @@ class QuadrupedBody(Slave):
         for i in range(1, body.LEGS + 1):
             self.output(f"foot{i}.s", "m", f"Position of foot {i}")
             self.output(f"foot{i}.f", "N", f"Friction force on foot {i} over the last sub-step")
-            self.output(f"foot{i}.stuck", "1", f"1 while foot {i} holds still, else 0")
+            self.output(f"foot{i}.stuck", "1", f"1 while foot {i} holds still, else 0",
+                        type="Boolean")
 
     def setup(self):
         self.core = body.Quadruped(self.core_params(body.QuadrupedParams))

@@ -30,7 +30,7 @@ class SensorParams:
     noise_std: float = 0.0  # same unit as the signal
     quantum: float = 0.0  # resolution (0: none)
     # a Real so that it is an FMU parameter like the others
-    seed: float = declare(0.0, "1", "Seed of the noise generator (a whole number >= 0)")
+    seed: float = declare(0.0, "1", "Seed of the noise generator (>= 0)", type="Integer")
 
     def check(self):
         """Raise ValueError naming the first parameter outside its valid range."""

@@ -51,8 +51,8 @@ class SmaWire(Slave):
                                              "record starts"))
         self.parameter("drive_current", 0.0, "1", "Electrical input u: 0 = voltage [V] (default; "
                        "the study heated with 0-2.5 V), 1 = current [A] (the data sheets' "
-                       "ratings, such as 0.3 A)", source="§thermal-model")
-        self.parameter("hysteresis", 0.0, "1", HYSTERESIS, source="§preisach")
+                       "ratings, such as 0.3 A)", source="§thermal-model", type="Boolean")
+        self.parameter("hysteresis", 0.0, "1", HYSTERESIS, source="§preisach", type="Integer")
         self.parameter("sigma_surface", 0.0, "Pa", "Stress ignored, 0 = off: > 0 uses the single "
                        "constant-stress surface at this stress (within the data set's stresses) "
                        "for every stress, as the study's comparison controller did",
@@ -255,7 +255,7 @@ class PreisachInverse(Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         self.parameter("hysteresis", 0.0, "1", HYSTERESIS + "; set it to the data set the "
-                       "wire is modelled with", source="§preisach")
+                       "wire is modelled with", source="§preisach", type="Integer")
         self.parameter("sigma_surface", 0.0, "Pa",
                        "0 = stress-aware inverse over the hypersurface; > 0 = the single surface "
                        "at this stress for every stress, stress ignored, the study's comparison "

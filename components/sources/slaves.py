@@ -36,7 +36,8 @@ class ForcReference(Slave):
         super().__init__(**kwargs)
         self.parameters_of(forc.ForcParams)
         self.output("T_ref", "K", "Reference temperature")
-        self.output("run", "1", "Run index j = 0..n-1 (peak T_low + j T_step); -1 outside the runs")
+        self.output("run", "1", "Run index j = 0..n-1 (peak T_low + j T_step); -1 outside the "
+                    "runs", type="Integer")
         self.output("phase", "1", "+1 heating half, -1 cooling half, 0 outside the runs")
 
     def setup(self):
@@ -59,7 +60,8 @@ class _ProfileSlave(Slave):
     def __init__(self, lo, hi, unit, **kwargs):
         super().__init__(**kwargs)
         self.parameter("profile", 1.0, "1", "Profile number: " + ", ".join(
-            f"{i} = {n}" for i, n in enumerate(self.names, 1)), source="§reference-profiles")
+            f"{i} = {n}" for i, n in enumerate(self.names, 1)), source="§reference-profiles",
+            type="Integer")
         # the profiles are functions (components/sma/profiles.py), no parameter dataclass
         self.parameter("lo", lo, unit, "Bottom of the profile's range",
                        source="§reference-profiles")
@@ -68,7 +70,7 @@ class _ProfileSlave(Slave):
         self.parameter("duration", profiles.DURATION, "s", "Length of the run the profile is laid "
                        "out over (the study's runs of about 550 s)", source="§reference-profiles")
         self.parameter("seed", 0.0, "1", "Seed of the random peaks and troughs",
-                       source="§reference-profiles")
+                       source="§reference-profiles", type="Integer")
 
     def setup(self):
         k = self.profile

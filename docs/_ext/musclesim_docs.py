@@ -4,10 +4,10 @@ what the code declares and cannot drift from it.
     ```{fmu-variables} CrawlerBody
     ```
 
-a component's FMU variables (parameters, inputs, outputs: name, unit, default or start,
-description and source, and a parameter's role for the diagnosis), as the component declares them
-(`musclesim.components.declarations`, what `musclesim build` writes into the FMU's
-modelDescription.xml);
+a component's FMU variables (parameters, inputs, outputs: name, unit, or type if not Real,
+default or start, description and source, and a parameter's role for the diagnosis), as the
+component declares them (`musclesim.components.declarations`, what `musclesim build` writes into
+the FMU's modelDescription.xml);
 
     ```{effect-library}
     ```
@@ -107,11 +107,14 @@ class FmuVariables(SphinxDirective):
                     continue
                 text = " ".join(t for t in (d.description, d.source and f"({d.source})",
                                             _role(d) and f"Diagnosis: {_role(d)}.") if t)
-                rows.append((d.name, d.unit, f"{d.default:.6g}", text) if column
-                            else (d.name, d.unit, text))
+                # an Integer or Boolean variable has no unit but its type
+                unit = d.unit if d.type == "Real" else d.type
+                default = f"{d.default:.6g}" if d.type != "Boolean" else \
+                    ("true" if d.default else "false")
+                rows.append((d.name, unit, default, text) if column else (d.name, unit, text))
             if rows:
-                header = ("name", "unit", column, "description") if column else \
-                    ("name", "unit", "description")
+                header = ("name", "unit or type", column, "description") if column else \
+                    ("name", "unit or type", "description")
                 out.append(_table(f"{name}: {title}", header, rows, self.env.docname))
         return out
 

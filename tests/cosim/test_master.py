@@ -128,3 +128,32 @@ def test_an_unconnected_input_holds_the_value_a_scenario_sets(fmu_dir, tmp_path)
     replayed = {"wire.T_amb": np.full(3001, 300.0)}
     with pytest.raises(UserError, match="wire.T_amb is an input replayed from data"):
         Master(scenario.load(path), fmu_dir, replayed)
+
+
+def test_integer_and_boolean_values_are_checked_and_move_on_both_hosts(fmu_dir, tmp_path):
+    """A Boolean parameter takes 0 or 1, an Integer a whole number; a Boolean output is not
+    connected to a Real input; recorded Integer and Boolean outputs are the same numbers whoever
+    hosts the FMU (fmpy reads them through fmi2GetInteger and fmi2GetBoolean)."""
+    path = tmp_path / "relay.toml"
+    path.write_text(
+        'step = 0.01\nstop_time = 2.0\nrecord = ["relay.on", "gait.stride", "relay.u"]\n'
+        'connections = [["wire.T", "relay.T"]]\n'
+        '[instances.wire]\ncomponent = "SmaWire"\nparameters = { drive_current = 1.0 }\n'
+        '[instances.relay]\ncomponent = "BangBang"\n'
+        'parameters = { T_on = 290.0, T_off = 300.0, initially_on = 0.0 }\n'
+        '[instances.gait]\ncomponent = "GaitSequencer"\n'
+        'parameters = { t_protrusion = 0.2, t_stance = 0.3 }\n')
+    runs = [Master(scenario.load(path), fmu_dir, host=h).run() for h in ("direct", "fmpy")]
+    assert np.array_equal(runs[0].data, runs[1].data)
+    assert set(runs[0]["relay.on"]) == {0.0} and runs[0]["gait.stride"][-1] > 2
+    with pytest.raises(UserError) as err:
+        Master(scenario.load(path, ["relay.initially_on=0.5", "gait.direction=1.5"]), fmu_dir)
+    message = str(err.value)
+    assert "relay.initially_on is a Boolean: 0.5 is neither 0 (false) nor 1 (true)" in message
+    assert "gait.direction is an Integer: 1.5 is not a whole number" in message
+    wrong = path.read_text().replace('[["wire.T", "relay.T"]]',
+                                     '[["wire.T", "relay.T"], ["relay.on", "wire.u"]]')
+    path.write_text(wrong)
+    with pytest.raises(UserError, match="connection relay.on -> wire.u joins a Boolean output to "
+                                        "a Real input; FMI connects variables of one type"):
+        Master(scenario.load(path), fmu_dir)

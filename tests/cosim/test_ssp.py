@@ -95,6 +95,37 @@ def test_archive_passes_the_ssp_schemas(fmu_dir, tmp_path):
     assert len(read_ssd(str(path)).system.elements) == 5
 
 
+def test_integer_and_boolean_variables_are_typed_in_the_archive_and_libcosim_applies_them(
+        fmu_dir, tmp_path):
+    """Connectors and parameter values carry their FMI type (a relay's Boolean state, a data
+    set's Integer number); the archive stays schema-valid, and libcosim sets a Boolean value: the
+    wire driven by current instead of voltage heats differently."""
+    from fmpy.ssp.ssd import validate_tree
+    from lxml import etree
+
+    def export(*sets):
+        s = scenario.load(SCENARIOS / "sma-multiplier-bang-bang.toml",
+                          ["wire.hysteresis=0", *sets], stop_time=0.5)
+        path = ssp.export(s, fmu_dir, tmp_path / f"bb{len(sets)}.ssp")
+        with zipfile.ZipFile(path) as zf:
+            root = etree.fromstring(zf.read("SystemStructure.ssd"))
+        validate_tree(root, "SystemStructureDescription.xsd")
+        return s, path, root
+
+    s, voltage, _ = export()
+    _, current, root = export("wire.drive_current=1")
+    kinds = {(c.getparent().getparent().get("name"), c.get("name")): c[0].tag.split("}")[1]
+             for c in root.iter("{*}Connector")}
+    assert kinds[("relay_m", "on")] == "Boolean" and kinds[("wire", "hysteresis")] == "Integer"
+    assert kinds[("wire", "T")] == "Real"
+    values = {(p.get("name"), p[0].tag.split("}")[1], p[0].get("value"))
+              for p in root.iter("{*}Parameter")}
+    assert {("drive_current", "Boolean", "true"), ("hysteresis", "Integer", "0")} <= values
+    runs = [run_libcosim(path, ["wire.T"], s.n_steps, s.step)[1]["wire.T"]
+            for path in (voltage, current)]
+    assert not np.array_equal(*runs)
+
+
 @pytest.mark.parametrize("name, change, message", [
     ("crawler.zip", None, "must have a name ending in .ssp"),
     ("crawler.ssp", {"connections": (("inputs.f_a", "body.f_b"),)}, "has no variable 'f_b'"),

@@ -28,10 +28,10 @@ import zipfile
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
-from musclesim.cosim.master import Master
+from musclesim.cosim.master import KINDS, Master
 from musclesim.cosim.outputs import check_archive, replace_zip
 from musclesim.cosim.scenario import split_signal
-from musclesim.cosim.ssp import base_units
+from musclesim.cosim.ssp import base_units, value_text
 from musclesim.errors import UserError
 
 CONTAINER_VERSION = "0.1.0"  # the container.json format of FMPy's container runtime
@@ -44,6 +44,11 @@ def _runtime():
     """Folder of FMPy's container runtime binaries."""
     import fmpy.container_fmu
     return Path(fmpy.container_fmu.__file__).parent / "binaries"
+
+
+# per kind: the FMI 2.0 type element, the FMI 3.0 variable element, the container runtime's type
+_TYPES = {"Real": ("Real", "Float64"), "Integer": ("Integer", "Int32"),
+          "Boolean": ("Boolean", "Boolean")}
 
 
 def _variables(scenario, master):
@@ -59,7 +64,7 @@ def _variables(scenario, master):
             value = None if causality == "output" else \
                 scenario.instances[inst].parameters.get(var.name, var.start)
             out.append((name, causality, inst, var,
-                        None if value is None else repr(float(value))))
+                        None if value is None else value_text(KINDS[var.type], value)))
 
     for name, spec in scenario.instances.items():
         for par in spec.parameters:
@@ -103,31 +108,33 @@ def model_description(scenario, master, variables, fmi=2):
                   stopTime=repr(scenario.stop_time), stepSize=repr(scenario.step))
     mv = ET.SubElement(root, "ModelVariables")
 
-    def variable(attrs, real):
-        """An FMI 2.0 ScalarVariable with its Real, or an FMI 3.0 Float64 holding both."""
+    def variable(attrs, real, kind="Real"):
+        """An FMI 2.0 ScalarVariable with its type element (Real, ...), or an FMI 3.0 variable
+        (Float64, ...) holding both."""
         real = {k: x for k, x in real.items() if x is not None}
         if fmi == 3:
-            ET.SubElement(mv, "Float64", {**attrs, **real})
+            ET.SubElement(mv, _TYPES[kind][1], {**attrs, **real})
         else:
-            ET.SubElement(ET.SubElement(mv, "ScalarVariable", attrs), "Real", real)
+            ET.SubElement(ET.SubElement(mv, "ScalarVariable", attrs), _TYPES[kind][0], real)
 
     variable({"name": "time", "valueReference": "0", "causality": "independent",
               "variability": "continuous", "description": "Simulation time"}, {})
     for vr, (name, causality, _, v, start) in enumerate(variables, start=1):
         attrs = {"name": name, "valueReference": str(vr), "causality": causality,
                  "description": v.description or name}
-        real = {"start": start}
+        real, kind = {"start": start}, KINDS[v.type]
+        changing = "continuous" if kind == "Real" else "discrete"
         if causality == "parameter":
             attrs.update(variability="fixed", initial="exact")
         elif causality == "input":
-            attrs["variability"] = "continuous"
+            attrs["variability"] = changing
         else:
-            attrs.update(variability="continuous", initial="calculated")
-        if v.unit in units:
+            attrs.update(variability=changing, initial="calculated")
+        if v.unit in units and kind == "Real":
             real["unit"] = v.unit
             if v.displayUnit:
                 real["displayUnit"] = v.displayUnit
-        variable(attrs, real)
+        variable(attrs, real, kind)
     structure = ET.SubElement(root, "ModelStructure")
     outputs = [vr for vr, (_, c, *_) in enumerate(variables, start=1) if c == "output"]
     if fmi == 3:  # by value reference
@@ -157,7 +164,9 @@ def configuration(scenario, master, variables, guid):
     for src, dst in sorted(scenario.connections,
                            key=lambda c: position[split_signal(c[0])[0]]):
         (a, va), (b, vb) = ref(src), ref(dst)
-        connections.append({"variableType": "Float64", "srcComponent": a, "dstComponent": b,
+        kind = _TYPES[KINDS[master.instances[split_signal(src)[0]].vars[
+            split_signal(src)[1]].type]][1]
+        connections.append({"variableType": kind, "srcComponent": a, "dstComponent": b,
                              "srcValueReferences": [va], "dstValueReferences": [vb],
                              "size": 1})
     data = {
@@ -170,7 +179,8 @@ def configuration(scenario, master, variables, guid):
         "variables": [], "connections": connections,
     }
     for _, _, inst, v, start in variables:
-        variable = {"variableType": "Float64", "mappings": [[index[inst], v.valueReference]]}
+        variable = {"variableType": _TYPES[KINDS[v.type]][1],
+                    "mappings": [[index[inst], v.valueReference]]}
         if start is not None:
             variable["start"] = [start]
         data["variables"].append(variable)

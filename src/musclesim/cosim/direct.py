@@ -89,12 +89,14 @@ class DirectSlave:
     def terminate(self):
         self._call("fmi2Terminate", self.slave.terminate)
 
-    def set_real(self, vrs, values):
+    def set_real(self, vrs, values, kinds=None):
+        """Set `vrs` to `values`; the slave keeps Integer and Boolean values (`kinds`) as floats
+        too, so one call sets them all."""
         self._call("fmi2SetReal", self.slave.set_real, list(vrs), [float(v) for v in values])
 
     # The calls of the master's loop: closures over preallocated value-reference lists, with the
     # error handling of `_call` written out (a Python call less per FMI call).
-    def reader(self, vrs, out):
+    def reader(self, vrs, out, kinds=None):
         """A function that writes the values of `vrs` into the array `out` (one batched call)."""
         if not vrs:
             return None
@@ -109,7 +111,7 @@ class DirectSlave:
                 self.drain()
         return read
 
-    def writer(self, vrs, slots, values):
+    def writer(self, vrs, slots, values, kinds=None):
         """A function that sets `vrs` to ``values[slots]`` (one batched call)."""
         if not vrs:
             return None

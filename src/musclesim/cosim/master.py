@@ -75,7 +75,7 @@ class Results:
 
 def _a(word):
     """`word` with its indefinite article ("an output", "a parameter")."""
-    return ("an " if word[0] in "aeiou" else "a ") + word
+    return ("an " if word[0].lower() in "aeiou" else "a ") + word
 
 
 def _remove_orphans():
@@ -106,13 +106,30 @@ def _recorded(s):
                                *(sig for panel in s.plots for sig in panel["signals"])]))
 
 
+# a variable's type as the master moves it: the FMI 2.0 name of FMI 2.0 and FMI 3.0 types
+KINDS = {"Real": "Real", "Float64": "Real", "Integer": "Integer", "Int32": "Integer",
+         "Boolean": "Boolean"}
+
+
+def _groups(kinds):
+    """[(kind, [positions in `kinds` of that kind])] for each kind present, Real first."""
+    return [(k, [i for i, x in enumerate(kinds) if x == k]) for k in ("Real", "Integer", "Boolean")
+            if k in kinds]
+
+
 class _FmpySlave:
     """An FMU instantiated by fmpy, with the calls of the master's loop made on preallocated
     ctypes arrays straight to the FMU's functions (fmpy's wrapper costs a Python call each);
     a status above fmi2Warning raises as fmpy would. `reader` and `writer` give None where there
-    is nothing to get or set, as `direct.DirectSlave`'s do."""
+    is nothing to get or set, as `direct.DirectSlave`'s do. The master's values are floats:
+    Integer and Boolean variables (`kinds`) are read and set through their own functions and
+    converted."""
 
     sized = False  # FMI 2.0's get and set take the number of value references only
+    # per kind: the FMU's get and set functions and the C type of a value
+    functions = {"Real": ("fmi2GetReal", "fmi2SetReal", ctypes.c_double),
+                 "Integer": ("fmi2GetInteger", "fmi2SetInteger", ctypes.c_int),
+                 "Boolean": ("fmi2GetBoolean", "fmi2SetBoolean", ctypes.c_int)}
 
     def __init__(self, md, unzipped, name, fmi_callbacks):
         self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped, instanceName=name,
@@ -139,28 +156,75 @@ class _FmpySlave:
             self.fmu.terminate()
             self.fmu.freeInstance()
 
-    def set_real(self, vrs, values):
-        self.fmu.setReal(list(vrs), list(values))
+    def set_real(self, vrs, values, kinds=None):
+        """Set `vrs` to `values` (numbers), each through the function of its kind."""
+        vrs, values = list(vrs), [float(v) for v in values]
+        for kind, at in _groups(kinds or ["Real"] * len(vrs)):
+            _, name, ctype = self.functions[kind]
+            refs = (ctypes.c_uint * len(at))(*[vrs[i] for i in at])
+            cast = {"Real": float, "Integer": int, "Boolean": bool}[kind]
+            vals = (ctype * len(at))(*[cast(values[i]) for i in at])
+            sized = (len(at),) if self.sized else ()
+            _check(self.fmu._functions[name](self.c, refs, len(at), vals, *sized), name)
 
-    def reader(self, vrs, out):
-        n, vr = len(vrs), (ctypes.c_uint * max(1, len(vrs)))(*vrs)
-        ptr, get, c = out.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), self.get, self.c
-        sized, name = (n,) if self.sized else (), self.names[0]
+    def reader(self, vrs, out, kinds=None):
+        if not vrs:
+            return None
+        kinds = kinds or ["Real"] * len(vrs)
+        if set(kinds) == {"Real"}:  # straight into the buffer
+            n, vr = len(vrs), (ctypes.c_uint * len(vrs))(*vrs)
+            ptr, get, c = out.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), self.get, self.c
+            sized, name = (n,) if self.sized else (), self.names[0]
+
+            def read():
+                _check(get(c, vr, n, ptr, *sized), name)
+            return read
+        reads = [self._reader([vrs[i] for i in at], kind, out, np.array(at))
+                 for kind, at in _groups(kinds)]
+
+        def read_all():
+            for read in reads:
+                read()
+        return read_all
+
+    def _reader(self, vrs, kind, out, at):
+        """A function reading `vrs` of one kind into ``out[at]``."""
+        name, _, ctype = self.functions[kind]
+        n, vr, vals = len(vrs), (ctypes.c_uint * len(vrs))(*vrs), (ctype * len(vrs))()
+        get, c, view = self.fmu._functions[name], self.c, np.ctypeslib.as_array(vals)
+        sized = (n,) if self.sized else ()
 
         def read():
-            _check(get(c, vr, n, ptr, *sized), name)
-        return read if n else None
+            _check(get(c, vr, n, vals, *sized), name)
+            out[at] = view
+        return read
 
-    def writer(self, vrs, slots, values):
-        n, vr = len(vrs), (ctypes.c_uint * max(1, len(vrs)))(*vrs)
-        vals = (ctypes.c_double * max(1, n))()
-        view, set_, c = np.ctypeslib.as_array(vals)[:n], self.set, self.c
-        sized, name = (n,) if self.sized else (), self.names[1]
+    def writer(self, vrs, slots, values, kinds=None):
+        if not vrs:
+            return None
+        kinds = kinds or ["Real"] * len(vrs)
+        if set(kinds) == {"Real"}:  # one call, from a buffer taken in place
+            n, vr, vals = len(vrs), (ctypes.c_uint * len(vrs))(*vrs), (ctypes.c_double * len(vrs))()
+            view, set_, c = np.ctypeslib.as_array(vals), self.set, self.c
+            sized, name = (n,) if self.sized else (), self.names[1]
+
+            def write_reals():
+                values.take(slots, out=view)
+                _check(set_(c, vr, n, vals, *sized), name)
+            return write_reals
+        writes = []
+        for kind, at in _groups(kinds):
+            _, name, ctype = self.functions[kind]
+            n, vr = len(at), (ctypes.c_uint * len(at))(*[vrs[i] for i in at])
+            vals, chosen = (ctype * n)(), slots[at]
+            view, set_ = np.ctypeslib.as_array(vals), self.fmu._functions[name]
+            writes.append((view, chosen, set_, vr, n, vals, (n,) if self.sized else (), name))
 
         def write():
-            values.take(slots, out=view)
-            _check(set_(c, vr, n, vals, *sized), name)
-        return write if n else None
+            for view, chosen, set_, vr, n, vals, sized, name in writes:
+                view[:] = values[chosen]
+                _check(set_(self.c, vr, n, vals, *sized), name)
+        return write
 
     def stepper(self):
         do_step, c, name = self.do_step, self.c, self.names[2]
@@ -176,6 +240,9 @@ class _Fmpy3Slave(_FmpySlave):
     messages (formatted by the FMU) appended to `log` as (status, message)."""
 
     sized = True  # FMI 3.0's get and set take the number of values too
+    functions = {"Real": ("fmi3GetFloat64", "fmi3SetFloat64", ctypes.c_double),
+                 "Integer": ("fmi3GetInt32", "fmi3SetInt32", ctypes.c_int32),
+                 "Boolean": ("fmi3GetBoolean", "fmi3SetBoolean", ctypes.c_bool)}
 
     def __init__(self, md, unzipped, name, log):
         def route(env, status, category, message):
@@ -192,9 +259,6 @@ class _Fmpy3Slave(_FmpySlave):
 
     def enter_initialization_mode(self):
         self.fmu.enterInitializationMode(startTime=self.span[0], stopTime=self.span[1])
-
-    def set_real(self, vrs, values):
-        self.fmu.setFloat64(list(vrs), list(values))
 
     def stepper(self):
         do_step, c, name = self.do_step, self.c, self.names[2]
@@ -291,9 +355,10 @@ class Master:
         if v is None:
             problems.append(f"{what} {signal!r}: {self.instances[inst].component} has no variable "
                             f"{var!r} (variables: {', '.join(self.instances[inst].vars)})")
-        elif v.type not in ("Real", "Float64"):
-            problems.append(f"{what} {signal!r}: only Real (FMI 2.0) and Float64 (FMI 3.0) "
-                            f"variables are supported, not {v.type}")
+        elif v.type not in KINDS:
+            problems.append(f"{what} {signal!r}: only Real, Integer and Boolean (FMI 2.0) and "
+                            f"Float64, Int32 and Boolean (FMI 3.0) variables are supported, not "
+                            f"{v.type}")
             return None
         return v
 
@@ -311,6 +376,9 @@ class Master:
             if vd.causality != "input":
                 problems.append(f"connection {src} -> {dst}: {dst} is {_a(vd.causality)}, "
                                 "not an input")
+            if KINDS[vs.type] != KINDS[vd.type]:
+                problems.append(f"connection {src} -> {dst} joins {_a(vs.type)} output to "
+                                f"{_a(vd.type)} input; FMI connects variables of one type")
             if vs.unit and vd.unit and vs.unit != vd.unit:  # a unitless port takes any signal
                 problems.append(f"connection {src} -> {dst} joins incompatible units "
                                 f"{vs.unit!r} and {vd.unit!r}")
@@ -327,15 +395,20 @@ class Master:
                 problems.append(f"replayed input {dst} has {values.size} values, not one per "
                                 f"communication point ({s.n_steps + 1})")
         for name, spec in s.instances.items():
-            for par in spec.parameters:
-                self._check_value(f"{name}.{par}", targets, problems)
+            for par, value in spec.parameters.items():
+                self._check_value(f"{name}.{par}", value, targets, problems)
         for sig in _recorded(s):
             self._variable(sig, problems, "recorded signal")
 
-    def _check_value(self, signal, targets, problems):
+    def _check_value(self, signal, value, targets, problems):
         """A value a scenario sets: a parameter, or an input nothing feeds (a bench condition
-        such as the ambient temperature, held constant)."""
+        such as the ambient temperature, held constant); an Integer's a whole number, a
+        Boolean's 0 or 1."""
         v = self._variable(signal, problems, "parameter")
+        if v is not None and KINDS[v.type] == "Integer" and not float(value).is_integer():
+            problems.append(f"{signal} is an Integer: {value!r} is not a whole number")
+        if v is not None and KINDS[v.type] == "Boolean" and value not in (0, 1):
+            problems.append(f"{signal} is a Boolean: {value!r} is neither 0 (false) nor 1 (true)")
         if v is None or v.causality == "parameter":
             return
         if v.causality != "input":
@@ -387,6 +460,7 @@ class Master:
         position = {n: i for i, n in enumerate(self.exchange_order)}
         for name, inst in self.instances.items():
             inst.read_vrs = [inst.vars[split_signal(x)[1]].valueReference for x in inst.reads]
+            inst.read_kinds = [KINDS[inst.vars[split_signal(x)[1]].type] for x in inst.reads]
             ins = [(dst, src) for dst, src in source_of.items() if split_signal(dst)[0] == name]
             # replayed inputs, and inputs from instances exchanged earlier if they feed through,
             # are set during the exchange; all others are set just before the step
@@ -394,9 +468,10 @@ class Master:
                 inst.feedthrough.get(split_signal(d)[1])
                 and position[split_signal(x)[0]] < position[name])]
             late = [pair for pair in ins if pair not in early]
-            inst.transfers = [  # (value references, buffer slots) set early, late, and all
+            inst.transfers = [  # (value references, buffer slots, kinds) set early, late, all
                 ([inst.vars[split_signal(d)[1]].valueReference for d, _ in pairs],
-                 np.array([slots[x] for _, x in pairs], dtype=np.intp))
+                 np.array([slots[x] for _, x in pairs], dtype=np.intp),
+                 [KINDS[inst.vars[split_signal(d)[1]].type] for d, _ in pairs])
                 for pairs in (early, late, ins)]
         self.record_slots = np.array([slots[source_of.get(c, c)] for c in self.columns], dtype=np.intp)
 
@@ -489,9 +564,11 @@ class Master:
                     path, tmp / inst.component)
             inst.slave = self._load(inst, path, unzipped[inst.component])
             inst.get = inst.slave.reader(inst.read_vrs,
-                                         self.values[inst.first:inst.first + len(inst.reads)])
+                                         self.values[inst.first:inst.first + len(inst.reads)],
+                                         inst.read_kinds)
             inst.set_early, inst.set_late, inst.set_all = (
-                inst.slave.writer(vrs, slots, self.values) for vrs, slots in inst.transfers)
+                inst.slave.writer(vrs, slots, self.values, kinds)
+                for vrs, slots, kinds in inst.transfers)
             inst.step = inst.slave.stepper()
             inst.every = s.instances[inst.name].every
             inst.before_step = inst.set_all if gauss_seidel else inst.set_late
@@ -501,7 +578,7 @@ class Master:
             params = s.instances[inst.name].parameters
             if params:
                 inst.slave.set_real([inst.vars[p].valueReference for p in params],
-                                    params.values())
+                                    params.values(), [KINDS[inst.vars[p].type] for p in params])
         forget_fmu_resource_paths()
         self.exchange_calls = [
             (inst, inst.every, [c for c in (inst.set_early, inst.get) if c is not None])

@@ -3,7 +3,7 @@ from pathlib import Path
 from xml.etree import ElementTree as ET
 
 from musclesim.errors import UserError
-from musclesim.cosim.master import Master
+from musclesim.cosim.master import KINDS, Master
 from musclesim.cosim.outputs import check_archive, replace_zip
 from musclesim.cosim.scenario import split_signal
 
@@ -64,14 +64,24 @@ def base_units(master):
     return units
 
 
-def _parameter_binding(component, set_name, parameters):
-    """Bind ``{name: value}`` to `component` as an inline ``ssv:ParameterSet``."""
+def value_text(kind, value):
+    """`value` of a variable of `kind` (Real, Integer, Boolean) as text, as SSP and FMI model
+    descriptions write it."""
+    value = float(value)
+    return {"Real": repr(value), "Integer": str(int(value)),
+            "Boolean": "true" if value else "false"}[kind]
+
+
+def _parameter_binding(component, set_name, parameters, variables):
+    """Bind ``{name: value}`` to `component` as an inline ``ssv:ParameterSet``, each value typed
+    as its variable (`variables`: {name: fmpy ScalarVariable})."""
     binding = _sub(_sub(component, "ssd:ParameterBindings"), "ssd:ParameterBinding")
     pset = _sub(_sub(binding, "ssd:ParameterValues"), "ssv:ParameterSet",
                 version="1.0", name=set_name)
     params = _sub(pset, "ssv:Parameters")
     for name, value in parameters.items():
-        _sub(_sub(params, "ssv:Parameter", name=name), "ssv:Real", value=repr(float(value)))
+        kind = KINDS[variables[name].type]
+        _sub(_sub(params, "ssv:Parameter", name=name), f"ssv:{kind}", value=value_text(kind, value))
 
 
 def system_structure(scenario, master):
@@ -103,13 +113,14 @@ def system_structure(scenario, master):
                      if v.name in used[name] and v.causality in _KINDS]
         connectors = _sub(comp, "ssd:Connectors") if variables else None
         for var in variables:
+            kind = KINDS[var.type]
             real = _sub(_sub(connectors, "ssd:Connector", name=var.name, kind=var.causality),
-                        "ssc:Real")
-            if var.unit in units:
+                        f"ssc:{kind}")
+            if var.unit in units and kind == "Real":
                 real.set("unit", var.unit)
                 referenced.add(var.unit)
         if spec.parameters:
-            _parameter_binding(comp, scenario.name, spec.parameters)
+            _parameter_binding(comp, scenario.name, spec.parameters, inst.vars)
         if spec.every > 1:  # libcosim steps it every `every`-th point (its decimation factor)
             note = _sub(_sub(comp, "ssd:Annotations"), "ssc:Annotation",
                         type="com.opensimulationplatform")

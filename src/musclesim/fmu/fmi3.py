@@ -1,19 +1,25 @@
 """The FMI 3.0 face of every musclesim slave: one physics, two standards.
 
 `Fmi3Face` is a pythonfmu3 co-simulation slave that holds one instance of a component's FMI 2.0
-`Slave` class (`inner_class`) and passes every call to it: the same variables, in the same order,
-as Float64 after the independent variable ``time`` (value reference 0, so a variable's value
-reference is the FMI 2.0 one plus 1), with the same units, display units, descriptions, start
-values, direct feedthrough and default experiment; its FMU state is the inner slave's, serialized
-the same way. `musclesim build --fmi 3` ships it in FMI 3.0 FMUs only: it imports pythonfmu3,
-besides pythonfmu, which the FMI 2.0 base needs.
+`Slave` class (`inner_class`) and passes every call to it: the same variables, in the same order
+(Real as Float64, Integer as Int32, Boolean as Boolean), after the independent variable ``time``
+(value reference 0, so a variable's value reference is the FMI 2.0 one plus 1), with the same
+units, display units, descriptions, start values, direct feedthrough and default experiment;
+its FMU state is the inner slave's, serialized the same way. `musclesim build --fmi 3` ships it
+in FMI 3.0 FMUs only: it imports pythonfmu3, besides pythonfmu, which the FMI 2.0 base needs.
 """
 from xml.etree.ElementTree import SubElement
 
-from pythonfmu3 import (DefaultExperiment, Fmi3Causality, Fmi3Initial, Fmi3Slave, Fmi3Variability,
-                        Float64)
+import pythonfmu
+
+from pythonfmu3 import (Boolean, DefaultExperiment, Fmi3Causality, Fmi3Initial, Fmi3Slave,
+                        Fmi3Variability, Float64, Int32)
 
 from musclesim.fmu.slave import Slave
+
+
+# FMI 2.0 variable class -> FMI 3.0
+_TYPES = {pythonfmu.Real: Float64, pythonfmu.Integer: Int32, pythonfmu.Boolean: Boolean}
 
 
 def _enum(cls, fmi2_value):
@@ -41,7 +47,7 @@ class Fmi3Face(Fmi3Slave):
                                        variability=Fmi3Variability.continuous,
                                        description="Simulation time", getter=self._time))
         for vr, v in inner.vars.items():
-            self.register_variable(Float64(
+            self.register_variable(_TYPES[type(v)](
                 v.name, causality=_enum(Fmi3Causality, v.causality),
                 variability=_enum(Fmi3Variability, v.variability),
                 initial=_enum(Fmi3Initial, v.initial), description=v.description,
@@ -76,6 +82,18 @@ class Fmi3Face(Fmi3Slave):
         if 0 in vrs:
             raise ValueError("time is the independent variable: it cannot be set")
         self.inner.set_real([vr - 1 for vr in vrs], values)
+
+    def get_int32(self, vrs):
+        return self.inner.get_integer([vr - 1 for vr in vrs])
+
+    def get_boolean(self, vrs):
+        return self.inner.get_boolean([vr - 1 for vr in vrs])
+
+    def set_int32(self, vrs, values):
+        self.inner.set_integer([vr - 1 for vr in vrs], values)
+
+    def set_boolean(self, vrs, values):
+        self.inner.set_boolean([vr - 1 for vr in vrs], values)
 
     def _get_fmu_state(self):
         return self.inner._get_fmu_state()

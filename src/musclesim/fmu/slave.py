@@ -34,8 +34,8 @@ import pickle
 import warnings
 from xml.etree.ElementTree import Element, SubElement
 
-from pythonfmu import (DefaultExperiment, Fmi2Causality, Fmi2Initial, Fmi2Slave,
-                       Fmi2Variability, Real)
+from pythonfmu import (Boolean, DefaultExperiment, Fmi2Causality, Fmi2Initial, Fmi2Slave,
+                       Fmi2Variability, Integer, Real)
 from pythonfmu.enums import Fmi2Status
 
 # SI base-unit exponents of every unit a variable may carry (FMI 2.0 BaseUnit attributes).
@@ -105,10 +105,12 @@ class Calibration:
 
 @dataclasses.dataclass(frozen=True)
 class Declaration:
-    """One variable as its component declares it. `effect`: the (lower, upper) fitting bounds of
-    an effect parameter, whose default is the effect off; `calibrate`: its `Calibration`;
-    `source`: the model reference section the value comes from (``§label``); `depends`: the
-    inputs an output depends on directly (None for other variables)."""
+    """One variable as its component declares it. `type`: its FMI 2.0 type, "Real", "Integer"
+    (a count, an index, a seed) or "Boolean" (a switch; 0 or 1 where values are numbers);
+    `effect`: the (lower, upper) fitting bounds of an effect parameter, whose default is the
+    effect off; `calibrate`: its `Calibration`; `source`: the model reference section the value
+    comes from (``§label``); `depends`: the inputs an output depends on directly (None for other
+    variables)."""
 
     name: str
     causality: str  # "parameter", "input" or "output"
@@ -119,13 +121,20 @@ class Declaration:
     effect: tuple = None
     calibrate: Calibration = None
     depends: tuple = None
+    type: str = "Real"
 
 
-def declare(default, unit, description, *, source="", effect=None, calibrate=None):
+# the FMI 2.0 variable of each type, and the Python value the FMI calls take for it; a slave
+# keeps every value as a float, so that its physics reads Integer and Boolean values as numbers
+_TYPES = {"Real": (Real, float), "Integer": (Integer, int), "Boolean": (Boolean, bool)}
+
+
+def declare(default, unit, description, *, source="", effect=None, calibrate=None, type="Real"):
     """A field of a core's parameter dataclass declaring the parameter once: its `default`, SI
-    `unit` (a key of `UNITS`), `description`, `source` (a ``§label`` of the model reference) and
-    role: an effect's fitting bounds `effect` = (lower, upper) (the default is the effect off) or
-    a `Calibration`. `Slave.parameters_of` declares such fields as the FMU's parameters.
+    `unit` (a key of `UNITS`), `description`, `source` (a ``§label`` of the model reference),
+    FMI `type` ("Real", "Integer" or "Boolean", the last two of unit "1") and role: an effect's
+    fitting bounds `effect` = (lower, upper) (the default is the effect off) or a
+    `Calibration`. `Slave.parameters_of` declares such fields as the FMU's parameters.
 
     Examples
     --------
@@ -138,7 +147,7 @@ def declare(default, unit, description, *, source="", effect=None, calibrate=Non
     if unit not in UNITS:
         raise ValueError(f"unit {unit!r} is not in musclesim.fmu.UNITS")
     return dataclasses.field(default=default, metadata={
-        "unit": unit, "description": description, "source": source,
+        "unit": unit, "description": description, "source": source, "type": type,
         "effect": tuple(effect) if effect is not None else None, "calibrate": calibrate})
 
 
@@ -201,17 +210,26 @@ class Slave(Fmi2Slave):
 
     # ---- declaring variables -------------------------------------------------------------------
     def _declare(self, name, value, unit, description, causality, variability, initial, depends,
-                 **role):
+                 type="Real", **role):
         if unit not in UNITS:
             raise ValueError(f"variable {name}: unit {unit!r} is not in musclesim.fmu.UNITS")
+        if type not in _TYPES or (type != "Real" and unit != "1"):
+            raise ValueError(f"variable {name}: type {type!r} is not Real, or Integer or Boolean "
+                             "of unit 1")
+        if type != "Real":  # FMI 2.0 knows no continuous Integer or Boolean
+            variability = variability if causality == Fmi2Causality.parameter else \
+                Fmi2Variability.discrete
+            if value != _TYPES[type][1](value):
+                raise ValueError(f"variable {name}: {value!r} is not {type}")
         # the FMU's description names the section its value comes from
         source = role.get("source")
         attr = name.replace(".", "_")
+        kind, typed = _TYPES[type]
         setattr(self, attr, float(value))  # assign before registering, or pythonfmu makes no setter
-        self.register_variable(Real(
+        self.register_variable(kind(
             name, causality=causality, variability=variability,
             description=f"{description} ({source})" if source else description,
-            initial=initial, getter=lambda: getattr(self, attr),
+            initial=initial, getter=lambda: typed(getattr(self, attr)),
             setter=lambda v: setattr(self, attr, float(v))))
         var = self.vars[len(self.vars) - 1]
         self._getters.append(var.getter)
@@ -220,11 +238,11 @@ class Slave(Fmi2Slave):
         if causality == Fmi2Causality.parameter:
             self._parameters.add(var.value_reference)
         self._meta[name] = Declaration(name, causality.name, float(value), unit, description,
-                                       depends=depends, **role)
+                                       depends=depends, type=type, **role)
 
     def parameter(self, name, default, unit, description, **role):
-        """Declare a fixed Real parameter (set before initialization), stored as attribute;
-        `role`: `declare`'s source, effect or calibrate, for a parameter no core dataclass holds."""
+        """Declare a fixed parameter (set before initialization), stored as attribute; `role`:
+        `declare`'s type, source, effect or calibrate, for a parameter no core dataclass holds."""
         self._declare(name, default, unit, description, Fmi2Causality.parameter,
                       Fmi2Variability.fixed, Fmi2Initial.exact, None, **role)
 
@@ -232,11 +250,11 @@ class Slave(Fmi2Slave):
         """Declare as parameters the fields of the core's dataclass `cls` made with `declare`, in
         their order, but not those in `skip`. A core shared by several components (the sensors')
         has per-component defaults or roles: ``overrides[name]`` is a dict replacing any of the
-        field's declared default, description, source, effect or calibrate."""
+        field's declared default, description, source, type, effect or calibrate."""
         for f in dataclasses.fields(cls):
             if "unit" in f.metadata and f.name not in skip:
                 m = {**f.metadata, "default": f.default, **overrides.pop(f.name, {})}
-                self.parameter(f.name, m["default"], m["unit"], m["description"],
+                self.parameter(f.name, m["default"], m["unit"], m["description"], type=m["type"],
                                source=m["source"], effect=m["effect"], calibrate=m["calibrate"])
         if overrides:
             raise ValueError(f"{cls.__name__} declares no {', '.join(overrides)}")
@@ -247,10 +265,11 @@ class Slave(Fmi2Slave):
         self._declare(name, start, unit, description, Fmi2Causality.input,
                       Fmi2Variability.continuous, None, None, **role)
 
-    def output(self, name, unit, description, depends=()):
-        """Declare a calculated Real output; ``depends`` names the inputs it depends on directly."""
+    def output(self, name, unit, description, depends=(), type="Real"):
+        """Declare a calculated output (Real unless `type` says "Integer" or "Boolean");
+        ``depends`` names the inputs it depends on directly."""
         self._declare(name, 0.0, unit, description, Fmi2Causality.output,
-                      Fmi2Variability.continuous, Fmi2Initial.calculated, tuple(depends))
+                      Fmi2Variability.continuous, Fmi2Initial.calculated, tuple(depends), type)
 
     @classmethod
     def declarations(cls):
@@ -340,6 +359,20 @@ class Slave(Fmi2Slave):
         getters = self._getters
         return [getters[vr]() for vr in vrs]
 
+    def get_integer(self, vrs):
+        self._refresh()
+        return super().get_integer(vrs)
+
+    def get_boolean(self, vrs):
+        self._refresh()
+        return super().get_boolean(vrs)
+
+    def set_integer(self, vrs, values):
+        self.set_real(vrs, values)  # every value is kept as a float
+
+    def set_boolean(self, vrs, values):
+        self.set_real(vrs, values)
+
     def set_real(self, vrs, values):
         setters = self._setters
         for vr, value in zip(vrs, values):
@@ -390,17 +423,17 @@ class Slave(Fmi2Slave):
         return pickle.loads(data)
 
     # ---- model description ---------------------------------------------------------------------
-    def describe_units(self, root, typed=lambda v: v.find("Real")):
+    def describe_units(self, root, typed=lambda v: v[0]):
         """Give each variable of model description `root` its unit, display unit and exact start
-        value (on the element `typed` returns for it: FMI 2.0's Real child, FMI 3.0's variable
+        value (on the element `typed` returns for it: FMI 2.0's type child, FMI 3.0's variable
         itself; a variable this slave does not declare, FMI 3.0's time, is in s), add the
         UnitDefinitions after CoSimulation, and return the ModelStructure element, emptied."""
         used = set()
         for v in root.find("ModelVariables"):
             declared = self._meta.get(v.get("name"))
             unit = declared.unit if declared else "s"
-            if declared and typed(v).get("start") is not None:  # pythonfmu writes 16 digits,
-                typed(v).set("start", repr(declared.default))  # a double needs up to 17
+            if declared and declared.type == "Real" and typed(v).get("start") is not None:
+                typed(v).set("start", repr(declared.default))  # pythonfmu writes 16 digits
             if unit != "1":
                 typed(v).set("unit", unit)
                 if unit in self.display_units:
