@@ -29,7 +29,7 @@ class SignalParams:
     share of the period a square wave is high; each declared here once (`declare`)."""
 
     kind: float = declare(0.0, "1", "Wave: 0 constant, 1 sine, 2 square, 3 triangle, 4 ramp "
-                          "(rises by amplitude over 1/frequency s, then holds)")
+                          "(rises by amplitude over 1/frequency s, then holds)", type="Integer")
     offset: float = declare(0.0, "1", "Offset (the value before t_start)")
     amplitude: float = declare(0.0, "1", "Amplitude")
     frequency: float = declare(0.0, "Hz", "Frequency")

@@ -38,7 +38,8 @@ class ForcReference(Slave):
         self.output("T_ref", "K", "Reference temperature")
         self.output("run", "1", "Run index j = 0..n-1 (peak T_low + j T_step); -1 outside the "
                     "runs", type="Integer")
-        self.output("phase", "1", "+1 heating half, -1 cooling half, 0 outside the runs")
+        self.output("phase", "1", "+1 heating half, -1 cooling half, 0 outside the runs",
+                    type="Integer")
 
     def setup(self):
         self.p = self.core_params(forc.ForcParams)
