@@ -128,8 +128,8 @@ def run_hand_loop(s, fmu_dir):
     (feedthrough order); then set the body's friction forces and step every instance from t_k.
     """
     p = {name: inst.parameters for name, inst in s.instances.items()}
-    body_out = ["flange1.s", "flange1.v", "flange1.f_n", "flange1.N",
-                "flange2.s", "flange2.v", "flange2.f_n", "flange2.N", "x_cm"]
+    body_out = ["flange_a.s", "flange_a.v", "flange_a.f_n", "flange_a.N",
+                "flange_b.s", "flange_b.v", "flange_b.f_n", "flange_b.N", "x_cm"]
     fric_in = ["flange.v", "flange.f_n", "flange.N", "u"]
     values = np.zeros(14)  # inputs' 3 outputs, the body's 9, the two friction forces
     with tempfile.TemporaryDirectory(prefix="bench_hand_") as tmp:
@@ -140,7 +140,7 @@ def run_hand_loop(s, fmu_dir):
                    values, 12)
         fr2 = _Fmu(fmu_dir, tmp, "FrictionBlock", "friction2", p["friction2"], ["flange.f"],
                    values, 13)
-        f_a_vr, forces_vr = bod.refs(["f_a"]), bod.refs(["flange1.f", "flange2.f"])
+        f_a_vr, forces_vr = bod.refs(["f_a"]), bod.refs(["flange_a.f", "flange_b.f"])
         fric_vr = fr1.refs(fric_in)
         f_a, forces = (ctypes.c_double * 1)(), (ctypes.c_double * 2)()
         f1_in, f2_in = (ctypes.c_double * 4)(), (ctypes.c_double * 4)()
@@ -171,7 +171,7 @@ def run_hand_loop(s, fmu_dir):
             f.slave.exitInitializationMode()
         exchange()
         n, h, t = s.n_steps, s.step, s.start_time
-        # columns: flange1.s, flange2.s, x_cm, flange1.v, flange2.v, f_a, u1, u2, f1, f2
+        # columns: flange_a.s, flange_b.s, x_cm, flange_a.v, flange_b.v, f_a, u1, u2, f1, f2
         record = np.array([3, 7, 11, 4, 8, 0, 1, 2, 12, 13])
         data = np.empty((n + 1, len(record)))
         steps = [(f.slave.fmi2DoStep, f.c) for f in fmus]
@@ -187,8 +187,9 @@ def run_hand_loop(s, fmu_dir):
         for f in fmus:
             f.slave.terminate()
             f.slave.freeInstance()
-    names = ["body.flange1.s", "body.flange2.s", "body.x_cm", "body.flange1.v", "body.flange2.v",
-             "inputs.f_a", "inputs.u1", "inputs.u2", "friction1.flange.f", "friction2.flange.f"]
+    names = ["body.flange_a.s", "body.flange_b.s", "body.x_cm", "body.flange_a.v",
+             "body.flange_b.v", "inputs.f_a", "inputs.u1", "inputs.u2",
+             "friction1.flange.f", "friction2.flange.f"]
     return dict(zip(names, data.T))
 
 
@@ -198,8 +199,8 @@ def run_monolithic(s):
     _, x = simulate_ideal(body.BodyParams(**p["body"]),
                           [friction.FrictionParams(**p[n]) for n in ("friction1", "friction2")],
                           inputs.InputParams(**p["inputs"]), s.step, s.stop_time)
-    return {"body.flange1.s": x[:, 0], "body.flange1.v": x[:, 1],
-            "body.flange2.s": x[:, 2], "body.flange2.v": x[:, 3]}
+    return {"body.flange_a.s": x[:, 0], "body.flange_a.v": x[:, 1],
+            "body.flange_b.s": x[:, 2], "body.flange_b.v": x[:, 3]}
 
 
 class DiscretiseMeter:

@@ -37,6 +37,18 @@ CATALOGUE = {
     "LegSequencer": "musclesim.components.quadruped.slaves:LegSequencer",
 }
 
+# {component: {old variable-name prefix: new}}: ports renamed since an earlier release, which a
+# master names when a scenario or data set uses the old name
+RENAMED = {"CrawlerBody": {"flange1.": "flange_a.", "flange2.": "flange_b."}}
+
+
+def renamed(component, variable):
+    """The name `variable` of `component` has had since it was renamed, or None."""
+    for old, new in RENAMED.get(component, {}).items():
+        if variable.startswith(old):
+            return new + variable[len(old):]
+    return None
+
 
 @cache
 def declarations(component):

@@ -19,14 +19,14 @@ class CrawlerBody(Slave):
         super().__init__(**kwargs)
         self.parameters_of(body.BodyParams)
         self.input("f_a", 0.0, "N", "Actuator force pushing the blocks apart")
-        self.input("flange1.f", 0.0, "N", "Friction force on block 1")
-        self.input("flange2.f", 0.0, "N", "Friction force on block 2")
-        for i in (1, 2):
-            self.output(f"flange{i}.s", "m", f"Position of block {i} (variation from rest)")
-            self.output(f"flange{i}.v", "m/s", f"Velocity of block {i}")
-            self.output(f"flange{i}.f_n", "N",
+        self.input("flange_a.f", 0.0, "N", "Friction force on block 1")
+        self.input("flange_b.f", 0.0, "N", "Friction force on block 2")
+        for i, end in ((1, "a"), (2, "b")):  # the rear block 1, the front block 2
+            self.output(f"flange_{end}.s", "m", f"Position of block {i} (variation from rest)")
+            self.output(f"flange_{end}.v", "m/s", f"Velocity of block {i}")
+            self.output(f"flange_{end}.f_n", "N",
                         f"Net non-friction force along the surface on block {i}", depends=["f_a"])
-            self.output(f"flange{i}.N", "N", f"Normal force of block {i} on the ground")
+            self.output(f"flange_{end}.N", "N", f"Normal force of block {i} on the ground")
         self.output("x_cm", "m", "Position of the centre of mass")
         self.output("incline", "rad", "Incline of the ground, the parameter theta (for the "
                     "friction blocks' bending effect)")
@@ -35,13 +35,13 @@ class CrawlerBody(Slave):
         self.p = self.core_params(body.BodyParams)
         self.x = np.zeros(4)  # zero initial state (§ideal-actuation)
         self.dt = self.f_held = None
-        self.flange1_N, self.flange2_N = body.normal_forces(self.p)
+        self.flange_a_N, self.flange_b_N = body.normal_forces(self.p)
         self.incline = self.p.theta
 
     def evaluate(self):
         x = self.x
-        self.flange1_s, self.flange1_v, self.flange2_s, self.flange2_v = x
-        self.flange1_f_n, self.flange2_f_n = body.nonfriction_forces(x, self.f_a, self.p)
+        self.flange_a_s, self.flange_a_v, self.flange_b_s, self.flange_b_v = x
+        self.flange_a_f_n, self.flange_b_f_n = body.nonfriction_forces(x, self.f_a, self.p)
         self.x_cm = body.centre_of_mass(x, self.p)
 
     def advance(self, t, dt):
@@ -52,7 +52,7 @@ class CrawlerBody(Slave):
         if self.dt is None or not math.isclose(dt, self.dt, rel_tol=1e-9) or f_held != self.f_held:
             self.Ad, self.Bd = body.discretise(self.p, dt, f_held)
             self.dt, self.f_held = dt, f_held
-        self.x = body.step_state(self.x, (self.f_a, self.flange1_f, self.flange2_f), self.Ad,
+        self.x = body.step_state(self.x, (self.f_a, self.flange_a_f, self.flange_b_f), self.Ad,
                                  self.Bd)
 
 

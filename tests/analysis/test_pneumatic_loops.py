@@ -156,8 +156,8 @@ def fake(elongation=None, u1=None, u2=None):
     t = np.arange(41.0)
     return FakeResults(
         t,
-        body__flange1__s=0.01 + 0.0 * t,  # the back block sits at 10 mm: elongation is relative
-        body__flange2__s=0.01 + (0.003 * t if elongation is None else elongation),
+        body__flange_a__s=0.01 + 0.0 * t,  # the back block sits at 10 mm: elongation is relative
+        body__flange_b__s=0.01 + (0.003 * t if elongation is None else elongation),
         sensorc__p_meas=100.0 * t ** 2,  # not linear: the interpolation shows
         act1__u=np.clip(t - 29.0, 0.0, 1.0) if u1 is None else u1,  # 0.995 would be at 29.995
         sensor1__p_meas=500.0 * t,

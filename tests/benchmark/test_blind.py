@@ -57,7 +57,7 @@ def test_crawler_bench_hides_one_draw_in_every_actuator(fmu_dir, tmp_path):
         recorded[name] = ds
     t, cols = recorded["none"].experiment("all")
     assert t[-1] == pytest.approx(blind.STOP_TIME["crawler"])
-    x = cols["body.flange2.s"]
+    x = cols["body.flange_b.s"]
     assert np.allclose(x / blind.VIDEO_QUANTUM, np.round(x / blind.VIDEO_QUANTUM))
     p = cols["sensorc.p_meas"]
     assert np.allclose(p / blind.PRESSURE_QUANTUM, np.round(p / blind.PRESSURE_QUANTUM))

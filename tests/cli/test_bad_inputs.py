@@ -554,7 +554,7 @@ def assert_stopped_run(out, error_part):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["completed"] is False and summary["status"] == "stopped"
     assert error_part in summary["error"] and summary["run_id"] != "previous"
-    assert csv_header(out / "results.csv")[:2] == ["time", "body.flange1.s"]
+    assert csv_header(out / "results.csv")[:2] == ["time", "body.flange_a.s"]
     assert len((out / "results.csv").read_text().splitlines()) == 1  # the header: no row
     assert sorted(p.name for p in out.iterdir()) == ["results.csv", "summary.json"]
     assert half_written(out) == []

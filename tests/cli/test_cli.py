@@ -35,7 +35,7 @@ def test_run_writes_results_summary_and_plot_reproducibly(fmu_dir, tmp_path, cap
     assert run_ids[0] != run_ids[1]  # the run's id lives in its summary only
     lines = a.decode().splitlines()
     header = lines[0].split(",")  # a plain CSV: the header on line 1
-    assert header[0] == "time" and "body.flange1.s" in header and len(lines) == 2002
+    assert header[0] == "time" and "body.flange_a.s" in header and len(lines) == 2002
     assert sorted(p.name for p in (tmp_path / "a").iterdir()) == [
         "results.csv", "results.png", "summary.json"]
     assert (tmp_path / "a" / "results.png").stat().st_size > 10_000
@@ -192,16 +192,16 @@ def test_a_scenario_extends_another(fmu_dir, tmp_path, capsys):
 
     shutil.copy(IDEAL, tmp_path / "base.toml")
     (tmp_path / "variant.toml").write_text(
-        'extends = "base.toml"\nname = "variant"\nstop_time = 2.0\nrecord = ["body.flange1.N"]\n'
+        'extends = "base.toml"\nname = "variant"\nstop_time = 2.0\nrecord = ["body.flange_a.N"]\n'
         '[instances.body]\nparameters = { theta = 0.1 }\n'
-        '[metrics]\nx1_final = { signal = "body.flange1.s", op = "max" }\n')
+        '[metrics]\nx1_final = { signal = "body.flange_a.s", op = "max" }\n')
     s = scenario.load(tmp_path / "variant.toml")
     assert (s.name, s.stop_time) == ("variant", 2.0)
     # tables merge key by key: the other parameters and metrics stay
     assert s.instances["body"].parameters == {"m1": 0.2, "m2": 0.2, "k": 200.0, "c": 1.3,
                                               "theta": 0.1}
     assert s.metrics["x1_final"].op == "max" and "mean_speed" in s.metrics
-    assert s.record[-2:] == ("friction2.flange.f", "body.flange1.N")  # lists are added to
+    assert s.record[-2:] == ("friction2.flange.f", "body.flange_a.N")  # lists are added to
     (tmp_path / "base.toml").write_text('extends = "variant.toml"\n')
     code, _, err = run(capsys, "run", tmp_path / "variant.toml", "--out", tmp_path / "o",
                        "--fmus", fmu_dir)

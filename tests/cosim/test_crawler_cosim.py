@@ -32,8 +32,8 @@ def cosim(fmu_dir, overrides=(), stop_time=None, algorithm=None):
 
 def assert_matches(res, times, states, tol=1e-9):
     np.testing.assert_array_equal(res.time, times)
-    for col, i in (("body.flange1.s", 0), ("body.flange1.v", 1), ("body.flange2.s", 2),
-                   ("body.flange2.v", 3)):
+    for col, i in (("body.flange_a.s", 0), ("body.flange_a.v", 1), ("body.flange_b.s", 2),
+                   ("body.flange_b.v", 3)):
         scale = max(1.0, np.abs(states[:, i]).max())
         np.testing.assert_allclose(res[col], states[:, i], rtol=0, atol=tol * scale, err_msg=col)
 
@@ -50,7 +50,7 @@ def test_gauss_seidel_feeds_the_body_the_stepped_source(fmu_dir):
     res = cosim(fmu_dir, stop_time=5.0, algorithm="gauss-seidel")
     assert_matches(res, *simulate_ideal(stop_time=5.0, actuator_lead=True))
     jacobi = cosim(fmu_dir, stop_time=5.0)
-    assert not np.array_equal(res["body.flange1.s"], jacobi["body.flange1.s"])
+    assert not np.array_equal(res["body.flange_a.s"], jacobi["body.flange_a.s"])
 
 
 def test_incline_effects_and_parameters_reach_the_fmus(fmu_dir):
@@ -74,8 +74,8 @@ def test_rows_belong_to_their_time_stamp(fmu_dir):
         t = res.time[k]
         f_a, u1, _ = inputs.signals(t, ip)
         assert res["inputs.f_a"][k] == f_a and res["inputs.u1"][k] == u1
-        x = [res["body.flange1.s"][k], res["body.flange1.v"][k],
-             res["body.flange2.s"][k], res["body.flange2.v"][k]]
+        x = [res["body.flange_a.s"][k], res["body.flange_a.v"][k],
+             res["body.flange_b.s"][k], res["body.flange_b.v"][k]]
         f_n1, _ = body.nonfriction_forces(x, f_a, p)
         mu_s, mu_k = friction.coefficients(u1, fp)
         expected = friction.friction_force(x[1], f_n1, body.normal_forces(p)[0], mu_s, mu_k, fp.v_s)
@@ -89,8 +89,8 @@ def test_reference_result_is_reproduced(fmu_dir):
     ref = np.loadtxt(ROOT / "components" / "crawler" / "reference.csv", delimiter=",", skiprows=1)
     res = cosim(fmu_dir, stop_time=5.0)
     np.testing.assert_array_equal(res.time[::10], ref[:, 0])
-    for col, i in (("body.flange1.s", 1), ("body.flange1.v", 2), ("body.flange2.s", 3),
-                   ("body.flange2.v", 4)):
+    for col, i in (("body.flange_a.s", 1), ("body.flange_a.v", 2), ("body.flange_b.s", 3),
+                   ("body.flange_b.v", 4)):
         np.testing.assert_array_equal(res[col][::10], ref[:, i], err_msg=col)
 
 
@@ -111,8 +111,8 @@ def test_direction_minus_one_is_the_mirror_image(fmu_dir):
     back = master.Master(scenario.load(SCENARIOS / "crawler-ideal-backward.toml", (), 3.0),
                          fmu_dir).run()
     assert back.error is None
-    np.testing.assert_allclose(back["body.flange1.s"], -fwd["body.flange2.s"], rtol=0, atol=1e-12)
-    np.testing.assert_allclose(back["body.flange2.s"], -fwd["body.flange1.s"], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(back["body.flange_a.s"], -fwd["body.flange_b.s"], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(back["body.flange_b.s"], -fwd["body.flange_a.s"], rtol=0, atol=1e-12)
     assert fwd["body.x_cm"][-1] > 0.1
     from musclesim.cosim import results
     s = scenario.load(SCENARIOS / "crawler-ideal-backward.toml", (), 3.0)

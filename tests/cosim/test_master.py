@@ -157,3 +157,13 @@ def test_integer_and_boolean_values_are_checked_and_move_on_both_hosts(fmu_dir, 
     with pytest.raises(UserError, match="connection relay.on -> wire.u joins a Boolean output to "
                                         "a Real input; FMI connects variables of one type"):
         Master(scenario.load(path), fmu_dir)
+
+
+def test_a_renamed_port_is_refused_with_its_new_name(fmu_dir):
+    """The crawler body's blocks took MSL's flange_a / flange_b: an old scenario's flange1 is
+    named in the message, not listed among unknown variables."""
+    s = scenario.load(SCENARIOS / "crawler-ideal.toml", stop_time=0.1)
+    s = dataclasses.replace(s, record=("body.flange1.s",))
+    with pytest.raises(UserError, match=r"recorded signal 'body.flange1.s': CrawlerBody's "
+                                        r"flange1.s has been renamed flange_a.s"):
+        Master(s, fmu_dir)

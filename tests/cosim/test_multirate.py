@@ -54,7 +54,7 @@ def body_driven(tmp_path, every_body, every_force=5, n=400, name="driven.toml"):
     apart by a sine force from a source stepping every 5th point; the body every `every_body`."""
     return write(tmp_path, f'step = 0.001\nstop_time = {n * 0.001}\nalgorithm = "jacobi"\n'
                  'connections = [["force.y", "body.f_a"]]\n'
-                 'record = ["body.flange1.s", "body.flange2.s", "body.flange2.v", "force.y"]\n'
+                 'record = ["body.flange_a.s", "body.flange_b.s", "body.flange_b.v", "force.y"]\n'
                  f'[instances.force]\ncomponent = "SignalSource"\nevery = {every_force}\n'
                  f'parameters = {{ kind = 1.0, amplitude = 3.0, frequency = 2.0 }}\n'
                  f'[instances.body]\ncomponent = "CrawlerBody"\nevery = {every_body}\n', name)
@@ -71,7 +71,7 @@ def test_stepping_at_once_equals_stepping_point_by_point_where_the_inputs_are_he
     ten = Master(body_driven(tmp_path, 10), fmu_dir).run()
     assert single.error is None and five.error is None and ten.error is None
     own = np.arange(0, 401, 5)
-    for sig in ("body.flange1.s", "body.flange2.s", "body.flange2.v"):
+    for sig in ("body.flange_a.s", "body.flange_b.s", "body.flange_b.v"):
         scale = np.abs(single[sig]).max()
         assert scale > 1e-4
         np.testing.assert_allclose(five[sig][own], single[sig][own], rtol=0, atol=1e-12 * scale)
@@ -106,7 +106,7 @@ def test_ssp_carries_the_rate_and_libcosim_steps_it_the_same(fmu_dir, tmp_path):
     with zipfile.ZipFile(path) as zf:  # the annotation keeps the archive valid SSP 1.0
         validate_tree(etree.fromstring(zf.read("SystemStructure.ssd")),
                       "SystemStructureDescription.xsd")
-    signals = ["body.flange1.s", "body.flange2.s"]
+    signals = ["body.flange_a.s", "body.flange_b.s"]
     _, theirs = run_libcosim(path, signals, s.n_steps, s.step)
     ours = Master(s, fmu_dir).run()
     every_point = Master(body_driven(tmp_path, 1, every_force=1, n=200, name="fine.toml"),

@@ -254,8 +254,9 @@ def crawler_reference(s, master):
         f_a, *u = inputs.signals(t_end, ip)
         f_n = body.nonfriction_forces(x, held[0] if m["jacobi"] else f_a, bp)
         forces = friction_forces(*held[1:]) if m["jacobi"] else friction_forces(x[1::2], f_n, u)
-    names = ["body.flange1.s", "body.flange1.v", "body.flange2.s", "body.flange2.v", "body.x_cm",
-             "inputs.f_a", "inputs.u1", "inputs.u2", "friction1.flange.f", "friction2.flange.f"]
+    names = ["body.flange_a.s", "body.flange_a.v", "body.flange_b.s", "body.flange_b.v",
+             "body.x_cm", "inputs.f_a", "inputs.u1", "inputs.u2",
+             "friction1.flange.f", "friction2.flange.f"]
     columns = np.array(rows).T
     return columns[0], dict(zip(names, columns[1:]))
 
@@ -300,10 +301,10 @@ def test_libcosim_runs_the_archive_as_a_jacobi_master_that_delays_feedthrough(
         body.BodyParams(**s.instances["body"].parameters),
         [friction.FrictionParams(**s.instances[n].parameters) for n in ("friction1", "friction2")],
         inputs.InputParams(**s.instances["inputs"].parameters), s.step, s.stop_time)
-    flanges = ["body.flange1.s", "body.flange1.v", "body.flange2.s", "body.flange2.v"]
+    flanges = ["body.flange_a.s", "body.flange_a.v", "body.flange_b.s", "body.flange_b.v"]
     assert_close(mono_time, dict(zip(flanges, states.T)), ref_time, {k: ref[k] for k in flanges})
     # and the delay matters: libcosim and our master part once the friction sticks or slips
-    assert not np.allclose(values["body.flange1.s"], ours["body.flange1.s"], rtol=0, atol=1e-6)
+    assert not np.allclose(values["body.flange_a.s"], ours["body.flange_a.s"], rtol=0, atol=1e-6)
 
 
 # ---- running the archive in ecos and in FMPy's SSP simulator -------------------------------------
@@ -370,5 +371,5 @@ def test_ecos_and_fmpys_ssp_simulator_run_the_archive_each_as_its_master_steps(
     assert not np.array_equal(refs["ecos"]["friction1.flange.f"],
                               refs["libcosim"]["friction1.flange.f"])
     n = s.n_steps  # FMPy's row k holds what ecos's row k + 1 does
-    assert not np.allclose(refs["fmpy-ssp"]["body.flange1.s"][:n],
-                           refs["ecos"]["body.flange1.s"][1:], rtol=0, atol=1e-6)
+    assert not np.allclose(refs["fmpy-ssp"]["body.flange_a.s"][:n],
+                           refs["ecos"]["body.flange_a.s"][1:], rtol=0, atol=1e-6)

@@ -291,10 +291,10 @@ def test_bench_conditions_are_stated_in_the_manifest(tmp_path, fmu_dir):
     assert "[conditions] 'ambient' is not of the form" in message
     assert "[conditions] 'inputs.f_a' is also a column of data.csv" in message
     message = problems_of(write_set(tmp_path / "bad2", _replace(
-        '[units]', '[conditions]\n"body.nothing" = 1.0\n"body.flange1.s" = 0.0\n\n[units]')),
+        '[units]', '[conditions]\n"body.nothing" = 1.0\n"body.flange_a.s" = 0.0\n\n[units]')),
         check_model=True, fmu_dir=fmu_dir)
     assert "has no variable 'nothing'" in message
-    assert "body.flange1.s is an output, not a parameter or an input" in message
+    assert "body.flange_a.s is an output, not a parameter or an input" in message
 
 
 SCALAR = ('scenario = "crawler-ideal"\n'

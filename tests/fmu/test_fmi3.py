@@ -2,6 +2,7 @@
 Every one passes FMPy's FMI 3.0 validation with its variables as the FMI 2.0 one declares them,
 every shipped scenario runs on them to the FMI 2.0 bits, and a saved state restores in a fresh
 instance."""
+import time
 import tomllib
 
 import numpy as np
@@ -48,6 +49,26 @@ def test_every_shipped_scenario_runs_on_fmi3_fmus_to_the_fmi2_bits(fmu_dir, fmu3
     fmi2, fmi3 = Master(s, fmu_dir, host="fmpy").run(), Master(s, fmu3_dir).run()
     assert fmi2.error is None
     assert fmi3.names == fmi2.names
+    np.testing.assert_array_equal(fmi3.time, fmi2.time)
+    assert fmi3.data.tobytes() == fmi2.data.tobytes()
+    assert (fmi3.error, fmi3.warnings) == (fmi2.error, fmi2.warnings)
+
+
+@pytest.mark.benchmark
+@pytest.mark.parametrize("path", RUNS, ids=lambda p: p.stem)
+def test_every_shipped_scenario_under_a_minute_runs_whole_on_fmi3_fmus_to_the_fmi2_bits(
+        fmu_dir, fmu3_dir, path):
+    """The whole run, not its first steps: slow (minutes in all), so a benchmark, run on demand:
+    ``python -m pytest -m benchmark -n 0 tests/fmu/test_fmi3.py``. A scenario whose FMI 2.0 run
+    takes a minute or more on the fmpy host is skipped, saying how long it took."""
+    s = load_scenario(path)
+    started = time.perf_counter()
+    fmi2 = Master(s, fmu_dir, host="fmpy").run()
+    took = time.perf_counter() - started
+    if took >= 60:
+        pytest.skip(f"{path.stem}: {took:.0f} s on FMI 2.0 FMUs, over a minute")
+    fmi3 = Master(s, fmu3_dir).run()
+    assert fmi2.error is None and fmi3.names == fmi2.names
     np.testing.assert_array_equal(fmi3.time, fmi2.time)
     assert fmi3.data.tobytes() == fmi2.data.tobytes()
     assert (fmi3.error, fmi3.warnings) == (fmi2.error, fmi2.warnings)

@@ -202,15 +202,16 @@ def test_fmu_runs_in_a_venv_without_musclesim(fmu_dir, fmu3_dir, tmp_path):
 
     x1, x2, x_cm = run(f"""
         r = simulate_fmu({str(fmu_dir / 'CrawlerBody.fmu')!r}, stop_time=0.5, output_interval=1e-3,
-                         start_values={{"f_a": 2.0}}, output=["flange1.s", "flange2.s", "x_cm"])
-        print(json.dumps([float(r["flange1.s"][-1]), float(r["flange2.s"][-1]), float(r["x_cm"][-1])]))
+                         start_values={{"f_a": 2.0}}, output=["flange_a.s", "flange_b.s", "x_cm"])
+        print(json.dumps([float(r["flange_a.s"][-1]), float(r["flange_b.s"][-1]),
+                          float(r["x_cm"][-1])]))
     """)
     assert x1 < 0 < x2 and abs(x_cm) < 1e-12  # pushed apart, centre of mass fixed
     # its FMI 3.0 build too, which ships pythonfmu3's and pythonfmu's Python files: the same bits
     assert run(f"""
         r = simulate_fmu({str(fmu3_dir / 'CrawlerBody.fmu')!r}, stop_time=0.5, output_interval=1e-3,
-                         start_values={{"f_a": 2.0}}, output=["flange1.s", "flange2.s", "x_cm"])
-        print(json.dumps([float(r[c][-1]) for c in ("flange1.s", "flange2.s", "x_cm")]))
+                         start_values={{"f_a": 2.0}}, output=["flange_a.s", "flange_b.s", "x_cm"])
+        print(json.dumps([float(r[c][-1]) for c in ("flange_a.s", "flange_b.s", "x_cm")]))
     """) == [x1, x2, x_cm]
     # in the same process: simulate_fmu deleted CrawlerBody's folder, whose copy of musclesim the
     # process imported; SmaWire must bring its own

@@ -32,7 +32,7 @@ def references(res, elongation_target=ELONGATION_TARGET):
     raises UserError naming what the run did not reach.
     """
     rising = res.time <= CENTRAL_RAMP_END
-    elongation = (res["body.flange2.s"] - res["body.flange1.s"])[rising]
+    elongation = (res["body.flange_b.s"] - res["body.flange_a.s"])[rising]
     p = res["sensorc.p_meas"][rising]
     reached = np.flatnonzero(elongation >= elongation_target)
     if not len(reached):

@@ -67,8 +67,8 @@ BENCHES = {
     # the pneumatic crawler climbing 7.5 deg (where bending shows): the controllers' logged
     # duties replayed, the pressure sensors and the blocks' positions from video observed
     "crawler": ("crawler-gait-incline", ["act1.duty", "actc.duty", "act2.duty"],
-                ["sensor1.p_meas", "sensorc.p_meas", "sensor2.p_meas", "body.flange1.s",
-                 "body.flange2.s"],
+                ["sensor1.p_meas", "sensorc.p_meas", "sensor2.p_meas", "body.flange_a.s",
+                 "body.flange_b.s"],
                 ["valve delay", "supply-pressure drop", "chamber leakage",
                  "pressure-dependent stiffness", "actuator bending on an incline",
                  "friction decay"]),
@@ -135,7 +135,7 @@ LASER_NOISE, LASER_QUANTUM = 2e-6, 1e-6  # m (the laser-noise effect of the libr
 LOADCELL_NOISE, LOADCELL_QUANTUM = 2e-3, 1e-3  # N
 PRESSURE_NOISE, PRESSURE_QUANTUM = 30.0, 10.0  # Pa
 VIDEO_NOISE, VIDEO_QUANTUM = 2e-4, 1e-4  # m: block edges tracked on video
-VIDEO = ("body.flange1.s", "body.flange2.s")  # the columns the video gives
+VIDEO = ("body.flange_a.s", "body.flange_b.s")  # the columns the video gives
 # (sensor instance, noise, quantum, modulus of the case's seed that seeds it)
 NUISANCES = [("thermocouple", TC_NOISE, TC_QUANTUM, 100000),
              ("laser", LASER_NOISE, LASER_QUANTUM, 100001),

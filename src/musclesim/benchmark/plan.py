@@ -149,8 +149,8 @@ def plan(count, seed, decoys, duration=DURATION):
 
 CRAWLER_SCENARIO = "crawler-gait-incline"
 CRAWLER_INPUTS = ["act1.duty", "actc.duty", "act2.duty"]
-CRAWLER_OUTPUTS = ["sensor1.p_meas", "sensorc.p_meas", "sensor2.p_meas", "body.flange1.s",
-                   "body.flange2.s"]
+CRAWLER_OUTPUTS = ["sensor1.p_meas", "sensorc.p_meas", "sensor2.p_meas", "body.flange_a.s",
+                   "body.flange_b.s"]
 CRAWLER_DURATION = 12.0  # s: the first stride and three more, as the own bench's crawler cases
 CRAWLER_LIBRARY = ("valve delay", "supply-pressure drop", "chamber leakage",
                    "pressure-dependent stiffness", "actuator bending on an incline",

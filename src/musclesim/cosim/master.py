@@ -46,6 +46,7 @@ from musclesim.cosim.build import built_here
 from musclesim.cosim.host import (LOG_SINKS, callbacks, extract_fmu, extracted_fmu,
                                   forget_fmu_resource_paths, read_fmu)
 from musclesim.cosim.graph import Graph
+from musclesim.components import renamed
 from musclesim.cosim.scenario import split_signal
 from musclesim.errors import UserError
 
@@ -352,7 +353,11 @@ class Master:
             problems.append(f"{what} {signal!r}: no instance {inst!r}")
             return None
         v = self.instances[inst].vars.get(var)
-        if v is None:
+        now = renamed(self.instances[inst].component, var)
+        if v is None and now:
+            problems.append(f"{what} {signal!r}: {self.instances[inst].component}'s {var} has "
+                            f"been renamed {now} (the Modelica Standard Library's port names)")
+        elif v is None:
             problems.append(f"{what} {signal!r}: {self.instances[inst].component} has no variable "
                             f"{var!r} (variables: {', '.join(self.instances[inst].vars)})")
         elif v.type not in KINDS:

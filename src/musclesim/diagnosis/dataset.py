@@ -40,6 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
+from musclesim.components import renamed
 from musclesim.cosim import Master, load_scenario, metric_unit, read_fmu, read_time_series
 from musclesim.errors import UserError
 
@@ -656,8 +657,10 @@ def _check_model(ds, fmu_dir, problems):
                 continue
             v = m.instances[inst].vars.get(var)
             if v is None:
+                now = renamed(m.instances[inst].component, var)
                 problems.append(f"{DATA}: column {column!r}: {m.instances[inst].component} has no "
-                                f"variable {var!r}")
+                                f"variable {var!r}"
+                                + (f" (renamed {inst}.{now}: rename the column)" if now else ""))
                 continue
             model_units[column] = v.unit or "1"
             given = ds.units.get(column)
