@@ -2,8 +2,9 @@
 
 Each subsystem folder holds pure physics cores (no FMI), thin FMU slaves (`slaves.py`) and a
 README saying where the equations are: the model reference in docs/model (§model-reference).
-`declarations` gives what a component declares of each variable (its unit, default, source and
-role for the diagnosis), read from the slave class without building an FMU.
+`declarations` gives what a component declares of each variable (its unit, default, type,
+source and role for the diagnosis), read from the slave class without building an FMU; `renamed`
+the new name of a port renamed since an earlier release (`RENAMED`), which messages give.
 """
 import importlib
 from functools import cache
