@@ -74,6 +74,19 @@ def test_every_shipped_scenario_under_a_minute_runs_whole_on_fmi3_fmus_to_the_fm
     assert (fmi3.error, fmi3.warnings) == (fmi2.error, fmi2.warnings)
 
 
+def test_a_warning_logged_during_a_step_reaches_the_run_as_on_fmi2(fmu_dir, fmu3_dir, tmp_path):
+    """A wire loaded far beyond its hysteresis data warns once, mid-step: the FMI 3.0 FMU passes
+    the message on as the FMI 2.0 one does (pythonfmu3's C layer crashed the process on a
+    pythonfmu message before)."""
+    path = tmp_path / "loaded.toml"
+    path.write_text('step = 0.001\nstop_time = 0.01\nrecord = ["wire.stress"]\n'
+                    '[instances.wire]\ncomponent = "SmaWire"\n'
+                    'parameters = { "flange.f" = 100.0 }\n')
+    fmi2, fmi3 = (Master(load_scenario(path), d, host="fmpy").run() for d in (fmu_dir, fmu3_dir))
+    assert len(fmi2.warnings) == 1 and "clamped" in fmi2.warnings[0]
+    assert fmi3.warnings == fmi2.warnings and fmi3.data.tobytes() == fmi2.data.tobytes()
+
+
 def test_a_failure_on_fmi3_names_the_instance_and_the_parameter(fmu3_dir):
     s = load_scenario(SCENARIOS / "crawler-ideal.toml", ["body.m1=-0.2"], stop_time=0.1)
     res = Master(s, fmu3_dir).run()

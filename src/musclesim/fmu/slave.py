@@ -276,6 +276,13 @@ class Slave(Fmi2Slave):
         """{name: `Declaration`} of every variable the slave class declares, in order."""
         return dict(cls(instance_name=cls.__name__)._meta)
 
+    def log(self, msg, status=Fmi2Status.ok, category=None, debug=None):
+        """Queue `msg` for the FMU log as pythonfmu does, with the debug flag pythonfmu3's C
+        layer reads too (an FMI 3.0 face shares this queue; a message without it crashed the
+        process)."""
+        super().log(msg, status, category)
+        self.log_queue[-1].debug = False
+
     def logged(self, call, *args):
         """call(*args) with the warnings it raises (a core's one-time range warnings) sent to the
         FMU log as warnings instead of the process's stderr."""
