@@ -237,7 +237,8 @@ class _FmpySlave:
 
 class _Fmpy3Slave(_FmpySlave):
     """An FMI 3.0 co-simulation FMU instantiated by fmpy, with the same calls as `_FmpySlave`:
-    Float64 values, the start and stop time given when initialization mode is entered, log
+    FMI 3.0's Float64, Int32 and Boolean functions, the start and stop time given when
+    initialization mode is entered, log
     messages (formatted by the FMU) appended to `log` as (status, message)."""
 
     sized = True  # FMI 3.0's get and set take the number of values too
