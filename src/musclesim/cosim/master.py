@@ -238,8 +238,8 @@ class _FmpySlave:
 class _Fmpy3Slave(_FmpySlave):
     """An FMI 3.0 co-simulation FMU instantiated by fmpy, with the same calls as `_FmpySlave`:
     FMI 3.0's Float64, Int32 and Boolean functions, the start and stop time given when
-    initialization mode is entered, log
-    messages (formatted by the FMU) appended to `log` as (status, message)."""
+    initialization mode is entered, log messages (formatted by the FMU) appended to `log` as
+    (status, message)."""
 
     sized = True  # FMI 3.0's get and set take the number of values too
     functions = {"Real": ("fmi3GetFloat64", "fmi3SetFloat64", ctypes.c_double),
