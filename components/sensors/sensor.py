@@ -17,19 +17,20 @@ from musclesim.fmu import declare
 @dataclass(frozen=True)
 class SensorParams:
     """Lag, gain, bias, noise and quantisation of a scalar sensor; the defaults = a perfect
-    sensor (§sensors). The parameters of one unit are declared here once (`declare`); each sensor
-    FMU declares `bias`, `noise_std` and `quantum` in its signal's unit, and a sensor's diagnosis
-    roles (effect bounds, calibrations) differ per sensor: its slave gives them."""
+    sensor (§sensors). Each parameter is declared here once (`declare`); what differs per sensor
+    its slave overrides: `bias`, `noise_std` and `quantum` are in the signal's unit (declared
+    "1" here), and the diagnosis roles (effect bounds, calibrations) are each sensor's own."""
 
     tau: float = declare(0.0, "s", "Time constant of the sensing element's first-order lag "
                          "(0 = none)", source="§sensors")
     gain: float = declare(1.0, "1", "Reading gain about the sensor's origin (0 C for a "
                           "thermocouple, 0 for the others; 1 = exact)", source="§sensors")
     origin: float = 0.0  # signal value the gain leaves as it is (a thermocouple's 0 C)
-    bias: float = 0.0  # same unit as the signal
-    noise_std: float = 0.0  # same unit as the signal
-    quantum: float = 0.0  # resolution (0: none)
-    # a Real so that it is an FMU parameter like the others
+    bias: float = declare(0.0, "1", "Reading bias (0 = off)", source="§sensors")
+    noise_std: float = declare(0.0, "1", "Standard deviation of the reading's Gaussian noise "
+                               "(0 = off)", source="§sensors")
+    quantum: float = declare(0.0, "1", "Quantisation step of the reading (0 = off)",
+                             source="§sensors")
     seed: float = declare(0.0, "1", "Seed of the noise generator (>= 0)", type="Integer")
 
     def check(self):

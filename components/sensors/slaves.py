@@ -24,21 +24,12 @@ class _ScalarSensor(Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
         u = self.unit
-        # in the signal's unit, so declared here rather than in the core
-        own = {"bias": "Reading bias (0 = off)",
-               "noise_std": "Standard deviation of the reading's Gaussian noise (0 = off)",
-               "quantum": "Quantisation step of the reading (0 = off)"}
-        overrides = {"tau": {"description": f"Time constant of the first-order lag of the "
-                                            f"{self.element} (0 = none)"},
-                     "gain": {"description": f"Reading gain about {self.origin:g} {u} "
-                                             "(1 = exact)"}}
-        for name, role in self.roles.items():
-            if name not in own:
-                overrides[name] = {**overrides.get(name, {}), **role}
-        self.parameters_of(sensor.SensorParams, **overrides)
-        for name, description in own.items():
-            self.parameter(name, 0.0, u, description,
-                           **{"source": "§sensors", **self.roles.get(name, {})})
+        own = {"tau": {"description": f"Time constant of the first-order lag of the "
+                                      f"{self.element} (0 = none)"},
+               "gain": {"description": f"Reading gain about {self.origin:g} {u} (1 = exact)"},
+               **{name: {"unit": u} for name in ("bias", "noise_std", "quantum")}}
+        self.parameters_of(sensor.SensorParams, **{
+            name: {**own.get(name, {}), **self.roles.get(name, {})} for name in own | self.roles})
         self.input(self.signal, self.start, u, self.signal_description)
         self.output(self.measured, u, f"Measured {self.signal_description[0].lower()}"
                     f"{self.signal_description[1:]}", depends=[self.signal])

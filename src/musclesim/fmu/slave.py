@@ -249,8 +249,8 @@ class Slave(Fmi2Slave):
     def parameters_of(self, cls, skip=(), **overrides):
         """Declare as parameters the fields of the core's dataclass `cls` made with `declare`, in
         their order, but not those in `skip`. A core shared by several components (the sensors')
-        has per-component defaults or roles: ``overrides[name]`` is a dict replacing any of the
-        field's declared default, description, source, type, effect or calibrate."""
+        has per-component units, defaults or roles: ``overrides[name]`` is a dict replacing any
+        of the field's declared default, unit, description, source, type, effect or calibrate."""
         for f in dataclasses.fields(cls):
             if "unit" in f.metadata and f.name not in skip:
                 m = {**f.metadata, "default": f.default, **overrides.pop(f.name, {})}
