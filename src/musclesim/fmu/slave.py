@@ -229,7 +229,8 @@ class Slave(Fmi2Slave):
         self.register_variable(kind(
             name, causality=causality, variability=variability,
             description=f"{description} ({source})" if source else description,
-            initial=initial, getter=lambda: typed(getattr(self, attr)),
+            initial=initial, getter=(lambda: getattr(self, attr)) if type == "Real" else (
+                lambda: typed(getattr(self, attr))),  # a Real's is called at every get_real
             setter=lambda v: setattr(self, attr, float(v))))
         var = self.vars[len(self.vars) - 1]
         self._getters.append(var.getter)
