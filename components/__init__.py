@@ -4,7 +4,7 @@ Each subsystem folder holds pure physics cores (no FMI), thin FMU slaves (`slave
 README saying where the equations are: the model reference in docs/model (§model-reference).
 `declarations` gives what a component declares of each variable (its unit, default, type,
 source and role for the diagnosis), read from the slave class without building an FMU; `renamed`
-the new name of a port renamed since an earlier release (`RENAMED`), which messages give.
+the new name of a port renamed in format 2 (`RENAMED`), which messages give.
 """
 import importlib
 from functools import cache
@@ -38,15 +38,19 @@ CATALOGUE = {
     "LegSequencer": "musclesim.components.quadruped.slaves:LegSequencer",
 }
 
-# {component: {old variable-name prefix: new}}: ports renamed since an earlier release, which a
-# master names when a scenario or data set uses the old name
-RENAMED = {"CrawlerBody": {"flange1.": "flange_a.", "flange2.": "flange_b."}}
+# {component: {old name: new}}: ports renamed to the Modelica Standard Library's names in scenario
+# and data-set format 2 (an old name ending in "." renames every variable under it), which a
+# master names when a file uses the old name. An old name that names another variable now (the
+# PID's y) is refused in a file that does not declare format 2.
+RENAMED = {"CrawlerBody": {"flange1.": "flange_a.", "flange2.": "flange_b."},
+           "PID": {"r": "u_s", "y": "u_m", "u": "y"},
+           "GainScheduledPID": {"r": "u_s", "y": "u_m", "u": "y"}}
 
 
 def renamed(component, variable):
-    """The name `variable` of `component` has had since it was renamed, or None."""
+    """The name `variable` of `component` has had since format 2 renamed it, or None."""
     for old, new in RENAMED.get(component, {}).items():
-        if variable.startswith(old):
+        if variable == old or old.endswith(".") and variable.startswith(old):
             return new + variable[len(old):]
     return None
 

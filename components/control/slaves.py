@@ -9,17 +9,18 @@ UNLIMITED = 1e30  # output limits that never act (FMI start values must be finit
 
 
 class _PIDBase(Slave):
-    """Inputs r, y; output u = PID(r - y) with direct feedthrough; limits and filter as
-    parameters."""
+    """Inputs u_s (reference), u_m (measurement); output y = PID(u_s - u_m) with direct
+    feedthrough; limits and filter as parameters. The ports are named as in the Modelica Standard
+    Library's LimPID (scenario format 2; earlier r, y, u: `musclesim.components.RENAMED`)."""
 
     def _declare_common(self):
         # the core's limits are infinite by default; an FMU's start values must be finite
         self.parameter("u_min", -UNLIMITED, "1", "Lower output limit (-1e30: none)")
         self.parameter("u_max", UNLIMITED, "1", "Upper output limit (1e30: none)")
-        self.input("r", 0.0, "1", "Reference")
-        self.input("y", 0.0, "1", "Measurement")
-        self.output("u", "1", "Controller output", depends=["r", "y"])
-        self.output("e", "1", "Control error r - y", depends=["r", "y"])
+        self.input("u_s", 0.0, "1", "Reference (set point)")
+        self.input("u_m", 0.0, "1", "Measurement")
+        self.output("y", "1", "Controller output", depends=["u_s", "u_m"])
+        self.output("e", "1", "Control error u_s - u_m", depends=["u_s", "u_m"])
 
     def setup(self):
         self.p = pid.PIDParams(*self.gains(), self.Tf, self.u_min, self.u_max)
@@ -28,12 +29,12 @@ class _PIDBase(Slave):
         self.dt = 0.0
 
     def evaluate(self):
-        self.e = self.r - self.y
-        self.u = pid.output(self.state, self.r, self.y, self.dt, self.gains(), self.p)
+        self.e = self.u_s - self.u_m
+        self.y = pid.output(self.state, self.u_s, self.u_m, self.dt, self.gains(), self.p)
 
     def advance(self, t, dt):
         self.dt = dt
-        self.state = pid.update(self.state, self.r, self.y, dt, self.gains(), self.p)
+        self.state = pid.update(self.state, self.u_s, self.u_m, dt, self.gains(), self.p)
 
 
 class PID(_PIDBase):
@@ -83,7 +84,7 @@ class GainScheduledPID(_PIDBase):
 
     def gains(self):
         """(Kp, Ki, Kd) interpolated at the current reference."""
-        return pid.scheduled_gains(self.r, self.breakpoints, self.table)
+        return pid.scheduled_gains(self.u_s, self.breakpoints, self.table)
 
 
 class BangBang(Slave):

@@ -64,7 +64,7 @@ def position_stress_ignored(path, duration=60.0, seed=7):
             return x[block].reshape(n, LOG_EVERY)
         t0 = j * (duration + GAP)
         t = np.round(t0 + res.time[LOG_EVERY:n * LOG_EVERY + 1:LOG_EVERY], 6)
-        u = np.sqrt(np.mean(blocks(res["tpid.u"]) ** 2, axis=1))
+        u = np.sqrt(np.mean(blocks(res["tpid.y"]) ** 2, axis=1))
         f = np.mean(blocks(res["loadcell.f_meas"]), axis=1)
         T = res["thermocouple.T_meas"][LOG_EVERY::LOG_EVERY][:n] + 0.08 * rng.standard_normal(n)
         x = res["laser.s_meas"][LOG_EVERY::LOG_EVERY][:n] + 2e-6 * rng.standard_normal(n)

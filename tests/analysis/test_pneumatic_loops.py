@@ -125,7 +125,8 @@ def test_cli_writes_pid_files_that_scenarios_read_and_match_the_committed_ones(
         committed = tomllib.loads((PARAMS / f"pneumatic-{kind}-pid.toml").read_text())
         assert committed == fresh, kind
     # a scenario reads them as a PID's parameters and runs
-    lines = ['step = 1e-3', 'stop_time = 0.01', 'record = ["central.u", "extremal.u"]']
+    lines = ['format = 2', 'step = 1e-3', 'stop_time = 0.01',
+             'record = ["central.y", "extremal.y"]']
     for kind in ("central", "extremal"):
         lines += [f'[instances.{kind}]', 'component = "PID"',
                   f'parameters_file = "gains/pneumatic-{kind}-pid.toml"']

@@ -26,7 +26,7 @@ def test_regulation_settles_on_the_reference(fmu_dir):
     late = res.time >= 3.0
     assert np.abs(res["pid.e"][late]).max() < 0.01  # K
     assert res["wire.T"][-1] == pytest.approx(348.15, abs=0.01)
-    assert 0 <= res["pid.u"].min() and res["pid.u"].max() <= 2.5  # heating only, within 2.5 V
+    assert 0 <= res["pid.y"].min() and res["pid.y"].max() <= 2.5  # heating only, within 2.5 V
 
 
 def test_tracking_follows_the_sine_and_the_wire_contracts(fmu_dir):

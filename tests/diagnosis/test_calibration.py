@@ -27,7 +27,7 @@ OFFSETS = {"wire.h": 115.0, "wire.hysteresis_shift": 2.0, "wire.strain_scale": 0
 
 
 def record(path, overrides, fmus, stated=None, seed=1, stop=30.0, bench=BENCH,
-           inputs=("pid.u",)):
+           inputs=("pid.y",)):
     """Run `bench` with `overrides` and write its data set (`inputs` replayed, thermocouple and
     strain observed, with noise and quantisation)."""
     s = load_scenario(bench, [f"{k}={v!r}" for k, v in overrides.items()], stop_time=stop)

@@ -235,6 +235,34 @@ def test_check_model_reports_columns_units_and_metrics(tmp_path, fmu_dir):
     assert "metric 'mean_speed' is in 'm' but the model's is 'm/s'" in message
 
 
+def test_a_manifest_without_format_2_may_not_name_a_port_format_2_renamed(tmp_path, fmu_dir):
+    """A column named as before format 2 (the PID's u, now y; y was its measurement) is refused
+    with the new name, against the model or not; with format = 2 the PID's y is its output."""
+    header = ("time", "pid.u", "thermocouple.T_meas")
+    manifest = ('scenario = "sma-bench-tracking"\ninputs = ["pid.u"]\n'
+                'outputs = ["thermocouple.T_meas"]\n[split]\nheld_out_fraction = 0.5\n')
+    rows = [[0.1 * i, 0.5, 300.0] for i in range(10)]
+    folder = write_set(tmp_path / "old", manifest, header, rows)
+    for check in (True, False):
+        message = problems_of(folder, check_model=check, fmu_dir=fmu_dir)
+        assert message.endswith("has 1 problem(s): data.csv: column 'pid.u': GainScheduledPID's "
+                                "u is pid.y since format 2 (the Modelica Standard Library's port "
+                                "names): rename the column and write format = 2 in manifest.toml")
+    new = write_set(tmp_path / "new", "format = 2\n" + manifest.replace("pid.u", "pid.y"),
+                    ("time", "pid.y", "thermocouple.T_meas"), rows)
+    ds = dataset.load(new, check_model=True, fmu_dir=fmu_dir, scenarios_dir=SCENARIOS)
+    assert ds.format == 2 and ds.inputs == ("pid.y",)
+    # a format-2 manifest naming an old port that no longer exists is told its new name too
+    folder = write_set(tmp_path / "mixed", "format = 2\n" + manifest, header, rows)
+    assert ("column 'pid.u': GainScheduledPID has no variable 'u' (renamed pid.y: rename the "
+            "column)" in problems_of(folder, check_model=True, fmu_dir=fmu_dir))
+    # what musclesim writes is format 2
+    dataset.write(tmp_path / "written", np.arange(10.0), {"pid.y": np.zeros(10),
+                  "thermocouple.T_meas": np.full(10, 300.0)}, ["pid.y"],
+                  ["thermocouple.T_meas"], "sma-bench-tracking")
+    assert dataset.load(tmp_path / "written", scenarios_dir=SCENARIOS).format == 2
+
+
 def test_cli_dataset_check(fmu_dir, capsys):
     from musclesim import cli
 

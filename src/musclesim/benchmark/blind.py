@@ -53,7 +53,7 @@ from musclesim.errors import UserError
 # the benches: scenario, replayed inputs, observed outputs, the effects that can hide in them
 BENCHES = {
     "tracking": ("sma-bench-tracking", ["reference.y"],
-                 ["pid.u", "thermocouple.T_meas", "wire.strain"],
+                 ["pid.y", "thermocouple.T_meas", "wire.strain"],
                  ["thermocouple lag", "thermocouple bias", "latent heat", "convection change",
                   "training drift"]),
     "stress": ("sma-bench-stress", ["wire.u", "wire.flange.f"],

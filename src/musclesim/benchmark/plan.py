@@ -36,7 +36,7 @@ from musclesim.diagnosis import (HELD_OUT, TRAIN, Failed, Free, Problem, calibra
 
 BENCH = "independent"
 SCENARIO = "sma-bench-tracking"  # the model the data sets name (its reference, PID, 125 MPa)
-INPUTS = ["pid.u"]
+INPUTS = ["pid.y"]
 OUTPUTS = ["thermocouple.T_meas", "wire.strain"]
 DURATION = 120.0  # s
 LIBRARY = ("thermocouple lag", "thermocouple bias", "latent heat", "convection change",
@@ -248,7 +248,7 @@ def record(case):
         cols.update({c: out["x"][:, i] for i, c in enumerate(CRAWLER_OUTPUTS[3:])})
         return out["time"], cols, {}
     out = run(bench_of(case), case["duration"])
-    cols = {"pid.u": out["u"], "thermocouple.T_meas": out["T_meas"], "wire.strain": out["strain"]}
+    cols = {"pid.y": out["u"], "thermocouple.T_meas": out["T_meas"], "wire.strain": out["strain"]}
     stated = {"wire.T_amb": round(case["ambient_read"], 2)} if case["ambient_known"] else {}
     return out["time"], cols, stated
 

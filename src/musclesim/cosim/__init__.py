@@ -21,7 +21,7 @@ from musclesim.cosim.outputs import (check_output_dir, check_output_file, replac
 from musclesim.cosim.results import compute_metrics, metric_unit, signal_units
 from musclesim.cosim.results import write_all as write_results
 from musclesim.cosim.run import run_scenario
-from musclesim.cosim.scenario import Instance, Scenario, apply_overrides, split_signal
+from musclesim.cosim.scenario import FORMAT, Instance, Scenario, apply_overrides, split_signal
 from musclesim.cosim.scenario import load as load_scenario
 from musclesim.cosim.container import export as export_fmu
 from musclesim.cosim.ssp import export as export_ssp
@@ -30,7 +30,7 @@ from musclesim.cosim.timeseries import read_time_series
 __all__ = ["build_all", "check_fresh", "source_digest", "forget_fmu_resource_paths", "read_fmu",
            "reuse_fmus",
            "Master", "compute_metrics", "metric_unit", "signal_units", "write_results",
-           "run_scenario", "Instance", "Scenario", "split_signal", "load_scenario",
+           "run_scenario", "FORMAT", "Instance", "Scenario", "split_signal", "load_scenario",
            "apply_overrides", "export_ssp", "export_fmu",
            "Graph", "Link",
            "read_time_series", "Interrupted", "interruptible", "check_output_dir",

@@ -7,7 +7,11 @@ instance takes at once), connections ``"a.y" -> "b.u"``, the communication step,
 time, the master algorithm, the signals to record, the metrics to compute and the plot panels.
 A file may ``extends = "other.toml"`` (relative to it): its tables merge key by key onto the
 other's, its connections, recorded signals and plots are added to the other's, its other values
-replace them, so that variants of an experiment state only what differs. Checks collect every
+replace them, so that variants of an experiment state only what differs. ``format = 2``
+(`FORMAT`) declares that a file uses the port names of the Modelica Standard Library (e.g. the
+PID's ``u_s``, ``u_m`` -> ``y``); a file without it is format 1 and may use none of the names
+format 2 changed (`musclesim.components.RENAMED`): the PID's ``y`` was its measurement. Checks
+collect every
 problem and raise once with the whole list. No message repeats a value read from a
 parameters file (it may hold what is not ours to print), only its key.
 
@@ -21,14 +25,16 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import NamedTuple
 
+from musclesim.components import renamed
 from musclesim.errors import UserError
 
 ALGORITHMS = ("gauss-seidel", "jacobi")
 METRIC_OPS = ("final", "initial", "mean", "min", "max", "max_abs", "rms", "rate", "peak_to_peak",
               "per_period", "frequency", "cycle_peak_to_peak")
 _PERIODIC = ("per_period", "cycle_peak_to_peak")  # ops that need a period
-_TOP_KEYS = {"name", "description", "reference", "step", "start_time", "stop_time", "algorithm",
-             "connections", "record", "instances", "metrics", "plots"}
+_TOP_KEYS = {"format", "name", "description", "reference", "step", "start_time", "stop_time",
+             "algorithm", "connections", "record", "instances", "metrics", "plots"}
+FORMAT = 2  # the scenario and data-set format written now: the ports' MSL names
 MIN_STEP = 1e-7  # s: a communication step shorter than any physics here needs
 MAX_STEPS = 100_000_000  # communication steps of one run (hours of compute at the fastest)
 MAX_TIME = 1e9  # s: start and stop times (about 30 years)
@@ -153,11 +159,50 @@ def _read(path, chain):
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise UserError(f"scenario file {path} is not valid TOML: {exc}") from None
     base = data.pop("extends", None)
-    if base is None:
-        return data
-    if not isinstance(base, str):
+    fmt = data.pop("format", 1)
+    if not isinstance(fmt, int) or isinstance(fmt, bool) or not 1 <= fmt <= FORMAT:
+        raise UserError(f"scenario {path}: format = {fmt!r} is not one this musclesim reads "
+                        f"(1 to {FORMAT})")
+    if base is not None and not isinstance(base, str):
         raise UserError(f"scenario {path}: extends must be a file name, not {base!r}")
-    return _merge(_read(path.parent / base, (*chain, path)), data)
+    merged = data if base is None else _merge(_read(path.parent / base, (*chain, path)), data)
+    if fmt < 2:
+        _old_names(path, data, merged)
+    return merged
+
+
+def _signals(data):
+    """The "instance.variable" strings a scenario file's table names."""
+    def strings(items):
+        return [s for s in items if isinstance(s, str)] if isinstance(items, list) else []
+    out = strings(data.get("record"))
+    for pair in data.get("connections", []) if isinstance(data.get("connections"), list) else ():
+        out += strings(pair)
+    metrics = data.get("metrics")
+    for spec in metrics.values() if isinstance(metrics, dict) else ():
+        out += strings([spec.get("signal"), spec.get("over")] if isinstance(spec, dict) else [])
+    for panel in data.get("plots", []) if isinstance(data.get("plots"), list) else ():
+        out += strings(panel.get("signals") if isinstance(panel, dict) else None)
+    return out
+
+
+def _old_names(path, data, merged):
+    """Refuse the names format 2 changed in the format-1 file at `path` (its table `data`; the
+    instances are those of `merged`, its chain): the PID's y then meant another variable."""
+    instances = merged.get("instances")
+    instances = instances if isinstance(instances, dict) else {}
+    problems = []
+    for signal in dict.fromkeys(_signals(data)):
+        inst, var = split_signal(signal)
+        spec = instances.get(inst)
+        component = spec.get("component") if isinstance(spec, dict) else None
+        now = renamed(component, var) if isinstance(component, str) else None
+        if now:
+            problems.append(f"{signal!r} is {inst}.{now} now")
+    if problems:
+        raise UserError(f"scenario {path} names ports as before format 2 (the Modelica Standard "
+                        "Library's port names): " + "; ".join(problems)
+                        + "; write the new names and format = 2 at the top of the file")
 
 
 _ADDED = ("connections", "record", "plots")  # lists an extending file adds to

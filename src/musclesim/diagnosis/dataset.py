@@ -41,13 +41,14 @@ from pathlib import Path
 import numpy as np
 
 from musclesim.components import renamed
-from musclesim.cosim import Master, load_scenario, metric_unit, read_fmu, read_time_series
+from musclesim.cosim import (FORMAT, Master, load_scenario, metric_unit, read_fmu,
+                             read_time_series)
 from musclesim.errors import UserError
 
 MANIFEST = "manifest.toml"
 DATA = "data.csv"
-_TOP_KEYS = {"description", "reference", "scenario", "inputs", "outputs", "units", "conditions",
-             "experiments", "split", "calibrate"}
+_TOP_KEYS = {"format", "description", "reference", "scenario", "inputs", "outputs", "units",
+             "conditions", "experiments", "split", "calibrate"}
 _EXPERIMENT_KEYS = {"span", "scenario", "description", "metrics", "stop_time", "conditions"}
 _CALIBRATE_KEYS = {"set", "bounds", "why"}
 _METRIC_KEYS = {"value", "unit", "uncertainty", "description"}
@@ -132,6 +133,7 @@ class DataSet:
     # experiment -> its Scenario, loaded with the conditions (`loaded`): a data set that carries
     # them is diagnosed where the scenario files are not (a Dask worker of another machine)
     scenarios: dict = None
+    format: int = FORMAT  # the manifest's format (1: the port names before format 2)
 
     @property
     def scalar_only(self):
@@ -305,7 +307,8 @@ def write(path, time, cols, inputs, outputs, scenario_ref, description="", condi
     names = inputs + outputs
     np.savetxt(path / DATA, np.column_stack([time] + [cols[c] for c in names]),
                delimiter=",", header=",".join(["time", *names]), comments="", fmt="%.9g")
-    lines = [f"description = {json.dumps(description)}", f"scenario = {json.dumps(scenario_ref)}",
+    lines = [f"format = {FORMAT}", f"description = {json.dumps(description)}",
+             f"scenario = {json.dumps(scenario_ref)}",
              f"inputs = {json.dumps(inputs)}", f"outputs = {json.dumps(outputs)}", "",
              "[split]", f"held_out_fraction = {held_out_fraction}", ""]
     if conditions:
@@ -382,13 +385,17 @@ def _build(path, m, table, has_data, scenarios_dir, problems):
                                has_data, problems)
     split = _split(m.get("split"), experiments, time, has_data, problems)
     calibrate = _calibrate(m.get("calibrate", []), problems)
+    fmt = m.get("format", 1)
+    if not isinstance(fmt, int) or isinstance(fmt, bool) or not 1 <= fmt <= FORMAT:
+        problems.append(f"{MANIFEST}: format = {fmt!r} is not one this musclesim reads "
+                        f"(1 to {FORMAT})")
     if problems:
         return None
     return DataSet(path=path, scenario=reference, scenario_path=scenario_path, inputs=inputs,
                    outputs=outputs, units={c: units.get(c) for c in columns},
                    experiments=experiments, split=split, time=time, columns=columns, data=data,
                    description=str(m.get("description", "")), reference=str(m.get("reference", "")),
-                   conditions=conditions, calibrate=calibrate)
+                   conditions=conditions, calibrate=calibrate, format=fmt)
 
 
 def _conditions(raw, columns, problems, where=MANIFEST):
@@ -596,6 +603,7 @@ def _check_units(ds, fmu_dir, problems):
             s = load_scenario(e.scenario_path, ds.overrides(e.name), e.stop_time) \
                 if e.scenario_path is not None else None
             for inst in (s.instances.values() if s else ()):
+                _old_names(ds, inst, problems)
                 fmu = Path(fmu_dir) / f"{inst.component}.fmu"
                 if not fmu.is_file():
                     continue
@@ -614,6 +622,21 @@ def _check_units(ds, fmu_dir, problems):
             problems.append(f"{MANIFEST}: [units] {column!r} is {given!r} but the model's "
                             f"unit is {unit!r}")
     ds.condition_units.update({n: declared[n] for n in ds.conditions if n in declared})
+
+
+def _old_names(ds, instance, problems):
+    """A format-1 data set's columns of `instance` that use a port name format 2 changed (the
+    name may now be another variable's: the PID's y); each problem is said once."""
+    if ds.format >= 2:
+        return
+    for column in ds.columns:
+        inst, _, var = column.partition(".")
+        now = renamed(instance.component, var) if inst == instance.name else None
+        problem = (f"{DATA}: column {column!r}: {instance.component}'s {var} is {inst}.{now} "
+                   "since format 2 (the Modelica Standard Library's port names): rename the "
+                   f"column and write format = 2 in {MANIFEST}")
+        if now and problem not in problems:
+            problems.append(problem)
 
 
 def _check_kelvin(ds, problems):
@@ -649,6 +672,8 @@ def _check_model(ds, fmu_dir, problems):
             problems.append(f"{MANIFEST}: scenario {ref!r} cannot be checked: {exc}")
             continue
         model_units = {}
+        for inst in m.instances.values():
+            _old_names(ds, inst, problems)
         for column in ds.columns:
             inst, _, var = column.partition(".")
             if inst not in m.instances:
@@ -656,6 +681,8 @@ def _check_model(ds, fmu_dir, problems):
                                 f"{inst!r} (instances: {', '.join(m.instances)})")
                 continue
             v = m.instances[inst].vars.get(var)
+            if v is None and ds.format < 2 and renamed(m.instances[inst].component, var):
+                continue  # _old_names said it
             if v is None:
                 now = renamed(m.instances[inst].component, var)
                 problems.append(f"{DATA}: column {column!r}: {m.instances[inst].component} has no "
