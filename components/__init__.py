@@ -44,7 +44,8 @@ CATALOGUE = {
 # PID's y) is refused in a file that does not declare format 2.
 RENAMED = {"CrawlerBody": {"flange1.": "flange_a.", "flange2.": "flange_b."},
            "PID": {"r": "u_s", "y": "u_m", "u": "y"},
-           "GainScheduledPID": {"r": "u_s", "y": "u_m", "u": "y"}}
+           "GainScheduledPID": {"r": "u_s", "y": "u_m", "u": "y"},
+           "BangBang": {"u": "y"}}
 
 
 def renamed(component, variable):

@@ -89,7 +89,8 @@ class GainScheduledPID(_PIDBase):
 
 class BangBang(Slave):
     """Relay temperature controller with hysteresis: on when the measured temperature falls to
-    T_on, off when it rises to T_off (§multiplier-experiments: 75 C and 90 C); output u_on or u_off.
+    T_on, off when it rises to T_off (§multiplier-experiments: 75 C and 90 C); output y: u_on or
+    u_off (named u before format 2).
     A thin adapter over `relay`; equations: §bang-bang.
     """
 
@@ -107,7 +108,7 @@ class BangBang(Slave):
                        "study's 90 C)", source="§multiplier-experiments")
         self.parameters_of(relay.RelayParams)
         self.input("T", 293.15, "K", "Measured temperature (e.g. a thermocouple's T_meas)")
-        self.output("u", "1", "Controller output u_on or u_off", depends=["T"])
+        self.output("y", "1", "Controller output u_on or u_off", depends=["T"])
         self.output("on", "1", "Relay state: 1 on, 0 off", depends=["T"], type="Boolean")
 
     def setup(self):
@@ -126,7 +127,7 @@ class BangBang(Slave):
     def evaluate(self):
         self._checked(self.time)
         on = relay.switch(self.state, self.T, self.p)
-        self.u = relay.output(on, self.p)
+        self.y = relay.output(on, self.p)
         self.on = 1.0 if on else 0.0
 
     def advance(self, t, dt):

@@ -194,7 +194,7 @@ def test_relay_switching_sequence_on_a_hand_made_trace():
         slave.T = C + y
         slave.set_real([], [])
         slave.get_real([])
-        seen.append((slave.on, slave.u))
+        seen.append((slave.on, slave.y))
         slave.do_step(k * DT, DT)
     assert seen == [(float(s), 7.0 * s) for s in expected]
 
