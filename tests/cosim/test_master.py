@@ -136,7 +136,8 @@ def test_integer_and_boolean_values_are_checked_and_move_on_both_hosts(fmu_dir, 
     hosts the FMU (fmpy reads them through fmi2GetInteger and fmi2GetBoolean)."""
     path = tmp_path / "relay.toml"
     path.write_text(
-        'format = 2\nstep = 0.01\nstop_time = 2.0\nrecord = ["relay.on", "gait.stride", "relay.y"]\n'
+        'format = 2\nstep = 0.01\nstop_time = 2.0\n'
+        'record = ["relay.on", "gait.stride", "relay.y"]\n'
         'connections = [["wire.T", "relay.T"]]\n'
         '[instances.wire]\ncomponent = "SmaWire"\nparameters = { drive_current = 1.0 }\n'
         '[instances.relay]\ncomponent = "BangBang"\n'
