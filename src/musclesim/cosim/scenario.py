@@ -11,8 +11,7 @@ replace them, so that variants of an experiment state only what differs. ``forma
 (`FORMAT`) declares that a file uses the port names of the Modelica Standard Library (e.g. the
 PID's ``u_s``, ``u_m`` -> ``y``); a file without it is format 1 and may use none of the names
 format 2 changed (`musclesim.components.RENAMED`): the PID's ``y`` was its measurement. Checks
-collect every
-problem and raise once with the whole list. No message repeats a value read from a
+collect every problem and raise once with the whole list. No message repeats a value read from a
 parameters file (it may hold what is not ours to print), only its key.
 
 Limits: a step of at least `MIN_STEP`, at most `MAX_STEPS` communication steps, times of at most
