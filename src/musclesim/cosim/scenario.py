@@ -159,9 +159,8 @@ def _read(path, chain):
         raise UserError(f"scenario file {path} is not valid TOML: {exc}") from None
     base = data.pop("extends", None)
     fmt = data.pop("format", 1)
-    if not isinstance(fmt, int) or isinstance(fmt, bool) or not 1 <= fmt <= FORMAT:
-        raise UserError(f"scenario {path}: format = {fmt!r} is not one this musclesim reads "
-                        f"(1 to {FORMAT})")
+    if problem := format_problem(fmt):
+        raise UserError(f"scenario {path}: {problem}")
     if base is not None and not isinstance(base, str):
         raise UserError(f"scenario {path}: extends must be a file name, not {base!r}")
     merged = data if base is None else _merge(_read(path.parent / base, (*chain, path)), data)
@@ -185,19 +184,35 @@ def _signals(data):
     return out
 
 
+def format_problem(value):
+    """What is wrong with a file's ``format`` = `value` (a whole number from 1 to `FORMAT`), or
+    None."""
+    if not isinstance(value, int) or isinstance(value, bool) or not 1 <= value <= FORMAT:
+        return f"format = {value!r} is not one this musclesim reads (1 to {FORMAT})"
+    return None
+
+
+def renamed_signals(signals, components):
+    """{signal: its name since format 2} of the `signals` ("instance.variable") that name a port
+    format 2 renamed; `components` maps instance names to their component's."""
+    out = {}
+    for signal in signals:
+        inst, var = split_signal(signal)
+        now = renamed(components[inst], var) if inst in components else None
+        if now:
+            out[signal] = f"{inst}.{now}"
+    return out
+
+
 def _old_names(path, data, merged):
     """Refuse the names format 2 changed in the format-1 file at `path` (its table `data`; the
     instances are those of `merged`, its chain): the PID's y then meant another variable."""
     instances = merged.get("instances")
-    instances = instances if isinstance(instances, dict) else {}
-    problems = []
-    for signal in dict.fromkeys(_signals(data)):
-        inst, var = split_signal(signal)
-        spec = instances.get(inst)
-        component = spec.get("component") if isinstance(spec, dict) else None
-        now = renamed(component, var) if isinstance(component, str) else None
-        if now:
-            problems.append(f"{signal!r} is {inst}.{now} now")
+    components = {name: spec["component"] for name, spec in
+                  (instances.items() if isinstance(instances, dict) else ())
+                  if isinstance(spec, dict) and isinstance(spec.get("component"), str)}
+    problems = [f"{signal!r} is {now} now" for signal, now in
+                renamed_signals(dict.fromkeys(_signals(data)), components).items()]
     if problems:
         raise UserError(f"scenario {path} names ports as before format 2 (the Modelica Standard "
                         "Library's port names): " + "; ".join(problems)

@@ -41,8 +41,8 @@ from pathlib import Path
 import numpy as np
 
 from musclesim.components import renamed
-from musclesim.cosim import (FORMAT, Master, load_scenario, metric_unit, read_fmu,
-                             read_time_series)
+from musclesim.cosim import (FORMAT, Master, format_problem, load_scenario, metric_unit,
+                             read_fmu, read_time_series, renamed_signals)
 from musclesim.errors import UserError
 
 MANIFEST = "manifest.toml"
@@ -386,9 +386,8 @@ def _build(path, m, table, has_data, scenarios_dir, problems):
     split = _split(m.get("split"), experiments, time, has_data, problems)
     calibrate = _calibrate(m.get("calibrate", []), problems)
     fmt = m.get("format", 1)
-    if not isinstance(fmt, int) or isinstance(fmt, bool) or not 1 <= fmt <= FORMAT:
-        problems.append(f"{MANIFEST}: format = {fmt!r} is not one this musclesim reads "
-                        f"(1 to {FORMAT})")
+    if problem := format_problem(fmt):
+        problems.append(f"{MANIFEST}: {problem}")
     if problems:
         return None
     return DataSet(path=path, scenario=reference, scenario_path=scenario_path, inputs=inputs,
@@ -602,8 +601,8 @@ def _check_units(ds, fmu_dir, problems):
         try:
             s = load_scenario(e.scenario_path, ds.overrides(e.name), e.stop_time) \
                 if e.scenario_path is not None else None
+            _old_names(ds, s.instances.values() if s else (), problems)
             for inst in (s.instances.values() if s else ()):
-                _old_names(ds, inst, problems)
                 fmu = Path(fmu_dir) / f"{inst.component}.fmu"
                 if not fmu.is_file():
                     continue
@@ -624,18 +623,19 @@ def _check_units(ds, fmu_dir, problems):
     ds.condition_units.update({n: declared[n] for n in ds.conditions if n in declared})
 
 
-def _old_names(ds, instance, problems):
-    """A format-1 data set's columns of `instance` that use a port name format 2 changed (the
-    name may now be another variable's: the PID's y); each problem is said once."""
+def _old_names(ds, instances, problems):
+    """A format-1 data set's columns that use a port name format 2 changed in one of a
+    scenario's `instances` (the name may now be another variable's: the PID's y); each problem
+    is said once, however many experiments' scenarios have the instance."""
     if ds.format >= 2:
         return
-    for column in ds.columns:
+    components = {i.name: i.component for i in instances}
+    for column, now in renamed_signals(ds.columns, components).items():
         inst, _, var = column.partition(".")
-        now = renamed(instance.component, var) if inst == instance.name else None
-        problem = (f"{DATA}: column {column!r}: {instance.component}'s {var} is {inst}.{now} "
-                   "since format 2 (the Modelica Standard Library's port names): rename the "
-                   f"column and write format = 2 in {MANIFEST}")
-        if now and problem not in problems:
+        problem = (f"{DATA}: column {column!r}: {components[inst]}'s {var} is {now} since "
+                   "format 2 (the Modelica Standard Library's port names): rename the column and "
+                   f"write format = 2 in {MANIFEST}")
+        if problem not in problems:
             problems.append(problem)
 
 
@@ -672,8 +672,7 @@ def _check_model(ds, fmu_dir, problems):
             problems.append(f"{MANIFEST}: scenario {ref!r} cannot be checked: {exc}")
             continue
         model_units = {}
-        for inst in m.instances.values():
-            _old_names(ds, inst, problems)
+        _old_names(ds, m.instances.values(), problems)
         for column in ds.columns:
             inst, _, var = column.partition(".")
             if inst not in m.instances:
