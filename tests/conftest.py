@@ -1,4 +1,5 @@
 """Shared fixtures: the FMUs are built once per test session into a temporary folder."""
+import platform
 from pathlib import Path
 
 import pytest
@@ -68,3 +69,22 @@ def schema_errors(name, document):
     jsonschema.Draft202012Validator.check_schema(schema)
     return [f"{'/'.join(map(str, e.absolute_path)) or '(top)'}: {e.message}"
             for e in jsonschema.Draft202012Validator(schema).iter_errors(document)]
+
+
+def two_blas_kernels():
+    """Two OpenBLAS kernels (OPENBLAS_CORETYPE) this CPU can run whose sums round differently,
+    two processes given them standing for two CPUs: with FMA (Haswell) against without (Prescott),
+    or, on a CPU without AVX2, two whose LAPACK exp differed (Sandybridge, Nehalem). Skips where
+    OPENBLAS_CORETYPE names no kernel."""
+    if platform.system() != "Linux" or platform.machine() != "x86_64":
+        pytest.skip("OPENBLAS_CORETYPE names x86-64 kernels")
+    flags = set()
+    for line in Path("/proc/cpuinfo").read_text().splitlines():
+        if line.startswith("flags"):
+            flags = set(line.split(":", 1)[1].split())
+            break
+    if {"avx2", "fma"} <= flags:
+        return "Haswell", "Prescott"
+    if "avx" in flags:
+        return "Sandybridge", "Nehalem"
+    pytest.skip("no two differing OpenBLAS kernels known to run on this CPU")

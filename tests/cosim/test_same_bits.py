@@ -7,15 +7,13 @@ processes given two kernels stand for two CPUs: their recorded rows must be equa
 """
 import json
 import os
-import platform
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
-from conftest import SCENARIOS
+from conftest import SCENARIOS, two_blas_kernels
 
 # stick-slip runs: the ideal crawler, the pneumatic one walking (PIDs, sensors, sequencer), and
 # a wire lifting a weight that rings on its link
@@ -39,24 +37,6 @@ print(json.dumps(sorted({i["architecture"] for i in threadpool_info()
 """
 
 
-def _kernels():
-    """Two OpenBLAS kernels this CPU can run that rounded a 4x4 product differently before the
-    body's products were written out: with FMA (Haswell) against without (Prescott), or, on a
-    CPU without AVX2, two whose LAPACK exp differed (Sandybridge, Nehalem)."""
-    if platform.system() != "Linux" or platform.machine() != "x86_64":
-        pytest.skip("OPENBLAS_CORETYPE names x86-64 kernels")
-    flags = set()
-    for line in Path("/proc/cpuinfo").read_text().splitlines():
-        if line.startswith("flags"):
-            flags = set(line.split(":", 1)[1].split())
-            break
-    if {"avx2", "fma"} <= flags:
-        return "Haswell", "Prescott"
-    if "avx" in flags:
-        return "Sandybridge", "Nehalem"
-    pytest.skip("no two differing OpenBLAS kernels known to run on this CPU")
-
-
 def _run(fmu_dir, out, kernel):
     out.mkdir()
     runs = [(str(SCENARIOS / name), stop, overrides) for name, stop, overrides in RUNS]
@@ -68,7 +48,7 @@ def _run(fmu_dir, out, kernel):
 
 
 def test_stick_slip_rows_are_the_same_bits_under_two_blas_kernels(fmu_dir, tmp_path):
-    first, second = _kernels()
+    first, second = two_blas_kernels()
     kernels = (_run(fmu_dir, tmp_path / first, first), _run(fmu_dir, tmp_path / second, second))
     if not all(kernels) or kernels[0] == kernels[1]:
         pytest.skip(f"numpy's BLAS is no OpenBLAS that OPENBLAS_CORETYPE steers ({kernels})")

@@ -1,6 +1,9 @@
 """The diagnosis's statistics on synthetic arrays (no FMU): noise estimate, gaps, lag, block
 bootstrap, worst windows."""
 import math
+import os
+import subprocess
+import sys
 from types import SimpleNamespace
 
 import numpy as np
@@ -8,6 +11,8 @@ import pytest
 
 from musclesim.diagnosis import stats
 from musclesim.diagnosis.thresholds import BOOTSTRAP, DEVIATES
+
+from conftest import two_blas_kernels
 
 
 def unit_of(parts, noise=None, time=None, t0=0.0):
@@ -99,3 +104,41 @@ def test_worst_windows_find_the_planted_bad_window():
     assert worst[0]["gap"] == pytest.approx(0.5, rel=0.05)
     assert worst[1]["t0"] == pytest.approx(107.0)
     assert worst[1]["gap"] == pytest.approx(math.sqrt(20 * 0.2 ** 2 / 50), rel=0.1)
+
+
+RATE_CHILD = """
+import numpy as np
+from threadpoolctl import threadpool_info
+from musclesim.diagnosis.stats import smooth_rate
+t = np.arange(0.0, 120.0, 0.02)
+y = np.round(300 + 20 * np.sin(0.3 * t)
+             + 0.2 * np.random.default_rng(1).standard_normal(len(t)), 1)
+print(smooth_rate(t, y).tobytes().hex())
+print(sorted({i["architecture"] for i in threadpool_info() if i["internal_api"] == "openblas"}))
+"""
+
+
+def test_a_rate_of_quantised_data_is_the_same_bits_under_two_blas_kernels():
+    """A thermocouple's 0.1 K steps make many rates zero in exact arithmetic; their computed sign
+    decides heating or cooling (the regimes), so it may not depend on the CPU's BLAS kernel (it
+    did while the moving average was np.convolve's)."""
+    out = [subprocess.run([sys.executable, "-c", RATE_CHILD], capture_output=True, text=True,
+                          env={**os.environ, "OPENBLAS_CORETYPE": kernel}, timeout=120)
+           for kernel in two_blas_kernels()]
+    assert all(done.returncode == 0 for done in out), [done.stderr for done in out]
+    (rate_a, blas_a), (rate_b, blas_b) = (done.stdout.splitlines() for done in out)
+    if blas_a == blas_b:
+        pytest.skip(f"numpy's BLAS is no OpenBLAS that OPENBLAS_CORETYPE steers ({blas_a})")
+    assert rate_a == rate_b
+
+
+def test_moving_mean_is_np_convolves_same_mode():
+    rng = np.random.default_rng(5)
+    for length, n in [(50, 1), (50, 2), (50, 12), (50, 13), (13, 13), (5, 12)]:
+        y = rng.standard_normal(length)
+        mean = stats.moving_mean(y, n)
+        assert mean.shape == y.shape
+        if length >= n:  # np.convolve's "same" has max(len(y), n) samples
+            assert np.allclose(mean, np.convolve(y, np.ones(n) / n, "same"), rtol=1e-12,
+                               atol=1e-15)
+    assert list(stats.moving_mean(np.array([3.0, 6.0]), 3)) == [3.0, 3.0]  # zeros beyond ends

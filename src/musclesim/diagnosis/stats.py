@@ -51,13 +51,24 @@ def advance(y, samples):
     return np.concatenate([y[samples:], np.full(samples, y[-1])])
 
 
+def moving_mean(y, n):
+    """Centred mean of `y` over `n` samples, as ``np.convolve(y, ones(n) / n, "same")`` (zeros
+    beyond the ends), summed slice by slice in one order: np.convolve sums through the CPU's BLAS
+    kernel, whose last digits differ between CPUs, and a rate that is zero in exact arithmetic
+    (quantised data) would take their sign."""
+    padded = np.concatenate((np.zeros(n // 2), y, np.zeros((n - 1) // 2)))
+    total = padded[:len(y)].copy()
+    for k in range(1, n):
+        total += padded[k:k + len(y)]
+    return total / n
+
+
 def smooth_rate(t, y, window=0.25):
     """dy/dt after a centred moving average over about `window` seconds."""
     if len(t) < 3:
         return np.zeros_like(y)
     n = max(1, int(round(window / np.median(np.diff(t)))))
-    ys = np.convolve(y, np.ones(n) / n, mode="same") if n > 1 else y
-    return np.gradient(ys, t)
+    return np.gradient(moving_mean(np.asarray(y, float), n) if n > 1 else y, t)
 
 
 def rms(v):
