@@ -12,7 +12,9 @@ pressure in Pa, positions in m) or, for the variables the effect library declare
 >>> sorted(masks)  # no strain, load, pressure, position or indicator measured
 ['all', 'changing', 'cooling', 'heating', 'hot', 'late']
 >>> int(masks["heating"].sum()), int(masks["cooling"].sum()), int(masks["hot"].sum())
-(51, 50, 21)
+(50, 50, 21)
+
+The peak's sample (t = 5 s), whose smoothed rate is zero, is neither heating nor cooling.
 """
 import math
 from dataclasses import dataclass
