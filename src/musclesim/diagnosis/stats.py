@@ -1,8 +1,8 @@
 """Statistics of the diagnosis on plain arrays: noise, gaps, lag, rates, block bootstrap, windows.
 
-The array functions (`noise_estimate`, `advance`, `smooth_rate`, `rms`, `pooled`, `lag`,
-`interval95`, `split_blocks`, `block_bootstrap`, `window_gaps`) need no model. The others are
-thin wrappers that read a unit's arrays: anything with ``observed`` (column names), ``noise``
+The array functions (`noise_estimate`, `advance`, `moving_mean`, `smooth_rate`, `rms`, `pooled`,
+`lag`, `interval95`, `split_blocks`, `block_bootstrap`, `window_gaps`) need no model. The others
+are thin wrappers that read a unit's arrays: anything with ``observed`` (column names), ``noise``
 ({column: normalised noise std}) and ``runs`` (each with ``part``, a row mask source holding
 `Part` values: ``TRAIN`` or ``HELD_OUT``; and for windows ``time``, ``t0`` and ``experiment``), as
 `musclesim.diagnosis.problem.Unit` has them. Residuals are ``{column: [array per run]}``.
