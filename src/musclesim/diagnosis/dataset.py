@@ -680,13 +680,12 @@ def _check_model(ds, fmu_dir, problems):
                                 f"{inst!r} (instances: {', '.join(m.instances)})")
                 continue
             v = m.instances[inst].vars.get(var)
-            if v is None and ds.format < 2 and renamed(m.instances[inst].component, var):
-                continue  # _old_names said it
             if v is None:
                 now = renamed(m.instances[inst].component, var)
-                problems.append(f"{DATA}: column {column!r}: {m.instances[inst].component} has no "
-                                f"variable {var!r}"
-                                + (f" (renamed {inst}.{now}: rename the column)" if now else ""))
+                if not (now and ds.format < 2):  # a format-1 file's old name: _old_names said it
+                    hint = f" (renamed {inst}.{now}: rename the column)" if now else ""
+                    problems.append(f"{DATA}: column {column!r}: {m.instances[inst].component} "
+                                    f"has no variable {var!r}{hint}")
                 continue
             model_units[column] = v.unit or "1"
             given = ds.units.get(column)
