@@ -68,7 +68,7 @@ def smooth_rate(t, y, window=0.25):
     if len(t) < 3:
         return np.zeros_like(y)
     n = max(1, int(round(window / np.median(np.diff(t)))))
-    return np.gradient(moving_mean(np.asarray(y, float), n) if n > 1 else y, t)
+    return np.gradient(moving_mean(np.asarray(y, float), n), t)
 
 
 def rms(v):
