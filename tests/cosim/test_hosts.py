@@ -1,8 +1,15 @@
 """The direct host (musclesim.cosim.direct) calls the slave code an FMU ships without fmpy and
 pythonfmu's C layer: every shipped scenario gives the same bits on it as on fmpy, a failure reads
-the same, and an FMU musclesim did not build runs beside ours on fmpy."""
+the same, and an FMU musclesim did not build runs beside ours on fmpy. Every shipped scenario's
+results are also the bits stored in data/shipped_digests.json (a refactor changes no bit; a change
+of physics rewrites that file on purpose: MUSCLESIM_WRITE_DIGESTS=1 pytest tests/cosim/test_hosts.py).
+"""
+import hashlib
+import json
+import os
 import shutil
 import tomllib
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,6 +22,25 @@ from conftest import SCENARIOS
 
 RUNS = sorted(p for p in SCENARIOS.glob("*.toml") if "sweep" not in tomllib.loads(p.read_text()))
 STEPS = 200  # communication steps of each run (at least; 0.25 s where that is more)
+DIGESTS = Path(__file__).parent / "data" / "shipped_digests.json"
+
+
+def digest(results):
+    """sha256 of a run's column names, times and data, bit for bit."""
+    h = hashlib.sha256("\n".join(map(str, results.names)).encode())
+    h.update(results.time.tobytes())
+    h.update(results.data.tobytes())
+    return h.hexdigest()
+
+
+def stored_digest(name, value):
+    """The digest stored for scenario `name` (or, with MUSCLESIM_WRITE_DIGESTS=1, `value` stored)."""
+    table = json.loads(DIGESTS.read_text()) if DIGESTS.exists() else {}
+    if os.environ.get("MUSCLESIM_WRITE_DIGESTS") == "1":
+        table[name] = value
+        DIGESTS.parent.mkdir(exist_ok=True)
+        DIGESTS.write_text(json.dumps(dict(sorted(table.items())), indent=1) + "\n")
+    return table.get(name)
 
 
 def both(s, fmu_dir):
@@ -39,6 +65,7 @@ def test_every_shipped_scenario_gives_the_same_bits_on_both_hosts(fmu_dir, path)
     assert direct.error is None
     assert set(hosts.values()) == {"direct"}
     assert_same(direct, fmpy)
+    assert digest(direct) == stored_digest(path.stem, digest(direct))
 
 
 def test_a_failing_instance_reads_the_same_on_both_hosts(fmu_dir):

@@ -11,6 +11,7 @@ lives here too: output paths checked before the work (``check_output_dir``,
 SIGINT or SIGTERM at the next step with what was written kept (``interruptible``, raising
 ``Interrupted``).
 """
+from musclesim.cosim.address import ParamRef, Signal
 from musclesim.cosim.build import build_all, check_fresh, source_digest
 from musclesim.cosim.graph import Graph, Link
 from musclesim.cosim.host import forget_fmu_resource_paths, read_fmu, reuse_fmus
@@ -22,13 +23,13 @@ from musclesim.cosim.results import compute_metrics, metric_unit, signal_units
 from musclesim.cosim.results import write_all as write_results
 from musclesim.cosim.run import run_scenario
 from musclesim.cosim.scenario import (FORMAT, Instance, Scenario, apply_overrides, format_problem,
-                                      renamed_signals, split_signal)
+                                      renamed_signals, split_signal, with_values)
 from musclesim.cosim.scenario import load as load_scenario
 from musclesim.cosim.container import export as export_fmu
 from musclesim.cosim.ssp import export as export_ssp
 from musclesim.cosim.timeseries import read_time_series
 
-__all__ = ["build_all", "check_fresh", "source_digest", "forget_fmu_resource_paths", "read_fmu",
+__all__ = ["Signal", "ParamRef", "with_values", "build_all", "check_fresh", "source_digest", "forget_fmu_resource_paths", "read_fmu",
            "reuse_fmus",
            "Master", "compute_metrics", "metric_unit", "signal_units", "write_results",
            "run_scenario", "FORMAT", "Instance", "Scenario", "split_signal", "load_scenario",

@@ -22,9 +22,10 @@ import re
 import tomllib
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import NamedTuple
+from typing import Mapping, NamedTuple
 
 from musclesim.components import renamed
+from musclesim.cosim.address import ParamRef
 from musclesim.errors import UserError
 
 ALGORITHMS = ("gauss-seidel", "jacobi")
@@ -353,18 +354,30 @@ def _parameters_file(scenario_path, instance, name, problems):
     return {k: v for k, v in values.items() if k not in bad}
 
 
+def with_values(scenario: "Scenario", values: Mapping[ParamRef, float]) -> "Scenario":
+    """`scenario` with parameter `values` applied (the one way values reach a scenario: ``--set``,
+    a data set's stated values, a fit's candidates); instances not in `scenario` are skipped."""
+    instances = dict(scenario.instances)
+    for ref, value in values.items():
+        if ref.instance in instances:
+            old = instances[ref.instance]
+            instances[ref.instance] = replace(old, parameters={**old.parameters,
+                                                               ref.name: float(value)})
+    return replace(scenario, instances=instances)
+
+
 def apply_overrides(scenario, overrides, problems):
     """Return `scenario` with ``instance.parameter=value`` overrides applied; problems appended."""
-    instances = dict(scenario.instances)
+    values = {}
     for text in overrides:
         target, sep, value = text.partition("=")
         inst, var = split_signal(target.strip())
         if not sep or not var:
             problems.append(f"--set {text!r} is not of the form instance.parameter=value")
             continue
-        if inst not in instances:
+        if inst not in scenario.instances:
             problems.append(f"--set {text!r}: no instance {inst!r} "
-                            f"(instances: {', '.join(instances)})")
+                            f"(instances: {', '.join(scenario.instances)})")
             continue
         try:
             number = float(value)
@@ -374,9 +387,8 @@ def apply_overrides(scenario, overrides, problems):
         if not math.isfinite(number):
             problems.append(f"--set {text!r}: the value must be finite")
             continue
-        old = instances[inst]
-        instances[inst] = replace(old, parameters={**old.parameters, var: number})
-    return replace(scenario, instances=instances)
+        values[ParamRef(inst, var)] = number
+    return with_values(scenario, values)
 
 
 def _check_times(s, problems):
