@@ -9,6 +9,10 @@ training and held-out parts; a scalar-only set has metrics per experiment instea
 A condition that varies is replayed as an input column instead.
 The format with examples: the user guide's data-set page (§data-sets).
 
+Inside musclesim the addresses are typed: data.csv's header is parsed once, at load, into
+`musclesim.cosim.Signal`s (the columns, inputs and outputs), the conditions and open values name
+`musclesim.cosim.ParamRef`s, and `write` prints them back with ``str()``.
+
 Validation reports every problem at once in one `musclesim.errors.UserError`, each naming its
 file (and line, column or experiment): malformed TOML or CSV, missing or unknown columns,
 duplicated or non-increasing time, NaN/inf, spans outside the data or overlapping, a split that
@@ -32,13 +36,16 @@ Examples
 >>> ds.experiment("all/held_out")[0]
 array([2., 3.])
 """
+from __future__ import annotations
+
 import json
+from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
-from musclesim.cosim import FORMAT, read_time_series
+from musclesim.cosim import FORMAT, ParamRef, Signal, read_time_series
 from musclesim.diagnosis import modelcheck
 from musclesim.diagnosis.manifest import build, find_scenario, read_manifest
 from musclesim.diagnosis.measured import (DATA, MANIFEST, DataSet, Experiment, MeasuredMetric,
@@ -51,7 +58,9 @@ __all__ = ["load", "write", "find_scenario", "DataSet", "Experiment", "MeasuredM
 COLDEST_KELVIN = modelcheck.COLDEST_KELVIN
 
 
-def load(path, check_model=False, fmu_dir="fmus", scenarios_dir=None, models=None):
+def load(path: str | Path, check_model: bool = False, fmu_dir: str | Path = "fmus",
+         scenarios_dir: str | Path | None = None,
+         models: Mapping[str, str] | None = None) -> DataSet:
     """Read and check the measured data set in directory `path` (or its manifest.toml).
 
     Parameters
@@ -102,10 +111,12 @@ def load(path, check_model=False, fmu_dir="fmus", scenarios_dir=None, models=Non
         modelcheck.check_kelvin(ds, problems)
     if problems:
         raise UserError(f"data set {path} has {len(problems)} problem(s): " + "; ".join(problems))
+    assert ds is not None, "a data set not built has its problems"
     return ds
 
 
-def _with_models(ds, models, scenarios_dir, problems):
+def _with_models(ds: DataSet, models: Mapping[str, str], scenarios_dir: str | Path | None,
+                 problems: list[str]) -> DataSet:
     """`ds` with the experiments' scenarios replaced by `models` (see `load`)."""
     for name in sorted(set(models) - set(ds.experiments) - {"*"}):
         problems.append(f"model for experiment {name!r}: the data set has no such experiment "
@@ -120,22 +131,43 @@ def _with_models(ds, models, scenarios_dir, problems):
     return replace(ds, experiments=experiments)
 
 
-def write(path, time, cols, inputs, outputs, scenario_ref, description="", conditions=None,
-          held_out_fraction=0.35):
-    """Write a measured data set: data.csv (`time` and the columns `inputs` + `outputs` of
-    `cols`) and manifest.toml (scenario `scenario_ref`, the last `held_out_fraction` of the data
-    held out; `conditions` ({"instance.variable": value}) its ``[conditions]`` table), the
-    format `load` reads."""
+def write(path: str | Path, time: np.ndarray, cols: Mapping[Signal, np.ndarray],
+          inputs: Sequence[Signal], outputs: Sequence[Signal], scenario_ref: str,
+          description: str = "", conditions: Mapping[ParamRef, float] | None = None,
+          held_out_fraction: float = 0.35) -> None:
+    """Write a measured data set in folder `path`, the format `load` reads.
+
+    Parameters
+    ----------
+    path : str or Path
+        The data set's folder (made if missing).
+    time : numpy.ndarray
+        The samples' times [s].
+    cols : mapping of Signal to numpy.ndarray
+        The recorded columns, each as long as `time`; those in `inputs` and `outputs` are written.
+    inputs, outputs : sequence of Signal
+        The replayed and the observed columns, in data.csv's order (headers ``str(signal)``).
+    scenario_ref : str
+        The manifest's scenario: a name, or a path ending in ``.toml``.
+    description : str
+        The manifest's description.
+    conditions : mapping of ParamRef to float, optional
+        The bench conditions the set states (its ``[conditions]`` table).
+    held_out_fraction : float
+        The last this much of the data is held out.
+    """
     path = Path(path)
     path.mkdir(parents=True, exist_ok=True)
-    names = inputs + outputs
+    names = [*inputs, *outputs]
     np.savetxt(path / DATA, np.column_stack([time] + [cols[c] for c in names]),
-               delimiter=",", header=",".join(["time", *names]), comments="", fmt="%.9g")
+               delimiter=",", header=",".join(["time", *map(str, names)]), comments="",
+               fmt="%.9g")
     lines = [f"format = {FORMAT}", f"description = {json.dumps(description)}",
              f"scenario = {json.dumps(scenario_ref)}",
-             f"inputs = {json.dumps(inputs)}", f"outputs = {json.dumps(outputs)}", "",
+             f"inputs = {json.dumps([str(s) for s in inputs])}",
+             f"outputs = {json.dumps([str(s) for s in outputs])}", "",
              "[split]", f"held_out_fraction = {held_out_fraction}", ""]
     if conditions:
-        lines += ["[conditions]"] + [f"{json.dumps(k)} = {float(v)!r}"
+        lines += ["[conditions]"] + [f"{json.dumps(str(k))} = {float(v)!r}"
                                      for k, v in conditions.items()] + [""]
     (path / MANIFEST).write_text("\n".join(lines))

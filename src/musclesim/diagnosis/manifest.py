@@ -4,13 +4,16 @@
 Each function appends the problems it finds, each naming its file (and key, column or
 experiment), to a list, so that `musclesim.diagnosis.dataset.load` reports them all at once.
 """
+from __future__ import annotations
+
 import math
 import tomllib
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from musclesim.cosim import format_problem
+from musclesim.cosim import ParamRef, Signal, format_problem
 from musclesim.diagnosis.measured import (DATA, MANIFEST, PARTS, DataSet, Experiment,
                                           MeasuredMetric, OpenValue, Split, part_mask)
 
@@ -22,16 +25,17 @@ _METRIC_KEYS = {"value", "unit", "uncertainty", "description"}
 _SPLIT_KEYS = {"held_out", "train", "held_out_fraction"}
 
 
-def _number(value):
+def _number(value: Any) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
 
 
-def find_scenario(reference, manifest_dir, scenarios_dir=None):
-    """Resolve a manifest's scenario reference to a file, or None if there is none.
+def find_scenario(reference: str, manifest_dir: str | Path,
+                  scenarios_dir: str | Path | None = None) -> Path | None:
+    """Resolve `reference`, a manifest's scenario reference, to a file, or None if there is none.
 
-    A reference ending in ``.toml`` is a path relative to the manifest's folder; a name is looked
-    up as ``<name>.toml`` in `scenarios_dir`, by default the nearest folder named ``scenarios``
-    that holds the manifest, else ``./scenarios``.
+    A reference ending in ``.toml`` is a path relative to the manifest's folder `manifest_dir`;
+    a name is looked up as ``<name>.toml`` in `scenarios_dir`, by default the nearest folder
+    named ``scenarios`` that holds the manifest, else ``./scenarios``.
     """
     manifest_dir = Path(manifest_dir)
     if reference.endswith(".toml"):
@@ -44,7 +48,8 @@ def find_scenario(reference, manifest_dir, scenarios_dir=None):
     return path if path.is_file() else None
 
 
-def read_manifest(path, problems):
+def read_manifest(path: Path, problems: list[str]) -> dict[str, Any] | None:
+    """The table of manifest file `path`, or None with the reason appended to `problems`."""
     try:
         return tomllib.loads(path.read_text(encoding="utf-8"))
     except FileNotFoundError:
@@ -65,7 +70,12 @@ def _names(value, what, problems):
     return tuple(value)
 
 
-def build(path, m, table, has_data, scenarios_dir, problems):
+def build(path: Path, m: dict[str, Any], table: tuple | None, has_data: bool,
+          scenarios_dir: str | Path | None, problems: list[str]) -> DataSet | None:
+    """The `DataSet` in folder `path` from its manifest's table `m` and data.csv's `table`
+    ((header, time, data) as `musclesim.cosim.read_time_series` reads it, None if unusable;
+    `has_data`: data.csv exists), scenario names looked up in `scenarios_dir`; None, with every
+    mistake of the format appended to `problems`, if there is any."""
     for key in sorted(set(m) - _TOP_KEYS):
         problems.append(f"{MANIFEST}: unknown key {key!r} (known: {', '.join(sorted(_TOP_KEYS))})")
     inputs = _names(m.get("inputs"), "inputs", problems)
@@ -117,16 +127,22 @@ def build(path, m, table, has_data, scenarios_dir, problems):
         problems.append(f"{MANIFEST}: {problem}")
     if problems:
         return None
-    return DataSet(path=path, scenario=reference, scenario_path=scenario_path, inputs=inputs,
-                   outputs=outputs, units={c: units.get(c) for c in columns},
-                   experiments=experiments, split=split, time=time, columns=columns, data=data,
+    # every name is checked by now (each a column of data.csv, whose header read_time_series
+    # checked): data.csv's header and the lists become Signals here, once
+    signals = {c: Signal.parse(c) for c in columns}
+    return DataSet(path=path, scenario=reference, scenario_path=scenario_path,
+                   inputs=tuple(signals[c] for c in inputs),
+                   outputs=tuple(signals[c] for c in outputs),
+                   units={signals[c]: units.get(c) for c in columns},
+                   experiments=experiments, split=split, time=time,
+                   columns=tuple(signals.values()), data=data,
                    description=str(m.get("description", "")), reference=str(m.get("reference", "")),
                    conditions=conditions, calibrate=calibrate, format=fmt)
 
 
 def _conditions(raw, columns, problems, where=MANIFEST):
-    """``{"instance.variable": value}`` of the manifest's [conditions] table (or an
-    experiment's, `where`)."""
+    """``{ParamRef: value}`` of the manifest's [conditions] table `raw` ("instance.variable" =
+    value; or an experiment's, `where`), none of them one of data.csv's `columns`."""
     if not isinstance(raw, dict):
         problems.append(f"{where}: [conditions] must map \"instance.variable\" to numbers")
         return {}
@@ -143,7 +159,7 @@ def _conditions(raw, columns, problems, where=MANIFEST):
             problems.append(f"{MANIFEST}: [conditions] {name!r} is also a column of {DATA}: "
                             "state it once")
         else:
-            out[name] = float(value)
+            out[ParamRef.parse(name)] = float(value)
     return out
 
 
@@ -219,9 +235,9 @@ def _calibrate(raw, problems):
                 and bounds[0] < bounds[1]):
             problems.append(f"{at}: bounds {bounds!r} is not [lower, upper] with lower < upper")
             continue
-        out.append(OpenValue(tuple(targets), float(bounds[0]), float(bounds[1]),
-                             str(spec.get("why", ""))))
-    taken = [t for v in out for t in v.targets]
+        out.append(OpenValue(tuple(ParamRef.parse(t) for t in targets), float(bounds[0]),
+                             float(bounds[1]), str(spec.get("why", ""))))
+    taken = [str(t) for v in out for t in v.targets]
     for t in sorted({t for t in taken if taken.count(t) > 1}):
         problems.append(f"{where}: {t!r} is in more than one set")
     return tuple(out)
