@@ -1,6 +1,7 @@
 """The own benches' cases of the blind benchmark (musclesim.benchmark.cases): each bench's
-effects drawn from their own streams, reproducible from the seed, one draw for every instance of
-a component; the multiplier's cases apart from the others (§capstan-multiplier, §named-effects)."""
+effects drawn from their own streams, reproducible from the seed, one draw for every instance
+of a component; the multiplier's cases apart from the others (§capstan-multiplier,
+§named-effects)."""
 from musclesim.benchmark import cases as own
 from musclesim.diagnosis import effects
 

@@ -7,6 +7,7 @@ import pytest
 
 from musclesim.benchmark import blind
 from musclesim.benchmark import plan as independent_plan
+from musclesim.cosim import ParamRef, Signal
 from musclesim.diagnosis import load_dataset
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -31,10 +32,12 @@ def test_a_generated_data_set_loads_against_the_model(fmu_dir, tmp_path):
     case["ambient_known"] = True
     blind.make_case(case, tmp_path, scenarios_dir=ROOT / "scenarios")
     ds = load_dataset(tmp_path / "cases" / case["case"], check_model=True, fmu_dir=fmu_dir)
-    assert ds.inputs == ("pid.y",) and ds.outputs == ("thermocouple.T_meas", "wire.strain")
-    assert ds.conditions == {"wire.T_amb": pytest.approx(case["ambient_read"], abs=0.01)}
+    assert ds.inputs == (Signal("pid", "y"),)
+    assert ds.outputs == (Signal("thermocouple", "T_meas"), Signal("wire", "strain"))
+    assert ds.conditions == {ParamRef("wire", "T_amb"): pytest.approx(case["ambient_read"],
+                                                                      abs=0.01)}
     assert ds.time[-1] == pytest.approx(12.0) and np.all(np.diff(ds.time) > 0)
-    assert ds.units["thermocouple.T_meas"] == "K"
+    assert ds.units[Signal("thermocouple", "T_meas")] == "K"
 
 
 def test_crawler_plan_is_reproducible_and_its_data_load_against_the_model(fmu_dir, tmp_path):

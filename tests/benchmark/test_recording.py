@@ -5,9 +5,12 @@ import numpy as np
 import pytest
 
 from musclesim.benchmark import cases, recording, scoring
+from musclesim.cosim import Signal
 from musclesim.diagnosis import Problem, load_dataset
 
 from conftest import SCENARIOS
+
+LASER = Signal("laser", "s_meas")
 
 
 def test_a_recorded_crawler_case_is_a_data_set_of_the_gait_model(fmu_dir, tmp_path):
@@ -20,15 +23,15 @@ def test_a_recorded_crawler_case_is_a_data_set_of_the_gait_model(fmu_dir, tmp_pa
                 "values": values, "latency_samples": 0, "seed": 9}
         recording.make_case(case, tmp_path, fmu_dir, SCENARIOS)
         ds = load_dataset(tmp_path / "cases" / name, check_model=True, fmu_dir=fmu_dir)
-        assert ds.inputs == ("act1.duty", "actc.duty", "act2.duty")
+        assert ds.inputs == tuple(Signal(a, "duty") for a in ("act1", "actc", "act2"))
         recorded[name] = ds
     t, cols = recorded["none"].experiment("all")
     assert t[-1] == pytest.approx(cases.STOP_TIME["crawler"])
-    x = cols["body.flange_b.s"]
+    x = cols[Signal("body", "flange_b.s")]
     assert np.allclose(x / recording.VIDEO_QUANTUM, np.round(x / recording.VIDEO_QUANTUM))
-    p = cols["sensorc.p_meas"]
+    p = cols[Signal("sensorc", "p_meas")]
     assert np.allclose(p / recording.PRESSURE_QUANTUM, np.round(p / recording.PRESSURE_QUANTUM))
-    leak = recorded["leak"].experiment("all")[1]["sensorc.p_meas"]
+    leak = recorded["leak"].experiment("all")[1][Signal("sensorc", "p_meas")]
     assert np.max(np.abs(leak - p)) > 20 * recording.PRESSURE_NOISE
     # section 4's model keeps the body's measured positions coupled to its actuator (video
     # replayed there would be differentiated): the true leakage closes the gap there
@@ -47,13 +50,13 @@ def test_a_recorded_weight_case_rings_after_a_lift(fmu_dir, tmp_path):
                 "values": values, "latency_samples": 1, "seed": 5}
         recording.make_case(case, tmp_path, fmu_dir, SCENARIOS)
         ds = load_dataset(tmp_path / "cases" / name, check_model=True, fmu_dir=fmu_dir)
-        assert ds.inputs == ("wire.u",) and ds.outputs == ("laser.s_meas",)
+        assert ds.inputs == (Signal("wire", "u"),) and ds.outputs == (LASER,)
         recorded[name] = ds.experiment("all")
     t, cols = recorded["none"]
     assert t[-1] == pytest.approx(cases.STOP_TIME["weight"])
-    s = cols["laser.s_meas"]
+    s = cols[LASER]
     assert np.allclose(s / recording.LASER_QUANTUM, np.round(s / recording.LASER_QUANTUM))
-    ringing = recorded["ringing"][1]["laser.s_meas"]
+    ringing = recorded["ringing"][1][LASER]
     assert np.max(np.abs(ringing - s)) > 100 * recording.LASER_NOISE
 
 
@@ -66,5 +69,5 @@ def test_a_hidden_multiplier_effect_changes_the_recording(fmu_dir, effect):
     t, nominal = recording.record(base, recording.bench_scenario(base, SCENARIOS), fmu_dir)
     _, changed = recording.record(hidden, recording.bench_scenario(hidden, SCENARIOS), fmu_dir)
     assert t[-1] == pytest.approx(cases.STOP_TIME["multiplier"])
-    assert sorted(nominal) == ["laser.s_meas", "mult.u", "thermocouple.T_meas"]
-    assert not np.allclose(nominal["laser.s_meas"], changed["laser.s_meas"], atol=2e-5)
+    assert sorted(map(str, nominal)) == ["laser.s_meas", "mult.u", "thermocouple.T_meas"]
+    assert not np.allclose(nominal[LASER], changed[LASER], atol=2e-5)

@@ -33,9 +33,13 @@ request on a crawler written apart too (`musclesim.benchmark.benches.crawler`), 
 conditions are drawn around the model's; its scores go under "independent" in scores.json, next
 to the own bench's (see `score` for what counts there).
 """
+from __future__ import annotations
+
 import hashlib
 import json
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import Any
 
 from musclesim.batch import serial_map
 from musclesim.benchmark import plan as independent_plan
@@ -50,33 +54,39 @@ __all__ = ["run", "each", "plan", "plan_multiplier", "record", "bench_scenario",
            "score", "weighed", "reliability", "BENCHES", "DECOYS", "MAGNITUDES", "OUTSIDE"]
 
 
-def _record(args):
+def _record(args: tuple[dict[str, Any], Any, Any]) -> tuple:
     case, s, fmu_dir = args
     return record(case, s, fmu_dir)
 
 
-def _diagnose(args):
+def _diagnose(args: tuple[Any, Any]) -> dict[str, Any]:
+    """The report.json document of the diagnosis of `args` (data set, FMU folder), or an
+    error's."""
     ds, fmu_dir = args
     try:
-        return diagnose(ds, fmu_dir)
+        return diagnose(ds, fmu_dir).to_json()
     except UserError as exc:
         return {"verdict": "error", "error": str(exc)}
 
 
-def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, progress=None,
-        bench="own", duration=None, multiplier=0, crawler=0):
+def run(count: int, seed: int, out: str | Path, fmu_dir: str | Path = "fmus",
+        scenarios_dir: str | Path = "scenarios", pmap: Any = None,
+        progress: Callable[[str], None] | None = None, bench: str = "own",
+        duration: float | None = None, multiplier: int = 0, crawler: int = 0) -> dict[str, Any]:
     """Make `count` cases from `seed` into `out`, diagnose them blind, score; return the scores.
 
-    ``multiplier``: that many extra cases on the capstan multiplier's bench (`plan_multiplier`;
-    own bench only), after the `count` cases, which stay as they are without them; ``crawler``
+    `multiplier`: that many extra cases on the capstan multiplier's bench (`plan_multiplier`;
+    own bench only), after the `count` cases, which stay as they are without them; `crawler`
     likewise on the independent crawler bench (`independent_plan.plan_crawler`; independent
     bench only). The scores then also come per bench (``by_bench``).
 
-    `bench` "own" records on the library's FMUs with hidden effects switched on (cases in
-    ``out/cases``, scores at the top of ``out/scores.json``); "independent" on
-    `musclesim.benchmark.benches.sma`'s bench, `duration` seconds each (default
-    `independent_plan.DURATION`; cases, key in ``out/independent``, scores under the key
-    "independent" of ``out/scores.json``). Each keeps the other's scores in the file.
+    `bench` "own" records on the library's FMUs (in `fmu_dir`; its scenarios in
+    `scenarios_dir`) with hidden effects switched on (cases in ``out/cases``, scores at the top
+    of ``out/scores.json``); "independent" on `musclesim.benchmark.benches.sma`'s bench,
+    `duration` seconds each (default `independent_plan.DURATION`; cases, key in
+    ``out/independent``, scores under the key "independent" of ``out/scores.json``). Each keeps
+    the other's scores in the file. The cases run on `pmap` (a map such as
+    `musclesim.batch.serial_map`, the default, or a Dask map); `progress` is told each step.
     """
     if bench not in ("own", "independent"):
         raise UserError(f"no bench {bench!r} for the blind benchmark (own or independent)")
@@ -93,6 +103,8 @@ def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, 
     # the workers get the FMUs as bytes and every case as data: they need none of this
     # process's files, and the data sets and reports are written here
     fmus = pmap.ship_fmus(fmu_dir) if hasattr(pmap, "ship_fmus") else fmu_dir
+    recorded: tuple[Callable[[Any], tuple], list[Any]]
+    score_gap: Callable[[Any], dict[str, Any]]
     if bench == "own":
         cases = plan(count, seed) + plan_multiplier(multiplier, seed)
         recorded = (_record, [(c, bench_scenario(c, scenarios_dir), fmus) for c in cases])
@@ -124,10 +136,11 @@ def run(count, seed, out, fmu_dir="fmus", scenarios_dir="scenarios", pmap=None, 
     return scores
 
 
-def each(pmap, fn, items, done):
-    """[fn(item) for item in items] on `pmap`, calling done(index, result) as each ends: several
-    at once where the map takes calls from several threads (a Dask map), one after the other
-    otherwise."""
+def each(pmap: Any, fn: Callable[[Any], Any], items: Sequence[Any],
+         done: Callable[[int, Any], None]) -> list[Any]:
+    """[`fn`(item) for item in `items`] on `pmap`, calling `done`(index, result) as each ends:
+    several at once where the map takes calls from several threads (a Dask map), one after the
+    other otherwise."""
     from concurrent.futures import ThreadPoolExecutor
 
     def one(i):

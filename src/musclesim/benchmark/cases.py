@@ -3,34 +3,47 @@ decoys and changes outside the library, and the plan drawing each case's hidden 
 
 What the kinds of case are and how they are scored: `musclesim.benchmark.blind`.
 """
+from __future__ import annotations
+
+from typing import Any
+
 import numpy as np
 
-# the benches: scenario, replayed inputs, observed outputs, the effects that can hide in them
-BENCHES = {
-    "tracking": ("sma-bench-tracking", ["reference.y"],
-                 ["pid.y", "thermocouple.T_meas", "wire.strain"],
+from musclesim.cosim import Signal
+
+
+def _signals(*names: str) -> list[Signal]:
+    return [Signal.parse(n) for n in names]
+
+
+# the benches: scenario, replayed inputs, observed outputs (Signals), the effects that can
+# hide in them
+BENCHES: dict[str, tuple[str, list[Signal], list[Signal], list[str]]] = {
+    "tracking": ("sma-bench-tracking", _signals("reference.y"),
+                 _signals("pid.y", "thermocouple.T_meas", "wire.strain"),
                  ["thermocouple lag", "thermocouple bias", "latent heat", "convection change",
                   "training drift"]),
-    "stress": ("sma-bench-stress", ["wire.u", "wire.flange.f"],
-               ["thermocouple.T_meas", "wire.strain"],
+    "stress": ("sma-bench-stress", _signals("wire.u", "wire.flange.f"),
+               _signals("thermocouple.T_meas", "wire.strain"),
                ["stress dependence ignored", "thermocouple lag", "latent heat"]),
-    "magnet": ("sma-bench-magnet", ["wire.u", "magnet.duty"],
-               ["loadcell.f_meas", "thermocouple.T_meas", "laser.s_meas"],
+    "magnet": ("sma-bench-magnet", _signals("wire.u", "magnet.duty"),
+               _signals("loadcell.f_meas", "thermocouple.T_meas", "laser.s_meas"),
                ["electromagnet force nonlinearity", "load-cell lag"]),
     # §capstan-multiplier's 150 g weight lifted by fast heating pulses, the laser on the weight
-    "weight": ("sma-dead-weight", ["wire.u"], ["laser.s_meas"], ["load inertia"]),
+    "weight": ("sma-dead-weight", _signals("wire.u"), _signals("laser.s_meas"), ["load inertia"]),
     # the pneumatic crawler climbing 7.5 deg (where bending shows): the controllers' logged
     # duties replayed, the pressure sensors and the blocks' positions from video observed
-    "crawler": ("crawler-gait-incline", ["act1.duty", "actc.duty", "act2.duty"],
-                ["sensor1.p_meas", "sensorc.p_meas", "sensor2.p_meas", "body.flange_a.s",
-                 "body.flange_b.s"],
+    "crawler": ("crawler-gait-incline", _signals("act1.duty", "actc.duty", "act2.duty"),
+                _signals("sensor1.p_meas", "sensorc.p_meas", "sensor2.p_meas", "body.flange_a.s",
+                         "body.flange_b.s"),
                 ["valve delay", "supply-pressure drop", "chamber leakage",
                  "pressure-dependent stiffness", "actuator bending on an incline",
                  "friction decay"]),
     # §multiplier-experiments's capstan multiplier under the 150 g weight, bang-bang heated: the
     # relay's voltage replayed, the middle segment's thermocouple and the laser on the weight
     # observed (only in the extra multiplier cases, `plan_multiplier`)
-    "multiplier": ("sma-bench-multiplier", ["mult.u"], ["thermocouple.T_meas", "laser.s_meas"],
+    "multiplier": ("sma-bench-multiplier", _signals("mult.u"),
+                   _signals("thermocouple.T_meas", "laser.s_meas"),
                    ["capstan friction", "composition difference", "load inertia"]),
 }
 STOP_TIME = {"crawler": 12.0,  # s: the first stride and three more (the scenario runs 30 s)
@@ -41,9 +54,10 @@ LOAD_SHARE = 0.25  # of the effect cases move to a load bench, magnet or weight,
 LOAD_BENCHES = ("magnet", "weight")
 CRAWLER_SHARE = 0.25  # ... and, drawn from a third stream, to the crawler bench
 # Not in the tracking bench's pool, so without a magnitude here: clamp heat loss (cold ends), the
-# look-alike of the decoy pair below; the independent bench hides it (`musclesim.benchmark.plan`). hidden
-# magnitudes: (instance, parameter, low, high), drawn uniformly (§sma-wire, §drift, §sma-material)
-MAGNITUDES = {
+# look-alike of the decoy pair below; the independent bench hides it
+# (`musclesim.benchmark.plan`). hidden magnitudes: (instance, parameter, low, high), drawn
+# uniformly (§sma-wire, §drift, §sma-material)
+MAGNITUDES: dict[str, list[tuple[str | tuple[str, ...], str, float, float]]] = {
     "thermocouple lag": [("thermocouple", "tau", 0.1, 0.6)],
     "thermocouple bias": [("thermocouple", "bias", 1.5, 5.0)],  # sign drawn too
     "latent heat": [("wire", "latent_heat", 12e3, 24e3)],
@@ -85,8 +99,9 @@ OUTSIDE = {
 }
 
 
-def plan(count, seed):
-    """The cases' hidden truths: a list of dicts (kind, bench, effect, values, latency, ...)."""
+def plan(count: int, seed: int) -> list[dict[str, Any]]:
+    """The hidden truths of `count` cases drawn from `seed`: a list of dicts (kind, bench,
+    effect, values ({"instance.parameter": value}, as key.json has them), latency, ...)."""
     rng = np.random.default_rng(seed)
     # their own streams, so that moving a case to another bench changes no other case
     load_rng = np.random.default_rng([seed, 7])
@@ -100,7 +115,8 @@ def plan(count, seed):
     cases = []
     for i, kind in enumerate(kinds):
         bench = "stress" if kind == "effect" and rng.random() < 0.25 else "tracking"
-        case = {"case": f"case-{i:03d}", "kind": kind, "bench": bench, "effect": None,
+        case: dict[str, Any] = {
+                "case": f"case-{i:03d}", "kind": kind, "bench": bench, "effect": None,
                 "values": {}, "latency_samples": int(rng.integers(0, 2)), "seed": int(
                     rng.integers(0, 2**31))}
         if kind in ("effect", "decoy"):
@@ -112,8 +128,8 @@ def plan(count, seed):
             for benches, share, stream in ((LOAD_BENCHES, LOAD_SHARE, load_rng),
                                            (("crawler",), CRAWLER_SHARE, crawler_rng)):
                 if stream.random() < share:
-                    pool = [(b, e) for b in benches for e in BENCHES[b][3]]
-                    bench, effect = pool[stream.integers(len(pool))]
+                    moves = [(b, e) for b in benches for e in BENCHES[b][3]]
+                    bench, effect = moves[stream.integers(len(moves))]
                     case.update(bench=bench, effect=effect, values=_draw(effect, stream))
         elif kind == "outside":
             name = list(OUTSIDE)[rng.integers(len(OUTSIDE))]
@@ -127,10 +143,10 @@ def plan(count, seed):
     return cases
 
 
-def plan_multiplier(count, seed):
-    """`count` extra cases on the multiplier bench, from a stream of their own (so the cases of
-    `plan` stay the same): a library effect of the bench at a random magnitude, or (a share
-    `MULTIPLIER_NONE_SHARE`) none; ids ``case-m000``, ...
+def plan_multiplier(count: int, seed: int) -> list[dict[str, Any]]:
+    """`count` extra cases on the multiplier bench, from a stream of `seed` of their own (so the
+    cases of `plan` stay the same): a library effect of the bench at a random magnitude, or (a
+    share `MULTIPLIER_NONE_SHARE`) none; ids ``case-m000``, ...
 
     Examples
     --------
@@ -142,7 +158,7 @@ def plan_multiplier(count, seed):
     cases = []
     for i in range(count):
         kind = "none" if rng.random() < MULTIPLIER_NONE_SHARE else "effect"
-        case = {"case": f"case-m{i:03d}", "kind": kind, "bench": "multiplier", "effect": None,
+        case: dict[str, Any] = {"case": f"case-m{i:03d}", "kind": kind, "bench": "multiplier", "effect": None,
                 "values": {}, "latency_samples": int(rng.integers(0, 2)),
                 "seed": int(rng.integers(0, 2**31))}
         if kind == "effect":
@@ -152,7 +168,7 @@ def plan_multiplier(count, seed):
     return cases
 
 
-def _draw(effect, rng):
+def _draw(effect: str, rng: np.random.Generator) -> dict[str, float]:
     """{"instance.parameter": value} of `effect` at a random magnitude (and sign if signed)."""
     sign = -1.0 if effect in SIGNED and rng.random() < 0.5 else 1.0
     values = {}

@@ -1,16 +1,23 @@
 """Recording the blind benchmark's cases: the own bench's virtual hardware run with a case's
 hidden values and the sensors' nuisances (`record`), and a recording written as an unlabelled
 measured data set (`write_case`, `make_case`).
+
+A case is a dict as `musclesim.benchmark.cases.plan` (or `musclesim.benchmark.plan`) makes it,
+written to key.json as it is: its hidden ``values`` keep their ``"instance.parameter"`` keys and
+are parsed here, once, into `ParamRef`s.
 """
+from __future__ import annotations
+
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from musclesim.benchmark import plan as independent_plan
 from musclesim.benchmark.cases import BENCHES, STOP_TIME
-from musclesim.cosim import Master, load_scenario
-from musclesim.diagnosis import with_values, write_data_set
+from musclesim.cosim import Master, ParamRef, Scenario, Signal, load_scenario, with_values
+from musclesim.diagnosis import write_data_set
 from musclesim.errors import UserError
 
 # nuisances (the same for every case; magnitudes of a bench like §sma-bench's)
@@ -20,7 +27,9 @@ LASER_NOISE, LASER_QUANTUM = 2e-6, 1e-6  # m (the laser-noise effect of the libr
 LOADCELL_NOISE, LOADCELL_QUANTUM = 2e-3, 1e-3  # N
 PRESSURE_NOISE, PRESSURE_QUANTUM = 30.0, 10.0  # Pa
 VIDEO_NOISE, VIDEO_QUANTUM = 2e-4, 1e-4  # m: block edges tracked on video
-VIDEO = ("body.flange_a.s", "body.flange_b.s")  # the columns the video gives
+VIDEO = (Signal("body", "flange_a.s"), Signal("body", "flange_b.s"))  # the video's columns
+STRAIN = Signal("wire", "strain")  # a strain gauge's column
+LASER = Signal("laser", "s_meas")
 # (sensor instance, noise, quantum, modulus of the case's seed that seeds it)
 NUISANCES = [("thermocouple", TC_NOISE, TC_QUANTUM, 100000),
              ("laser", LASER_NOISE, LASER_QUANTUM, 100001),
@@ -31,23 +40,25 @@ NUISANCES = [("thermocouple", TC_NOISE, TC_QUANTUM, 100000),
 HELD_OUT_FRACTION = 0.35
 
 
-def _scenario_path(bench, scenarios_dir):
+def _scenario_path(bench: str, scenarios_dir: str | Path) -> Path:
     return Path(scenarios_dir) / f"{BENCHES[bench][0]}.toml"
 
 
-def bench_scenario(case, scenarios_dir):
-    """The scenario of `case`'s bench with its hidden values set (what `record` runs)."""
-    sets = [f"{k}={v!r}" for k, v in case["values"].items()]
-    return load_scenario(_scenario_path(case["bench"], scenarios_dir), sets,
-                         STOP_TIME.get(case["bench"]))
+def bench_scenario(case: dict[str, Any], scenarios_dir: str | Path) -> Scenario:
+    """The scenario of `case`'s bench (a file in `scenarios_dir`) with its hidden values set
+    (what `record` runs)."""
+    s = load_scenario(_scenario_path(case["bench"], scenarios_dir), (),
+                      STOP_TIME.get(case["bench"]))
+    return with_values(s, {ParamRef.parse(k): v for k, v in case["values"].items()})
 
 
-def record(case, s, fmu_dir):
-    """Run the virtual hardware of `case` on its bench's scenario `s` (`bench_scenario`): (time,
-    {column: values}) as the bench records them."""
+def record(case: dict[str, Any], s: Scenario,
+           fmu_dir: str | Path) -> tuple[np.ndarray, dict[Signal, np.ndarray]]:
+    """Run the virtual hardware of `case` on its bench's scenario `s` (`bench_scenario`) with
+    the FMUs in `fmu_dir`: (time, {column: values}) as the bench records them."""
     name, inputs, outputs, _ = BENCHES[case["bench"]]
     # the nuisances on the sensors this bench has (with_values skips the others)
-    s = with_values(s, {(inst, par): v for inst, noise, quantum, modulus in NUISANCES
+    s = with_values(s, {ParamRef(inst, par): v for inst, noise, quantum, modulus in NUISANCES
                         for par, v in (("noise_std", noise), ("quantum", quantum),
                                        ("seed", case["seed"] % modulus))})
     s = replace(s, record=tuple(inputs + outputs), metrics={}, plots=())
@@ -56,23 +67,23 @@ def record(case, s, fmu_dir):
         raise UserError(f"{case['case']}: the virtual hardware failed: {res.error}")
     rng = np.random.default_rng(case["seed"])
     cols = {c: res[c].copy() for c in inputs + outputs}
-    if "wire.strain" in cols:  # a strain gauge: its noise and quantisation (the laser's in-FMU)
-        strain = cols["wire.strain"] + STRAIN_NOISE * rng.standard_normal(
+    if STRAIN in cols:  # a strain gauge: its noise and quantisation (the laser's in-FMU)
+        strain = cols[STRAIN] + STRAIN_NOISE * rng.standard_normal(
             len(res.time)) + _outside_strain(case, res.time)
-        cols["wire.strain"] = STRAIN_QUANTUM * np.round(strain / STRAIN_QUANTUM)
+        cols[STRAIN] = STRAIN_QUANTUM * np.round(strain / STRAIN_QUANTUM)
     for c in VIDEO:  # noise, pixel quantisation
         if c in cols:
             x = cols[c] + VIDEO_NOISE * rng.standard_normal(len(res.time))
             cols[c] = VIDEO_QUANTUM * np.round(x / VIDEO_QUANTUM)
     lag = case["latency_samples"]
     # the gauge's (or laser's, or the video's) own acquisition lags the controller's log
-    for c in ("wire.strain", "laser.s_meas", *VIDEO) if lag else ():
+    for c in (STRAIN, LASER, *VIDEO) if lag else ():
         if c in cols:
             cols[c] = np.concatenate([np.full(lag, cols[c][0]), cols[c][:-lag]])
     return res.time, cols
 
 
-def _outside_strain(case, t):
+def _outside_strain(case: dict[str, Any], t: np.ndarray) -> np.ndarray:
     """What an outside change adds to the strain reading at times `t` (zeros without one)."""
     span = t[-1] - t[0]
     add = case.get("strain_drift", 0.0) * (t - t[0]) / span
@@ -81,9 +92,12 @@ def _outside_strain(case, t):
     return add
 
 
-def make_case(case, out, fmu_dir="fmus", scenarios_dir="scenarios"):
-    """Record `case` on its bench and write its data set into ``out/cases/<case>``, here (what
-    `run` does on its map); return that folder."""
+def make_case(case: dict[str, Any], out: str | Path, fmu_dir: str | Path = "fmus",
+              scenarios_dir: str | Path = "scenarios") -> Path:
+    """Record `case` on its bench (the own benches' scenarios in `scenarios_dir`, their FMUs in
+    `fmu_dir`) and write its data set into ``out/cases/<case>``, here (what `run` does on its
+    map); return that folder."""
+    stated: dict[ParamRef, float] | None
     if case["bench"] in ("independent-crawler", independent_plan.BENCH):
         time, cols, stated = independent_plan.record(case)
     else:
@@ -93,9 +107,11 @@ def make_case(case, out, fmu_dir="fmus", scenarios_dir="scenarios"):
     return folder
 
 
-def write_case(case, folder, time, cols, stated, scenarios_dir):
-    """Write `case`'s recording as a data set in `folder`, naming its model's scenario and the
-    conditions the bench `stated`."""
+def write_case(case: dict[str, Any], folder: Path, time: np.ndarray,
+               cols: dict[Signal, np.ndarray], stated: dict[ParamRef, float] | None,
+               scenarios_dir: str | Path) -> None:
+    """Write `case`'s recording (`time`, `cols`) as a data set in `folder`, naming its model's
+    scenario (in `scenarios_dir`) and the conditions the bench `stated`."""
     ip = independent_plan
     if case["bench"] == "independent-crawler":
         scenario, inputs, outputs = ip.CRAWLER_SCENARIO, ip.CRAWLER_INPUTS, ip.CRAWLER_OUTPUTS

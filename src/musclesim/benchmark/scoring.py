@@ -1,21 +1,26 @@
 """Scoring the blind benchmark: the own bench's oracle (`oracle`), the verdicts against the key
 (`score`: per case and rates, `reliability`), and scores.json (`write_scores`).
 """
+from __future__ import annotations
+
 import json
 import math
 import statistics
+from pathlib import Path
+from typing import Any
 
-from musclesim.cosim import replace_file
+from musclesim.cosim import ParamRef, replace_file
 from musclesim.diagnosis import (CALIBRATION_ONLY, HELD_OUT, Failed, Problem, gap, residuals,
                                  simulate_unit)
 
 BINS = 10  # reliability: the probabilities in tenths
 
 
-def oracle(args):
+def oracle(args: tuple[dict[str, Any], Any, dict[str, Any], Any]) -> dict[str, float]:
     """Held-out gap of the model with every measured signal replayed (the report's section 4):
     nominal and with our selected effects' values, as the report has them, and with the true
-    values (the oracle), simulated here."""
+    values (the oracle), simulated here. `args`: (case, its data set, its report.json document,
+    the FMU folder), as `musclesim.benchmark.blind.run` maps it."""
     case, ds, report, fmu_dir = args
     problem = Problem(ds, fmu_dir)
     whole = problem.replayed()
@@ -27,15 +32,16 @@ def oracle(args):
             return math.inf
         return gap(whole, residuals(whole, sims), HELD_OUT)
 
-    truth = {tuple(k.split(".", 1)): v for k, v in case["values"].items()}
+    truth = {ParamRef.parse(k): v for k, v in case["values"].items()}
     ours = report.get("shrinkage", {}).get("all")
     before = ours["before"] if ours else heldout({})  # no report section 4: the case failed
     return {"before": before, "oracle": heldout(truth), "ours": ours["after"] if ours else before}
 
 
-def write_scores(path, scores, bench):
-    """scores.json: the own bench's scores at the top, the independent bench's under
-    "independent"; a run replaces its own part and keeps the other's."""
+def write_scores(path: Path, scores: dict[str, Any], bench: str) -> None:
+    """Write `scores` into scores.json at `path`: the own bench's (`bench` "own") at the top,
+    the independent bench's under "independent"; a run replaces its own part and keeps the
+    other's."""
     try:
         old = json.loads(path.read_text())
     except (OSError, ValueError):
@@ -48,9 +54,9 @@ def write_scores(path, scores, bench):
     replace_file(path, json.dumps(new, indent=1) + "\n")
 
 
-
-def weighed(report):
-    """{candidate: probability} and the credible set of a report: its evidence, or, where the
+def weighed(report: dict[str, Any]) -> tuple[dict[str, float], list[str]]:
+    """{candidate: probability} and the credible set of `report` (a report.json document): its
+    evidence, or, where the
     diagnosis stopped before weighing (the model matched, or calibration alone did),
     calibration only, certain."""
     ev = report.get("evidence")
@@ -61,8 +67,10 @@ def weighed(report):
     return {c["name"]: c["probability"] for c in ev["candidates"]}, list(ev["set"])
 
 
-def score(cases, reports, gaps):
-    """The benchmark's scores and per-case table from the key, the reports and the gaps.
+def score(cases: list[dict[str, Any]], reports: list[dict[str, Any]],
+          gaps: list[dict[str, Any]]) -> dict[str, Any]:
+    """The benchmark's scores and per-case table from the key (`cases`), the `reports`
+    (report.json documents) and the held-out `gaps` (`oracle`'s).
 
     The diagnosis answers with probabilities over candidate causes and a credible set
     (`weighed`). For an effect or decoy case the truth is its hidden effect; for a case without
@@ -89,7 +97,7 @@ def score(cases, reports, gaps):
             row["in_set"] = truth in credible
             row["set_size"] = len(credible)
             row["weighted_hit"] = 1 / len(credible) if row["in_set"] else 0.0
-            row["top1"] = bool(probs) and max(probs, key=probs.get) == truth
+            row["top1"] = bool(probs) and max(probs, key=lambda name: probs[name]) == truth
             row["brier"] = sum((p - (name == truth)) ** 2 for name, p in probs.items()) \
                 + (0.0 if truth in probs else 1.0)
         if c["kind"] == "none":
@@ -112,7 +120,7 @@ def score(cases, reports, gaps):
     return scores
 
 
-def _rates(table):
+def _rates(table: list[dict[str, Any]]) -> dict[str, Any]:
     """The scores of some rows of the per-case table (None where no case of the kind)."""
     def mean(rows, key):
         values = [float(t[key]) for t in rows if t.get(key) is not None]
@@ -120,7 +128,7 @@ def _rates(table):
 
     keyed = [t for t in table if "in_set" in t]
     effects = [t for t in keyed if t["kind"] in ("effect", "decoy")]
-    per_effect = {}
+    per_effect: dict[str, list[dict[str, Any]]] = {}
     for t in effects:
         per_effect.setdefault(t["truth"], []).append(t)
     accuracy = {e: {"cases": len(rows), "in_set": mean(rows, "in_set"), "top1": mean(rows, "top1")}
@@ -140,9 +148,10 @@ def _rates(table):
             "cases": len(table)}
 
 
-def reliability(table):
+def reliability(table: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """Predicted probability against observed frequency, per tenth: over every candidate of every
-    keyed case, [{"bin", "predicted" (mean), "observed" (share true), "count"}]."""
+    keyed case of per-case `table`, [{"bin", "predicted" (mean), "observed" (share true),
+    "count"}]."""
     pairs = []
     for t in table:
         if "in_set" not in t:

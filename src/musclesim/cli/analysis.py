@@ -5,7 +5,9 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from collections.abc import Callable
 from pathlib import Path
+from typing import cast
 
 from musclesim.cli.args import add_dask_args, add_fmus
 from musclesim.errors import UserError
@@ -57,6 +59,7 @@ def _cmd_linear(args: argparse.Namespace) -> int:
     from musclesim.cosim import check_fresh, replace_file
 
     if args.system == "crawler":
+        toml: Callable[..., str] | None
         report, text, toml = crawler(), format_crawler, None
     elif args.system == "bending":
         report, text, toml = bending(), format_bending, None
@@ -70,15 +73,15 @@ def _cmd_linear(args: argparse.Namespace) -> int:
         report, text, toml = pneumatic(args.fmus), format_pneumatic, pneumatic_gains_toml
     if args.write and toml is None:
         raise UserError(f"--write is for sma-thermal, sma-load and pneumatic, not {args.system}")
-    written = []
+    written: list[Path] = []
     if args.write and args.system == "pneumatic":  # one file per actuator kind, into a folder
         Path(args.write).mkdir(parents=True, exist_ok=True)
         for actuator in report["loops"]:
             written.append(Path(args.write) / f"pneumatic-{actuator}-pid.toml")
-            replace_file(written[-1], toml(report, actuator))
+            replace_file(written[-1], cast(Callable[..., str], toml)(report, actuator))
     elif args.write:
         written.append(Path(args.write))
-        replace_file(written[-1], toml(report))
+        replace_file(written[-1], cast(Callable[..., str], toml)(report))
     print(json.dumps(report, indent=2) if args.json else text(report))
     for path in written:
         print(f"wrote the gains to {path}", file=sys.stderr)

@@ -16,7 +16,8 @@ def _cmd_dataset_check(args: argparse.Namespace) -> int:
 
     ds = load_dataset(args.dataset, check_model=args.model, fmu_dir=args.fmus)
     train, held = ds.parts()
-    kind = "scalar-only" if ds.scalar_only else f"{len(ds.time)} samples, {len(ds.columns)} columns"
+    kind = "scalar-only" if ds.time is None else \
+        f"{len(ds.time)} samples, {len(ds.columns)} columns"
     print(f"{ds.path}: OK ({kind}; experiments {', '.join(ds.experiments)}; "
           f"train {', '.join(train)}; held out {', '.join(held)})")
     return 0
@@ -27,7 +28,7 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
     from musclesim.cosim import check_fresh
     from musclesim.diagnosis import diagnose, load_dataset, write_report
 
-    models = {}
+    models: dict[str, str] = {}
     for item in args.model:
         experiment, sep, ref = item.rpartition("=")
         if not ref:
@@ -35,12 +36,13 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
         models[experiment if sep else "*"] = ref
     ds = load_dataset(args.dataset, check_model=True, fmu_dir=args.fmus, models=models)
     check_fresh(args.fmus)
-    traces = {}
+    traces: dict = {}
     with dask_client(args.scheduler, args.workers) as client:
         report = diagnose(ds, args.fmus, dask_map(client),
                           lambda text: print(f"musclesim: {text}", file=sys.stderr), traces)
     paths = write_report(args.out, report, traces)
-    print(f"verdict: {report['verdict']} ({report['explanation']})")
+    document = report.to_json()  # the Report as report.json holds it
+    print(f"verdict: {document['verdict']} ({document['explanation']})")
     print("wrote " + ", ".join(str(p) for p in paths))
     return 0
 

@@ -94,7 +94,7 @@ def load(path: str | Path, check_model: bool = False, fmu_dir: str | Path = "fmu
     manifest_path = path / MANIFEST
     if not path.is_dir():
         raise UserError(f"data set {path} is not a directory")
-    problems = []
+    problems: list[str] = []
     manifest = read_manifest(manifest_path, problems)
     data_path = path / DATA
     table = read_time_series(data_path, problems, DATA) if data_path.is_file() else None
