@@ -1,5 +1,6 @@
 """The independent SMA bench of the blind benchmark (musclesim.benchmark.benches.sma): its heat
-equation, kinetics, hidden effects and independence from the library (its cases: test_plan.py)."""
+equation, hidden effects and independence from the library (its hysteresis:
+test_sma_kinetics.py; its cases: test_plan.py)."""
 import ast
 import math
 from dataclasses import replace
@@ -43,40 +44,6 @@ def test_steady_state_is_the_clamped_fin_solution():
                                   + clamp[-1] * (T[-1] - bench.ambient), rel=1e-9)
     # the temperature is not uniform: the ends are much cooler than the middle
     assert T[0] - bench.ambient < 0.5 * (T[len(T) // 2] - bench.ambient)
-
-
-def _cycle(stress, lo=20.0, hi=130.0, step=0.25):
-    """Heat from `lo` to `hi` and back: (temperatures, fractions) of one volume."""
-    up = np.arange(lo, hi + step, step)
-    temps = np.concatenate([up, up[::-1]])
-    k = ib.Kinetics(np.array([lo]), stress)
-    return temps, np.array([k.step(np.array([t]))[0] for t in temps])
-
-
-def test_kinetics_hysteresis_full_transformation_and_clausius_clapeyron():
-    temps, xi = _cycle(ib.STRESS)
-    n = len(temps) // 2
-    heat, cool = xi[:n], xi[n:][::-1]  # both on the rising temperature grid
-    assert heat[0] == 1.0 and heat[-1] == 0.0 and cool[0] == 1.0  # full transformations
-    assert np.all(np.diff(heat) <= 1e-12) and np.all(np.diff(cool) <= 1e-12)
-    mid = (temps[:n] > 60) & (temps[:n] < 90)
-    assert np.all(heat[mid] > cool[mid] + 0.05)  # the heating branch lies above: hysteresis
-    # 70 MPa more shifts every transformation temperature by 70 / CC_SLOPE = 10 K
-    temps2, xi2 = _cycle(ib.STRESS + 70e6)
-    half = [np.interp(-0.5, -x[:n], temps[:n]) for x in (xi, xi2)]
-    assert half[1] - half[0] == pytest.approx(70e6 / ib.CC_SLOPE, abs=0.05)
-
-
-def test_a_reversal_inside_the_band_starts_a_minor_loop():
-    k = ib.Kinetics(np.array([20.0]), ib.STRESS)
-    for t in np.arange(20.0, 80.0, 0.5):
-        k.step(np.array([t]))
-    at_turn = k.xi[0]
-    k.step(np.array([79.0]))  # cooling from 79.5 C: the martensite band has not begun to act
-    assert k.xi[0] >= at_turn and k.xi[0] - at_turn < 0.02
-    for t in np.arange(79.0, 20.0, -0.5):
-        k.step(np.array([t]))
-    assert k.xi[0] == pytest.approx(1.0)
 
 
 def _best_shift(a, b, samples=40):
@@ -147,7 +114,9 @@ def _imports(path):
 
 def test_the_bench_imports_nothing_of_the_library_physics():
     folder = ROOT / "src" / "musclesim" / "benchmark"
-    physics = _imports(folder / "benches" / "sma.py")
-    assert not [m for m in physics if m.startswith("musclesim")]  # numpy and scipy only
+    for name in ("sma.py", "sma_kinetics.py"):  # numpy and scipy only, and each other
+        physics = _imports(folder / "benches" / name)
+        assert not [m for m in physics if m.startswith("musclesim")
+                    and m != "musclesim.benchmark.benches.sma_kinetics"]
     plan = _imports(folder / "plan.py")
     assert not [m for m in plan if "components" in m]
