@@ -124,7 +124,7 @@ def run(count: int, seed: int, out: str | Path, fmu_dir: str | Path = "fmus",
     say("diagnosing blind")
     sets = [load_dataset(d, fmu_dir=fmu_dir).loaded() for d in dirs]
 
-    def written(i, report):  # each report as its case ends
+    def written(i: int, report: dict[str, Any]) -> None:  # each report as its case ends
         text = json.dumps(report, indent=1, default=float) + "\n"
         (dirs[i] / "report.json").write_text(text)
     reports = each(pmap, _diagnose, [(ds, fmus) for ds in sets], written)
@@ -143,7 +143,7 @@ def each(pmap: Any, fn: Callable[[Any], Any], items: Sequence[Any],
     other otherwise."""
     from concurrent.futures import ThreadPoolExecutor
 
-    def one(i):
+    def one(i: int) -> Any:
         result = pmap(fn, [items[i]])[0]
         done(i, result)
         return result

@@ -116,9 +116,9 @@ def plan(count: int, seed: int) -> list[dict[str, Any]]:
     for i, kind in enumerate(kinds):
         bench = "stress" if kind == "effect" and rng.random() < 0.25 else "tracking"
         case: dict[str, Any] = {
-                "case": f"case-{i:03d}", "kind": kind, "bench": bench, "effect": None,
-                "values": {}, "latency_samples": int(rng.integers(0, 2)), "seed": int(
-                    rng.integers(0, 2**31))}
+            "case": f"case-{i:03d}", "kind": kind, "bench": bench, "effect": None,
+            "values": {}, "latency_samples": int(rng.integers(0, 2)), "seed": int(
+                rng.integers(0, 2**31))}
         if kind in ("effect", "decoy"):
             pool = BENCHES[bench][3] if kind == "effect" else [d[0] for d in DECOYS]
             effect = pool[rng.integers(len(pool))]
@@ -158,9 +158,10 @@ def plan_multiplier(count: int, seed: int) -> list[dict[str, Any]]:
     cases = []
     for i in range(count):
         kind = "none" if rng.random() < MULTIPLIER_NONE_SHARE else "effect"
-        case: dict[str, Any] = {"case": f"case-m{i:03d}", "kind": kind, "bench": "multiplier", "effect": None,
-                "values": {}, "latency_samples": int(rng.integers(0, 2)),
-                "seed": int(rng.integers(0, 2**31))}
+        case: dict[str, Any] = {
+            "case": f"case-m{i:03d}", "kind": kind, "bench": "multiplier", "effect": None,
+            "values": {}, "latency_samples": int(rng.integers(0, 2)),
+            "seed": int(rng.integers(0, 2**31))}
         if kind == "effect":
             effect = effects_[rng.integers(len(effects_))]
             case.update(effect=effect, values=_draw(effect, rng))

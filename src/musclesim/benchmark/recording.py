@@ -95,8 +95,8 @@ def _outside_strain(case: dict[str, Any], t: np.ndarray) -> np.ndarray:
 def make_case(case: dict[str, Any], out: str | Path, fmu_dir: str | Path = "fmus",
               scenarios_dir: str | Path = "scenarios") -> Path:
     """Record `case` on its bench (the own benches' scenarios in `scenarios_dir`, their FMUs in
-    `fmu_dir`) and write its data set into ``out/cases/<case>``, here (what `run` does on its
-    map); return that folder."""
+    `fmu_dir`) and write its data set into ``out/cases/<case>`` (`out` the benchmark's folder),
+    here (what `run` does on its map); return that folder."""
     stated: dict[ParamRef, float] | None
     if case["bench"] in ("independent-crawler", independent_plan.BENCH):
         time, cols, stated = independent_plan.record(case)

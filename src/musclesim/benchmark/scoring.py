@@ -25,7 +25,7 @@ def oracle(args: tuple[dict[str, Any], Any, dict[str, Any], Any]) -> dict[str, f
     problem = Problem(ds, fmu_dir)
     whole = problem.replayed()
 
-    def heldout(values):
+    def heldout(values: dict) -> float:
         try:
             sims = simulate_unit(whole, values, fmu_dir)
         except Failed:
@@ -122,7 +122,7 @@ def score(cases: list[dict[str, Any]], reports: list[dict[str, Any]],
 
 def _rates(table: list[dict[str, Any]]) -> dict[str, Any]:
     """The scores of some rows of the per-case table (None where no case of the kind)."""
-    def mean(rows, key):
+    def mean(rows: list[dict[str, Any]], key: str) -> float | None:
         values = [float(t[key]) for t in rows if t.get(key) is not None]
         return sum(values) / len(values) if values else None
 
@@ -131,8 +131,9 @@ def _rates(table: list[dict[str, Any]]) -> dict[str, Any]:
     per_effect: dict[str, list[dict[str, Any]]] = {}
     for t in effects:
         per_effect.setdefault(t["truth"], []).append(t)
-    accuracy = {e: {"cases": len(rows), "in_set": mean(rows, "in_set"), "top1": mean(rows, "top1")}
-                for e, rows in sorted(per_effect.items())}
+    accuracy: dict[str, dict[str, Any]] = {
+        e: {"cases": len(rows), "in_set": mean(rows, "in_set"), "top1": mean(rows, "top1")}
+        for e, rows in sorted(per_effect.items())}
     ratios = [t["shrinkage_vs_oracle"] for t in table if t.get("shrinkage_vs_oracle") is not None]
     return {"truth_in_set": mean(keyed, "in_set"), "mean_set_size": mean(keyed, "set_size"),
             "size_weighted_accuracy": mean(keyed, "weighted_hit"), "brier": mean(keyed, "brier"),

@@ -125,7 +125,8 @@ def _with_models(ds: DataSet, models: Mapping[str, str], scenarios_dir: str | Pa
     for name, e in ds.experiments.items():
         ref = models.get(name, models.get("*"))
         if ref is not None:
-            path = Path(ref) if ref.endswith(".toml") else find_scenario(ref, ds.path, scenarios_dir)
+            path = Path(ref) if ref.endswith(".toml") else \
+                find_scenario(ref, ds.path, scenarios_dir)
             e = replace(e, scenario=ref, scenario_path=path if path and path.is_file() else None)
         experiments[name] = e
     return replace(ds, experiments=experiments)

@@ -61,7 +61,7 @@ def read_manifest(path: Path, problems: list[str]) -> dict[str, Any] | None:
     return None
 
 
-def _names(value, what, problems):
+def _names(value: Any, what: str, problems: list[str]) -> tuple[str, ...]:
     if value is None:
         return ()
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
@@ -92,28 +92,7 @@ def build(path: Path, m: dict[str, Any], table: tuple | None, has_data: bool,
 
     header, time, data = table if table is not None else (None, None, None)
     columns = tuple(header[1:]) if header else ()
-    if not has_data:
-        if inputs or outputs or units:
-            problems.append(f"{DATA} is missing but {MANIFEST} lists columns (inputs, outputs "
-                            "or units)")
-    else:
-        for name in inputs:
-            if name in outputs:
-                problems.append(f"{MANIFEST}: column {name!r} is both an input and an output")
-        listed = set(inputs) | set(outputs)
-        if header is not None:
-            for name in [*inputs, *outputs]:
-                if name not in columns:
-                    problems.append(f"{MANIFEST}: column {name!r} is missing from {DATA}")
-            for name in columns:
-                if name not in listed:
-                    problems.append(f"{DATA}: column {name!r} is in neither inputs nor outputs "
-                                    f"of {MANIFEST}")
-            for name in units:
-                if name != "time" and name not in columns:
-                    problems.append(f"{MANIFEST}: [units] names {name!r}, not a column of {DATA}")
-        if not outputs:
-            problems.append(f"{MANIFEST}: no 'outputs' (observed columns)")
+    _columns(inputs, outputs, units, header, columns, has_data, problems)
     if units.get("time", "s") != "s":
         problems.append(f"{MANIFEST}: time must be in 's', not {units['time']!r}")
 
@@ -127,6 +106,7 @@ def build(path: Path, m: dict[str, Any], table: tuple | None, has_data: bool,
         problems.append(f"{MANIFEST}: {problem}")
     if problems:
         return None
+    assert split is not None, "no split without a problem said"
     # every name is checked by now (each a column of data.csv, whose header read_time_series
     # checked): data.csv's header and the lists become Signals here, once
     signals = {c: Signal.parse(c) for c in columns}
@@ -140,7 +120,38 @@ def build(path: Path, m: dict[str, Any], table: tuple | None, has_data: bool,
                    conditions=conditions, calibrate=calibrate, format=fmt)
 
 
-def _conditions(raw, columns, problems, where=MANIFEST):
+def _columns(inputs: tuple[str, ...], outputs: tuple[str, ...], units: dict[str, str],
+             header: list[str] | None, columns: tuple[str, ...], has_data: bool,
+             problems: list[str]) -> None:
+    """The manifest's `inputs`, `outputs` and `units` against data.csv's `header` (its
+    `columns`; `has_data`: data.csv exists): each listed once, each a column, each column
+    listed."""
+    if not has_data:
+        if inputs or outputs or units:
+            problems.append(f"{DATA} is missing but {MANIFEST} lists columns (inputs, outputs "
+                            "or units)")
+        return
+    for name in inputs:
+        if name in outputs:
+            problems.append(f"{MANIFEST}: column {name!r} is both an input and an output")
+    listed = set(inputs) | set(outputs)
+    if header is not None:
+        for name in [*inputs, *outputs]:
+            if name not in columns:
+                problems.append(f"{MANIFEST}: column {name!r} is missing from {DATA}")
+        for name in columns:
+            if name not in listed:
+                problems.append(f"{DATA}: column {name!r} is in neither inputs nor outputs "
+                                f"of {MANIFEST}")
+        for name in units:
+            if name != "time" and name not in columns:
+                problems.append(f"{MANIFEST}: [units] names {name!r}, not a column of {DATA}")
+    if not outputs:
+        problems.append(f"{MANIFEST}: no 'outputs' (observed columns)")
+
+
+def _conditions(raw: Any, columns: tuple[str, ...], problems: list[str],
+                where: str = MANIFEST) -> dict[ParamRef, float]:
     """``{ParamRef: value}`` of the manifest's [conditions] table `raw` ("instance.variable" =
     value; or an experiment's, `where`), none of them one of data.csv's `columns`."""
     if not isinstance(raw, dict):
@@ -163,7 +174,9 @@ def _conditions(raw, columns, problems, where=MANIFEST):
     return out
 
 
-def _experiments(raw, reference, path, scenarios_dir, time, has_data, problems):
+def _experiments(raw: Any, reference: str, path: Path, scenarios_dir: str | Path | None,
+                 time: np.ndarray | None, has_data: bool,
+                 problems: list[str]) -> dict[str, Experiment]:
     if raw is None:
         raw = {"all": {}} if has_data else {}
     if not isinstance(raw, dict) or (not raw and not has_data):
@@ -212,7 +225,7 @@ def _experiments(raw, reference, path, scenarios_dir, time, has_data, problems):
     return out
 
 
-def _calibrate(raw, problems):
+def _calibrate(raw: Any, problems: list[str]) -> tuple[OpenValue, ...]:
     """The manifest's ``[[calibrate]]`` tables as `OpenValue`s."""
     where = f"{MANIFEST}, [[calibrate]]"
     if not isinstance(raw, list) or not all(isinstance(t, dict) for t in raw):
@@ -243,7 +256,8 @@ def _calibrate(raw, problems):
     return tuple(out)
 
 
-def _span(spec, where, time, problems):
+def _span(spec: dict[str, Any], where: str, time: np.ndarray | None,
+          problems: list[str]) -> tuple[float, float] | None:
     if "span" not in spec:
         if time is not None:
             return (float(time[0]), float(time[-1]))
@@ -263,7 +277,7 @@ def _span(spec, where, time, problems):
     return (t0, t1)
 
 
-def _metrics(raw, where, problems):
+def _metrics(raw: Any, where: str, problems: list[str]) -> dict[str, MeasuredMetric]:
     if not isinstance(raw, dict):
         problems.append(f"{where}: 'metrics' must be a table")
         return {}
@@ -289,7 +303,8 @@ def _metrics(raw, where, problems):
     return out
 
 
-def _split(raw, experiments, time, has_data, problems):
+def _split(raw: Any, experiments: dict[str, Experiment], time: np.ndarray | None,
+           has_data: bool, problems: list[str]) -> Split | None:
     where = f"{MANIFEST}, [split]"
     if not isinstance(raw, dict):
         problems.append(f"{MANIFEST}: no [split] table (held_out = [experiment names], or "

@@ -36,8 +36,11 @@ the library: a long sensor tube, a change of surface part-way, a camera scale er
 >>> sorted(out), len(out["time"])
 (['duty', 'p_meas', 'p_true', 'time', 'x', 'x_true'], 201)
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -118,12 +121,12 @@ class Crawler:
     bending: float = 0.0  # share of the silicone the bent actuator lifts off on this incline
     decay: float = 0.0  # share of the silicone's friction lost once contaminated
     decay_time: float = 5.0  # s
-    surface_change: tuple = None
+    surface_change: tuple | None = None
     seed: int = 0
 
 
-def gait(t):
-    """Pressure references (back, central, front) [Pa] of the forward gait at time t (§gait).
+def gait(t: float) -> Any:
+    """Pressure references (back, central, front) [Pa] of the forward gait at time `t` (§gait).
 
     >>> gait(0.0), gait(2.0)[1], gait(2.9)
     ((10300.0, 0.0, 0.0), 8590.0, (0.0, 0.0, 10300.0))
@@ -139,9 +142,10 @@ def gait(t):
     return 0.0, 0.0, P_ANCHOR
 
 
-def nozzle_flow(p_up, p_down, area, T_up):
-    """Mass flow [kg/s] from p_up to p_down (absolute [Pa]) through a nozzle of effective area
-    `area`: isentropic, choked below `R_CRIT`, linear within 0.1 % of equal pressures.
+def nozzle_flow(p_up: Any, p_down: Any, area: Any, T_up: Any) -> Any:
+    """Mass flow [kg/s] from `p_up` to `p_down` (absolute [Pa]; the upstream air at `T_up` [K])
+    through a nozzle of effective area `area`: isentropic, choked below `R_CRIT`, linear within
+    0.1 % of equal pressures.
 
     >>> round(nozzle_flow(200e3, 100e3, 2.5e-7, 293.15) * 1e5, 4)  # choked
     11.8023
@@ -152,7 +156,7 @@ def nozzle_flow(p_up, p_down, area, T_up):
         return 0.0
     scale = area * p_up * math.sqrt(2 * KAPPA / ((KAPPA - 1) * R_AIR * T_up))
 
-    def psi(r):
+    def psi(r: Any) -> Any:
         return math.sqrt(max(r ** (2 / KAPPA) - r ** ((KAPPA + 1) / KAPPA), 0.0))
 
     r = max(p_down / p_up, R_CRIT)
@@ -161,9 +165,10 @@ def nozzle_flow(p_up, p_down, area, T_up):
     return scale * psi(r)
 
 
-def open_share(a, b, duty, period, phase, delay_on, delay_off):
-    """Share of [a, b] during which a PWM valve of `duty` is open: windows
-    [k period + phase + delay_on, k period + phase + duty period + delay_off).
+def open_share(a: float, b: float, duty: float, period: float, phase: float, delay_on: float,
+               delay_off: float) -> float:
+    """Share of [`a`, `b`] during which a PWM valve of `duty` is open: windows
+    [k `period` + `phase` + `delay_on`, k `period` + `phase` + `duty` `period` + `delay_off`).
 
     >>> open_share(0.0, 0.02, 0.25, 0.02, 0.0, 0.0, 0.0)
     0.25
@@ -185,12 +190,13 @@ def open_share(a, b, duty, period, phase, delay_on, delay_off):
 class _Chamber:
     """One actuator's air (absolute pressure, temperature), valves and contact."""
 
-    def __init__(self, volume):
+    def __init__(self, volume: float) -> None:
         self.p, self.T, self.V = P_ATM, T_ROOM, volume
         self.spool_in = self.spool_out = 0.0
         self.contact = 0.0
 
-    def step(self, bench, dt, share_in, share_out, supply, V_new):
+    def step(self, bench: Crawler, dt: float, share_in: float, share_out: float, supply: float,
+             V_new: float) -> Any:
         a = math.exp(-dt / bench.tau_valve)
         self.spool_in = share_in + (self.spool_in - share_in) * a
         self.spool_out = share_out + (self.spool_out - share_out) * a
@@ -213,10 +219,11 @@ class _Chamber:
 class _Block:
     """One block's LuGre bristles."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.z = 0.0
 
-    def force(self, v, normal, mu_s, mu_k, bench, dt):
+    def force(self, v: float, normal: float, mu_s: float, mu_k: float, bench: Crawler,
+              dt: float) -> float:
         """Friction force on the block over a step of dt at velocity v; advances the bristles."""
         sigma0 = bench.bristle * normal
         stribeck = math.exp(-(v / V_STRIBECK) ** 2)
@@ -230,7 +237,7 @@ class _Block:
         return -(sigma0 * self.z + sigma1 * dz)
 
 
-def _grip(bench, t):
+def _grip(bench: Crawler, t: float) -> Any:
     """Factor on the silicone's coefficients (decay) and on all (surface change) at time t."""
     silicone = 1.0 - bench.decay * (1.0 - math.exp(-t / bench.decay_time))
     everything = 1.0
@@ -239,8 +246,9 @@ def _grip(bench, t):
     return silicone, everything
 
 
-def run(bench, duration, substeps=SUBSTEPS):
-    """Run the bench for `duration` [s] from rest, deflated; return the log at the DAQ's rate.
+def run(bench: Crawler, duration: float, substeps: int = SUBSTEPS) -> dict[str, np.ndarray]:
+    """Run the crawler `bench` for `duration` [s] from rest, deflated, `substeps` internal steps
+    per DAQ sample; return the log at the DAQ's rate.
 
     Returns
     -------
@@ -259,7 +267,7 @@ def run(bench, duration, substeps=SUBSTEPS):
     masses = (bench.m1, bench.m2)
     normals = [m * G * math.cos(bench.theta) for m in masses]
     supply = P_ATM + bench.p_supply
-    thresholds = (bench.p_contact_back, None, bench.p_contact_front)
+    thresholds: tuple[Any, ...] = (bench.p_contact_back, None, bench.p_contact_front)
     kp = (bench.kp_extremal, bench.kp_central, bench.kp_extremal)
     ki = (bench.ki_extremal, bench.ki_central, bench.ki_extremal)
     integral = [0.0] * 3
@@ -337,7 +345,8 @@ def run(bench, duration, substeps=SUBSTEPS):
     return {"time": time, **log}
 
 
-def _video(bench, time, x_true, rng):
+def _video(bench: Crawler, time: np.ndarray, x_true: np.ndarray,
+           rng: np.random.Generator) -> np.ndarray:
     """The blocks' positions as the camera gives them on the DAQ's clock: frames at
     `VIDEO_FPS` (each `video_delay` late), scaled, noisy, to a pixel, linearly interpolated."""
     frames = np.arange(0.0, time[-1] + 1e-9, 1.0 / VIDEO_FPS)

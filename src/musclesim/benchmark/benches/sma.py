@@ -33,8 +33,11 @@ representation than the library's, so that model and bench never differ by one e
 >>> sorted(out), len(out["time"])
 (['T_mean', 'T_meas', 'T_tc_volume', 'strain', 'strain_true', 'time', 'u'], 101)
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy import linalg
@@ -81,7 +84,7 @@ class Bench:
     stress: float = STRESS
     convection: str = "constant"
     coat_diameter: float = DIAMETER  # m: the diameter the air sees (natural convection)
-    draught_time: float = None
+    draught_time: float | None = None
     draught_factor: float = 1.0
     latent_heating: float = 0.0  # J/kg absorbed as austenite forms
     latent_cooling: float = 0.0  # J/kg released as martensite forms
@@ -108,30 +111,31 @@ class Bench:
     seed: int = 0  # of the sensors' noise
 
 
-def reference(t):
+def reference(t: Any) -> Any:
     """The bench's temperature reference [K] at times `t` [s] (the tracking scenario's sine)."""
     return REF_MEAN + REF_AMPLITUDE * np.sin(2 * np.pi * REF_FREQUENCY * np.asarray(t) - np.pi / 2)
 
 
 # -- heat: finite volumes along the wire ---------------------------------------------------------
 
-def widths(length, cells=CELLS):
-    """Volume widths [m], graded toward both clamps (Chebyshev edges: 0.4 mm there, 5 mm in the
-    middle at the nominal length), where the temperature bends over a few mm."""
+def widths(length: float, cells: int = CELLS) -> np.ndarray:
+    """Widths [m] of the `cells` volumes of a wire of `length` [m], graded toward both clamps
+    (Chebyshev edges: 0.4 mm there, 5 mm in the middle at the nominal length), where the
+    temperature bends over a few mm."""
     edges = length * (1 - np.cos(np.pi * np.arange(cells + 1) / cells)) / 2
     return np.diff(edges)
 
 
-def centres(length, cells=CELLS):
-    """Volume centres [m] from one clamp."""
+def centres(length: float, cells: int = CELLS) -> np.ndarray:
+    """Centres [m] from one clamp of the `cells` volumes of a wire of `length` [m]."""
     w = widths(length, cells)
     return np.cumsum(w) - w / 2
 
 
-def thermal_system(bench, cells=CELLS):
-    """(A, capacity, loss_to_ambient, clamp_conductance) of the linear part dT/dt = A T + ...:
-    conduction between volumes and into the clamps, convection at the bench's h (§sma-bench,
-    §convection)."""
+def thermal_system(bench: Bench, cells: int = CELLS) -> Any:
+    """(A, capacity, loss_to_ambient, clamp_conductance) of the linear part dT/dt = A T + ... of
+    `bench`'s wire in `cells` volumes: conduction between volumes and into the clamps, convection
+    at the bench's h (§sma-bench, §convection)."""
     w = widths(bench.length, cells)
     cap = DENSITY * SPECIFIC_HEAT * AREA * w  # J/K per volume
     g = CONDUCTIVITY * AREA / ((w[:-1] + w[1:]) / 2)  # W/K between neighbours
@@ -145,16 +149,17 @@ def thermal_system(bench, cells=CELLS):
     return K / cap[:, None], cap, conv, clamp
 
 
-def propagator(A, dt):
-    """(Phi, Gamma): T(t + dt) = Phi T + Gamma b exactly for dT/dt = A T + b, b held."""
+def propagator(A: np.ndarray, dt: float) -> Any:
+    """(Phi, Gamma): T(t + `dt`) = Phi T + Gamma b exactly for dT/dt = `A` T + b, b held."""
     phi = linalg.expm(A * dt)
     return phi, np.linalg.solve(A, phi - np.eye(len(A)))
 
 
-def air_convection(dT, T_amb, diameter):
-    """Natural convection h [W/(m^2 K)] of a horizontal cylinder by the Churchill-Chu correlation
-    (Int. J. Heat Mass Transfer 18, 1975), air properties at the film temperature (power laws
-    around 300 K). Not in the study; §convection's 100 W/(m^2 K) at 50 K is this law's size."""
+def air_convection(dT: Any, T_amb: float, diameter: float) -> Any:
+    """Natural convection h [W/(m^2 K)] of a horizontal cylinder of `diameter` [m], `dT` [K]
+    warmer than the air at `T_amb` [K], by the Churchill-Chu correlation (Int. J. Heat Mass
+    Transfer 18, 1975), air properties at the film temperature (power laws around 300 K). Not in
+    the study; §convection's 100 W/(m^2 K) at 50 K is this law's size."""
     dT = np.maximum(np.abs(dT), 1e-3)
     Tf = T_amb + dT / 2
     k = 0.0263 * (Tf / 300) ** 0.8
@@ -165,7 +170,8 @@ def air_convection(dT, T_amb, diameter):
     return nusselt * k / diameter
 
 
-def _extra_loss(bench, T, t, conv_area, h_ratio=None):
+def _extra_loss(bench: Bench, T: np.ndarray, t: float, conv_area: Any,
+                h_ratio: Any = None) -> Any:
     """Heat loss [W] per volume beyond the linear part: radiation, the convection law's change
     of h with the excess temperature (`h_ratio`: (excess temperatures, h / h at 50 K), a table of
     `air_convection`), a draught; `conv_area` the volumes' lateral areas."""
@@ -179,7 +185,7 @@ def _extra_loss(bench, T, t, conv_area, h_ratio=None):
     return loss + (h - bench.h) * conv_area * dT
 
 
-def _stage(y, u0, u1, tau, dt):
+def _stage(y: Any, u0: Any, u1: Any, tau: float, dt: float) -> Any:
     """A first-order stage y' = (u - y) / tau over `dt`, its input linear from u0 to u1 (exact)."""
     if tau <= 0:
         return u1
@@ -188,11 +194,11 @@ def _stage(y, u0, u1, tau, dt):
     return u1 - s * tau + (y - u0 + s * tau) * a
 
 
-def _quantise(x, quantum):
+def _quantise(x: Any, quantum: float) -> Any:
     return quantum * np.round(np.asarray(x) / quantum) if quantum > 0 else np.asarray(x)
 
 
-def _slipped(bench, t):
+def _slipped(bench: Bench, t: float) -> float:
     """Strain lost to the clamp's slips by time `t` (each a 0.2 s ramp)."""
     return sum(size * min(max((t - t0) / 0.2, 0.0), 1.0) for t0, size in bench.slips)
 
@@ -200,7 +206,7 @@ def _slipped(bench, t):
 class _Plant:
     """The wire's state and one internal step of it (heat, kinetics, latent heat)."""
 
-    def __init__(self, bench, dt):
+    def __init__(self, bench: Bench, dt: float) -> None:
         self.b, self.dt = bench, dt
         A, self.cap, self.conv, clamp = thermal_system(bench)
         self.phi, self.gam = propagator(A, dt)
@@ -221,7 +227,7 @@ class _Plant:
         self.kin = Kinetics(self.T - ZERO_C, bench.stress)
         self.weights = self.w / self.w.sum()
 
-    def step(self, u, t):
+    def step(self, u: float, t: float) -> None:
         """Advance one internal step at voltage `u` [V] from time `t` [s]."""
         b = self.b
         R = (RHO_AUSTENITE + (RHO_MARTENSITE - RHO_AUSTENITE) * self.kin.xi) * self.ohm
@@ -236,7 +242,7 @@ class _Plant:
             self.kin.step(T - ZERO_C)
         self.T = T
 
-    def _latent(self, T_trial):
+    def _latent(self, T_trial: np.ndarray) -> np.ndarray:
         """End temperatures with the latent heat of the fractions' change, implicit (Newton)."""
         kin = self.kin
         kin.direction_for(T_trial - ZERO_C)
@@ -251,13 +257,14 @@ class _Plant:
         kin.commit(T - ZERO_C, x)  # the branches were set by direction_for
         return T
 
-    def strain(self):
+    def strain(self) -> float:
         """Mean contraction of the wire (length-weighted over the volumes)."""
         return float(self.weights @ contraction(self.kin.xi, self.T - ZERO_C, self.b.stress))
 
 
-def run(bench, duration, substeps=SUBSTEPS):
-    """Run the bench for `duration` [s] after its pre-roll; return the log at the data rate.
+def run(bench: Bench, duration: float, substeps: int = SUBSTEPS) -> dict[str, np.ndarray]:
+    """Run `bench` for `duration` [s] after its pre-roll, `substeps` internal steps per frame;
+    return the log at the data rate.
 
     Returns
     -------
@@ -304,7 +311,7 @@ def run(bench, duration, substeps=SUBSTEPS):
     return _finish(bench, log, n, rng)
 
 
-def _finish(bench, log, n, rng):
+def _finish(bench: Bench, log: Any, n: int, rng: np.random.Generator) -> dict[str, np.ndarray]:
     """The strain sensor's gain, offset (drifting), noise, quantisation and latency applied to
     its log."""
     s = bench.gauge_gain * log.pop("gauge") + bench.gauge_offset

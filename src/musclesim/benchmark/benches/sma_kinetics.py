@@ -6,6 +6,8 @@ from the library: numpy only.
 """
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 STRESS = 125e6  # Pa: the tracking bench's constant load (§forc-identification's stresses)
@@ -26,9 +28,9 @@ T_REF = 20.0  # C: strain is contraction from the length at room temperature (§
 
 # -- hysteresis: cosine kinetics per volume ------------------------------------------------------
 
-def branch(T, lo, hi):
-    """Martensite fraction on a major branch whose band is [lo, hi]: 1 below, 0 above, a half
-    cosine between (Liang & Rogers 1990).
+def branch(T: np.ndarray, lo: Any, hi: Any) -> np.ndarray:
+    """Martensite fraction at temperatures `T` on a major branch whose band is [`lo`, `hi`]: 1
+    below, 0 above, a half cosine between (Liang & Rogers 1990).
 
     >>> branch(np.array([40.0, 60.0, 80.0]), 50.0, 70.0).round(3).tolist()
     [1.0, 0.5, 0.0]
@@ -37,7 +39,7 @@ def branch(T, lo, hi):
     return 0.5 + 0.5 * np.cos(np.pi * x)
 
 
-def bands(stress):
+def bands(stress: float) -> tuple[np.ndarray, ...]:
     """Per population (As, Af, Ms, Mf) [C] at `stress` [Pa], arrays: shifted from `STRESS` by
     the Clausius-Clapeyron slope `CC_SLOPE` (§sma-material)."""
     shift = (stress - STRESS) / CC_SLOPE
@@ -52,10 +54,11 @@ class Kinetics:
     heating, its austenite band [As, Af] scaled through the reversal point (offset 0); cooling,
     its martensite band [Mf, Ms] scaled so that xi reaches 1 at Mf. From full martensite (or
     full austenite) a population follows its major branch itself. ``xi`` is the volumes' mean
-    fraction (weighted over the populations).
+    fraction (weighted over the populations). The volumes start at temperatures `T` [C] under
+    `stress` [Pa], every population at fraction `xi`.
     """
 
-    def __init__(self, T, stress, xi=1.0):
+    def __init__(self, T: Any, stress: float, xi: float = 1.0) -> None:
         self.As, self.Af, self.Ms, self.Mf = bands(stress)
         self.weights = np.array([p[0] for p in POPULATIONS])
         T = np.asarray(T, float)
@@ -68,7 +71,7 @@ class Kinetics:
         self.offset, self.scale = np.zeros(shape), np.ones(shape)
         self._branches(np.ones(shape, bool))
 
-    def _branches(self, new):
+    def _branches(self, new: np.ndarray) -> None:
         """Branches through the present (T, x) for the entries `new` (after a reversal)."""
         lo = np.where(self.heating, self.As, self.Mf)
         hi = np.where(self.heating, self.Af, self.Ms)
@@ -80,7 +83,7 @@ class Kinetics:
         self.scale = np.where(new, np.where(self.heating, s_h, s_c), self.scale)
         self.offset = np.where(new, np.where(self.heating, 0.0, 1 - s_c), self.offset)
 
-    def direction_for(self, T):
+    def direction_for(self, T: Any) -> None:
         """Start new branches where moving to `T` [C] reverses the temperature."""
         dT = (np.asarray(T, float) - self.T)[..., None]
         turn = np.where(self.heating, dT < -1e-12, dT > 1e-12)
@@ -88,7 +91,7 @@ class Kinetics:
             self.heating = self.heating ^ turn
             self._branches(turn)
 
-    def peek(self, T):
+    def peek(self, T: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(fractions per population, mean xi, dxi/dT) at temperatures `T` [C] on the present
         branches (nothing committed)."""
         width = self.hi - self.lo
@@ -98,11 +101,11 @@ class Kinetics:
         slope = self.scale * (-0.5 * np.pi / width) * np.sin(angle)
         return x, x @ self.weights, slope @ self.weights
 
-    def commit(self, T, x):
+    def commit(self, T: Any, x: np.ndarray) -> None:
         """Take temperatures `T` [C] and fractions `x` (from `peek` at `T`) as the state."""
         self.x, self.xi, self.T = x, x @ self.weights, np.asarray(T, float).copy()
 
-    def step(self, T):
+    def step(self, T: Any) -> np.ndarray:
         """Move the volumes to temperatures `T` [C]; return their mean fractions."""
         T = np.asarray(T, float)
         self.direction_for(T)
@@ -110,7 +113,7 @@ class Kinetics:
         return self.xi
 
 
-def contraction(xi, T, stress):
+def contraction(xi: Any, T: Any, stress: float) -> Any:
     """Contraction strain of volumes at fractions `xi`, temperatures `T` [C], `stress` [Pa]
     (positive = shorter than at room temperature under the load, §sma-wire)."""
     modulus = E_AUSTENITE + xi * (E_MARTENSITE - E_AUSTENITE)
