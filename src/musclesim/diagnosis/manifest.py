@@ -61,6 +61,14 @@ def read_manifest(path: Path, problems: list[str]) -> dict[str, Any] | None:
     return None
 
 
+def _param(text: Any) -> ParamRef | None:
+    """The parameter `text` names (``"instance.name"``), None if it is not of that form."""
+    try:
+        return ParamRef.parse(text)
+    except ValueError:
+        return None
+
+
 def _names(value: Any, what: str, problems: list[str]) -> tuple[str, ...]:
     if value is None:
         return ()
@@ -159,8 +167,8 @@ def _conditions(raw: Any, columns: tuple[str, ...], problems: list[str],
         return {}
     out = {}
     for name, value in raw.items():
-        inst, _, var = name.partition(".")
-        if not inst or not var:
+        ref = _param(name)
+        if ref is None:
             problems.append(f"{where}: [conditions] {name!r} is not of the form "
                             "\"instance.variable\"")
         elif isinstance(value, bool) or not isinstance(value, (int, float)) \
@@ -170,7 +178,7 @@ def _conditions(raw: Any, columns: tuple[str, ...], problems: list[str],
             problems.append(f"{MANIFEST}: [conditions] {name!r} is also a column of {DATA}: "
                             "state it once")
         else:
-            out[ParamRef.parse(name)] = float(value)
+            out[ref] = float(value)
     return out
 
 
@@ -239,8 +247,8 @@ def _calibrate(raw: Any, problems: list[str]) -> tuple[OpenValue, ...]:
             problems.append(f"{at}: unknown key {key!r} "
                             f"(known: {', '.join(sorted(_CALIBRATE_KEYS))})")
         targets = spec.get("set")
-        if not (isinstance(targets, list) and targets and all(
-                isinstance(t, str) and all(t.partition(".")[::2]) for t in targets)):
+        if not (isinstance(targets, list) and targets
+                and all(_param(t) is not None for t in targets)):
             problems.append(f"{at}: set must list one or more \"instance.parameter\" names")
             continue
         bounds = spec.get("bounds")
