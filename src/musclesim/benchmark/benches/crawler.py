@@ -246,6 +246,70 @@ def _grip(bench: Crawler, t: float) -> Any:
     return silicone, everything
 
 
+def _control(bench: Crawler, t: float, reading: list[float], kp: tuple[float, ...],
+             ki: tuple[float, ...], integral: list[float]) -> list[float]:
+    """The PIs' duties (back, central, front) at DAQ time `t` from the sensors' `reading`, gains
+    `kp`, `ki` of `bench`; their `integral` terms advanced in place (conditional integration)."""
+    duty = []
+    for i, ref in enumerate(gait(t)):
+        e = bench.ref_factor * ref - reading[i]
+        trial = kp[i] * e + integral[i]
+        u = min(max(trial, -1.0), 1.0)
+        if trial == u or (trial > 1.0) == (e < 0):  # anti-windup
+            integral[i] += ki[i] * e * DAQ
+        duty.append(u)
+    return duty
+
+
+def _blow(bench: Crawler, chambers: list[_Chamber], duty: list[float], x: list[float],
+          thresholds: tuple[Any, ...], period: float, ts: float, dt: float,
+          source: float) -> float:
+    """One internal step `dt` at time `ts` of `bench`'s `chambers` through their PWM valves
+    (`duty`, `period`) from `source` [Pa]: volumes from the body's positions `x` and the
+    extremal chambers' contact (past their `thresholds`); return what they draw from the source
+    (the reservoir's balance takes it)."""
+    draw = 0.0
+    for i, ch in enumerate(chambers):
+        d = duty[i]
+        share_in = open_share(ts, ts + dt, d, period, bench.pwm_phase, bench.open_delay,
+                              bench.close_delay)
+        share_out = open_share(ts, ts + dt, -d, period, bench.pwm_phase,
+                               bench.open_delay, bench.close_delay)
+        p_gauge = ch.p - P_ATM
+        if i == 1:
+            V_new = V_CENTRAL * (1 + bench.bulge * p_gauge) + S_A * (x[1] - x[0])
+        else:
+            w = 1.0 / (1.0 + math.exp(-(p_gauge - thresholds[i]) / bench.contact_width))
+            ch.contact = w + (ch.contact - w) * math.exp(-dt / bench.tau_contact)
+            V_new = V_EXTREMAL + bench.dv_contact * ch.contact
+        draw += ch.step(bench, dt, share_in, share_out, source, max(V_new, 0.1 * V_EXTREMAL))
+    return draw
+
+
+def _move(bench: Crawler, chambers: list[_Chamber], blocks: list[_Block], x: list[float],
+          v: list[float], masses: tuple[float, float], normals: list[float], ts: float,
+          dt: float) -> None:
+    """One internal step `dt` at time `ts` of `bench`'s body and friction: the blocks' positions
+    `x` and velocities `v` advanced in place under the central `chambers`' pressure, the spring,
+    the damper and each block's grip (`blocks`, of `masses` on `normals`)."""
+    p_c = chambers[1].p - P_ATM
+    k = bench.k * (1 + bench.stiffening * p_c / 1e4)
+    d = x[1] - x[0]
+    inner = k * d * (1 + bench.k3 * d * d) + bench.c * (v[1] - v[0]) - bench.area * p_c
+    silicone, everything = _grip(bench, ts)
+    forces = []
+    for b, ch in enumerate((chambers[0], chambers[2])):
+        share = ch.contact * (1.0 - bench.bending)
+        mu_s = everything * (bench.mu_s_low + share * (silicone * bench.mu_s_high
+                                                       - bench.mu_s_low))
+        f = blocks[b].force(v[b], normals[b], mu_s, bench.mu_ratio * mu_s, bench, dt)
+        forces.append(f)
+    for b, sign in ((0, 1.0), (1, -1.0)):
+        a = (sign * inner + forces[b]) / masses[b] - G * math.sin(bench.theta)
+        v[b] += a * dt
+        x[b] += v[b] * dt
+
+
 def run(bench: Crawler, duration: float, substeps: int = SUBSTEPS) -> dict[str, np.ndarray]:
     """Run the crawler `bench` for `duration` [s] from rest, deflated, `substeps` internal steps
     per DAQ sample; return the log at the DAQ's rate.
@@ -284,57 +348,19 @@ def run(bench: Crawler, duration: float, substeps: int = SUBSTEPS) -> dict[str, 
                    for s in sensed]
         if bench.sensor_quantum:
             reading = [bench.sensor_quantum * round(r / bench.sensor_quantum) for r in reading]
-        duty = []
-        for i, ref in enumerate(gait(t)):
-            e = bench.ref_factor * ref - reading[i]
-            trial = kp[i] * e + integral[i]
-            u = min(max(trial, -1.0), 1.0)
-            if trial == u or (trial > 1.0) == (e < 0):  # anti-windup
-                integral[i] += ki[i] * e * DAQ
-            duty.append(u)
+        duty = _control(bench, t, reading, kp, ki, integral)
         log["duty"][j], log["p_meas"][j] = duty, reading
         log["p_true"][j] = [c.p - P_ATM for c in chambers]
         log["x_true"][j] = x
         for s in range(substeps):
             ts = t + s * dt
-            # pneumatics
-            draw = 0.0
-            for i, ch in enumerate(chambers):
-                d = duty[i]
-                share_in = open_share(ts, ts + dt, d, period, bench.pwm_phase, bench.open_delay,
-                                      bench.close_delay)
-                share_out = open_share(ts, ts + dt, -d, period, bench.pwm_phase,
-                                       bench.open_delay, bench.close_delay)
-                p_gauge = ch.p - P_ATM
-                if i == 1:
-                    V_new = V_CENTRAL * (1 + bench.bulge * p_gauge) + S_A * (x[1] - x[0])
-                else:
-                    w = 1.0 / (1.0 + math.exp(-(p_gauge - thresholds[i]) / bench.contact_width))
-                    ch.contact = w + (ch.contact - w) * math.exp(-dt / bench.tau_contact)
-                    V_new = V_EXTREMAL + bench.dv_contact * ch.contact
-                draw += ch.step(bench, dt, share_in, share_out,
-                                reservoir if pump else supply, max(V_new, 0.1 * V_EXTREMAL))
+            draw = _blow(bench, chambers, duty, x, thresholds, period, ts, dt,
+                         reservoir if pump else supply)  # pneumatics
             if pump:  # the reservoir (a 50 ml line) refilled along the pump's linear curve
                 refill = pump * (1.0 - (reservoir - P_ATM) / bench.p_supply)
                 reservoir += dt * R_AIR * T_ROOM / 5e-5 * (refill - draw)
                 reservoir = min(max(reservoir, P_ATM), supply)
-            # body and friction
-            p_c = chambers[1].p - P_ATM
-            k = bench.k * (1 + bench.stiffening * p_c / 1e4)
-            d = x[1] - x[0]
-            inner = k * d * (1 + bench.k3 * d * d) + bench.c * (v[1] - v[0]) - bench.area * p_c
-            silicone, everything = _grip(bench, ts)
-            forces = []
-            for b, ch in enumerate((chambers[0], chambers[2])):
-                share = ch.contact * (1.0 - bench.bending)
-                mu_s = everything * (bench.mu_s_low + share * (silicone * bench.mu_s_high
-                                                               - bench.mu_s_low))
-                f = blocks[b].force(v[b], normals[b], mu_s, bench.mu_ratio * mu_s, bench, dt)
-                forces.append(f)
-            for b, sign in ((0, 1.0), (1, -1.0)):
-                a = (sign * inner + forces[b]) / masses[b] - G * math.sin(bench.theta)
-                v[b] += a * dt
-                x[b] += v[b] * dt
+            _move(bench, chambers, blocks, x, v, masses, normals, ts, dt)  # body and friction
         # the sensors behind their tubes, sampled for the next period
         for i, ch in enumerate(chambers):
             p_gauge = ch.p - P_ATM
