@@ -24,10 +24,11 @@ from pathlib import Path
 import numpy as np
 
 from musclesim.components.sma import profiles
-from musclesim.cosim import Master, load_scenario
+from musclesim.cosim import Master, Signal, load_scenario
 from musclesim.diagnosis import write_data_set
 from musclesim.benchmark import plan as independent_plan
-from musclesim.benchmark.blind import BENCHES, record
+from musclesim.benchmark.cases import BENCHES
+from musclesim.benchmark.recording import bench_scenario, record
 
 HERE = Path(__file__).parent
 EXAMPLES = {
@@ -64,10 +65,11 @@ def position_stress_ignored(path, duration=60.0, seed=7):
             return x[block].reshape(n, LOG_EVERY)
         t0 = j * (duration + GAP)
         t = np.round(t0 + res.time[LOG_EVERY:n * LOG_EVERY + 1:LOG_EVERY], 6)
-        u = np.sqrt(np.mean(blocks(res["tpid.y"]) ** 2, axis=1))
-        f = np.mean(blocks(res["loadcell.f_meas"]), axis=1)
-        T = res["thermocouple.T_meas"][LOG_EVERY::LOG_EVERY][:n] + 0.08 * rng.standard_normal(n)
-        x = res["laser.s_meas"][LOG_EVERY::LOG_EVERY][:n] + 2e-6 * rng.standard_normal(n)
+        u = np.sqrt(np.mean(blocks(res[Signal("tpid", "y")]) ** 2, axis=1))
+        f = np.mean(blocks(res[Signal("loadcell", "f_meas")]), axis=1)
+        T = res[Signal("thermocouple", "T_meas")][LOG_EVERY::LOG_EVERY][:n] \
+            + 0.08 * rng.standard_normal(n)
+        x = res[Signal("laser", "s_meas")][LOG_EVERY::LOG_EVERY][:n] + 2e-6 * rng.standard_normal(n)
         rows.append(np.column_stack([t, u, f, T, x]))
         spans.append((lp, float(t[0]), float(t[-1])))
     path.mkdir(parents=True, exist_ok=True)
@@ -118,7 +120,8 @@ if __name__ == "__main__":
         if wanted and name not in wanted:
             continue
         case = {"case": name, "latency_samples": 1, "seed": 100 + i, **truth}
-        time, cols = record(case, HERE.parent, HERE.parent.parent / "fmus")
+        # the bench's scenario with the case's hidden values, as the blind benchmark records it
+        time, cols = record(case, bench_scenario(case, HERE.parent), HERE.parent.parent / "fmus")
         bench, inputs, outputs, _ = BENCHES[case["bench"]]
         write_data_set(HERE / name, time, cols, inputs, outputs, bench, description)
         print(f"wrote {HERE / name}")

@@ -1,6 +1,6 @@
 """The independent crawler bench of the blind benchmark: its valve, chamber and friction laws
-against hand-derived cases, the gait it walks, its hidden effects, reproducibility, independence
-from the library, and data sets the diagnosis loads."""
+against hand-derived cases, the gait it walks, its hidden effects, independence from the library
+(musclesim.benchmark.benches.crawler; its cases: test_plan.py)."""
 import ast
 import math
 from dataclasses import replace
@@ -9,10 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from musclesim.benchmark import blind
-from musclesim.benchmark import plan as independent_plan
 from musclesim.benchmark.benches import crawler as ic
-from musclesim.diagnosis import load_dataset
 
 ROOT = Path(__file__).resolve().parents[2]
 NOMINAL = ic.Crawler()  # the model's values, ideal sensors
@@ -115,24 +112,6 @@ def test_hidden_effects_act_as_named(walk):
                   replace(NOMINAL, surface_change=(0.5, 0.6))):
         out = ic.run(slick, 6.0)  # less grip: the anchors slip, the robot climbs less
         assert out["x_true"][-1].mean() < walk["x_true"][-1].mean() - 2e-3
-
-
-def test_crawler_plan_is_reproducible_and_its_data_load_against_the_model(fmu_dir, tmp_path):
-    cases = independent_plan.plan_crawler(12, 3)
-    assert cases == independent_plan.plan_crawler(12, 3) != independent_plan.plan_crawler(12, 4)
-    assert {c["kind"] for c in cases} == {"effect", "decoy", "none", "outside"}
-    case = {**next(c for c in cases if c["kind"] == "none"), "duration": 2.0}
-    t1, cols1, _ = independent_plan.record(case)
-    t2, cols2, _ = independent_plan.record(case)
-    assert all(np.array_equal(cols1[c], cols2[c]) for c in cols1)
-    blind.make_case(case, tmp_path, scenarios_dir=ROOT / "scenarios")
-    ds = load_dataset(tmp_path / "cases" / case["case"], check_model=True, fmu_dir=fmu_dir)
-    assert ds.inputs == tuple(independent_plan.CRAWLER_INPUTS)
-    assert ds.outputs == tuple(independent_plan.CRAWLER_OUTPUTS)
-    assert ds.time[-1] == pytest.approx(2.0)
-    for effect in independent_plan.CRAWLER_LIBRARY:  # each hidden effect is a library effect
-        assert independent_plan.find_effect(effect).component in ("SoftActuator", "CrawlerBody",
-                                                           "FrictionBlock")
 
 
 def test_the_crawler_bench_imports_nothing_of_the_library():

@@ -1,7 +1,7 @@
-"""The independent SMA bench of the blind benchmark: its heat equation, kinetics, hidden effects,
-reproducibility, independence from the library, and data sets the diagnosis loads."""
+"""The independent SMA bench of the blind benchmark (musclesim.benchmark.benches.sma): its heat
+equation, hidden effects and independence from the library (its hysteresis:
+test_sma_kinetics.py; its cases: test_plan.py)."""
 import ast
-import json
 import math
 from dataclasses import replace
 from pathlib import Path
@@ -9,12 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from musclesim.benchmark import blind
-from musclesim.benchmark import plan as independent_plan
-from musclesim.diagnosis import load_dataset
 from musclesim.benchmark.benches import sma as ib
-
-from conftest import schema_errors
 
 ROOT = Path(__file__).resolve().parents[2]
 QUIET = ib.Bench(kp=0.07, ki=0.1)  # nominal conditions, ideal sensors: effects alone differ
@@ -49,40 +44,6 @@ def test_steady_state_is_the_clamped_fin_solution():
                                   + clamp[-1] * (T[-1] - bench.ambient), rel=1e-9)
     # the temperature is not uniform: the ends are much cooler than the middle
     assert T[0] - bench.ambient < 0.5 * (T[len(T) // 2] - bench.ambient)
-
-
-def _cycle(stress, lo=20.0, hi=130.0, step=0.25):
-    """Heat from `lo` to `hi` and back: (temperatures, fractions) of one volume."""
-    up = np.arange(lo, hi + step, step)
-    temps = np.concatenate([up, up[::-1]])
-    k = ib.Kinetics(np.array([lo]), stress)
-    return temps, np.array([k.step(np.array([t]))[0] for t in temps])
-
-
-def test_kinetics_hysteresis_full_transformation_and_clausius_clapeyron():
-    temps, xi = _cycle(ib.STRESS)
-    n = len(temps) // 2
-    heat, cool = xi[:n], xi[n:][::-1]  # both on the rising temperature grid
-    assert heat[0] == 1.0 and heat[-1] == 0.0 and cool[0] == 1.0  # full transformations
-    assert np.all(np.diff(heat) <= 1e-12) and np.all(np.diff(cool) <= 1e-12)
-    mid = (temps[:n] > 60) & (temps[:n] < 90)
-    assert np.all(heat[mid] > cool[mid] + 0.05)  # the heating branch lies above: hysteresis
-    # 70 MPa more shifts every transformation temperature by 70 / CC_SLOPE = 10 K
-    temps2, xi2 = _cycle(ib.STRESS + 70e6)
-    half = [np.interp(-0.5, -x[:n], temps[:n]) for x in (xi, xi2)]
-    assert half[1] - half[0] == pytest.approx(70e6 / ib.CC_SLOPE, abs=0.05)
-
-
-def test_a_reversal_inside_the_band_starts_a_minor_loop():
-    k = ib.Kinetics(np.array([20.0]), ib.STRESS)
-    for t in np.arange(20.0, 80.0, 0.5):
-        k.step(np.array([t]))
-    at_turn = k.xi[0]
-    k.step(np.array([79.0]))  # cooling from 79.5 C: the martensite band has not begun to act
-    assert k.xi[0] >= at_turn and k.xi[0] - at_turn < 0.02
-    for t in np.arange(79.0, 20.0, -0.5):
-        k.step(np.array([t]))
-    assert k.xi[0] == pytest.approx(1.0)
 
 
 def _best_shift(a, b, samples=40):
@@ -140,19 +101,6 @@ def test_strain_sensor_slips_and_gain():
     assert np.allclose(gained["strain"], 1.08 * base["strain"], atol=1e-12)
 
 
-def test_same_seed_same_data_bit_for_bit_and_the_plan_is_reproducible():
-    cases = independent_plan.plan(12, 3, blind.DECOYS, duration=20.0)
-    assert cases == independent_plan.plan(12, 3, blind.DECOYS, duration=20.0)
-    assert {c["kind"] for c in cases} == {"effect", "decoy", "none", "outside"}
-    case = next(c for c in cases if c["kind"] == "effect")
-    t1, cols1, st1 = independent_plan.record(case)
-    t2, cols2, st2 = independent_plan.record(case)
-    assert np.array_equal(t1, t2) and st1 == st2
-    assert all(np.array_equal(cols1[c], cols2[c]) for c in cols1)
-    other = independent_plan.plan(12, 4, blind.DECOYS, duration=20.0)
-    assert other != cases
-
-
 def _imports(path):
     tree = ast.parse(path.read_text())
     out = []
@@ -166,122 +114,9 @@ def _imports(path):
 
 def test_the_bench_imports_nothing_of_the_library_physics():
     folder = ROOT / "src" / "musclesim" / "benchmark"
-    physics = _imports(folder / "benches" / "sma.py")
-    assert not [m for m in physics if m.startswith("musclesim")]  # numpy and scipy only
+    for name in ("sma.py", "sma_kinetics.py"):  # numpy and scipy only, and each other
+        physics = _imports(folder / "benches" / name)
+        assert not [m for m in physics if m.startswith("musclesim")
+                    and m != "musclesim.benchmark.benches.sma_kinetics"]
     plan = _imports(folder / "plan.py")
     assert not [m for m in plan if "components" in m]
-
-
-def test_a_generated_data_set_loads_against_the_model(fmu_dir, tmp_path):
-    case = next(c for c in independent_plan.plan(8, 2, blind.DECOYS, duration=12.0)
-                if c["kind"] == "none")
-    case["ambient_known"] = True
-    blind.make_case(case, tmp_path, scenarios_dir=ROOT / "scenarios")
-    ds = load_dataset(tmp_path / "cases" / case["case"], check_model=True, fmu_dir=fmu_dir)
-    assert ds.inputs == ("pid.y",) and ds.outputs == ("thermocouple.T_meas", "wire.strain")
-    assert ds.conditions == {"wire.T_amb": pytest.approx(case["ambient_read"], abs=0.01)}
-    assert ds.time[-1] == pytest.approx(12.0) and np.all(np.diff(ds.time) > 0)
-    assert ds.units["thermocouple.T_meas"] == "K"
-
-
-def evidence(probabilities, credible):
-    """A report's evidence section holding only what the scores read."""
-    return {"candidates": [{"name": n, "probability": p} for n, p in probabilities.items()],
-            "set": credible}
-
-
-def test_scores_of_the_independent_bench_and_their_place_in_scores_json(tmp_path):
-    cases = [{"case": "a", "kind": "none", "bench": "independent", "effect": None, "values": {}},
-             {"case": "b", "kind": "outside", "bench": "independent", "effect": "draught",
-              "values": {}},
-             {"case": "c", "kind": "outside", "bench": "independent", "effect": "two effects",
-              "values": {}, "pair": ["latent heat", "thermocouple lag"]},
-             {"case": "d", "kind": "effect", "bench": "independent", "effect": "latent heat",
-              "values": {}},
-             {"case": "e", "kind": "outside", "bench": "independent", "effect": "clamp slip",
-              "values": {}},
-             {"case": "f", "kind": "effect", "bench": "independent",
-              "effect": "thermocouple bias", "values": {}}]
-    cal = "calibration only"
-    reports = [{"verdict": "recalibration", "complete": True},  # stopped at calibration
-               {"verdict": "convection change", "complete": False},  # incomplete: counts
-               {"verdict": "latent heat or thermocouple lag", "complete": True,  # both: counts
-                "evidence": evidence({"latent heat": 0.6, "thermocouple lag": 0.35, cal: 0.05},
-                                     ["latent heat", "thermocouple lag"])},
-               {"verdict": "latent heat", "complete": False,
-                "evidence": evidence({"latent heat": 0.9, "clamp heat loss": 0.1},
-                                     ["latent heat"])},
-               {"verdict": "clamp heat loss", "complete": True},  # fully "explained": a miss
-               # the bias not told from a recalibration: in the set, not first
-               {"verdict": "calibration only or thermocouple bias", "complete": False,
-                "evidence": evidence({cal: 0.5, "thermocouple bias": 0.45, "latent heat": 0.05},
-                                     [cal, "thermocouple bias"])}]
-    gaps = [{"before": 0.1, "oracle": None, "ours": 0.1}] * 3 + [
-        {"before": 0.1, "oracle": 0.02, "ours": 0.04},
-        {"before": 0.1, "oracle": None, "ours": 0.05},
-        {"before": 0.1, "oracle": None, "ours": 0.1}]
-    ind = blind.score(cases, reports, gaps)
-    # keyed: a (calibration only, certain), d (in, size 1, top), f (in, size 2, not top)
-    assert ind["truth_in_set"] == 1.0 and ind["mean_set_size"] == pytest.approx(4 / 3)
-    assert ind["size_weighted_accuracy"] == pytest.approx((1 + 1 + 0.5) / 3)
-    assert ind["top1_accuracy"] == 0.5 and ind["false_alarm_rate"] == 0.0
-    # Brier: a 0; d (0.9-1)^2 + 0.1^2; f 0.5^2 + (0.45-1)^2 + 0.05^2
-    assert ind["brier"] == pytest.approx((0 + 0.02 + 0.25 + 0.3025 + 0.0025) / 3)
-    assert ind["unexplained_rate"] == pytest.approx(2 / 3)  # b and c, not e
-    assert ind["shrinkage_vs_oracle"] == pytest.approx(0.75)
-    assert ind["per_effect"]["thermocouple bias"] == {"cases": 1, "in_set": 1.0, "top1": 0.0}
-    assert ind["macro_in_set"] == 1.0 and ind["micro_in_set"] == 1.0
-    # every candidate's probability against whether it was the truth, in tenths
-    bins = {tuple(b["bin"]): b for b in ind["reliability"]}
-    assert bins[(0.9, 1.0)] == {"bin": [0.9, 1.0], "count": 2, "predicted": 0.95,
-                                "observed": 1.0}
-    assert [b["count"] for b in ind["reliability"]] == [1, 1, 1, 1, 2]  # 0.05 .1 .45 .5 .9 1
-    assert bins[(0.4, 0.5)]["observed"] == 1.0 and bins[(0.5, 0.6)]["observed"] == 0.0
-    # a case without an effect whose set leaves calibration out is a false alarm
-    alarm = blind.score(cases[:1], [{"verdict": "latent heat", "evidence": evidence(
-        {"latent heat": 0.95, cal: 0.05}, ["latent heat"])}], gaps[:1])
-    assert alarm["false_alarm_rate"] == 1.0 and alarm["per_case"][0]["brier"] == \
-        pytest.approx(2 * 0.95 ** 2)
-    path = tmp_path / "scores.json"
-    blind._write_scores(path, alarm, "own")
-    blind._write_scores(path, ind, "independent")
-    blind._write_scores(path, alarm, "own")  # each run keeps the other's part
-    written = json.loads(path.read_text())
-    assert written["false_alarm_rate"] == 1.0
-    assert written["independent"]["bench"] == "independent"
-    assert written["independent"]["false_alarm_rate"] == 0.0
-    assert schema_errors("scores", written) == []
-    assert "by_bench" not in ind  # one bench: no breakdown
-    crawler = {"case": "c", "kind": "none", "bench": "independent-crawler", "effect": None,
-               "values": {}}
-    both = blind.score(cases + [crawler], reports + [
-        {"verdict": "valve delay", "evidence": evidence({"valve delay": 1.0}, ["valve delay"])}],
-        gaps + [gaps[0]])
-    assert both["false_alarm_rate"] == pytest.approx(0.5)  # pooled over the two benches
-    assert both["by_bench"]["independent-crawler"]["false_alarm_rate"] == 1.0
-    assert both["by_bench"]["independent"] == {k: v for k, v in ind.items() if k != "per_case"}
-
-
-def test_a_small_blind_run_on_the_independent_bench(fmu_dir, tmp_path, cluster_map):
-    """Seed 102's four cases (20 s each; a seed first run after the evidence method was frozen):
-    no hidden effect, a thermocouple offset, a gauge that drifts (outside the library), a coated
-    thermocouple posing as latent heat. Measured scores of this diagnosis, asserted."""
-    scores = blind.run(4, 102, tmp_path, fmu_dir=fmu_dir, scenarios_dir=ROOT / "scenarios",
-                       pmap=cluster_map, bench="independent", duration=20.0)
-    kinds = {r["kind"]: r for r in scores["per_case"]}
-    assert set(kinds) == {"none", "effect", "decoy", "outside"}
-    assert [kinds[k]["truth"] for k in ("effect", "decoy", "outside")] == [
-        "thermocouple bias", "thermocouple lag", "gauge drift"]
-    # every truth in its set; the lag named alone; the offset among four (calibration the most
-    # probable: 20 s leave it close to a recalibration); no false alarm
-    assert scores["truth_in_set"] == 1.0 and scores["false_alarm_rate"] == 0.0
-    assert kinds["decoy"]["set"] == ["thermocouple lag"] and kinds["decoy"]["top1"]
-    assert kinds["effect"]["set"][0] == "calibration only" and len(kinds["effect"]["set"]) == 4
-    assert kinds["none"]["set"] == ["training drift", "calibration only"]
-    assert scores["mean_set_size"] == pytest.approx(7 / 3)
-    assert scores["size_weighted_accuracy"] == pytest.approx((1 / 4 + 1 + 1 / 2) / 3)
-    assert scores["top1_accuracy"] == 0.5 and scores["brier"] == pytest.approx(0.419, abs=0.02)
-    assert scores["unexplained_rate"] == 1.0 and scores["shrinkage_vs_oracle"] > 0.99
-    saved = json.loads((tmp_path / "scores.json").read_text())
-    assert schema_errors("scores", saved) == []
-    assert saved["independent"]["cases"] == 4

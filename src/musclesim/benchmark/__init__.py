@@ -5,10 +5,12 @@ Above the diagnosis (`musclesim.diagnosis`), whose public interface it uses and 
 effect, or benches written apart from the library, `benches`), writes their data without labels
 and a sealed key, diagnoses every case and scores the verdicts against the key.
 
-Modules: blind (the benchmark: cases on the own benches, recording, diagnosing, scores), plan
-(the independent benches' cases: conditions, hidden causes, the oracle), benches.sma and
-benches.crawler (an SMA tracking bench and a pneumatic crawler written apart from the library,
-numpy and scipy only).
+Modules: blind (the benchmark run: record, diagnose blind, score), cases (the own benches' cases:
+hidden effects, decoys, the plan), recording (the own benches' virtual hardware, a case written as
+a data set), scoring (the oracle, the scores against the key, scores.json), plan (the independent
+benches' cases: conditions, hidden causes, the oracle), benches.sma (with its hysteresis,
+benches.sma_kinetics) and benches.crawler (an SMA tracking bench and a pneumatic crawler written
+apart from the library, numpy and scipy only).
 """
 from musclesim.benchmark.blind import run as run_blind_benchmark
 

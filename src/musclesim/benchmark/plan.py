@@ -23,21 +23,26 @@ crawler's library effects (`CRAWLER_LIBRARY`), decoys (`CRAWLER_DECOYS`), none, 
 outside the library (`CRAWLER_OUTSIDE`); the model they name is `CRAWLER_SCENARIO` with the
 controllers' duties replayed.
 """
+from __future__ import annotations
+
 import itertools
 import math
+from typing import Any
 
 import numpy as np
 
 from musclesim.benchmark.benches import crawler
 from musclesim.benchmark.benches.sma import LENGTH, STRESS, Bench, run
+from musclesim.cosim import ParamRef, Signal
 from musclesim.diagnosis import (HELD_OUT, TRAIN, Failed, Free, Problem, calibration,
                                  find_effect, fit, gap, residuals, simulate_unit,
                                  values_of)
 
 BENCH = "independent"
 SCENARIO = "sma-bench-tracking"  # the model the data sets name (its reference, PID, 125 MPa)
-INPUTS = ["pid.y"]
-OUTPUTS = ["thermocouple.T_meas", "wire.strain"]
+INPUTS = [Signal("pid", "y")]
+OUTPUTS = [Signal("thermocouple", "T_meas"), Signal("wire", "strain")]
+AMBIENT = ParamRef("wire", "T_amb")  # the condition a room thermometer states
 DURATION = 120.0  # s
 LIBRARY = ("thermocouple lag", "thermocouple bias", "latent heat", "convection change",
            "clamp heat loss")
@@ -46,12 +51,13 @@ KNOWN_AMBIENT = 0.5  # share of the cases whose data set states the ambient temp
 SHARES = {"none": 0.15, "outside": 0.15, "decoy": 0.15}  # the rest: effect (as in `blind`)
 
 
-def _log_uniform(rng, lo, hi):
+def _log_uniform(rng: np.random.Generator, lo: float, hi: float) -> float:
     return float(math.exp(rng.uniform(math.log(lo), math.log(hi))))
 
 
-def conditions(rng):
-    """The bench's conditions drawn around the model's values: {Bench field: value}."""
+def conditions(rng: np.random.Generator) -> dict[str, Any]:
+    """The bench's conditions drawn from `rng` around the model's values: {Bench field:
+    value}."""
     u = rng.uniform
     return {
         "ambient": 293.15 + u(-5, 5), "clamp_offset": u(-0.5, 0.5),
@@ -72,9 +78,10 @@ def conditions(rng):
     }
 
 
-def hidden(effect, rng, duration):
-    """{Bench field: value} of `effect` (a `LIBRARY` or `OUTSIDE` name) at a random magnitude, on
-    top of a case's conditions; "two effects" also gives "pair"."""
+def hidden(effect: str, rng: np.random.Generator, duration: float) -> dict[str, Any]:
+    """{Bench field: value} of `effect` (a `LIBRARY` or `OUTSIDE` name) at a magnitude drawn
+    from `rng` (times within the run's `duration` [s]), on top of a case's conditions; "two
+    effects" also gives "pair"."""
     u = rng.uniform
     if effect == "thermocouple lag":  # a thick coat: a slow sheath, a slower junction
         return {"tc_tau_sheath": u(0.1, 0.5), "tc_tau_junction": u(0.02, 0.08)}
@@ -100,7 +107,8 @@ def hidden(effect, rng, duration):
     raise KeyError(f"no hidden effect {effect!r}")
 
 
-def _pair(library, draw, rng, duration):
+def _pair(library: tuple[str, ...], draw: Any, rng: np.random.Generator,
+          duration: float) -> dict[str, Any]:
     """Two distinct effects of `library`, each drawn by `draw`, with their names as "pair"."""
     pair = [str(e) for e in rng.choice(library, size=2, replace=False)]
     out = {"pair": pair}
@@ -109,7 +117,7 @@ def _pair(library, draw, rng, duration):
     return out
 
 
-def _kinds(count, rng):
+def _kinds(count: int, rng: np.random.Generator) -> list[str]:
     """`count` case kinds in `SHARES` (the rest effects), shuffled."""
     n = {k: max(1, round(share * count)) for k, share in SHARES.items()}
     kinds = (["none"] * n["none"] + ["outside"] * n["outside"] + ["decoy"] * n["decoy"]
@@ -118,7 +126,8 @@ def _kinds(count, rng):
     return kinds
 
 
-def _hide(case, pool, draw, rng):
+def _hide(case: dict[str, Any], pool: Any, draw: Any,
+          rng: np.random.Generator) -> dict[str, Any]:
     """Draw `case`'s hidden effect from `pool` with `draw` (nothing when `pool` is None); a pair's
     names go to ``case["pair"]``."""
     if pool is not None:
@@ -130,10 +139,12 @@ def _hide(case, pool, draw, rng):
     return case
 
 
-def plan(count, seed, decoys, duration=DURATION):
-    """The cases' hidden truths on the independent bench: a list of dicts (kind, effect (the
-    key), values (the hidden Bench fields), conditions, ambient_known, ...). `decoys` are
-    (hidden, look-alike) pairs of library names."""
+def plan(count: int, seed: int, decoys: list[tuple[str, str]],
+         duration: float = DURATION) -> list[dict[str, Any]]:
+    """The hidden truths of `count` cases on the independent bench, drawn from `seed`, each run
+    for `duration` [s]: a list of dicts (kind, effect (the key), values (the hidden Bench
+    fields), conditions, ambient_known, ...). `decoys` are (hidden, look-alike) pairs of library
+    names."""
     rng = np.random.default_rng([seed, 13])  # a stream apart from the own bench's plan
     cases = []
     for i, kind in enumerate(_kinds(count, rng)):
@@ -148,9 +159,9 @@ def plan(count, seed, decoys, duration=DURATION):
 
 
 CRAWLER_SCENARIO = "crawler-gait-incline"
-CRAWLER_INPUTS = ["act1.duty", "actc.duty", "act2.duty"]
-CRAWLER_OUTPUTS = ["sensor1.p_meas", "sensorc.p_meas", "sensor2.p_meas", "body.flange_a.s",
-                   "body.flange_b.s"]
+CRAWLER_INPUTS = [Signal(a, "duty") for a in ("act1", "actc", "act2")]
+CRAWLER_OUTPUTS = [*(Signal(s, "p_meas") for s in ("sensor1", "sensorc", "sensor2")),
+                   Signal("body", "flange_a.s"), Signal("body", "flange_b.s")]
 CRAWLER_DURATION = 12.0  # s: the first stride and three more, as the own bench's crawler cases
 CRAWLER_LIBRARY = ("valve delay", "supply-pressure drop", "chamber leakage",
                    "pressure-dependent stiffness", "actuator bending on an incline",
@@ -161,8 +172,9 @@ CRAWLER_DECOYS = [("supply-pressure drop", "chamber leakage"),
 CRAWLER_OUTSIDE = ("sensor tube", "surface change", "camera scale", "two effects")
 
 
-def crawler_conditions(rng):
-    """The crawler bench's conditions drawn around the model's values: {Crawler field: value}."""
+def crawler_conditions(rng: np.random.Generator) -> dict[str, Any]:
+    """The crawler bench's conditions drawn from `rng` around the model's values: {Crawler
+    field: value}."""
     u = rng.uniform
     back = u(6e3, 8.5e3)  # Pa: the front actuator needs more to grip (§gait)
     return {
@@ -186,9 +198,10 @@ def crawler_conditions(rng):
     }
 
 
-def crawler_hidden(effect, rng, duration):
+def crawler_hidden(effect: str, rng: np.random.Generator, duration: float) -> dict[str, Any]:
     """{Crawler field: value} of `effect` (a `CRAWLER_LIBRARY` or `CRAWLER_OUTSIDE` name) at a
-    random magnitude; "two effects" also gives "pair"."""
+    magnitude drawn from `rng` (times within the run's `duration` [s]); "two effects" also gives
+    "pair"."""
     u = rng.uniform
     if effect == "valve delay":  # §valves: a few ms each way
         return {"open_delay": u(0.005, 0.015), "close_delay": u(0.005, 0.015)}
@@ -213,9 +226,11 @@ def crawler_hidden(effect, rng, duration):
     raise KeyError(f"no hidden crawler effect {effect!r}")
 
 
-def plan_crawler(count, seed, duration=CRAWLER_DURATION):
-    """The crawler cases' hidden truths on the independent bench, as `plan` (kinds in the same
-    shares, ids ``case-c000``, ...; bench "independent-crawler")."""
+def plan_crawler(count: int, seed: int,
+                 duration: float = CRAWLER_DURATION) -> list[dict[str, Any]]:
+    """The hidden truths of `count` crawler cases on the independent bench, drawn from `seed`,
+    each run for `duration` [s], as `plan` (kinds in the same shares, ids ``case-c000``, ...;
+    bench "independent-crawler")."""
     rng = np.random.default_rng([seed, 17])  # a stream apart from the SMA cases'
     cases = []
     for i, kind in enumerate(_kinds(count, rng)):
@@ -228,15 +243,16 @@ def plan_crawler(count, seed, duration=CRAWLER_DURATION):
     return cases
 
 
-def bench_of(case):
-    """The `Bench` of a planned case (conditions, then the hidden values over them)."""
+def bench_of(case: dict[str, Any]) -> Bench:
+    """The `Bench` of planned case `case` (conditions, then the hidden values over them)."""
     fields = {**case["conditions"], **case["values"]}
     if "slips" in fields:
         fields["slips"] = tuple(tuple(s) for s in fields["slips"])
     return Bench(**fields)
 
 
-def record(case):
+def record(case: dict[str, Any]) -> tuple[np.ndarray, dict[Signal, np.ndarray],
+                                          dict[ParamRef, float]]:
     """Run `case`'s bench: (time, {column: values}, {condition: value} for the manifest)."""
     if case["bench"] == "independent-crawler":
         fields = {**case["conditions"], **case["values"]}
@@ -248,19 +264,20 @@ def record(case):
         cols.update({c: out["x"][:, i] for i, c in enumerate(CRAWLER_OUTPUTS[3:])})
         return out["time"], cols, {}
     out = run(bench_of(case), case["duration"])
-    cols = {"pid.y": out["u"], "thermocouple.T_meas": out["T_meas"], "wire.strain": out["strain"]}
-    stated = {"wire.T_amb": round(case["ambient_read"], 2)} if case["ambient_known"] else {}
+    cols = dict(zip(INPUTS + OUTPUTS, (out["u"], out["T_meas"], out["strain"])))
+    stated = {AMBIENT: round(case["ambient_read"], 2)} if case["ambient_known"] else {}
     return out["time"], cols, stated
 
 
-def oracle(args):
+def oracle(args: tuple[dict[str, Any], Any, dict[str, Any], Any]) -> dict[str, float | None]:
     """Held-out gaps of the model with every measured signal replayed (the report's section 5):
     nominal and with our calibration and selected effects (from the report), and the oracle's:
     the key's library effect fitted on the training part together with the calibration
     parameters, from the report's calibrated values (the bench's truth has no values in the
     library's terms, and its conditions differ from the model's). The oracle is None for a case
     without a library key. (No oracle judges identifiability by the diagnosis's own rules: that
-    would measure the rules, not the data.)"""
+    would measure the rules, not the data.) `args`: (case, its data set, its report.json
+    document, the FMU folder), as `musclesim.benchmark.blind.run` maps it."""
     case, ds, report, fmu_dir = args
     ours = report.get("shrinkage", {}).get("all")
     keyed = case["kind"] in ("effect", "decoy")
@@ -281,15 +298,14 @@ def oracle(args):
         free = [Free(insts, p.name, p.lower, p.upper, p.off) for p in effect.parameters]
         calib = calibration(problem, unit)
         table = report.get("calibration", {}).get("parameters", {})
-        x_cal = [table.get(f"{','.join(fr.instances)}.{fr.name}", {}).get("value", fr.start)
-                 for fr in calib]
+        x_cal = [table.get(fr.key, {}).get("value", fr.start) for fr in calib]
         start = _scan(unit, free, fmu_dir, values_of(calib, x_cal))
         f = fit(unit, free + calib, fmu_dir, x0=start + x_cal, scan=0)
         best = f.heldout_gap
     return {"before": ours["before"], "oracle": best, "ours": ours["after"]}
 
 
-def _scan(unit, free, fmu_dir, fixed):
+def _scan(unit: Any, free: list[Free], fmu_dir: Any, fixed: dict) -> list[float]:
     """The best training point of a fine grid over `free`'s box (21 points for one parameter, 7
     per parameter else), the calibration held at `fixed`: the oracle's start. The fit's own
     coarse scan can miss a narrow optimum, and an oracle should not."""

@@ -36,8 +36,11 @@ the library: a long sensor tube, a change of surface part-way, a camera scale er
 >>> sorted(out), len(out["time"])
 (['duty', 'p_meas', 'p_true', 'time', 'x', 'x_true'], 201)
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -118,12 +121,12 @@ class Crawler:
     bending: float = 0.0  # share of the silicone the bent actuator lifts off on this incline
     decay: float = 0.0  # share of the silicone's friction lost once contaminated
     decay_time: float = 5.0  # s
-    surface_change: tuple = None
+    surface_change: tuple | None = None
     seed: int = 0
 
 
-def gait(t):
-    """Pressure references (back, central, front) [Pa] of the forward gait at time t (§gait).
+def gait(t: float) -> Any:
+    """Pressure references (back, central, front) [Pa] of the forward gait at time `t` (§gait).
 
     >>> gait(0.0), gait(2.0)[1], gait(2.9)
     ((10300.0, 0.0, 0.0), 8590.0, (0.0, 0.0, 10300.0))
@@ -139,9 +142,10 @@ def gait(t):
     return 0.0, 0.0, P_ANCHOR
 
 
-def nozzle_flow(p_up, p_down, area, T_up):
-    """Mass flow [kg/s] from p_up to p_down (absolute [Pa]) through a nozzle of effective area
-    `area`: isentropic, choked below `R_CRIT`, linear within 0.1 % of equal pressures.
+def nozzle_flow(p_up: Any, p_down: Any, area: Any, T_up: Any) -> Any:
+    """Mass flow [kg/s] from `p_up` to `p_down` (absolute [Pa]; the upstream air at `T_up` [K])
+    through a nozzle of effective area `area`: isentropic, choked below `R_CRIT`, linear within
+    0.1 % of equal pressures.
 
     >>> round(nozzle_flow(200e3, 100e3, 2.5e-7, 293.15) * 1e5, 4)  # choked
     11.8023
@@ -152,7 +156,7 @@ def nozzle_flow(p_up, p_down, area, T_up):
         return 0.0
     scale = area * p_up * math.sqrt(2 * KAPPA / ((KAPPA - 1) * R_AIR * T_up))
 
-    def psi(r):
+    def psi(r: Any) -> Any:
         return math.sqrt(max(r ** (2 / KAPPA) - r ** ((KAPPA + 1) / KAPPA), 0.0))
 
     r = max(p_down / p_up, R_CRIT)
@@ -161,9 +165,10 @@ def nozzle_flow(p_up, p_down, area, T_up):
     return scale * psi(r)
 
 
-def open_share(a, b, duty, period, phase, delay_on, delay_off):
-    """Share of [a, b] during which a PWM valve of `duty` is open: windows
-    [k period + phase + delay_on, k period + phase + duty period + delay_off).
+def open_share(a: float, b: float, duty: float, period: float, phase: float, delay_on: float,
+               delay_off: float) -> float:
+    """Share of [`a`, `b`] during which a PWM valve of `duty` is open: windows
+    [k `period` + `phase` + `delay_on`, k `period` + `phase` + `duty` `period` + `delay_off`).
 
     >>> open_share(0.0, 0.02, 0.25, 0.02, 0.0, 0.0, 0.0)
     0.25
@@ -185,12 +190,13 @@ def open_share(a, b, duty, period, phase, delay_on, delay_off):
 class _Chamber:
     """One actuator's air (absolute pressure, temperature), valves and contact."""
 
-    def __init__(self, volume):
+    def __init__(self, volume: float) -> None:
         self.p, self.T, self.V = P_ATM, T_ROOM, volume
         self.spool_in = self.spool_out = 0.0
         self.contact = 0.0
 
-    def step(self, bench, dt, share_in, share_out, supply, V_new):
+    def step(self, bench: Crawler, dt: float, share_in: float, share_out: float, supply: float,
+             V_new: float) -> Any:
         a = math.exp(-dt / bench.tau_valve)
         self.spool_in = share_in + (self.spool_in - share_in) * a
         self.spool_out = share_out + (self.spool_out - share_out) * a
@@ -213,10 +219,11 @@ class _Chamber:
 class _Block:
     """One block's LuGre bristles."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self.z = 0.0
 
-    def force(self, v, normal, mu_s, mu_k, bench, dt):
+    def force(self, v: float, normal: float, mu_s: float, mu_k: float, bench: Crawler,
+              dt: float) -> float:
         """Friction force on the block over a step of dt at velocity v; advances the bristles."""
         sigma0 = bench.bristle * normal
         stribeck = math.exp(-(v / V_STRIBECK) ** 2)
@@ -230,7 +237,7 @@ class _Block:
         return -(sigma0 * self.z + sigma1 * dz)
 
 
-def _grip(bench, t):
+def _grip(bench: Crawler, t: float) -> Any:
     """Factor on the silicone's coefficients (decay) and on all (surface change) at time t."""
     silicone = 1.0 - bench.decay * (1.0 - math.exp(-t / bench.decay_time))
     everything = 1.0
@@ -239,8 +246,73 @@ def _grip(bench, t):
     return silicone, everything
 
 
-def run(bench, duration, substeps=SUBSTEPS):
-    """Run the bench for `duration` [s] from rest, deflated; return the log at the DAQ's rate.
+def _control(bench: Crawler, t: float, reading: list[float], kp: tuple[float, ...],
+             ki: tuple[float, ...], integral: list[float]) -> list[float]:
+    """The PIs' duties (back, central, front) at DAQ time `t` from the sensors' `reading`, gains
+    `kp`, `ki` of `bench`; their `integral` terms advanced in place (conditional integration)."""
+    duty = []
+    for i, ref in enumerate(gait(t)):
+        e = bench.ref_factor * ref - reading[i]
+        trial = kp[i] * e + integral[i]
+        u = min(max(trial, -1.0), 1.0)
+        if trial == u or (trial > 1.0) == (e < 0):  # anti-windup
+            integral[i] += ki[i] * e * DAQ
+        duty.append(u)
+    return duty
+
+
+def _blow(bench: Crawler, chambers: list[_Chamber], duty: list[float], x: list[float],
+          thresholds: tuple[Any, ...], period: float, ts: float, dt: float,
+          source: float) -> float:
+    """One internal step `dt` at time `ts` of `bench`'s `chambers` through their PWM valves
+    (`duty`, `period`) from `source` [Pa]: volumes from the body's positions `x` and the
+    extremal chambers' contact (past their `thresholds`); return what they draw from the source
+    (the reservoir's balance takes it)."""
+    draw = 0.0
+    for i, ch in enumerate(chambers):
+        d = duty[i]
+        share_in = open_share(ts, ts + dt, d, period, bench.pwm_phase, bench.open_delay,
+                              bench.close_delay)
+        share_out = open_share(ts, ts + dt, -d, period, bench.pwm_phase,
+                               bench.open_delay, bench.close_delay)
+        p_gauge = ch.p - P_ATM
+        if i == 1:
+            V_new = V_CENTRAL * (1 + bench.bulge * p_gauge) + S_A * (x[1] - x[0])
+        else:
+            w = 1.0 / (1.0 + math.exp(-(p_gauge - thresholds[i]) / bench.contact_width))
+            ch.contact = w + (ch.contact - w) * math.exp(-dt / bench.tau_contact)
+            V_new = V_EXTREMAL + bench.dv_contact * ch.contact
+        draw += ch.step(bench, dt, share_in, share_out, source, max(V_new, 0.1 * V_EXTREMAL))
+    return draw
+
+
+def _move(bench: Crawler, chambers: list[_Chamber], blocks: list[_Block], x: list[float],
+          v: list[float], masses: tuple[float, float], normals: list[float], ts: float,
+          dt: float) -> None:
+    """One internal step `dt` at time `ts` of `bench`'s body and friction: the blocks' positions
+    `x` and velocities `v` advanced in place under the central `chambers`' pressure, the spring,
+    the damper and each block's grip (`blocks`, of `masses` on `normals`)."""
+    p_c = chambers[1].p - P_ATM
+    k = bench.k * (1 + bench.stiffening * p_c / 1e4)
+    d = x[1] - x[0]
+    inner = k * d * (1 + bench.k3 * d * d) + bench.c * (v[1] - v[0]) - bench.area * p_c
+    silicone, everything = _grip(bench, ts)
+    forces = []
+    for b, ch in enumerate((chambers[0], chambers[2])):
+        share = ch.contact * (1.0 - bench.bending)
+        mu_s = everything * (bench.mu_s_low + share * (silicone * bench.mu_s_high
+                                                       - bench.mu_s_low))
+        f = blocks[b].force(v[b], normals[b], mu_s, bench.mu_ratio * mu_s, bench, dt)
+        forces.append(f)
+    for b, sign in ((0, 1.0), (1, -1.0)):
+        a = (sign * inner + forces[b]) / masses[b] - G * math.sin(bench.theta)
+        v[b] += a * dt
+        x[b] += v[b] * dt
+
+
+def run(bench: Crawler, duration: float, substeps: int = SUBSTEPS) -> dict[str, np.ndarray]:
+    """Run the crawler `bench` for `duration` [s] from rest, deflated, `substeps` internal steps
+    per DAQ sample; return the log at the DAQ's rate.
 
     Returns
     -------
@@ -259,7 +331,7 @@ def run(bench, duration, substeps=SUBSTEPS):
     masses = (bench.m1, bench.m2)
     normals = [m * G * math.cos(bench.theta) for m in masses]
     supply = P_ATM + bench.p_supply
-    thresholds = (bench.p_contact_back, None, bench.p_contact_front)
+    thresholds: tuple[Any, ...] = (bench.p_contact_back, None, bench.p_contact_front)
     kp = (bench.kp_extremal, bench.kp_central, bench.kp_extremal)
     ki = (bench.ki_extremal, bench.ki_central, bench.ki_extremal)
     integral = [0.0] * 3
@@ -276,57 +348,19 @@ def run(bench, duration, substeps=SUBSTEPS):
                    for s in sensed]
         if bench.sensor_quantum:
             reading = [bench.sensor_quantum * round(r / bench.sensor_quantum) for r in reading]
-        duty = []
-        for i, ref in enumerate(gait(t)):
-            e = bench.ref_factor * ref - reading[i]
-            trial = kp[i] * e + integral[i]
-            u = min(max(trial, -1.0), 1.0)
-            if trial == u or (trial > 1.0) == (e < 0):  # anti-windup
-                integral[i] += ki[i] * e * DAQ
-            duty.append(u)
+        duty = _control(bench, t, reading, kp, ki, integral)
         log["duty"][j], log["p_meas"][j] = duty, reading
         log["p_true"][j] = [c.p - P_ATM for c in chambers]
         log["x_true"][j] = x
         for s in range(substeps):
             ts = t + s * dt
-            # pneumatics
-            draw = 0.0
-            for i, ch in enumerate(chambers):
-                d = duty[i]
-                share_in = open_share(ts, ts + dt, d, period, bench.pwm_phase, bench.open_delay,
-                                      bench.close_delay)
-                share_out = open_share(ts, ts + dt, -d, period, bench.pwm_phase,
-                                       bench.open_delay, bench.close_delay)
-                p_gauge = ch.p - P_ATM
-                if i == 1:
-                    V_new = V_CENTRAL * (1 + bench.bulge * p_gauge) + S_A * (x[1] - x[0])
-                else:
-                    w = 1.0 / (1.0 + math.exp(-(p_gauge - thresholds[i]) / bench.contact_width))
-                    ch.contact = w + (ch.contact - w) * math.exp(-dt / bench.tau_contact)
-                    V_new = V_EXTREMAL + bench.dv_contact * ch.contact
-                draw += ch.step(bench, dt, share_in, share_out,
-                                reservoir if pump else supply, max(V_new, 0.1 * V_EXTREMAL))
+            draw = _blow(bench, chambers, duty, x, thresholds, period, ts, dt,
+                         reservoir if pump else supply)  # pneumatics
             if pump:  # the reservoir (a 50 ml line) refilled along the pump's linear curve
                 refill = pump * (1.0 - (reservoir - P_ATM) / bench.p_supply)
                 reservoir += dt * R_AIR * T_ROOM / 5e-5 * (refill - draw)
                 reservoir = min(max(reservoir, P_ATM), supply)
-            # body and friction
-            p_c = chambers[1].p - P_ATM
-            k = bench.k * (1 + bench.stiffening * p_c / 1e4)
-            d = x[1] - x[0]
-            inner = k * d * (1 + bench.k3 * d * d) + bench.c * (v[1] - v[0]) - bench.area * p_c
-            silicone, everything = _grip(bench, ts)
-            forces = []
-            for b, ch in enumerate((chambers[0], chambers[2])):
-                share = ch.contact * (1.0 - bench.bending)
-                mu_s = everything * (bench.mu_s_low + share * (silicone * bench.mu_s_high
-                                                               - bench.mu_s_low))
-                f = blocks[b].force(v[b], normals[b], mu_s, bench.mu_ratio * mu_s, bench, dt)
-                forces.append(f)
-            for b, sign in ((0, 1.0), (1, -1.0)):
-                a = (sign * inner + forces[b]) / masses[b] - G * math.sin(bench.theta)
-                v[b] += a * dt
-                x[b] += v[b] * dt
+            _move(bench, chambers, blocks, x, v, masses, normals, ts, dt)  # body and friction
         # the sensors behind their tubes, sampled for the next period
         for i, ch in enumerate(chambers):
             p_gauge = ch.p - P_ATM
@@ -337,7 +371,8 @@ def run(bench, duration, substeps=SUBSTEPS):
     return {"time": time, **log}
 
 
-def _video(bench, time, x_true, rng):
+def _video(bench: Crawler, time: np.ndarray, x_true: np.ndarray,
+           rng: np.random.Generator) -> np.ndarray:
     """The blocks' positions as the camera gives them on the DAQ's clock: frames at
     `VIDEO_FPS` (each `video_delay` late), scaled, noisy, to a pixel, linearly interpolated."""
     frames = np.arange(0.0, time[-1] + 1e-9, 1.0 / VIDEO_FPS)

@@ -11,7 +11,8 @@ representation than the library's, so that model and bench never differ by one e
   the clamps at T_clamp through a contact conductance. The linear part advances exactly
   (``expm``); Joule heat, radiation and any change of h are held over a sub-step; the latent
   heat is implicit (Newton per volume: an explicit one oscillates where L |dxi/dT| > c).
-- Hysteresis: no Preisach surface. The martensite fraction of each volume follows the cosine
+- Hysteresis (`musclesim.benchmark.benches.sma_kinetics`): no Preisach surface. The martensite
+  fraction of each volume follows the cosine
   kinetics of Liang & Rogers (J. Intell. Mater. Syst. Struct. 1, 1990) in two populations of
   grains with their own bands (`POPULATIONS`), transformation temperatures shifted by the
   stress at `CC_SLOPE` (Clausius-Clapeyron); a branch starting inside a band (a reversal) is
@@ -32,11 +33,16 @@ representation than the library's, so that model and bench never differ by one e
 >>> sorted(out), len(out["time"])
 (['T_mean', 'T_meas', 'T_tc_volume', 'strain', 'strain_true', 'time', 'u'], 101)
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from scipy import linalg
+
+from musclesim.benchmark.benches.sma_kinetics import STRESS, Kinetics, contraction
 
 ZERO_C = 273.15  # K
 # the wire (§sma-wire, §sma-material)
@@ -48,20 +54,6 @@ CONDUCTIVITY = 18.0  # W/(m K), §sma-material
 RHO_MARTENSITE, RHO_AUSTENITE = 80e-8, 100e-8  # Ohm m, §sma-material
 H_NOMINAL = 100.0  # W/(m^2 K) at 50 K excess, §convection
 AREA = math.pi * DIAMETER ** 2 / 4  # m^2; 1.26677e-8 as the scenarios' load (§forc-identification)
-STRESS = 125e6  # Pa: the tracking bench's constant load (§forc-identification's stresses)
-CC_SLOPE = 7e6  # Pa/K: Clausius-Clapeyron, the low end of §sma-material's 7-14 MPa/K
-# Two populations of grains with their own transformation bands [C] at STRESS (weight, As, Af, Ms,
-# Mf) and the transformation strain: a least-squares match (rounded) of the strain-temperature loop
-# of the tracking scenario's wire under 125 MPa (§forc-identification: ~3.8 % over 30-130 C;
-# half-way at ~78 C heating, ~64 C cooling), 1.3e-4 RMS apart over its 45-105 C cycles (one
-# population: 1.5e-3, without the loop's tails). §sma-material's data-sheet 88/98/72/62 C at low
-# stress cannot meet §forc-identification's figures (the measured behaviour wins, §sma-material)
-POPULATIONS = ((0.45, 70.0, 85.0, 70.0, 55.5),  # sharp: the steep middle of the loop
-               (0.55, 53.0, 108.0, 95.0, 30.0))  # diffuse: the slow approach to saturation
-EPS_L = 0.036
-E_AUSTENITE, E_MARTENSITE = 75e9, 28e9  # Pa: Flexinol data sheet (§sma-material names data sheets)
-ALPHA = 11e-6  # 1/K: thermal expansion, Flexinol data sheet (§thermal-model names the term)
-T_REF = 20.0  # C: strain is contraction from the length at room temperature (§thermal-model)
 SIGMA_SB = 5.670374419e-8  # W/(m^2 K^4): Stefan-Boltzmann (radiation; the study gives none)
 U_MAX = 2.5  # V: the heating voltage's range (scenarios/params/sma-thermal-gains.toml)
 CELLS = 18
@@ -92,7 +84,7 @@ class Bench:
     stress: float = STRESS
     convection: str = "constant"
     coat_diameter: float = DIAMETER  # m: the diameter the air sees (natural convection)
-    draught_time: float = None
+    draught_time: float | None = None
     draught_factor: float = 1.0
     latent_heating: float = 0.0  # J/kg absorbed as austenite forms
     latent_cooling: float = 0.0  # J/kg released as martensite forms
@@ -119,123 +111,31 @@ class Bench:
     seed: int = 0  # of the sensors' noise
 
 
-def reference(t):
+def reference(t: Any) -> Any:
     """The bench's temperature reference [K] at times `t` [s] (the tracking scenario's sine)."""
     return REF_MEAN + REF_AMPLITUDE * np.sin(2 * np.pi * REF_FREQUENCY * np.asarray(t) - np.pi / 2)
 
 
-# -- hysteresis: cosine kinetics per volume ------------------------------------------------------
-
-def branch(T, lo, hi):
-    """Martensite fraction on a major branch whose band is [lo, hi]: 1 below, 0 above, a half
-    cosine between (Liang & Rogers 1990).
-
-    >>> branch(np.array([40.0, 60.0, 80.0]), 50.0, 70.0).round(3).tolist()
-    [1.0, 0.5, 0.0]
-    """
-    x = np.minimum(np.maximum((T - lo) / (hi - lo), 0.0), 1.0)
-    return 0.5 + 0.5 * np.cos(np.pi * x)
-
-
-def bands(stress):
-    """Per population (As, Af, Ms, Mf) [C] at `stress` [Pa], arrays: shifted from `STRESS` by
-    the Clausius-Clapeyron slope `CC_SLOPE` (§sma-material)."""
-    shift = (stress - STRESS) / CC_SLOPE
-    return tuple(np.array([p[i] for p in POPULATIONS]) + shift for i in range(1, 5))
-
-
-class Kinetics:
-    """Martensite fractions of the volumes (each a mix of `POPULATIONS`) with their reversal
-    memory.
-
-    Each population of each volume is on a branch ``xi = offset + scale * branch(T, lo, hi)``:
-    heating, its austenite band [As, Af] scaled through the reversal point (offset 0); cooling,
-    its martensite band [Mf, Ms] scaled so that xi reaches 1 at Mf. From full martensite (or
-    full austenite) a population follows its major branch itself. ``xi`` is the volumes' mean
-    fraction (weighted over the populations).
-    """
-
-    def __init__(self, T, stress, xi=1.0):
-        self.As, self.Af, self.Ms, self.Mf = bands(stress)
-        self.weights = np.array([p[0] for p in POPULATIONS])
-        T = np.asarray(T, float)
-        shape = T.shape + (len(POPULATIONS),)
-        self.x = np.full(shape, float(xi))  # per volume and population
-        self.xi = self.x @ self.weights
-        self.T = T.copy()
-        self.heating = np.ones(shape, bool)
-        self.lo, self.hi = np.zeros(shape), np.ones(shape)
-        self.offset, self.scale = np.zeros(shape), np.ones(shape)
-        self._branches(np.ones(shape, bool))
-
-    def _branches(self, new):
-        """Branches through the present (T, x) for the entries `new` (after a reversal)."""
-        lo = np.where(self.heating, self.As, self.Mf)
-        hi = np.where(self.heating, self.Af, self.Ms)
-        g = branch(self.T[..., None], lo, hi)
-        # heating: x = s g through (T, x); cooling: x = 1 - s (1 - g) through it
-        s_h = np.where(g > 1e-12, self.x / np.maximum(g, 1e-12), 0.0)
-        s_c = np.where(g < 1 - 1e-12, (1 - self.x) / np.maximum(1 - g, 1e-12), 0.0)
-        self.lo, self.hi = np.where(new, lo, self.lo), np.where(new, hi, self.hi)
-        self.scale = np.where(new, np.where(self.heating, s_h, s_c), self.scale)
-        self.offset = np.where(new, np.where(self.heating, 0.0, 1 - s_c), self.offset)
-
-    def direction_for(self, T):
-        """Start new branches where moving to `T` [C] reverses the temperature."""
-        dT = (np.asarray(T, float) - self.T)[..., None]
-        turn = np.where(self.heating, dT < -1e-12, dT > 1e-12)
-        if turn.any():
-            self.heating = self.heating ^ turn
-            self._branches(turn)
-
-    def peek(self, T):
-        """(fractions per population, mean xi, dxi/dT) at temperatures `T` [C] on the present
-        branches (nothing committed)."""
-        width = self.hi - self.lo
-        angle = np.pi * np.minimum(np.maximum((T[..., None] - self.lo) / width, 0.0), 1.0)
-        x = self.offset + self.scale * (0.5 + 0.5 * np.cos(angle))
-        # zero outside the band, where sin(0) = sin(pi) = 0 already
-        slope = self.scale * (-0.5 * np.pi / width) * np.sin(angle)
-        return x, x @ self.weights, slope @ self.weights
-
-    def commit(self, T, x):
-        """Take temperatures `T` [C] and fractions `x` (from `peek` at `T`) as the state."""
-        self.x, self.xi, self.T = x, x @ self.weights, np.asarray(T, float).copy()
-
-    def step(self, T):
-        """Move the volumes to temperatures `T` [C]; return their mean fractions."""
-        T = np.asarray(T, float)
-        self.direction_for(T)
-        self.commit(T, self.peek(T)[0])
-        return self.xi
-
-
-def contraction(xi, T, stress):
-    """Contraction strain of volumes at fractions `xi`, temperatures `T` [C], `stress` [Pa]
-    (positive = shorter than at room temperature under the load, §sma-wire)."""
-    modulus = E_AUSTENITE + xi * (E_MARTENSITE - E_AUSTENITE)
-    return EPS_L * (1 - xi) + stress / E_MARTENSITE - stress / modulus - ALPHA * (T - T_REF)
-
-
 # -- heat: finite volumes along the wire ---------------------------------------------------------
 
-def widths(length, cells=CELLS):
-    """Volume widths [m], graded toward both clamps (Chebyshev edges: 0.4 mm there, 5 mm in the
-    middle at the nominal length), where the temperature bends over a few mm."""
+def widths(length: float, cells: int = CELLS) -> np.ndarray:
+    """Widths [m] of the `cells` volumes of a wire of `length` [m], graded toward both clamps
+    (Chebyshev edges: 0.4 mm there, 5 mm in the middle at the nominal length), where the
+    temperature bends over a few mm."""
     edges = length * (1 - np.cos(np.pi * np.arange(cells + 1) / cells)) / 2
     return np.diff(edges)
 
 
-def centres(length, cells=CELLS):
-    """Volume centres [m] from one clamp."""
+def centres(length: float, cells: int = CELLS) -> np.ndarray:
+    """Centres [m] from one clamp of the `cells` volumes of a wire of `length` [m]."""
     w = widths(length, cells)
     return np.cumsum(w) - w / 2
 
 
-def thermal_system(bench, cells=CELLS):
-    """(A, capacity, loss_to_ambient, clamp_conductance) of the linear part dT/dt = A T + ...:
-    conduction between volumes and into the clamps, convection at the bench's h (§sma-bench,
-    §convection)."""
+def thermal_system(bench: Bench, cells: int = CELLS) -> Any:
+    """(A, capacity, loss_to_ambient, clamp_conductance) of the linear part dT/dt = A T + ... of
+    `bench`'s wire in `cells` volumes: conduction between volumes and into the clamps, convection
+    at the bench's h (§sma-bench, §convection)."""
     w = widths(bench.length, cells)
     cap = DENSITY * SPECIFIC_HEAT * AREA * w  # J/K per volume
     g = CONDUCTIVITY * AREA / ((w[:-1] + w[1:]) / 2)  # W/K between neighbours
@@ -249,16 +149,17 @@ def thermal_system(bench, cells=CELLS):
     return K / cap[:, None], cap, conv, clamp
 
 
-def propagator(A, dt):
-    """(Phi, Gamma): T(t + dt) = Phi T + Gamma b exactly for dT/dt = A T + b, b held."""
+def propagator(A: np.ndarray, dt: float) -> Any:
+    """(Phi, Gamma): T(t + `dt`) = Phi T + Gamma b exactly for dT/dt = `A` T + b, b held."""
     phi = linalg.expm(A * dt)
     return phi, np.linalg.solve(A, phi - np.eye(len(A)))
 
 
-def air_convection(dT, T_amb, diameter):
-    """Natural convection h [W/(m^2 K)] of a horizontal cylinder by the Churchill-Chu correlation
-    (Int. J. Heat Mass Transfer 18, 1975), air properties at the film temperature (power laws
-    around 300 K). Not in the study; §convection's 100 W/(m^2 K) at 50 K is this law's size."""
+def air_convection(dT: Any, T_amb: float, diameter: float) -> Any:
+    """Natural convection h [W/(m^2 K)] of a horizontal cylinder of `diameter` [m], `dT` [K]
+    warmer than the air at `T_amb` [K], by the Churchill-Chu correlation (Int. J. Heat Mass
+    Transfer 18, 1975), air properties at the film temperature (power laws around 300 K). Not in
+    the study; §convection's 100 W/(m^2 K) at 50 K is this law's size."""
     dT = np.maximum(np.abs(dT), 1e-3)
     Tf = T_amb + dT / 2
     k = 0.0263 * (Tf / 300) ** 0.8
@@ -269,7 +170,8 @@ def air_convection(dT, T_amb, diameter):
     return nusselt * k / diameter
 
 
-def _extra_loss(bench, T, t, conv_area, h_ratio=None):
+def _extra_loss(bench: Bench, T: np.ndarray, t: float, conv_area: Any,
+                h_ratio: Any = None) -> Any:
     """Heat loss [W] per volume beyond the linear part: radiation, the convection law's change
     of h with the excess temperature (`h_ratio`: (excess temperatures, h / h at 50 K), a table of
     `air_convection`), a draught; `conv_area` the volumes' lateral areas."""
@@ -283,7 +185,7 @@ def _extra_loss(bench, T, t, conv_area, h_ratio=None):
     return loss + (h - bench.h) * conv_area * dT
 
 
-def _stage(y, u0, u1, tau, dt):
+def _stage(y: Any, u0: Any, u1: Any, tau: float, dt: float) -> Any:
     """A first-order stage y' = (u - y) / tau over `dt`, its input linear from u0 to u1 (exact)."""
     if tau <= 0:
         return u1
@@ -292,11 +194,11 @@ def _stage(y, u0, u1, tau, dt):
     return u1 - s * tau + (y - u0 + s * tau) * a
 
 
-def _quantise(x, quantum):
+def _quantise(x: Any, quantum: float) -> Any:
     return quantum * np.round(np.asarray(x) / quantum) if quantum > 0 else np.asarray(x)
 
 
-def _slipped(bench, t):
+def _slipped(bench: Bench, t: float) -> float:
     """Strain lost to the clamp's slips by time `t` (each a 0.2 s ramp)."""
     return sum(size * min(max((t - t0) / 0.2, 0.0), 1.0) for t0, size in bench.slips)
 
@@ -304,7 +206,7 @@ def _slipped(bench, t):
 class _Plant:
     """The wire's state and one internal step of it (heat, kinetics, latent heat)."""
 
-    def __init__(self, bench, dt):
+    def __init__(self, bench: Bench, dt: float) -> None:
         self.b, self.dt = bench, dt
         A, self.cap, self.conv, clamp = thermal_system(bench)
         self.phi, self.gam = propagator(A, dt)
@@ -325,7 +227,7 @@ class _Plant:
         self.kin = Kinetics(self.T - ZERO_C, bench.stress)
         self.weights = self.w / self.w.sum()
 
-    def step(self, u, t):
+    def step(self, u: float, t: float) -> None:
         """Advance one internal step at voltage `u` [V] from time `t` [s]."""
         b = self.b
         R = (RHO_AUSTENITE + (RHO_MARTENSITE - RHO_AUSTENITE) * self.kin.xi) * self.ohm
@@ -340,7 +242,7 @@ class _Plant:
             self.kin.step(T - ZERO_C)
         self.T = T
 
-    def _latent(self, T_trial):
+    def _latent(self, T_trial: np.ndarray) -> np.ndarray:
         """End temperatures with the latent heat of the fractions' change, implicit (Newton)."""
         kin = self.kin
         kin.direction_for(T_trial - ZERO_C)
@@ -355,13 +257,14 @@ class _Plant:
         kin.commit(T - ZERO_C, x)  # the branches were set by direction_for
         return T
 
-    def strain(self):
+    def strain(self) -> float:
         """Mean contraction of the wire (length-weighted over the volumes)."""
         return float(self.weights @ contraction(self.kin.xi, self.T - ZERO_C, self.b.stress))
 
 
-def run(bench, duration, substeps=SUBSTEPS):
-    """Run the bench for `duration` [s] after its pre-roll; return the log at the data rate.
+def run(bench: Bench, duration: float, substeps: int = SUBSTEPS) -> dict[str, np.ndarray]:
+    """Run `bench` for `duration` [s] after its pre-roll, `substeps` internal steps per frame;
+    return the log at the data rate.
 
     Returns
     -------
@@ -408,7 +311,7 @@ def run(bench, duration, substeps=SUBSTEPS):
     return _finish(bench, log, n, rng)
 
 
-def _finish(bench, log, n, rng):
+def _finish(bench: Bench, log: Any, n: int, rng: np.random.Generator) -> dict[str, np.ndarray]:
     """The strain sensor's gain, offset (drifting), noise, quantisation and latency applied to
     its log."""
     s = bench.gauge_gain * log.pop("gauge") + bench.gauge_offset

@@ -1,0 +1,53 @@
+"""The command benchmark-diagnosis: the diagnosis checked blind on virtual hardware (its
+handler next to its arguments)."""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+from musclesim.cli.args import add_dask_args, add_fmus, count, duration, positive
+
+
+def _cmd_benchmark_diagnosis(args: argparse.Namespace) -> int:
+    from musclesim.batch import dask_client, dask_map
+    from musclesim.cosim import check_fresh
+    from musclesim.benchmark import run_blind_benchmark
+
+    check_fresh(args.fmus)
+    with dask_client(args.scheduler, args.workers) as client:
+        scores = run_blind_benchmark(args.cases, args.seed, args.out, args.fmus, args.scenarios,
+                                     dask_map(client),
+                                     lambda text: print(f"musclesim: {text}", file=sys.stderr),
+                                     bench=args.bench, duration=args.duration,
+                                     multiplier=args.multiplier, crawler=args.crawler)
+    print(json.dumps({k: v for k, v in scores.items() if k != "per_case"}, indent=2))
+    print(f"wrote {Path(args.out) / 'scores.json'} (per-case table inside)")
+    return 0
+
+
+def add_benchmark_diagnosis(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None:
+    """The command `benchmark-diagnosis` in subparsers `sub`."""
+    q = sub.add_parser("benchmark-diagnosis",
+                       help="blind check of the diagnosis on virtual hardware with hidden effects")
+    q.add_argument("--cases", type=count, default=40,
+                   help="number of cases (default 40; 0 with --crawler: crawler cases only)")
+    q.add_argument("--seed", type=int, default=1, help="seed of the hidden truths (default 1)")
+    q.add_argument("--out", required=True, help="folder for the cases, key and scores.json")
+    q.add_argument("--scenarios", default="scenarios", help="folder of the bench scenarios")
+    q.add_argument("--bench", choices=["own", "independent"], default="own",
+                   help="own: the library's FMUs with hidden effects (default); independent: "
+                        "an SMA bench written apart from the library (scores under "
+                        "'independent' in scores.json)")
+    q.add_argument("--duration", type=duration, default=None,
+                   help="independent bench: seconds recorded per SMA case (default 120)")
+    q.add_argument("--multiplier", type=positive, default=0, metavar="N",
+                   help="own bench: N extra cases on the capstan multiplier's bench "
+                        "(default none)")
+    q.add_argument("--crawler", type=positive, default=0, metavar="N",
+                   help="independent bench: N extra cases on its pneumatic crawler, 12 s each "
+                        "(default none; scores also per bench)")
+    add_dask_args(q)
+    add_fmus(q)
+    q.set_defaults(func=_cmd_benchmark_diagnosis, subparser=q)
