@@ -9,7 +9,7 @@ import pytest
 
 from musclesim.hysteresis import validation
 from musclesim.hysteresis import identify as ident
-from musclesim.cosim import master, results, scenario
+from musclesim.cosim import Master, Signal, load_scenario, signal_units, write_results
 from musclesim.components.sma import datasets, forcfile
 from musclesim.components.sma.wire import ReferenceWire
 from musclesim.components.sources import forc
@@ -42,7 +42,7 @@ def test_forc_reference_runs_peaks_and_phases():
 
 
 def test_the_scenario_period_does_not_outrun_free_cooling():
-    s = scenario.load(SCENARIOS / "sma-forc-identification.toml")
+    s = load_scenario(SCENARIOS / "sma-forc-identification.toml")
     period = s.instances["reference"].parameters["period"]
     assert s.stop_time == pytest.approx(21 * period)
     # tau = rho c d / 4 h = 1.71 s (§thermal-model), ambient 20 C, T_low 30 C
@@ -171,21 +171,22 @@ def test_a_record_cut_short_and_duplicate_stresses_are_refused(tmp_path):
 def closed_loop(fmu_dir, tmp_path, sigma, period, T_step=25.0):
     """The identification scenario at stress sigma, with 5 runs of `period` s (peaks 25 K apart)."""
     n = int(round(100 / T_step)) + 1
-    s = scenario.load(SCENARIOS / "sma-forc-identification.toml",
+    s = load_scenario(SCENARIOS / "sma-forc-identification.toml",
                       [f"load.offset={sigma * 1.26677e-8!r}", f"reference.T_step={T_step!r}",
                        f"reference.period={period!r}"], stop_time=n * period)
-    m = master.Master(s, fmu_dir)
+    m = Master(s, fmu_dir)
     res = m.run()
     assert res.error is None, res.error
     folder = tmp_path / f"run-{sigma:g}-{period:g}"
-    results.write_all(folder, s, res, results.signal_units(m), with_plot=False)
+    write_results(folder, s, res, signal_units(m), with_plot=False)
     return folder, res
 
 
 def test_identify_from_the_closed_loop_on_the_virtual_wire(fmu_dir, tmp_path):
     fast = [closed_loop(fmu_dir, tmp_path, s, 20.0) for s in (105e6, 145e6)]
     for _, res in fast:
-        assert np.sqrt(np.mean(res["pid.e"] ** 2)) < 0.15  # K: the loop follows the sinusoids
+        # K: the loop follows the sinusoids
+        assert np.sqrt(np.mean(res[Signal("pid", "e")] ** 2)) < 0.15
     surface = ident.identify([f for f, _ in fast])
     assert surface.temps.tolist() == [30.0, 55.0, 80.0, 105.0, 130.0]
     assert surface.stresses.tolist() == [105e6, 145e6]
