@@ -1,6 +1,7 @@
-"""Identification from FORC experiments (§forc-identification): the ForcReference profile,
-`identify` on synthetic records from a known surface (no FMUs), its errors, a reduced closed-loop
-run on the FMUs, and the validation numbers (surface error, validation runs, memory checks)."""
+"""musclesim.hysteresis.identify: identification from FORC experiments (§forc-identification):
+the ForcReference profile, `identify` on synthetic records from a known surface (no FMUs), its
+errors and a reduced closed-loop run on the FMUs. (The validation numbers:
+tests/hysteresis/test_validation.py.)"""
 import json
 import math
 
@@ -196,26 +197,3 @@ def test_identify_from_the_closed_loop_on_the_virtual_wire(fmu_dir, tmp_path):
     slow, _ = closed_loop(fmu_dir, tmp_path, 105e6, 30.0)
     again = ident.identify(slow)
     assert np.abs(again.table[0] - surface.table[0]).max() < 5e-5
-
-
-# ---- validation (§forc-identification)
-# ---------------------------------------------------------------------
-
-def test_the_virtual_wire_is_rate_independent_wipes_out_and_has_congruent_loops():
-    checks = validation.memory_checks()
-    assert checks["rate_independence"] < 1e-12
-    assert checks["wiping_out"] < 1e-12
-    assert checks["congruency"] < 1e-12
-    # the checks are not void: the histories differ before the erasure, the loops' starts differ
-    assert checks["memory"] > 1e-3 and checks["offset"] > 1e-4 and checks["loop_span"] > 5e-4
-
-
-def test_the_shipped_identified_set_validates_on_unseen_runs():
-    surface = datasets.surface(2)
-    err = validation.surface_error(surface)
-    assert err["max_abs"] < 2e-4 and err["max_rel"] < 0.005
-    runs = validation.validation_runs(surface, duration=200.0)
-    assert set(runs) == {"minor loops, 120 MPa", "random peaks, 130 MPa", "LP I", "LP V"}
-    for name, r in runs.items():
-        assert r["rmse_percent"] < 1.5, name  # the 5 C grid itself costs ~0.5-0.9 %
-        assert math.isfinite(r["max_abs"])
