@@ -1,7 +1,8 @@
 """The package's public functions and methods, which tests/test_typing.py and
 tests/test_docstrings.py hold to full annotations and documented parameters.
 
-Public means: each framework layer's ``__all__`` (a name listed there that is a submodule stands
+Public means: each framework layer's ``__all__`` (the layers: every subpackage of musclesim but
+the components) (a name listed there that is a submodule stands
 for that module's public names), and every module of ``musclesim.components`` (the components
 import each other by module, so a module's public names are their interface: its ``__all__``,
 or else the functions and classes it defines whose names do not start with ``_``). Of a public
@@ -17,12 +18,16 @@ import pkgutil
 from types import ModuleType
 from typing import Any, Callable, Iterator, NamedTuple
 
-LAYERS = ("fmu", "cosim", "batch", "analysis", "hysteresis", "diagnosis", "benchmark")
+import musclesim
+
+LAYERS = tuple(info.name for info in pkgutil.iter_modules(musclesim.__path__)
+               if info.ispkg and info.name != "components")
 
 
 class Member(NamedTuple):
     """A public function or method: `layer` (the package whose interface holds it), `name`
-    (module.qualname) and the function itself (`function`); `owner` is its class, or None; `bound`: its first parameter is self or cls."""
+    (module.qualname) and the function itself (`function`); `owner` is its class, or None; `bound`:
+    its first parameter is self or cls."""
 
     layer: str
     name: str
