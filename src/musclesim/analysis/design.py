@@ -27,8 +27,9 @@ def design_pi(plant: ct.StateSpace, omega_n: float, zeta: float) -> tuple[float,
 
 def pi_margins(plant: ct.StateSpace, Kp: float, Ki: float, step: float) -> dict[str, Any]:
     """Gain margin (None: infinite), phase margin [deg] and gain crossover [rad/s] of the loop
-    PI x plant (PI gains `Kp`, `Ki`; `plant` a python-control system), and the largest pole radius of its closed loop sampled at `step` (below 1: the
-    controller running sampled keeps it stable)."""
+    PI x plant (PI gains `Kp`, `Ki`; `plant` a python-control system), and the largest pole radius
+    of its closed loop sampled at `step` (below 1: the controller running sampled keeps it
+    stable)."""
     loop = ct.tf([Kp, Ki], [1, 0]) * ct.tf(plant)
     gm, pm, _, _, wc, _ = ct.stability_margins(loop)
     sampled = ct.feedback(ct.sample_system(loop, step, method="zoh"))

@@ -24,7 +24,8 @@ LOAD_DESIGN = {
 }
 
 
-def _fit_step(t: Sequence[float], f: Sequence[float], step: float) -> tuple[float, float, float]:
+def _fit_step(t: Sequence[float] | np.ndarray, f: Sequence[float] | np.ndarray,
+              step: float) -> tuple[float, float, float]:
     """K, tau and the RMS residual of f = f0 + K step (1 - exp(-t / tau)) fitted by least squares
     (§loads): Gauss-Newton from K = 1, tau = 10 ms, f0 = f[0], each step halved until it lowers
     the sum of squares and tau kept within [1e-6, 10] s, stopping when no step lowers it. In a
@@ -66,8 +67,9 @@ def identify_load_path(fmu_dir: str | Path = "fmus", d: dict[str, Any] | None = 
     """First-order model duty -> load-cell force, identified from a duty step of the FMUs.
 
     The Electromagnet and LoadCell FMUs of `fmu_dir` (as a scenario uses them, wire held still)
-    are run with the duty replayed as a step (`d` overrides settings of `LOAD_DESIGN`); K [N per unit duty] and tau [s] are fitted by least squares to
-    the recorded force. Returns (python-control system, K, tau, RMS fit residual [N]).
+    are run with the duty replayed as a step (`d` overrides settings of `LOAD_DESIGN`); K [N per
+    unit duty] and tau [s] are fitted by least squares to the recorded force. Returns
+    (python-control system, K, tau, RMS fit residual [N]).
     """
     from musclesim.cosim import Instance, Master, Scenario, Signal
 

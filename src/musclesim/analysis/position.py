@@ -86,7 +86,8 @@ def read_case(results_csv: str | Path, names: Sequence[str] = SIGNALS
 
 def wire_length(s: Scenario, fmu_dir: str | Path) -> float:
     """The length [m] of scenario `s`'s `wire`: its parameter if the scenario sets it, else the
-    start value in the SmaWire FMU of `fmu_dir` (the laser's contraction over it is the measured strain)."""
+    start value in the SmaWire FMU of `fmu_dir` (the laser's contraction over it is the measured
+    strain)."""
     from musclesim.cosim import read_fmu
 
     inst = s.instances["wire"]

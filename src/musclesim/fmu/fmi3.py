@@ -22,7 +22,8 @@ from musclesim.fmu.slave import Slave
 
 
 # FMI 2.0 variable class -> FMI 3.0
-_TYPES: dict[type, Callable[..., Any]] = {pythonfmu.Real: Float64, pythonfmu.Integer: Int32, pythonfmu.Boolean: Boolean}
+_TYPES: dict[type, Callable[..., Any]] = {pythonfmu.Real: Float64, pythonfmu.Integer: Int32,
+                                          pythonfmu.Boolean: Boolean}
 
 
 def _enum(cls: Any, fmi2_value: Any) -> Any:

@@ -53,7 +53,8 @@ _NOT_STATE = frozenset({"vars", "log_queue", "_getters", "_setters", "_attrs", "
 
 # the FMI 2.0 variable of each type, and the Python value the FMI calls take for it; a slave
 # keeps every value as a float, so that its physics reads Integer and Boolean values as numbers
-_TYPES: dict[str, tuple[type, type]] = {"Real": (Real, float), "Integer": (Integer, int), "Boolean": (Boolean, bool)}
+_TYPES: dict[str, tuple[type, type]] = {"Real": (Real, float), "Integer": (Integer, int),
+                                        "Boolean": (Boolean, bool)}
 
 
 def _find(root: Element, tag: str) -> Element:
@@ -191,8 +192,8 @@ class Slave(Fmi2Slave):
         self.log_queue[-1].debug = False
 
     def logged(self, call: Callable[..., T], *args: Any) -> T:
-        """`call` (`*args`) with the warnings it raises (a core's one-time range warnings) sent to the
-        FMU log as warnings instead of the process's stderr."""
+        """`call` (`*args`) with the warnings it raises (a core's one-time range warnings) sent to
+        the FMU log as warnings instead of the process's stderr."""
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             result = call(*args)

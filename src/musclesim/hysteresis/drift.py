@@ -44,7 +44,8 @@ class Protocol:
     T_lo: float = 30.0  # C
     T_hi: float = 130.0  # C
     samples_per_cycle: int = 200
-    compare: tuple[int, ...] = (1, 13, 25)  # tests (per stress, from 1) whose averaged loops are compared
+    # tests (per stress, from 1) whose averaged loops are compared
+    compare: tuple[int, ...] = (1, 13, 25)
 
     def check(self) -> None:
         """Raise UserError naming the first value outside its valid range."""
@@ -75,9 +76,10 @@ def run(protocol: Protocol | None = None, drift_params: drift.DriftParams | None
         hysteresis: int | float = 0, cycles_start: float = 0.0) -> dict[str, Any]:
     """Run the drift test of `protocol` (default: §drift's) on a wire of drift parameters
     `drift_params` (default: the core's), hysteresis surface `hysteresis` (an id of
-    `musclesim.components.sma.datasets`) and `cycles_start` transformation cycles before; return {"loops": {stress: {test: averaged loop (array)}},
-    "rmse": {stress: {"a-b": RMSE}}, "temperatures": one cycle's temperatures [C],
-    "cycles": transformation cycles counted at the end}.
+    `musclesim.components.sma.datasets`) and `cycles_start` transformation cycles before; return
+    {"loops": {stress: {test: averaged loop (array)}}, "rmse": {stress: {"a-b": RMSE}},
+    "temperatures": one cycle's temperatures [C], "cycles": transformation cycles counted at the
+    end}.
 
     Only the tests named in ``protocol.compare`` are kept. The model is stepped as the SmaWire FMU
     steps it: the hysteresis sees T - shift(N) clipped to its grid, the strain is scaled by

@@ -132,8 +132,9 @@ def plot_loops(results: list[dict[str, Any]], path: str | Path, title: str = "")
 
 
 def load_model(path: str | Path | None = None) -> tuple[Hypersurface | ReferenceWire, str]:
-    """The model behind ``--model`` `path`, and its name: None -> the reference wire; a .toml file -> a reference wire
-    with those parameters; anything else -> a FORC data set. Raises UserError when unreadable."""
+    """The model behind ``--model`` `path`, and its name: None -> the reference wire; a .toml file
+    -> a reference wire with those parameters; anything else -> a FORC data set. Raises UserError
+    when unreadable."""
     if path is None:
         return ReferenceWire(), f"reference wire ({Path(DEFAULT_PARAMS).name})"
     try:

@@ -103,9 +103,9 @@ def validation_runs(surface: Hypersurface, truth: Hypersurface | None = None,
     `validation_profiles` (of `duration` [s], every `dt` [s]).
 
     The virtual wire is `truth`, by default the SmaWire FMU's own hysteresis (data set 0: the
-    reference wire on its 1 C, 10 MPa table), driven by the same temperature and stress; the thermal part does not
-    enter, as both see the wire's temperature. Returns {name: {rmse, max_abs, rmse_percent,
-    eps_max}}, eps_max the wire's largest strain on the run.
+    reference wire on its 1 C, 10 MPa table), driven by the same temperature and stress; the thermal
+    part does not enter, as both see the wire's temperature. Returns {name: {rmse, max_abs,
+    rmse_percent, eps_max}}, eps_max the wire's largest strain on the run.
     """
     from musclesim.components.sma import datasets
     from musclesim.components.sma.preisach import PreisachModel
