@@ -31,15 +31,13 @@ def _enum(cls: Any, fmi2_value: Any) -> Any:
 
 
 class Fmi3Face(Fmi3Slave):
-    """An FMI 3.0 co-simulation slave passing every call to an FMI 2.0 musclesim `Slave`.
-
-    ``Fmi3Face(**kwargs)``: `**kwargs` are pythonfmu3's (``instance_name``, ``resources``,
-    ``visible``, ...), passed on to it and, but for its own, to the inner slave.
-    """
+    """An FMI 3.0 co-simulation slave passing every call to an FMI 2.0 musclesim `Slave`."""
 
     inner_class: type[Slave] | None = None  # the component's `Slave` subclass, set per FMU
 
     def __init__(self, **kwargs: Any) -> None:
+        """`**kwargs`: pythonfmu3's (``instance_name``, ``resources``, ``visible``, ...), passed
+        on to it; the inner slave takes its instance name, resources and visibility."""
         super().__init__(**kwargs)
         if self.inner_class is None:
             raise TypeError("Fmi3Face is a base: a subclass sets inner_class")

@@ -80,9 +80,6 @@ class Slave(Fmi2Slave):
       was set, not after every step, so it may run any number of times (outputs declared with
       ``depends`` are direct feedthrough; tests/fmu/test_slave.py checks the rule);
     - `advance(t, dt)`: advance the internal state from ``t`` to ``t + dt`` with the current inputs.
-
-    ``Slave(**kwargs)``: `**kwargs` are pythonfmu's (``instance_name``, ``resources``,
-    ``visible``, ...), passed on to it.
     """
 
     author = "musclesim"
@@ -93,6 +90,8 @@ class Slave(Fmi2Slave):
     display_units: dict[str, str] = {"K": "degC", "Pa": "MPa", "m": "mm"}
 
     def __init__(self, **kwargs: Any) -> None:
+        """`**kwargs`: pythonfmu's (``instance_name``, ``resources``, ``visible``, ...), passed
+        on to it; a subclass declares its variables after calling this."""
         super().__init__(**kwargs)
         self._getters: list[Callable[[], Any]] = []
         self._setters: list[Callable[[Any], None]] = []
