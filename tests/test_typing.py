@@ -1,6 +1,7 @@
 """Every public function and method (tests/public_api.py says which) annotates each of its
-parameters and its return, and no public dataclass or named tuple types a field ``object`` or
-``Any`` (the real type belongs in the annotation, not in a comment). mypy (.ci/mypy) checks that
+parameters and its return, and no public dataclass or named tuple types a field ``object``,
+``Any`` or a bare container (``tuple``, ``dict``, ``list``, ``set``): the real type belongs in the
+annotation, not in a comment. mypy (.ci/mypy) checks that
 the annotations hold; this test that they exist, which mypy's settings cannot ask of public names
 alone."""
 from __future__ import annotations
@@ -13,7 +14,8 @@ from typing import Any
 
 from public_api import Member, classes, members
 
-VAGUE = {object, Any, "object", "Any", "typing.Any"}
+BARE = (tuple, dict, list, set, frozenset)
+VAGUE = {object, Any, *BARE, "object", "Any", "typing.Any", *(t.__name__ for t in BARE)}
 
 
 def unannotated(member: Member) -> list[str]:
@@ -30,7 +32,8 @@ def unannotated(member: Member) -> list[str]:
 
 
 def vague_fields(cls: type) -> list[str]:
-    """The fields of dataclass or named tuple `cls` typed ``object`` or ``Any``."""
+    """The fields of dataclass or named tuple `cls` typed ``object``, ``Any`` or a bare
+    container."""
     if dataclasses.is_dataclass(cls):
         fields = {f.name: f.type for f in dataclasses.fields(cls)}
     elif issubclass(cls, tuple) and hasattr(cls, "_fields"):
@@ -50,7 +53,7 @@ def problems(found: list[Member], kinds: list[tuple[str, type]]) -> dict[str, li
     for layer, cls in kinds:
         for name in vague_fields(cls):
             out.setdefault(layer, []).append(f"{cls.__module__}.{cls.__qualname__}.{name}: "
-                                             "field typed object or Any")
+                                             "field typed object, Any or a bare container")
     return out
 
 
@@ -99,6 +102,8 @@ class Record:
     a: object
     b: Any
     c: int = 0
+    d: tuple = ()
+    e: tuple[int, ...] = ()
 ''', vars(module))
     objects = [("musclesim.planted", vars(module)[n]) for n in ("bare", "typed", "Thing",
                                                                  "Record")]
@@ -109,6 +114,7 @@ class Record:
         "musclesim.planted.Thing.method: return",
         "musclesim.planted.Thing.static: z",
         "musclesim.planted.Thing.size: return",
-        "musclesim.planted.Record.a: field typed object or Any",
-        "musclesim.planted.Record.b: field typed object or Any"]}
-    assert report(found).startswith("musclesim.planted: 7 without full annotations\n")
+        "musclesim.planted.Record.a: field typed object, Any or a bare container",
+        "musclesim.planted.Record.b: field typed object, Any or a bare container",
+        "musclesim.planted.Record.d: field typed object, Any or a bare container"]}
+    assert report(found).startswith("musclesim.planted: 8 without full annotations\n")
