@@ -12,6 +12,7 @@ package, its properties, and, for a dataclass, its fields.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import importlib
 import inspect
 import pkgutil
@@ -41,7 +42,7 @@ def _defined_names(module: ModuleType) -> list[str]:
     if hasattr(module, "__all__"):
         return list(module.__all__)
     return [n for n, v in vars(module).items() if not n.startswith("_")
-            and (inspect.isfunction(v) or inspect.isclass(v))
+            and (inspect.isfunction(inspect.unwrap(v)) or inspect.isclass(v))
             and getattr(v, "__module__", None) == module.__name__]
 
 
@@ -74,6 +75,8 @@ def public_objects() -> Iterator[tuple[str, object]]:
         objects = interface(module) if is_interface else (
             getattr(module, n) for n in _defined_names(module))
         for obj in objects:
+            if callable(obj) and hasattr(obj, "__wrapped__"):  # functools.cache and the like
+                obj = inspect.unwrap(obj)
             if id(obj) not in seen and (inspect.isfunction(obj) or inspect.isclass(obj)):
                 seen.add(id(obj))
                 yield layer, obj
@@ -99,6 +102,8 @@ def methods(cls: type) -> Iterator[tuple[Callable[..., Any], bool]]:
                 value = value.__func__
             elif isinstance(value, property):
                 value = value.fget
+            elif isinstance(value, functools.cached_property):
+                value = value.func
             if inspect.isfunction(value):
                 yield value, bound
 
