@@ -1,8 +1,8 @@
 """musclesim.fmu.slave: the base class's typed variables, its guards, its batched calls and FMU
-state, and the contract the slaves' outputs are computed on demand by: `Slave.evaluate` sets the outputs
-from the state, the inputs and the time, and changes nothing else, so that a slave may evaluate
-when its outputs are read rather than after every step (and a master may read them any number
-of times). Checked on every component as every shipped scenario drives it."""
+state, and the contract the slaves' outputs are computed on demand by: `Slave.evaluate` sets the
+outputs from the state, the inputs and the time, and changes nothing else, so that a slave may
+evaluate when its outputs are read rather than after every step (and a master may read them any
+number of times). Checked on every component as every shipped scenario drives it."""
 import importlib
 import pickle
 import tomllib
