@@ -205,11 +205,14 @@ def test_the_model_description_declares_feedthrough_initial_unknowns_and_units()
     assert tau.get("description") == "Time constant (§two-mass)"
 
 
-def test_a_declaration_with_an_unknown_keyword_is_refused():
+@pytest.mark.parametrize("declare", ["parameter", "input"])
+def test_a_declaration_with_an_unknown_keyword_is_refused(declare):
+    """`parameter` and `input` take `**role`: a keyword that is no role is an error, not
+    ignored (python-control's habit for every function with **kwargs)."""
     class Wrong(Slave):
         def __init__(self, **kwargs):
             super().__init__(**kwargs)
-            self.parameter("k", 1.0, "N/m", "Stiffness", bounds=(0.0, 1.0))
+            getattr(self, declare)("k", 1.0, "N/m", "Stiffness", bounds=(0.0, 1.0))
 
     with pytest.raises(TypeError, match="bounds"):
         Wrong(instance_name="w")
