@@ -5,8 +5,9 @@ of the layers below it, never a layer above:
 
     fmu         what ships inside every FMU: the pythonfmu Slave base class and the units
     components  (musclesim.components, from components/) the physics cores and thin FMU slaves
-    cosim       one run: build, FMU hosting, scenario files, master, results, SSP export
+    cosim       one run: build, FMU hosting, scenario files, master, results
     batch       many runs: the Dask cluster, case folders, sweeps
+    export      a scenario packaged for other tools: an SSP archive, one container FMU
     analysis    linear analysis and controller design, characterisation, the position tables
     hysteresis  FORC identification and validation, the loop explorer, Preisach timing
     diagnosis   measured data sets, the effect library, the sim-to-real gap diagnosis

@@ -1,13 +1,14 @@
-"""SMA position control (issue 5, §position-control): short runs of each kind of the study's matrix,
-the stress loop's design on the identified load path, the tables' computation."""
+"""musclesim.analysis.position: SMA position control (issue 5, §position-control): short runs of
+each kind of the study's matrix and the tables' computation. (The stress loop's design:
+tests/analysis/test_linear_sma_load.py.)"""
 import math
 
 import numpy as np
 import pytest
 
-from musclesim.analysis import linear_sma_load, position as table
+from musclesim.analysis import position as table
 from musclesim.batch import run_case, write_case
-from musclesim.cosim import Master, load_scenario
+from musclesim.cosim import Master, Signal, load_scenario
 from musclesim.errors import UserError
 
 from conftest import SCENARIOS
@@ -26,11 +27,13 @@ def run(fmu_dir, sets, stop_time=3.0):
 def test_each_kind_of_the_matrix_runs_and_tracks(fmu_dir, kind):
     res = run(fmu_dir, table.cases()[kind][0][3])  # the first cell of its table
     settled = res.time >= 0.5  # after the stress loop's start from the weight alone
-    stress_error = res["wire.stress"][settled] - res["loading.sigma_ref"][settled]
+    stress_error = (res[Signal("wire", "stress")][settled]
+                    - res[Signal("loading", "sigma_ref")][settled])
     assert np.max(np.abs(stress_error)) < 1e6  # Pa: the stress loop holds within 1 MPa
-    temperature_error = res["thermocouple.T_meas"] - res["inverse.T_ref"]
+    temperature_error = res[Signal("thermocouple", "T_meas")] - res[Signal("inverse", "T_ref")]
     assert np.sqrt(np.mean(temperature_error[settled] ** 2)) < 2.0  # K
-    assert np.max(res["wire.strain"]) > 0.5 * np.max(res["strain.eps_ref"])  # the wire moves
+    # the wire moves
+    assert np.max(res[Signal("wire", "strain")]) > 0.5 * np.max(res[Signal("strain", "eps_ref")])
 
 
 def test_the_tables_strain_is_the_lasers_contraction_over_the_wires_length(fmu_dir):
@@ -38,9 +41,9 @@ def test_the_tables_strain_is_the_lasers_contraction_over_the_wires_length(fmu_d
     length = table.wire_length(s, fmu_dir)
     assert length == 58.42e-3  # the SmaWire's own (§thermal-model)
     res = Master(s, fmu_dir).run()
-    laser_strain = res["laser.s_meas"] / length  # laser effects off
-    assert np.max(res["wire.strain"]) > 0.004
-    np.testing.assert_allclose(laser_strain, res["wire.strain"], rtol=0, atol=1e-12)
+    laser_strain = res[Signal("laser", "s_meas")] / length  # laser effects off
+    assert np.max(res[Signal("wire", "strain")]) > 0.004
+    np.testing.assert_allclose(laser_strain, res[Signal("wire", "strain")], rtol=0, atol=1e-12)
     longer = load_scenario(POSITION, ["wire.length=0.2"], 2.0)
     assert table.wire_length(longer, fmu_dir) == 0.2
 
@@ -49,20 +52,8 @@ def test_stress_ignored_inverse_does_not_follow_the_stress(fmu_dir):
     sets = ["strain.profile=1.0", "loading.profile=1.0"]
     aware = run(fmu_dir, sets, 2.0)
     ignored = run(fmu_dir, sets + ["inverse.sigma_surface=125e6"], 2.0)
-    assert not np.array_equal(aware["inverse.T_ref"], ignored["inverse.T_ref"])
-
-
-def test_stress_loop_is_designed_on_the_identified_load_path(fmu_dir):
-    report = linear_sma_load.sma_load(fmu_dir)
-    K, tau = report["identified"]["K"], report["identified"]["tau"]
-    assert K == pytest.approx(2.0 * 12.0 / 24.0, rel=1e-6)  # k_f V / R of the Electromagnet
-    assert tau == pytest.approx(0.05 / 24.0, rel=1e-6)  # L / R
-    assert report["Kp"] > 0 and report["Ki"] > 0
-    assert report["sampled_pole_radius"] < 1 and report["phase_margin_deg"] > 45
-    gains = (SCENARIOS / "params" / "sma-load-gains.toml").read_text()
-    # the scenario uses this design, bit for bit: the fit and the placement solve through no
-    # LAPACK/BLAS, whose kernels (chosen per CPU) round differently
-    assert linear_sma_load.load_gains_toml(report) == gains
+    T_ref = Signal("inverse", "T_ref")
+    assert not np.array_equal(aware[T_ref], ignored[T_ref])
 
 
 def test_table_of_a_fixed_small_run(tmp_path):

@@ -5,7 +5,7 @@ import pytest
 
 from musclesim.cli import main
 from musclesim.components.sma.drift import DriftParams
-from musclesim.cosim import master, scenario
+from musclesim.cosim import Master, Signal, load_scenario
 from musclesim.hysteresis import DriftProtocol, drift_test
 
 from conftest import SCENARIOS
@@ -32,14 +32,15 @@ def test_a_settling_drift_changes_early_loops_more_than_late_ones():
 def test_the_core_runner_is_the_co_simulated_test(fmu_dir):
     # the scenario's first two cycles (closed-loop temperature at 200 Hz) against the runner with
     # the same temperature samples imposed: they differ by the loop's 0.05 K tracking error
-    s = scenario.load(SCENARIOS / "sma-drift.toml", stop_time=40.0)
-    res = master.Master(s, fmu_dir).run()
+    s = load_scenario(SCENARIOS / "sma-drift.toml", stop_time=40.0)
+    res = Master(s, fmu_dir).run()
     assert res.error is None, res.error
     wire = s.instances["wire"].parameters
     params = DriftParams(wire["drift_amplitude"], wire["drift_shift"], wire["drift_settle_cycles"])
     out = drift_test(DriftProtocol(stresses=(125e6,), rounds=1, cycles=2, samples_per_cycle=4000,
                                    compare=(1, 1)), params)
-    cosim = res["wire.strain"][1:].reshape(2, 4000).mean(axis=0)  # the same average of 2 cycles
+    # the same average of 2 cycles
+    cosim = res[Signal("wire", "strain")][1:].reshape(2, 4000).mean(axis=0)
     assert np.sqrt(np.mean((cosim - out["loops"][125e6][1]) ** 2)) < 3e-4
     assert np.ptp(cosim) > 0.035
 

@@ -1,6 +1,7 @@
-"""Identification from FORC experiments (§forc-identification): the ForcReference profile,
-`identify` on synthetic records from a known surface (no FMUs), its errors, a reduced closed-loop
-run on the FMUs, and the validation numbers (surface error, validation runs, memory checks)."""
+"""musclesim.hysteresis.identify: identification from FORC experiments (§forc-identification):
+the ForcReference profile, `identify` on synthetic records from a known surface (no FMUs), its
+errors and a reduced closed-loop run on the FMUs. (The validation numbers:
+tests/hysteresis/test_validation.py.)"""
 import json
 import math
 
@@ -9,7 +10,7 @@ import pytest
 
 from musclesim.hysteresis import validation
 from musclesim.hysteresis import identify as ident
-from musclesim.cosim import master, results, scenario
+from musclesim.cosim import Master, Signal, load_scenario, signal_units, write_results
 from musclesim.components.sma import datasets, forcfile
 from musclesim.components.sma.wire import ReferenceWire
 from musclesim.components.sources import forc
@@ -42,7 +43,7 @@ def test_forc_reference_runs_peaks_and_phases():
 
 
 def test_the_scenario_period_does_not_outrun_free_cooling():
-    s = scenario.load(SCENARIOS / "sma-forc-identification.toml")
+    s = load_scenario(SCENARIOS / "sma-forc-identification.toml")
     period = s.instances["reference"].parameters["period"]
     assert s.stop_time == pytest.approx(21 * period)
     # tau = rho c d / 4 h = 1.71 s (§thermal-model), ambient 20 C, T_low 30 C
@@ -171,21 +172,22 @@ def test_a_record_cut_short_and_duplicate_stresses_are_refused(tmp_path):
 def closed_loop(fmu_dir, tmp_path, sigma, period, T_step=25.0):
     """The identification scenario at stress sigma, with 5 runs of `period` s (peaks 25 K apart)."""
     n = int(round(100 / T_step)) + 1
-    s = scenario.load(SCENARIOS / "sma-forc-identification.toml",
+    s = load_scenario(SCENARIOS / "sma-forc-identification.toml",
                       [f"load.offset={sigma * 1.26677e-8!r}", f"reference.T_step={T_step!r}",
                        f"reference.period={period!r}"], stop_time=n * period)
-    m = master.Master(s, fmu_dir)
+    m = Master(s, fmu_dir)
     res = m.run()
     assert res.error is None, res.error
     folder = tmp_path / f"run-{sigma:g}-{period:g}"
-    results.write_all(folder, s, res, results.signal_units(m), with_plot=False)
+    write_results(folder, s, res, signal_units(m), with_plot=False)
     return folder, res
 
 
 def test_identify_from_the_closed_loop_on_the_virtual_wire(fmu_dir, tmp_path):
     fast = [closed_loop(fmu_dir, tmp_path, s, 20.0) for s in (105e6, 145e6)]
     for _, res in fast:
-        assert np.sqrt(np.mean(res["pid.e"] ** 2)) < 0.15  # K: the loop follows the sinusoids
+        # K: the loop follows the sinusoids
+        assert np.sqrt(np.mean(res[Signal("pid", "e")] ** 2)) < 0.15
     surface = ident.identify([f for f, _ in fast])
     assert surface.temps.tolist() == [30.0, 55.0, 80.0, 105.0, 130.0]
     assert surface.stresses.tolist() == [105e6, 145e6]
@@ -195,26 +197,3 @@ def test_identify_from_the_closed_loop_on_the_virtual_wire(fmu_dir, tmp_path):
     slow, _ = closed_loop(fmu_dir, tmp_path, 105e6, 30.0)
     again = ident.identify(slow)
     assert np.abs(again.table[0] - surface.table[0]).max() < 5e-5
-
-
-# ---- validation (§forc-identification)
-# ---------------------------------------------------------------------
-
-def test_the_virtual_wire_is_rate_independent_wipes_out_and_has_congruent_loops():
-    checks = validation.memory_checks()
-    assert checks["rate_independence"] < 1e-12
-    assert checks["wiping_out"] < 1e-12
-    assert checks["congruency"] < 1e-12
-    # the checks are not void: the histories differ before the erasure, the loops' starts differ
-    assert checks["memory"] > 1e-3 and checks["offset"] > 1e-4 and checks["loop_span"] > 5e-4
-
-
-def test_the_shipped_identified_set_validates_on_unseen_runs():
-    surface = datasets.surface(2)
-    err = validation.surface_error(surface)
-    assert err["max_abs"] < 2e-4 and err["max_rel"] < 0.005
-    runs = validation.validation_runs(surface, duration=200.0)
-    assert set(runs) == {"minor loops, 120 MPa", "random peaks, 130 MPa", "LP I", "LP V"}
-    for name, r in runs.items():
-        assert r["rmse_percent"] < 1.5, name  # the 5 C grid itself costs ~0.5-0.9 %
-        assert math.isfinite(r["max_abs"])

@@ -1,16 +1,19 @@
 """Controller design shared by the linear analyses: PI gains by pole placement on a
 first-order plant (`design_pi`), their margins and the sampled closed loop (`pi_margins`), and a PI
 for a discrete plant by its loop crossover (`discrete_pi`)."""
+from __future__ import annotations
+
 import cmath
 import math
+from typing import Any, Callable
 
 import control as ct
 import numpy as np
 
 
-def design_pi(plant, omega_n, zeta):
-    """PI gains placing the closed-loop poles of a first-order plant dx/dt = a x + b u at omega_n,
-    zeta (§temperature-control, §loads).
+def design_pi(plant: ct.StateSpace, omega_n: float, zeta: float) -> tuple[float, float]:
+    """PI gains (Kp, Ki) placing the closed-loop poles of a first-order `plant` dx/dt = a x + b u
+    at natural frequency `omega_n` [rad/s] and damping `zeta` (§temperature-control, §loads).
 
     With the error's integral as a second state, u = Kp e + Ki integral(e) closes the loop with
     the characteristic polynomial s^2 + (b Kp - a) s + b Ki = s^2 + 2 zeta omega_n s + omega_n^2:
@@ -22,10 +25,11 @@ def design_pi(plant, omega_n, zeta):
     return (2.0 * zeta * omega_n + a) / b, omega_n * omega_n / b
 
 
-def pi_margins(plant, Kp, Ki, step):
+def pi_margins(plant: ct.StateSpace, Kp: float, Ki: float, step: float) -> dict[str, Any]:
     """Gain margin (None: infinite), phase margin [deg] and gain crossover [rad/s] of the loop
-    PI x plant, and the largest pole radius of its closed loop sampled at `step` (below 1: the
-    controller running sampled keeps it stable)."""
+    PI x plant (PI gains `Kp`, `Ki`; `plant` a python-control system), and the largest pole radius
+    of its closed loop sampled at `step` (below 1: the controller running sampled keeps it
+    stable)."""
     loop = ct.tf([Kp, Ki], [1, 0]) * ct.tf(plant)
     gm, pm, _, _, wc, _ = ct.stability_margins(loop)
     sampled = ct.feedback(ct.sample_system(loop, step, method="zoh"))
@@ -33,9 +37,10 @@ def pi_margins(plant, Kp, Ki, step):
             "crossover": float(wc), "sampled_pole_radius": float(np.abs(ct.poles(sampled)).max())}
 
 
-def discrete_pi(plant, crossover, zero_ratio, step):
-    """PI u = Kp e + Ki sum(e) step (the PID FMU's form) for a discrete plant: the zero at
-    crossover / zero_ratio, Kp so that the loop gain is 1 at `crossover` [rad/s].
+def discrete_pi(plant: Callable[[complex], complex], crossover: float, zero_ratio: float,
+                step: float) -> tuple[float, float]:
+    """PI (Kp, Ki), u = Kp e + Ki sum(e) `step` (the PID FMU's form) for a discrete plant: the
+    zero at `crossover` / `zero_ratio`, Kp so that the loop gain is 1 at `crossover` [rad/s].
 
     `plant` is a function of z; the arithmetic is Python's complex (numpy's vectorised complex
     product takes fused multiply-adds on CPUs that have them, and rounds differently)."""

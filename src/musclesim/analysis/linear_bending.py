@@ -13,7 +13,10 @@ T is the rise above ambient, C = m c_p, G = h A_s, K = EI / L + e^2 A (E_A + E_B
 [T_lo, T_hi] is the linear thermal model's own under the pulse train: mean rise P_on d / G, each
 pulse adding P_on t_on / C.
 """
+from __future__ import annotations
+
 import math
+from typing import Any
 
 import control as ct
 import numpy as np
@@ -35,9 +38,11 @@ BENDING_DESIGN = {
 }
 
 
-def operating_point(d, layout, wire_p, wire):
+def operating_point(d: dict[str, Any], layout: actuator.WireLayout,
+                    wire_p: thermal.ThermalParams, wire: ReferenceWire) -> dict[str, Any]:
     """Wire A's band [C], its strain secant g [1/K] and modulus [Pa] under the pulse train of the
-    design `d` (module equation); resistance at the band's martensite fraction."""
+    design `d` (module equation), for the wires' `layout`, wire A's thermal parameters `wire_p`
+    and hysteresis `wire`; resistance at the band's martensite fraction."""
     sigma = layout.pretension / thermal.cross_section(wire_p)
     eps_max = float(wire.eps_max(sigma))
     G = wire_p.h * thermal.lateral_surface(wire_p)
@@ -55,9 +60,13 @@ def operating_point(d, layout, wire_p, wire):
             "modulus": actuator.modulus(xi, layout), "xi": xi, "stress": sigma}
 
 
-def bending_system(beam_p, layout, wire_p, op, height):
+def bending_system(beam_p: beam.BeamParams, layout: actuator.WireLayout,
+                   wire_p: thermal.ThermalParams, op: dict[str, Any],
+                   height: float) -> ct.StateSpace:
     """python-control state space from wire A's heating power [W] to the deflection at `height`
-    [m]; states: temperature rise [K], cap rotation [rad], its rate [rad/s]."""
+    [m] of beams `beam_p`, wires `layout` and wire A's thermal parameters `wire_p` at operating
+    point `op` (`operating_point`'s); states: temperature rise [K], cap rotation [rad], its rate
+    [rad/s]."""
     area = thermal.cross_section(wire_p)
     C = thermal.heat_capacity(wire_p)
     G = wire_p.h * thermal.lateral_surface(wire_p)
@@ -71,32 +80,35 @@ def bending_system(beam_p, layout, wire_p, op, height):
     return ct.ss(A, B, Cm, [[0.0]], inputs=["P"], outputs=["tip"], states=["T", "theta", "omega"])
 
 
-def stiffness(beam_p, layout, area, modulus_a):
-    """Rotational stiffness [N m/rad] of the beams and both taut wires, wire A at modulus_a and
-    wire B martensitic."""
+def stiffness(beam_p: beam.BeamParams, layout: actuator.WireLayout, area: float,
+              modulus_a: float) -> float:
+    """Rotational stiffness [N m/rad] of the beams `beam_p` and both taut wires (`layout`, of
+    cross-section `area` [m2]), wire A at `modulus_a` [Pa] and wire B martensitic."""
     wires = layout.offset ** 2 * area * (modulus_a + layout.modulus_martensite) / layout.length
     return beam.rotational_stiffness(beam_p) + wires
 
 
-def cold_stiffness(beam_p, layout, area):
-    """Rotational stiffness [N m/rad] with both wires cold (martensite)."""
+def cold_stiffness(beam_p: beam.BeamParams, layout: actuator.WireLayout, area: float) -> float:
+    """Rotational stiffness [N m/rad] of beams `beam_p` with both wires (`layout`, cross-section
+    `area` [m2]) cold (martensite)."""
     return stiffness(beam_p, layout, area, layout.modulus_martensite)
 
 
-def follow_ratio(sys, f, duty):
-    """Swing of the tip's first harmonic (peak to peak) over its mean deflection under a pulse
-    train of frequency f [Hz] (a number or an array) and duty:
+def follow_ratio(sys: ct.StateSpace, f: float | np.ndarray, duty: float) -> float | np.ndarray:
+    """Swing of the tip's first harmonic (peak to peak) over its mean deflection (system `sys`)
+    under a pulse train of frequency `f` [Hz] (a number or an array) and `duty` d:
     4 sin(pi d) |G(j 2 pi f)| / (pi d G(0))."""
     gain = np.abs(np.asarray(sys(2j * math.pi * np.asarray(f, dtype=float)))).ravel()
     ratio = 4 * math.sin(math.pi * duty) * gain / (math.pi * duty * float(ct.dcgain(sys)))
     return float(ratio[0]) if np.ndim(f) == 0 else ratio
 
 
-def follow_frequency(sys, duty, ratio, f_max=1e4):
-    """Lowest pulse frequency [Hz] at which `follow_ratio` falls to `ratio` (None: not below
-    f_max)."""
+def follow_frequency(sys: ct.StateSpace, duty: float, ratio: float,
+                     f_max: float = 1e4) -> float | None:
+    """Lowest pulse frequency [Hz] at which `follow_ratio` of `sys` under pulses of `duty` falls
+    to `ratio` (None: not below `f_max`)."""
     grid = np.logspace(-3, math.log10(f_max), 2000)
-    values = follow_ratio(sys, grid, duty) - ratio
+    values = np.asarray(follow_ratio(sys, grid, duty)) - ratio
     for k in range(1, len(grid)):
         if values[k - 1] > 0 >= values[k]:
             return float(brentq(lambda f: follow_ratio(sys, f, duty) - ratio,
@@ -104,8 +116,10 @@ def follow_frequency(sys, duty, ratio, f_max=1e4):
     return None
 
 
-def bending(design=None, beam_p=None, layout=None):
-    """The linear model of the default (or given) bending actuator and what it says for design.
+def bending(design: dict[str, Any] | None = None, beam_p: beam.BeamParams | None = None,
+            layout: actuator.WireLayout | None = None) -> dict[str, Any]:
+    """The linear model of the default bending actuator (or of beams `beam_p` and wires `layout`)
+    and what it says for design; `design` overrides settings of `BENDING_DESIGN`.
 
     Returns
     -------
@@ -144,8 +158,8 @@ def bending(design=None, beam_p=None, layout=None):
     }
 
 
-def format_bending(report):
-    """Human-readable summary of a `bending` report."""
+def format_bending(report: dict[str, Any]) -> str:
+    """Human-readable summary of a `bending` report `report`."""
     d, r, th, fo = report["design"], report["resonance"], report["thermal"], report["follow"]
     follow = "none below 10 kHz" if fo["frequency"] is None else f"{fo['frequency']:.2f} Hz"
     return "\n".join([

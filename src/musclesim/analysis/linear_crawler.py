@@ -1,5 +1,9 @@
 """Linear analysis of the crawler body (§two-mass): its controllability with the actuator force
 only and with all three inputs, with python-control."""
+from __future__ import annotations
+
+from typing import Any
+
 import control as ct
 import numpy as np
 
@@ -9,17 +13,18 @@ STATES = ["x1", "v1", "x2", "v2"]
 INPUTS = ["f_a", "f1", "f2"]
 
 
-def crawler_system(p=BodyParams()):
-    """The crawler body as a python-control state-space system with full state output."""
+def crawler_system(p: BodyParams = BodyParams()) -> ct.StateSpace:
+    """The crawler body of parameters `p` as a python-control state-space system with full state
+    output."""
     A, B = state_space(p)
     return ct.ss(A, B, np.eye(4), np.zeros((4, 3)), states=STATES, inputs=INPUTS,
                  outputs=STATES, name="crawler")
 
 
-def _row_echelon_basis(Q, tol=1e-9):
+def _row_echelon_basis(Q: np.ndarray, tol: float = 1e-9) -> np.ndarray:
     """Basis of the column space of Q in reduced row-echelon form (leading ones, like §two-mass)."""
     M = Q.T
-    pivots = []
+    pivots: list[int] = []
     for j in range(M.shape[1]):
         if np.linalg.matrix_rank(M[:, pivots + [j]], tol) > len(pivots):
             pivots.append(j)
@@ -30,8 +35,9 @@ def _row_echelon_basis(Q, tol=1e-9):
     return R
 
 
-def crawler(p=BodyParams()):
-    """Controllability of the crawler with the actuator force only and with all three inputs.
+def crawler(p: BodyParams = BodyParams()) -> dict[str, Any]:
+    """Controllability of the crawler body of parameters `p` with the actuator force only and
+    with all three inputs.
 
     Returns
     -------
@@ -70,8 +76,8 @@ def crawler(p=BodyParams()):
     }
 
 
-def format_crawler(report):
-    """Human-readable text of a `crawler` report."""
+def format_crawler(report: dict[str, Any]) -> str:
+    """Human-readable text of a `crawler` report `report`."""
     vec = lambda v: "[" + ", ".join(f"{x:g}" for x in v) + "]"
     n = len(report["states"])
     lines = [

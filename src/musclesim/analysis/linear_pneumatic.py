@@ -1,7 +1,11 @@
 """The pressure loops of the pneumatic crawler (§crawler-hardware, §gait): discrete models duty ->
 measured pressure identified on the FMUs from a PRBS, and a PI per actuator kind with its
 margins."""
+from __future__ import annotations
+
 import math
+from pathlib import Path
+from typing import Any, Callable
 
 import control as ct
 import numpy as np
@@ -30,12 +34,12 @@ PNEUMATIC_DESIGN = {
 ACTUATORS = ("central", "extremal")  # instance names in the identification scenario
 
 
-def _fit_arx(p, u, max_delay):
+def _fit_arx(p: np.ndarray, u: np.ndarray, max_delay: int) -> tuple[Any, ...]:
     """Least-squares p[k+1] = a p[k] + b u[k-d] + c for d = 0..max_delay; the best (a, b, c, d,
     RMS residual). In a fixed order of operations (`fixedorder.least_squares`, exactly rounded
     sums): numpy's lstsq rounds with the CPU's BLAS kernel, and the fit is ill-conditioned
     (p is nearly constant), so its digits from the eighth on would depend on the CPU."""
-    best = None
+    best: tuple[Any, ...] | None = None
     for d in range(max_delay + 1):
         columns = [p[d:-1], u[:len(u) - 1 - d] if d else u[:-1], np.ones(len(p) - 1 - d)]
         y = p[d + 1:]
@@ -44,25 +48,28 @@ def _fit_arx(p, u, max_delay):
         rms = math.sqrt(math.fsum((residual * residual).tolist()) / len(y))
         if best is None or rms < best[4]:
             best = (*coef, d, rms)
+    assert best is not None  # max_delay >= 0: one fit at least
     return best
 
 
-def _arx_response(fit):
+def _arx_response(fit: dict[str, Any]) -> Callable[[complex], complex]:
     """The identified plant b z^-d / (z - a) as a function of z (Python's complex arithmetic)."""
     a, b, d = fit["a"], fit["b"], fit["delay_samples"]
     return lambda z: b / (z ** (d + 1) - a * z ** d)
 
 
-def identify_pneumatic(fmu_dir="fmus", design=None):
+def identify_pneumatic(fmu_dir: str | Path = "fmus", design: dict[str, Any] | None = None
+                       ) -> dict[str, tuple[Any, dict[str, Any]]]:
     """Discrete models duty -> measured pressure of the central and the extremal actuator.
 
-    Runs scenarios/pneumatic-identification.toml twice with the duties replayed: once inflating at
+    Runs scenarios/pneumatic-identification.toml on the FMUs of `fmu_dir` twice (`design`
+    overrides settings of `PNEUMATIC_DESIGN`) with the duties replayed: once inflating at
     ``fill_duty`` to find when each chamber reaches ``p_op`` with its contact full, then inflating
     until then and applying a seeded PRBS of +-``amplitude`` (each bit followed by its opposite). A
     first-order ARX model with input delay is fitted to the PRBS part. Returns ``{actuator:
     (python-control discrete system, fit dict)}``.
     """
-    from musclesim.cosim import Master, load_scenario
+    from musclesim.cosim import Master, Signal, load_scenario
 
     d = {**PNEUMATIC_DESIGN, **(design or {})}
     n_bit = round(d["bit"] / d["step"])
@@ -70,12 +77,13 @@ def identify_pneumatic(fmu_dir="fmus", design=None):
     signs = np.where(np.random.default_rng(d["seed"]).integers(0, 2, d["bits"] // 2) > 0, 1.0, -1.0)
     prbs = np.column_stack([signs, -signs]).ravel().repeat(n_bit)
     s = load_scenario(d["scenario"], stop_time=d["fill_time"])
-    res = Master(s, fmu_dir, {f"{a}.duty": np.full(s.n_steps + 1, d["fill_duty"][a])
+    res = Master(s, fmu_dir, {Signal(a, "duty"): np.full(s.n_steps + 1, d["fill_duty"][a])
                               for a in ACTUATORS}).run()
     fill = {}
     for a in ACTUATORS:
         # an extremal chamber bulges while its contact builds: identify it once contact is full
-        reached = np.flatnonzero((res[f"{a}_sensor.p_meas"] >= d["p_op"]) & (res[f"{a}.u"] >= 0.999))
+        reached = np.flatnonzero((res[Signal(f"{a}_sensor", "p_meas")] >= d["p_op"])
+                                 & (res[Signal(a, "u")] >= 0.999))
         if not len(reached):
             raise UserError(f"{d['scenario']}: {a} does not reach p_op = {d['p_op']:g} Pa with "
                             f"full contact within {d['fill_time']:g} s at duty {d['fill_duty'][a]:g}")
@@ -84,11 +92,11 @@ def identify_pneumatic(fmu_dir="fmus", design=None):
     s = load_scenario(d["scenario"], stop_time=n * d["step"])
     duties = {a: np.concatenate([np.full(fill[a], d["fill_duty"][a]), d["amplitude"][a] * prbs,
                                  np.zeros(n + 1 - fill[a] - len(prbs))]) for a in ACTUATORS}
-    res = Master(s, fmu_dir, {f"{a}.duty": u for a, u in duties.items()}).run()
+    res = Master(s, fmu_dir, {Signal(a, "duty"): u for a, u in duties.items()}).run()
     out = {}
     for a in ACTUATORS:
         window = slice(fill[a], fill[a] + len(prbs))
-        p, u = res[f"{a}_sensor.p_meas"][window], duties[a][window]
+        p, u = res[Signal(f"{a}_sensor", "p_meas")][window], duties[a][window]
         A, B, c, delay, rms = _fit_arx(p, u, d["max_delay"])
         plant = ct.tf([B], np.r_[1.0, -A, np.zeros(delay)], d["step"], inputs="duty", outputs="p")
         out[a] = (plant, {"a": A, "b": B, "c": c, "delay_samples": delay, "fit_rms": rms,
@@ -96,8 +104,10 @@ def identify_pneumatic(fmu_dir="fmus", design=None):
     return out
 
 
-def pneumatic(fmu_dir="fmus", design=None):
-    """The pressure loops: identified discrete plants and a PI per actuator kind with margins.
+def pneumatic(fmu_dir: str | Path = "fmus", design: dict[str, Any] | None = None
+              ) -> dict[str, Any]:
+    """The pressure loops: discrete plants identified on the FMUs of `fmu_dir` and a PI per
+    actuator kind with margins; `design` overrides settings of `PNEUMATIC_DESIGN`.
 
     Returns a dict with, per actuator kind, the ARX fit (a, b, c, delay, RMS residual [Pa]),
     the integrator gain [Pa/s per unit duty], the gains Kp [1/Pa], Ki [1/(Pa s)], the discrete
@@ -123,8 +133,8 @@ def pneumatic(fmu_dir="fmus", design=None):
             "loops": loops}
 
 
-def format_pneumatic(report):
-    """Human-readable summary of a `pneumatic` report."""
+def format_pneumatic(report: dict[str, Any]) -> str:
+    """Human-readable summary of a `pneumatic` report `report`."""
     d = report["design"]
     lines = [f"Pressure loops (§crawler-hardware, §gait): duty -> measured pressure identified at "
              f"{d['p_op'] / 1e3:g} kPa from a PRBS of +-{d['amplitude']['central']:g} (central), "
@@ -144,8 +154,9 @@ def format_pneumatic(report):
     return "\n".join(lines)
 
 
-def pneumatic_gains_toml(report, actuator):
-    """The PID parameters of one actuator kind's loop, as the TOML a scenario's instance reads."""
+def pneumatic_gains_toml(report: dict[str, Any], actuator: str) -> str:
+    """The PID parameters of the loop of `actuator` ("central" or "extremal") in a `pneumatic`
+    report `report`, as the TOML a scenario's instance reads."""
     q = report["loops"][actuator]
     return "\n".join([
         f"# PID gains of the {actuator} soft actuator's pressure loop (§crawler-hardware),",

@@ -1,7 +1,11 @@
 """The load path of the SMA position-control bench (§sma-bench, §position-control): the duty ->
 load-cell force model identified on the Electromagnet and LoadCell FMUs, and the stress loop's PI
 placed on it."""
+from __future__ import annotations
+
 import math
+from pathlib import Path
+from typing import Any, Sequence
 
 import control as ct
 import numpy as np
@@ -20,7 +24,8 @@ LOAD_DESIGN = {
 }
 
 
-def _fit_step(t, f, step):
+def _fit_step(t: Sequence[float] | np.ndarray, f: Sequence[float] | np.ndarray,
+              step: float) -> tuple[float, float, float]:
     """K, tau and the RMS residual of f = f0 + K step (1 - exp(-t / tau)) fitted by least squares
     (§loads): Gauss-Newton from K = 1, tau = 10 ms, f0 = f[0], each step halved until it lowers
     the sum of squares and tau kept within [1e-6, 10] s, stopping when no step lowers it. In a
@@ -28,10 +33,10 @@ def _fit_step(t, f, step):
     exp): scipy's least_squares solves through LAPACK, whose last digits depend on the CPU."""
     t, f = [float(v) for v in t], [float(v) for v in f]
 
-    def residual(K, tau, f0):
+    def residual(K: float, tau: float, f0: float) -> list[float]:
         return [f0 + K * step * (1.0 - math.exp(-ti / tau)) - fi for ti, fi in zip(t, f)]
 
-    def cost(r):
+    def cost(r: list[float]) -> float:
         return math.fsum([v * v for v in r])
 
     x = (1.0, 0.01, f[0])
@@ -57,36 +62,40 @@ def _fit_step(t, f, step):
     return x[0], x[1], math.sqrt(cost(r) / len(r))
 
 
-def identify_load_path(fmu_dir="fmus", d=None):
+def identify_load_path(fmu_dir: str | Path = "fmus", d: dict[str, Any] | None = None
+                       ) -> tuple[ct.StateSpace, float, float, float]:
     """First-order model duty -> load-cell force, identified from a duty step of the FMUs.
 
-    The Electromagnet and LoadCell FMUs (as a scenario uses them, wire held still) are run with
-    the duty replayed as a step; K [N per unit duty] and tau [s] are fitted by least squares to
-    the recorded force. Returns (python-control system, K, tau, RMS fit residual [N]).
+    The Electromagnet and LoadCell FMUs of `fmu_dir` (as a scenario uses them, wire held still)
+    are run with the duty replayed as a step (`d` overrides settings of `LOAD_DESIGN`); K [N per
+    unit duty] and tau [s] are fitted by least squares to the recorded force. Returns
+    (python-control system, K, tau, RMS fit residual [N]).
     """
-    from musclesim.cosim import Instance, Master, Scenario
+    from musclesim.cosim import Instance, Master, Scenario, Signal
 
     d = {**LOAD_DESIGN, **(d or {})}
     s = Scenario("load-path identification", None,
                  {"magnet": Instance("magnet", "Electromagnet"),
                   "loadcell": Instance("loadcell", "LoadCell")},
-                 (("magnet.flange.f", "loadcell.f"),), d["step"], d["duration"],
-                 algorithm="jacobi", record=("loadcell.f_meas",))
+                 ((Signal("magnet", "flange.f"), Signal("loadcell", "f")),), d["step"],
+                 d["duration"], algorithm="jacobi", record=(Signal("loadcell", "f_meas"),))
     n = s.n_steps + 1
     lo, hi = d["duty"]
     # settle at the low duty, then step: the first 5 % of the record before the step
     k0 = n // 20
     duty = np.where(np.arange(n) < k0, lo, hi)
-    res = Master(s, fmu_dir, {"magnet.duty": duty}).run()
-    t, f = res.time[k0:] - res.time[k0], res["loadcell.f_meas"][k0:]
+    res = Master(s, fmu_dir, {Signal("magnet", "duty"): duty}).run()
+    t, f = res.time[k0:] - res.time[k0], res[Signal("loadcell", "f_meas")][k0:]
 
     K, tau, fit_rms = _fit_step(t, f, hi - lo)
     plant = ct.ss([[-1 / tau]], [[K / tau]], [[1.0]], [[0.0]], inputs=["duty"], outputs=["f"])
     return plant, K, tau, fit_rms
 
 
-def sma_load(fmu_dir="fmus", design=None):
-    """The stress loop: identified load path and the PI placed on it (python-control).
+def sma_load(fmu_dir: str | Path = "fmus",
+             design: dict[str, Any] | None = None) -> dict[str, Any]:
+    """The stress loop: the load path identified on the FMUs of `fmu_dir` and the PI placed on it
+    (python-control); `design` overrides settings of `LOAD_DESIGN`.
 
     Returns a dict with the identified K [N], tau [s] and fit residual, the gains Kp [1/N],
     Ki [1/(N s)], the loop's margins and the sampled closed loop's largest pole radius.
@@ -99,8 +108,8 @@ def sma_load(fmu_dir="fmus", design=None):
             "Kp": Kp, "Ki": Ki, **pi_margins(plant, Kp, Ki, d["step"])}
 
 
-def format_sma_load(report):
-    """Human-readable summary of an `sma_load` report."""
+def format_sma_load(report: dict[str, Any]) -> str:
+    """Human-readable summary of an `sma_load` report `report`."""
     i, d = report["identified"], report["design"]
     return (f"SMA load path (§loads, §position-control): duty -> load-cell force identified "
             f"from a duty step {d['duty'][0]:g} -> {d['duty'][1]:g}: K = {i['K']:.4g} N, tau = "
@@ -112,8 +121,9 @@ def format_sma_load(report):
             f"{report['sampled_pole_radius']:.4f}")
 
 
-def load_gains_toml(report):
-    """The PID parameters of an `sma_load` report, as the TOML a scenario's instance reads."""
+def load_gains_toml(report: dict[str, Any]) -> str:
+    """The PID parameters of an `sma_load` report `report`, as the TOML a scenario's instance
+    reads."""
     return "\n".join([
         "# PID gains of the SMA bench's stress loop (§position-control), written by",
         "# `musclesim linear sma-load --write FILE`: do not edit, rerun the design.",

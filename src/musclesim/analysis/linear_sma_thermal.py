@@ -1,6 +1,9 @@
 """The SMA wire's thermal models and the gain-scheduled temperature controller designed on them
 (§temperature-control), with python-control: a PI per scheduling point of the GainScheduledPID."""
+from __future__ import annotations
+
 import math
+from typing import Any
 
 import control as ct
 
@@ -19,17 +22,21 @@ SMA_DESIGN = {
 }
 
 
-def sma_thermal_plant(T_op, p=thermal.ThermalParams(), wire=None, T_amb=20.0, sigma=125e6):
-    """Linear thermal model of the wire around temperature T_op [C] under voltage drive.
+def sma_thermal_plant(T_op: float, p: thermal.ThermalParams = thermal.ThermalParams(),
+                      wire: ReferenceWire | None = None, T_amb: float = 20.0,
+                      sigma: float = 125e6) -> tuple[ct.StateSpace, float]:
+    """Linear thermal model of the wire (thermal parameters `p`) around temperature `T_op` [C]
+    under voltage drive.
 
-    The lumped balance C dT/dt = u^2 / R(xi(T)) - h A_s (T - T_amb) (§thermal-model) is linearised
-    at the equilibrium voltage u_op; xi(T) follows the heating branch of the reference wire at
-    `sigma` (the resistance rises as austenite forms, §sma-material). Returns (python-control system
+    The lumped balance C dT/dt = u^2 / R(xi(T)) - h A_s (T - `T_amb`) (§thermal-model) is
+    linearised at the equilibrium voltage u_op; xi(T) follows the heating branch of the reference
+    wire `wire` (default: `ReferenceWire()`) at stress `sigma` [Pa] (the resistance rises as
+    austenite forms, §sma-material). Returns (python-control system
     from du [V] to dT [K], u_op [V]). """
     wire = wire or ReferenceWire()
     eps_max = float(wire.eps_max(sigma))
 
-    def R(T):
+    def R(T: float) -> float:
         return thermal.resistance(thermal.martensite_fraction(float(wire.F(T, 30.0, sigma)),
                                                               eps_max), p)
 
@@ -42,8 +49,9 @@ def sma_thermal_plant(T_op, p=thermal.ThermalParams(), wire=None, T_amb=20.0, si
     return ct.ss([[a]], [[b]], [[1.0]], [[0.0]], inputs=["u"], outputs=["T"]), u_op
 
 
-def sma_thermal(design=None):
-    """Linear thermal models at the 21 scheduling points (30..130 C) and a PI per point.
+def sma_thermal(design: dict[str, Any] | None = None) -> dict[str, Any]:
+    """Linear thermal models at the 21 scheduling points (30..130 C) and a PI per point;
+    `design` overrides settings of `SMA_DESIGN`.
 
     Returns
     -------
@@ -67,8 +75,8 @@ def sma_thermal(design=None):
             "points": points}
 
 
-def format_sma_thermal(report):
-    """Human-readable table of an `sma_thermal` report."""
+def format_sma_thermal(report: dict[str, Any]) -> str:
+    """Human-readable table of an `sma_thermal` report `report`."""
     d = report["design"]
     lines = [f"SMA wire temperature loop (§temperature-control): PI per operating point, poles at "
              f"omega_n = {d['omega_n']:g} rad/s, zeta = {d['zeta']:g}; T_amb = {d['T_amb']:g} C, "
@@ -81,8 +89,9 @@ def format_sma_thermal(report):
     return "\n".join(lines)
 
 
-def gain_table_toml(report):
-    """The GainScheduledPID parameters of a report, as the TOML a scenario's instance reads."""
+def gain_table_toml(report: dict[str, Any]) -> str:
+    """The GainScheduledPID parameters of an `sma_thermal` report `report`, as the TOML a
+    scenario's instance reads."""
     lines = ["# GainScheduledPID gains for the SMA wire's temperature (§temperature-control),",
              "# written by `musclesim linear sma-thermal --write FILE`: do not edit, rerun the design.",
              "u_min = 0.0  # V: the wire is only heated", f"u_max = {report['design']['u_max']!r}  # V"]

@@ -15,15 +15,18 @@ resumable; each table is written as CSV and Markdown with the mean and standard 
 cells (a case that failed is a ``failed`` cell, counted in neither), and every case gets a figure
 (reference vs measured strain, stress, temperature).
 """
+from __future__ import annotations
+
 import csv
 import json
 import math
 from pathlib import Path
+from typing import Any, Collection, Iterable, Sequence
 
 import numpy as np
 
 from musclesim.components.sma import profiles
-from musclesim.cosim import replace_file, save_figure
+from musclesim.cosim import Scenario, replace_file, save_figure
 from musclesim.errors import UserError
 
 STRESSES = (105e6, 115e6, 125e6, 135e6, 145e6)  # Pa (§position-control)
@@ -31,12 +34,16 @@ SP = profiles.STRAIN_PROFILES
 LP = profiles.LOADING_PROFILES
 
 
-def cases():
+Case = tuple[str, str, str, list[str]]  # row, column, case id, its --set overrides
+Cell = tuple[float, float]  # strain RMSE, % of the maximum reference strain
+
+
+def cases() -> dict[str, list[Case]]:
     """{table: [(row, column, case id, overrides)]} of the study's matrix."""
-    def mpa(s):
+    def mpa(s: float) -> str:
         return f"{s / 1e6:g} MPa"
 
-    out = {"constant-stress": [], "stress-aware": [], "stress-ignored": []}
+    out: dict[str, list[Case]] = {"constant-stress": [], "stress-aware": [], "stress-ignored": []}
     for i, sp in enumerate(SP, 1):
         for s in STRESSES:
             out["constant-stress"].append((sp, mpa(s), f"const-{i}-{s / 1e6:g}", [
@@ -55,8 +62,9 @@ SIGNALS = ("strain.eps_ref", "laser.s_meas", "loading.sigma_ref", "wire.stress",
            "thermocouple.T_meas")  # what a cell and its figure read from a case's results.csv
 
 
-def read_case(results_csv, names=SIGNALS):
-    """(time, {name: values}) of the named columns of a run's results.csv (the master's own
+def read_case(results_csv: str | Path, names: Sequence[str] = SIGNALS
+              ) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """(time, {name: values}) of the columns `names` of a run's `results_csv` (the master's own
     output: a header, then plain numbers, so numpy's parser reads it; a missing column is the
     user's error)."""
     try:
@@ -76,9 +84,10 @@ def read_case(results_csv, names=SIGNALS):
     return data[:, 0], {n: data[:, j] for j, n in enumerate(names, 1)}
 
 
-def wire_length(s, fmu_dir):
-    """The length [m] of the scenario's `wire`: its parameter if the scenario sets it, else the
-    start value in the SmaWire FMU (the laser's contraction over it is the measured strain)."""
+def wire_length(s: Scenario, fmu_dir: str | Path) -> float:
+    """The length [m] of scenario `s`'s `wire`: its parameter if the scenario sets it, else the
+    start value in the SmaWire FMU of `fmu_dir` (the laser's contraction over it is the measured
+    strain)."""
     from musclesim.cosim import read_fmu
 
     inst = s.instances["wire"]
@@ -88,24 +97,28 @@ def wire_length(s, fmu_dir):
     return float(next(v.start for v in md.modelVariables if v.name == "length"))
 
 
-def strain_error(col, length):
-    """(RMSE, % of the maximum reference strain) of a run's columns; laser strain = s / L."""
+def strain_error(col: dict[str, np.ndarray], length: float) -> Cell:
+    """(RMSE, % of the maximum reference strain) of a run's columns `col`; laser strain = s /
+    `length`."""
     ref = col["strain.eps_ref"]
     err = ref - col["laser.s_meas"] / length
     rmse = float(np.sqrt(np.mean(err ** 2)))
     return rmse, 100.0 * rmse / float(np.max(ref)) if np.max(ref) > 0 else math.nan
 
 
-def write_table(out, name, rows, columns, cells, failed=()):
-    """Write DIR/<name>.csv and DIR/<name>.md; `cells[(row, column)]` = (RMSE, %) or None (not
-    run yet, or in `failed`: its case failed)."""
+def write_table(out: Path, name: str, rows: Sequence[str], columns: Sequence[str],
+                cells: dict[tuple[str, str], Cell | None],
+                failed: Collection[tuple[str, str]] = ()) -> dict[str, Any]:
+    """Write `out`/<`name`>.csv and `out`/<`name`>.md, a table of `rows` by `columns`;
+    `cells[(row, column)]` = (RMSE, %) or None (not run yet, or in `failed`: its case failed).
+    Return the table's stats: its number of cells, the mean and std of the RMSE and of the %."""
     values = [v for v in cells.values() if v is not None]
-    stats = {"cells": len(values)}
+    stats: dict[str, Any] = {"cells": len(values)}
     for k, label in ((0, "rmse"), (1, "percent")):
         xs = [v[k] for v in values]
         stats[label] = (float(np.mean(xs)), float(np.std(xs))) if xs else (math.nan, math.nan)
 
-    def status(r, c):
+    def status(r: str, c: str) -> str:
         return "failed" if (r, c) in failed else "not run" if cells.get((r, c)) is None else "done"
 
     with open(out / f"{name}.csv", "w", newline="") as f:
@@ -119,10 +132,11 @@ def write_table(out, name, rows, columns, cells, failed=()):
         for k, label in ((0, "mean"), (1, "std")):
             w.writerow([label, "", repr(stats["rmse"][k]), repr(stats["percent"][k]), ""])
 
-    def text(r, c):
+    def text(r: str, c: str) -> str:
         v = cells.get((r, c))
-        return {"failed": "failed", "not run": "-"}.get(status(r, c)) or \
-            f"{v[0] * 1e3:.3f} ({v[1]:.2f} %)"
+        if (r, c) in failed or v is None:
+            return "failed" if (r, c) in failed else "-"
+        return f"{v[0] * 1e3:.3f} ({v[1]:.2f} %)"
 
     lines = [f"### {name}: strain RMSE [1e-3] (% of the maximum reference strain)", "",
              "| | " + " | ".join(columns) + " |", "|---" * (len(columns) + 1) + "|"]
@@ -140,9 +154,9 @@ def write_table(out, name, rows, columns, cells, failed=()):
     return stats
 
 
-def envelope(t, y, bins):
-    """(t, y) reduced to the minimum and maximum of each of `bins` runs of samples (each at its
-    run's first time), so that a plot of millions of samples keeps every peak."""
+def envelope(t: np.ndarray, y: np.ndarray, bins: int) -> tuple[np.ndarray, np.ndarray]:
+    """(`t`, `y`) reduced to the minimum and maximum of each of `bins` runs of samples (each at
+    its run's first time), so that a plot of millions of samples keeps every peak."""
     k = len(y) // bins
     if k < 2:
         return t, y
@@ -153,8 +167,10 @@ def envelope(t, y, bins):
     return np.append(tt, t[n:]), np.append(yy, y[n:])
 
 
-def figure(path, t, col, length, title):
-    """`path` (PNG): reference vs measured strain, stress, temperature of a run's columns."""
+def figure(path: Path, t: np.ndarray, col: dict[str, np.ndarray], length: float,
+           title: str) -> None:
+    """Write `path` (PNG), titled `title`: reference vs measured strain, stress, temperature of a
+    run's columns `col` at times `t` (the laser's strain over the wire's `length`)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -177,12 +193,16 @@ def figure(path, t, col, length, title):
     plt.close(fig)
 
 
-def sma_position(out, scenario_path, fmu_dir="fmus", stop_time=None, scheduler=None,
-                 workers=None, only=None, run=True):
-    """Run the matrix (or the tables named in `only`; with `run` False, none of their cases) and
-    write the tables of the cases finished; return their stats, with ``failed`` ({case id:
-    error}) for each table. `out` keeps the cases of one scenario file, stop time and build of the
-    FMUs: another one is refused (its cells would not be comparable)."""
+def sma_position(out: str | Path, scenario_path: str | Path, fmu_dir: str | Path = "fmus",
+                 stop_time: float | None = None, scheduler: str | None = None,
+                 workers: int | None = None, only: Iterable[str] | None = None,
+                 run: bool = True) -> dict[str, Any]:
+    """Run the matrix of `scenario_path` on the FMUs of `fmu_dir` (or the tables named in
+    `only`; with `run` False, none of their cases) and write the tables of the cases finished;
+    return their stats, with ``failed`` ({case id: error}) for each table. `out` keeps the cases
+    of one scenario file, stop time and build of the FMUs: another one is refused (its cells would
+    not be comparable). `stop_time` overrides the scenario's; the cases run on the Dask cluster
+    at `scheduler` or on a local one of `workers` workers."""
     from musclesim.batch import case_summary, claim, finished, run_cases
     from musclesim.cosim import check_fresh, load_scenario
 
@@ -198,7 +218,9 @@ def sma_position(out, scenario_path, fmu_dir="fmus", stop_time=None, scheduler=N
         run_cases(out, todo, s, fmu_dir, scheduler, workers)
     report = {}
     for name, rows in matrix.items():
-        cells, failed, failed_cells = {}, {}, set()
+        cells: dict[tuple[str, str], Cell | None] = {}
+        failed: dict[str, str] = {}
+        failed_cells: set[tuple[str, str]] = set()
         for r, c, cid, _ in rows:
             case_dir = out / "cases" / cid
             if finished(case_dir) is None:

@@ -8,7 +8,10 @@ units, display units, descriptions, start values, direct feedthrough and default
 its FMU state is the inner slave's, serialized the same way. `musclesim build --fmi 3` ships it
 in FMI 3.0 FMUs only: it imports pythonfmu3, besides pythonfmu, which the FMI 2.0 base needs.
 """
-from xml.etree.ElementTree import SubElement
+from __future__ import annotations
+
+from typing import Any, Callable, Sequence
+from xml.etree.ElementTree import Element, SubElement
 
 import pythonfmu
 
@@ -19,20 +22,25 @@ from musclesim.fmu.slave import Slave
 
 
 # FMI 2.0 variable class -> FMI 3.0
-_TYPES = {pythonfmu.Real: Float64, pythonfmu.Integer: Int32, pythonfmu.Boolean: Boolean}
+_TYPES: dict[type, Callable[..., Any]] = {pythonfmu.Real: Float64, pythonfmu.Integer: Int32,
+                                          pythonfmu.Boolean: Boolean}
 
 
-def _enum(cls, fmi2_value):
+def _enum(cls: Any, fmi2_value: Any) -> Any:
     return None if fmi2_value is None else cls[fmi2_value.name]
 
 
 class Fmi3Face(Fmi3Slave):
     """An FMI 3.0 co-simulation slave passing every call to an FMI 2.0 musclesim `Slave`."""
 
-    inner_class = None  # the component's `musclesim.fmu.Slave` subclass, set per FMU
+    inner_class: type[Slave] | None = None  # the component's `Slave` subclass, set per FMU
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: Any) -> None:
+        """`**kwargs`: pythonfmu3's (``instance_name``, ``resources``, ``visible``, ...), passed
+        on to it; the inner slave takes its instance name, resources and visibility."""
         super().__init__(**kwargs)
+        if self.inner_class is None:
+            raise TypeError("Fmi3Face is a base: a subclass sets inner_class")
         inner = self.inner = self.inner_class(instance_name=kwargs["instance_name"],
                                               resources=kwargs.get("resources"),
                                               visible=kwargs.get("visible", False))
@@ -53,52 +61,63 @@ class Fmi3Face(Fmi3Slave):
                 initial=_enum(Fmi3Initial, v.initial), description=v.description,
                 getter=v.getter, setter=v.setter))
 
-    def _time(self):
+    def _time(self) -> float:
         return self.inner.time
 
     # ---- FMI calls, passed on -------------------------------------------------------------------
-    def setup_experiment(self, start_time):
+    def setup_experiment(self, start_time: float) -> None:
+        """FMI 3.0's start of the experiment at `start_time`, passed on."""
         self.inner.setup_experiment(start_time)
 
-    def enter_initialization_mode(self):
+    def enter_initialization_mode(self) -> None:
+        """FMI enterInitializationMode, passed on."""
         self.inner.enter_initialization_mode()
 
-    def exit_initialization_mode(self):
+    def exit_initialization_mode(self) -> None:
+        """FMI exitInitializationMode, passed on."""
         self.inner.exit_initialization_mode()
 
-    def do_step(self, current_time, step_size):
+    def do_step(self, current_time: float, step_size: float) -> bool:
+        """FMI doStep from `current_time` by `step_size`, passed on."""
         return self.inner.do_step(current_time, step_size)
 
-    def terminate(self):
+    def terminate(self) -> None:
+        """FMI terminate, passed on."""
         self.inner.terminate()
 
-    def get_float64(self, vrs):
+    def get_float64(self, vrs: Sequence[int]) -> list[float]:
+        """FMI getFloat64 of value references `vrs` (0: time; the others the FMI 2.0 one + 1)."""
         if 0 in vrs:
             return [self.inner.time if vr == 0 else self.inner.get_real([vr - 1])[0]
                     for vr in vrs]
         return self.inner.get_real([vr - 1 for vr in vrs])
 
-    def set_float64(self, vrs, values):
+    def set_float64(self, vrs: Sequence[int], values: Sequence[float]) -> None:
+        """FMI setFloat64 of value references `vrs` to `values` (time cannot be set)."""
         if 0 in vrs:
             raise ValueError("time is the independent variable: it cannot be set")
         self.inner.set_real([vr - 1 for vr in vrs], values)
 
-    def get_int32(self, vrs):
+    def get_int32(self, vrs: Sequence[int]) -> list[int]:
+        """FMI getInt32 of value references `vrs`."""
         return self.inner.get_integer([vr - 1 for vr in vrs])
 
-    def get_boolean(self, vrs):
+    def get_boolean(self, vrs: Sequence[int]) -> list[bool]:
+        """FMI getBoolean of value references `vrs`."""
         return self.inner.get_boolean([vr - 1 for vr in vrs])
 
-    def set_int32(self, vrs, values):
+    def set_int32(self, vrs: Sequence[int], values: Sequence[int]) -> None:
+        """FMI setInt32 of value references `vrs` to `values`."""
         self.inner.set_integer([vr - 1 for vr in vrs], values)
 
-    def set_boolean(self, vrs, values):
+    def set_boolean(self, vrs: Sequence[int], values: Sequence[bool]) -> None:
+        """FMI setBoolean of value references `vrs` to `values`."""
         self.inner.set_boolean([vr - 1 for vr in vrs], values)
 
-    def _get_fmu_state(self):
+    def _get_fmu_state(self) -> dict[str, Any]:
         return self.inner._get_fmu_state()
 
-    def _set_fmu_state(self, state):
+    def _set_fmu_state(self, state: dict[str, Any]) -> None:
         self.inner._set_fmu_state(state)
 
     # static, as pythonfmu3's C layer calls them: the FMI 2.0 slave's own (pickle)
@@ -106,7 +125,9 @@ class Fmi3Face(Fmi3Slave):
     _fmu_state_from_bytes = staticmethod(Slave._fmu_state_from_bytes)
 
     # ---- model description ---------------------------------------------------------------------
-    def to_xml(self, model_options=None):
+    def to_xml(self, model_options: dict[str, str] | None = None) -> Element:
+        """The FMI 3.0 model description, pythonfmu3's (`model_options`: its options) with the
+        inner slave's units and a complete ModelStructure."""
         root = super().to_xml(model_options or {})
         vr = {v.get("name"): v.get("valueReference") for v in root.find("ModelVariables")}
         structure = self.inner.describe_units(root, typed=lambda v: v)

@@ -1,6 +1,8 @@
 """The project's pythonfmu base class: SI units, a complete ModelStructure and real FMU state.
 
-Every component's FMU slave derives from `Slave`. It fixes, once, what pythonfmu 0.7 leaves out:
+Every component's FMU slave derives from `Slave`; the units it declares are in
+`musclesim.fmu.units`, a parameter's declaration in `musclesim.fmu.declaration`, its clock in
+`musclesim.fmu.clock`. It fixes, once, what pythonfmu 0.7 leaves out:
 
 - ``ModelStructure/InitialUnknowns`` (pythonfmu writes none, so fmpy's ``validate_fmu`` complains
   about every calculated output) and ``Outputs`` dependencies, which declare direct feedthrough
@@ -16,159 +18,51 @@ Every component's FMU slave derives from `Slave`. It fixes, once, what pythonfmu
   step of the study's experiment it comes from (`experiment`), which a tool runs when told
   nothing else.
 
-A component's parameters are declared once, where its physics core takes them: a field of the
-core's parameter dataclass made with `declare` carries its default, unit, description, the docs
-section it comes from and its role for the diagnosis (an effect's fitting bounds, a `Calibration`).
-The slave declares them with `parameters_of`, its other variables with `parameter`, `input` and
-`output`; `Slave.declarations` gives every variable's `Declaration` (the docs' tables and the
-diagnosis's effect and calibration catalogues read them). The slave turns parameters into its
-physics core in `setup`, computes outputs in `evaluate` and advances state in `advance`.
-This module must import nothing but the standard library, numpy and pythonfmu: it is shipped inside
-every FMU, which must run where only Python, numpy and scipy are installed.
+A slave declares its core's parameters with `parameters_of` (the fields made with
+`musclesim.fmu.declare`), its other variables with `parameter`, `input` and `output`;
+`Slave.declarations` gives each variable's `Declaration`. It builds its physics core in `setup`,
+computes outputs in `evaluate` and advances state in `advance`. This module imports nothing but
+the standard library and pythonfmu: it is shipped inside every FMU, which must run where only
+Python, numpy and scipy are installed.
 """
+from __future__ import annotations
+
 import copy
 import dataclasses
 import math
 import operator
 import pickle
 import warnings
+from typing import Any, Callable, Sequence, TypeVar
 from xml.etree.ElementTree import Element, SubElement
 
-from pythonfmu import (Boolean, DefaultExperiment, Fmi2Causality, Fmi2Initial, Fmi2Slave,
-                       Fmi2Variability, Integer, Real)
+from pythonfmu import (Boolean, Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Integer,
+                       Real)
 from pythonfmu.enums import Fmi2Status
 
-# SI base-unit exponents of every unit a variable may carry (FMI 2.0 BaseUnit attributes).
-UNITS = {
-    "m": {"m": 1},
-    "m/s": {"m": 1, "s": -1},
-    "m/s2": {"m": 1, "s": -2},
-    "m2": {"m": 2},
-    "m3": {"m": 3},
-    "m3/(s.Pa)": {"m": 4, "kg": -1, "s": 1},
-    "kg": {"kg": 1},
-    "s": {"s": 1},
-    "Hz": {"s": -1},
-    "rad": {"rad": 1},
-    "N": {"kg": 1, "m": 1, "s": -2},
-    "N/m": {"kg": 1, "s": -2},
-    "N.s/m": {"kg": 1, "s": -1},
-    "Pa": {"kg": 1, "m": -1, "s": -2},
-    "K": {"K": 1},
-    "W": {"kg": 1, "m": 2, "s": -3},
-    "V": {"kg": 1, "m": 2, "s": -3, "A": -1},
-    "A": {"A": 1},
-    "Ohm": {"kg": 1, "m": 2, "s": -3, "A": -2},
-    "H": {"kg": 1, "m": 2, "s": -2, "A": -2},
-    "N/A": {"kg": 1, "m": 1, "s": -2, "A": -1},
-    "1/A": {"A": -1},
-    "1/s": {"s": -1},
-    "1/rad": {"rad": -1},
-    "kg/s": {"kg": 1, "s": -1},
-    "kg/m3": {"kg": 1, "m": -3},
-    "J/kg": {"m": 2, "s": -2},
-    "J/(kg.K)": {"m": 2, "s": -2, "K": -1},
-    "W/K": {"kg": 1, "m": 2, "s": -3, "K": -1},
-    "W/(m2.K)": {"kg": 1, "s": -3, "K": -1},
-    "W/(m.K)": {"kg": 1, "m": 1, "s": -3, "K": -1},
-    "Ohm.m": {"kg": 1, "m": 3, "s": -3, "A": -2},
-    "1": {},
-}
+from musclesim.fmu.declaration import Declaration
+from musclesim.fmu.clock import experiment, step_end
+from musclesim.fmu.units import UNITS, unit_definitions
 
-# display units a tool may show a variable in (FMI 2.0 DisplayUnit: shown = factor * value +
-# offset): name -> (unit, factor, offset)
-DISPLAY_UNITS = {
-    "degC": ("K", 1.0, -273.15),
-    "MPa": ("Pa", 1e-6, 0.0),
-    "kPa": ("Pa", 1e-3, 0.0),
-    "mm": ("m", 1e3, 0.0),
-}
+T = TypeVar("T")
 
 # attributes that belong to the FMI plumbing, not to the model's state
 _NOT_STATE = frozenset({"vars", "log_queue", "_getters", "_setters", "_attrs", "_meta",
                         "_parameters"})
 
 
-@dataclasses.dataclass(frozen=True)
-class Calibration:
-    """The role of a nominal value a real bench has differently: the diagnosis calibrates it
-    before it tests any effect. The bounds are factors on the scenario's value (`relative`) or
-    offsets added to it; `why` says what differs on a bench; a `period` (> 0) makes it periodic
-    (a phase)."""
-
-    lower: float
-    upper: float
-    relative: bool
-    why: str
-    period: float = 0.0
-
-
-@dataclasses.dataclass(frozen=True)
-class Declaration:
-    """One variable as its component declares it. `type`: its FMI 2.0 type, "Real", "Integer"
-    (a count, an index, a seed) or "Boolean" (a switch; 0 or 1 where values are numbers);
-    `effect`: the (lower, upper) fitting bounds of an effect parameter, whose default is the
-    effect off; `calibrate`: its `Calibration`; `source`: the model reference section the value
-    comes from (``§label``); `depends`: the inputs an output depends on directly (None for other
-    variables)."""
-
-    name: str
-    causality: str  # "parameter", "input" or "output"
-    default: float
-    unit: str
-    description: str
-    source: str = ""
-    effect: tuple = None
-    calibrate: Calibration = None
-    depends: tuple = None
-    type: str = "Real"
-
-
 # the FMI 2.0 variable of each type, and the Python value the FMI calls take for it; a slave
 # keeps every value as a float, so that its physics reads Integer and Boolean values as numbers
-_TYPES = {"Real": (Real, float), "Integer": (Integer, int), "Boolean": (Boolean, bool)}
+_TYPES: dict[str, tuple[type, type]] = {"Real": (Real, float), "Integer": (Integer, int),
+                                        "Boolean": (Boolean, bool)}
 
 
-def declare(default, unit, description, *, source="", effect=None, calibrate=None, type="Real"):
-    """A field of a core's parameter dataclass declaring the parameter once: its `default`, SI
-    `unit` (a key of `UNITS`), `description`, `source` (a ``§label`` of the model reference),
-    FMI `type` ("Real", "Integer" or "Boolean", the last two of unit "1") and role: an effect's
-    fitting bounds `effect` = (lower, upper) (the default is the effect off) or a
-    `Calibration`. `Slave.parameters_of` declares such fields as the FMU's parameters.
-
-    Examples
-    --------
-    >>> @dataclasses.dataclass(frozen=True)
-    ... class Params:
-    ...     m: float = declare(0.2, "kg", "Block mass", source="§two-mass")
-    >>> Params().m, dataclasses.fields(Params)[0].metadata["unit"]
-    (0.2, 'kg')
-    """
-    if unit not in UNITS:
-        raise ValueError(f"unit {unit!r} is not in musclesim.fmu.UNITS")
-    return dataclasses.field(default=default, metadata={
-        "unit": unit, "description": description, "source": source, "type": type,
-        "effect": tuple(effect) if effect is not None else None, "calibrate": calibrate})
-
-
-def step_end(t0, t, h):
-    """The time a step of `h` from `t` ends at: t0 + (k + 1) h where `t` is the point t0 + k h of
-    a master counting its points from the start time t0 (musclesim's, FMPy's), so that a
-    time-driven output reads the same instant whoever steps it; t + h otherwise.
-
-    Examples
-    --------
-    >>> step_end(0.0, 9 * 0.001, 0.001), 9 * 0.001 + 0.001
-    (0.01, 0.010000000000000002)
-    """
-    k = round((t - t0) / h) if h > 0 else None
-    return t0 + (k + 1) * h if k is not None and t0 + k * h == t else t + h
-
-
-def experiment(stop_time, step):
-    """The FMI default experiment of a component: from 0 to `stop_time` [s] in steps of `step`
-    [s]."""
-    return DefaultExperiment(start_time=0.0, stop_time=stop_time, step_size=step)
+def _find(root: Element, tag: str) -> Element:
+    """The child `tag` of model description `root`, which pythonfmu always writes."""
+    child = root.find(tag)
+    if child is None:
+        raise ValueError(f"the model description has no {tag}")
+    return child
 
 
 class Slave(Fmi2Slave):
@@ -184,7 +78,7 @@ class Slave(Fmi2Slave):
     - `evaluate()`: set the outputs from the current state, inputs and time, changing nothing
       else: it runs when outputs are read (or a step needs them) after a step or after an input
       was set, not after every step, so it may run any number of times (outputs declared with
-      ``depends`` are direct feedthrough; tests/fmu/test_evaluate_contract.py checks the rule);
+      ``depends`` are direct feedthrough; tests/fmu/test_slave.py checks the rule);
     - `advance(t, dt)`: advance the internal state from ``t`` to ``t + dt`` with the current inputs.
     """
 
@@ -193,24 +87,28 @@ class Slave(Fmi2Slave):
     default_experiment = experiment(10.0, 1e-3)  # components set their study's experiment
     # the display unit of each unit that has one (`DISPLAY_UNITS`): temperatures in C, stresses
     # in MPa, positions in mm; a component whose pascals are air pressures shows them in kPa
-    display_units = {"K": "degC", "Pa": "MPa", "m": "mm"}
+    display_units: dict[str, str] = {"K": "degC", "Pa": "MPa", "m": "mm"}
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: Any) -> None:
+        """`**kwargs`: pythonfmu's (``instance_name``, ``resources``, ``visible``, ...), passed
+        on to it; a subclass declares its variables after calling this."""
         super().__init__(**kwargs)
-        self._getters = []
-        self._setters = []
-        self._attrs = []  # attribute holding each variable, by value reference
-        self._meta = {}
-        self._parameters = set()  # value references of parameters
+        self._getters: list[Callable[[], Any]] = []
+        self._setters: list[Callable[[Any], None]] = []
+        self._attrs: list[str] = []  # attribute holding each variable, by value reference
+        self._meta: dict[str, Declaration] = {}
+        self._parameters: set[int] = set()  # value references of parameters
         self._configured = False  # setup() has run for the current parameter values
         self._initialized = False  # initialization mode has been left
         self._dirty = True  # an input changed since the outputs were evaluated
-        self._clamped = set()  # inputs whose clamping has been warned about
+        self._clamped: set[str] = set()  # inputs whose clamping has been warned about
         self.time = self.start_time = 0.0
 
     # ---- declaring variables -------------------------------------------------------------------
-    def _declare(self, name, value, unit, description, causality, variability, initial, depends,
-                 type="Real", **role):
+    def _declare(self, name: str, value: float, unit: str, description: str,
+                 causality: Fmi2Causality, variability: Fmi2Variability,
+                 initial: Fmi2Initial | None, depends: tuple[str, ...] | None, type: str = "Real",
+                 **role: Any) -> None:
         if unit not in UNITS:
             raise ValueError(f"variable {name}: unit {unit!r} is not in musclesim.fmu.UNITS")
         if type not in _TYPES or (type != "Real" and unit != "1"):
@@ -241,17 +139,22 @@ class Slave(Fmi2Slave):
         self._meta[name] = Declaration(name, causality.name, float(value), unit, description,
                                        depends=depends, type=type, **role)
 
-    def parameter(self, name, default, unit, description, **role):
-        """Declare a fixed parameter (set before initialization), stored as attribute; `role`:
-        `declare`'s type, source, effect or calibrate, for a parameter no core dataclass holds."""
+    def parameter(self, name: str, default: float, unit: str, description: str,
+                  **role: Any) -> None:
+        """Declare a fixed parameter `name` (set before initialization), stored as attribute, with
+        its `default`, `unit` and `description`; `**role`: `musclesim.fmu.declare`'s type,
+        source, effect or calibrate, for a parameter no core dataclass holds (another keyword
+        raises TypeError)."""
         self._declare(name, default, unit, description, Fmi2Causality.parameter,
                       Fmi2Variability.fixed, Fmi2Initial.exact, None, **role)
 
-    def parameters_of(self, cls, skip=(), **overrides):
+    def parameters_of(self, cls: type, skip: Sequence[str] = (),
+                      **overrides: dict[str, Any]) -> None:
         """Declare as parameters the fields of the core's dataclass `cls` made with `declare`, in
         their order, but not those in `skip`. A core shared by several components (the sensors')
-        has per-component units, defaults or roles: ``overrides[name]`` is a dict replacing any
-        of the field's declared default, unit, description, source, type, effect or calibrate."""
+        has per-component units, defaults or roles: `**overrides`, ``overrides[name]``, is a dict
+        replacing any of the field's declared default, unit, description, source, type, effect
+        or calibrate (ValueError for a name `cls` does not declare)."""
         for f in dataclasses.fields(cls):
             if "unit" in f.metadata and f.name not in skip:
                 m = {**f.metadata, "default": f.default, **overrides.pop(f.name, {})}
@@ -260,33 +163,36 @@ class Slave(Fmi2Slave):
         if overrides:
             raise ValueError(f"{cls.__name__} declares no {', '.join(overrides)}")
 
-    def input(self, name, start, unit, description, **role):
-        """Declare a continuous Real input with its start value (`role`: a `Calibration` of an
-        input held constant, such as the ambient temperature; `declare`'s source)."""
+    def input(self, name: str, start: float, unit: str, description: str, **role: Any) -> None:
+        """Declare a continuous Real input `name` with its `start` value, `unit` and
+        `description` (`**role`: a `Calibration` of an input held constant, such as the ambient
+        temperature; `declare`'s source; another keyword raises TypeError)."""
         self._declare(name, start, unit, description, Fmi2Causality.input,
                       Fmi2Variability.continuous, None, None, **role)
 
-    def output(self, name, unit, description, depends=(), type="Real"):
-        """Declare a calculated output (Real unless `type` says "Integer" or "Boolean");
-        ``depends`` names the inputs it depends on directly."""
+    def output(self, name: str, unit: str, description: str, depends: Sequence[str] = (),
+               type: str = "Real") -> None:
+        """Declare a calculated output `name` of `unit` and `description` (Real unless `type`
+        says "Integer" or "Boolean"); `depends` names the inputs it depends on directly."""
         self._declare(name, 0.0, unit, description, Fmi2Causality.output,
                       Fmi2Variability.continuous, Fmi2Initial.calculated, tuple(depends), type)
 
     @classmethod
-    def declarations(cls):
+    def declarations(cls) -> dict[str, Declaration]:
         """{name: `Declaration`} of every variable the slave class declares, in order."""
         return dict(cls(instance_name=cls.__name__)._meta)
 
-    def log(self, msg, status=Fmi2Status.ok, category=None, debug=None):
-        """Queue `msg` for the FMU log as pythonfmu does, with the debug flag pythonfmu3's C
-        layer reads too (an FMI 3.0 face shares this queue; a message without it crashed the
-        process)."""
+    def log(self, msg: str, status: Fmi2Status = Fmi2Status.ok, category: str | None = None,
+            debug: bool | None = None) -> None:
+        """Queue `msg` of `status` and `category` for the FMU log as pythonfmu does, with the
+        debug flag pythonfmu3's C layer reads too, always False (an FMI 3.0 face shares this
+        queue; a message without it crashed the process); `debug` is pythonfmu's, unused."""
         super().log(msg, status, category)
         self.log_queue[-1].debug = False
 
-    def logged(self, call, *args):
-        """call(*args) with the warnings it raises (a core's one-time range warnings) sent to the
-        FMU log as warnings instead of the process's stderr."""
+    def logged(self, call: Callable[..., T], *args: Any) -> T:
+        """`call` (`*args`) with the warnings it raises (a core's one-time range warnings) sent to
+        the FMU log as warnings instead of the process's stderr."""
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             result = call(*args)
@@ -294,18 +200,19 @@ class Slave(Fmi2Slave):
             self.log(str(w.message), Fmi2Status.warning)
         return result
 
-    def core_params(self, cls):
+    def core_params(self, cls: Callable[..., T]) -> T:
         """The core's parameter dataclass `cls` from the parameters of the same names, checked.
 
         ``cls.check()`` raises ValueError naming a bad parameter; the FMU reports it as the cause.
         """
-        params = cls(**{name: getattr(self, name) for name in cls.__dataclass_fields__})
-        params.check()
+        params = cls(**{name: getattr(self, name)
+                        for name in cls.__dataclass_fields__})  # type: ignore[attr-defined]
+        params.check()  # type: ignore[attr-defined]
         return params
 
-    def clamped_input(self, name, lo, hi, t):
-        """Input `name` clamped to [lo, hi] at time t; its first clamp is logged as a warning,
-        NaN raises ValueError."""
+    def clamped_input(self, name: str, lo: float, hi: float, t: float) -> float:
+        """Input `name` clamped to [`lo`, `hi`] at time `t`; its first clamp is logged as a
+        warning, NaN raises ValueError."""
         value = getattr(self, name.replace(".", "_"))
         if math.isnan(value):
             raise ValueError(f"input {name} is NaN at t = {t:g} s")
@@ -319,24 +226,27 @@ class Slave(Fmi2Slave):
         return clamped
 
     # ---- hooks for subclasses ------------------------------------------------------------------
-    def setup(self):
+    def setup(self) -> None:
         """Check parameters and build the physics core; may run again while initializing."""
 
-    def initialize(self):
+    def initialize(self) -> None:
         """Set the initial internal state from parameters and inputs (leaving initialization)."""
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         """Set the outputs from the state, the current inputs and the time; change nothing
         else."""
 
-    def advance(self, t, dt):
-        """Advance the internal state from t to t + dt."""
+    def advance(self, t: float, dt: float) -> None:
+        """Advance the internal state from `t` to `t` + `dt`."""
 
     # ---- FMI calls -----------------------------------------------------------------------------
-    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+    def setup_experiment(self, start_time: float, stop_time: float | None = None,
+                         tolerance: float | None = None) -> None:
+        """FMI setupExperiment: time starts at `start_time`; `stop_time` and `tolerance` are
+        not used."""
         self.time = self.start_time = float(start_time)
 
-    def _refresh(self):
+    def _refresh(self) -> None:
         if not self._configured:
             self.setup()
             self._configured = True
@@ -350,38 +260,47 @@ class Slave(Fmi2Slave):
             self.evaluate()
             self._dirty = False
 
-    def exit_initialization_mode(self):
+    def exit_initialization_mode(self) -> None:
+        """FMI exitInitializationMode: the initial state and outputs from the inputs set."""
         self._dirty = True  # the initial state from the inputs as they are now, then its outputs
         self._refresh()
         self._initialized = True
 
-    def do_step(self, current_time, step_size):
+    def do_step(self, current_time: float, step_size: float) -> bool:
+        """FMI doStep: advance from `current_time` by `step_size`; True (pythonfmu's ok)."""
         self._refresh()  # advance may read what evaluate sets (a friction block's contact)
         self.advance(current_time, step_size)
         self.time = step_end(self.start_time, current_time, step_size)
         self._dirty = True  # outputs evaluated when read: a master sets inputs first, mostly
         return True
 
-    def get_real(self, vrs):
+    def get_real(self, vrs: Sequence[int]) -> list[float]:
+        """FMI getReal: the values of the value references `vrs`."""
         self._refresh()
         getters = self._getters
         return [getters[vr]() for vr in vrs]
 
-    def get_integer(self, vrs):
+    def get_integer(self, vrs: Sequence[int]) -> list[int]:
+        """FMI getInteger: the values of the value references `vrs`."""
         self._refresh()
         return super().get_integer(vrs)
 
-    def get_boolean(self, vrs):
+    def get_boolean(self, vrs: Sequence[int]) -> list[bool]:
+        """FMI getBoolean: the values of the value references `vrs`."""
         self._refresh()
         return super().get_boolean(vrs)
 
-    def set_integer(self, vrs, values):
+    def set_integer(self, vrs: Sequence[int], values: Sequence[int]) -> None:
+        """FMI setInteger: set the value references `vrs` to `values` (kept as floats)."""
         self.set_real(vrs, values)  # every value is kept as a float
 
-    def set_boolean(self, vrs, values):
+    def set_boolean(self, vrs: Sequence[int], values: Sequence[bool]) -> None:
+        """FMI setBoolean: set the value references `vrs` to `values` (kept as floats)."""
         self.set_real(vrs, values)
 
-    def set_real(self, vrs, values):
+    def set_real(self, vrs: Sequence[int], values: Sequence[float]) -> None:
+        """FMI setReal: set the value references `vrs` to `values`; a parameter only before
+        initialization ends (ValueError after)."""
         setters = self._setters
         for vr, value in zip(vrs, values):
             if vr in self._parameters:
@@ -393,52 +312,54 @@ class Slave(Fmi2Slave):
         self._dirty = True
 
     # ---- batched calls for a host in this process (musclesim.cosim.direct) ----------------------
-    def reader(self, vrs):
+    def reader(self, vrs: Sequence[int]) -> Callable[[], tuple[float, ...]]:
         """A function returning the values of `vrs` as a tuple: what ``get_real(vrs)`` returns,
         without a Python call per variable."""
         attrs = [self._attrs[vr] for vr in vrs]
-        get, refresh = operator.attrgetter(*attrs), self._refresh
+        get: Callable[[Slave], Any] = operator.attrgetter(*attrs)
+        refresh = self._refresh
         if len(attrs) == 1:
             return lambda: (refresh(), (get(self),))[1]
         return lambda: (refresh(), get(self))[1]
 
-    def writer(self, vrs):
+    def writer(self, vrs: Sequence[int]) -> Callable[[Sequence[float]], None]:
         """A function setting `vrs` to its argument's values: what ``set_real(vrs, values)`` does,
         for inputs (parameters go through `set_real`, which guards them)."""
         if any(vr in self._parameters for vr in vrs):
             raise ValueError("writer() sets inputs; set parameters with set_real")
         attrs = [self._attrs[vr] for vr in vrs]
 
-        def write(values):
+        def write(values: Sequence[float]) -> None:
             for attr, value in zip(attrs, values):
                 setattr(self, attr, float(value))
             self._dirty = True
         return write
 
-    def _get_fmu_state(self):
+    def _get_fmu_state(self) -> dict[str, Any]:
         return copy.deepcopy({k: v for k, v in self.__dict__.items() if k not in _NOT_STATE})
 
-    def _set_fmu_state(self, state):
+    def _set_fmu_state(self, state: dict[str, Any]) -> None:
         # copy again: the same saved state may be restored several times
         self.__dict__.update(copy.deepcopy(state))
 
     @staticmethod
-    def _fmu_state_to_bytes(state):
+    def _fmu_state_to_bytes(state: dict[str, Any]) -> bytes:
         return pickle.dumps(state, protocol=pickle.HIGHEST_PROTOCOL)
 
     @staticmethod
-    def _fmu_state_from_bytes(data):
+    def _fmu_state_from_bytes(data: bytes) -> dict[str, Any]:
         return pickle.loads(data)
 
     # ---- model description ---------------------------------------------------------------------
-    def describe_units(self, root, typed=lambda v: v[0]):
+    def describe_units(self, root: Element,
+                       typed: Callable[[Element], Element] = lambda v: v[0]) -> Element:
         """Give each variable of model description `root` its unit, display unit and exact start
         value (on the element `typed` returns for it: FMI 2.0's type child, FMI 3.0's variable
         itself; a variable this slave does not declare, FMI 3.0's time, is in s), add the
         UnitDefinitions after CoSimulation, and return the ModelStructure element, emptied."""
         used = set()
-        for v in root.find("ModelVariables"):
-            declared = self._meta.get(v.get("name"))
+        for v in _find(root, "ModelVariables"):
+            declared = self._meta.get(v.get("name", ""))
             unit = declared.unit if declared else "s"
             if declared and declared.type == "Real" and typed(v).get("start") is not None:
                 typed(v).set("start", repr(declared.default))  # pythonfmu writes 16 digits
@@ -447,34 +368,22 @@ class Slave(Fmi2Slave):
                 if unit in self.display_units:
                     typed(v).set("displayUnit", self.display_units[unit])
                 used.add(unit)
-        root.insert(list(root).index(root.find("CoSimulation")) + 1, self._unit_definitions(used))
-        structure = root.find("ModelStructure")
+        root.insert(list(root).index(_find(root, "CoSimulation")) + 1,
+                    unit_definitions(used, self.display_units))
+        structure = _find(root, "ModelStructure")
         for child in list(structure):
             structure.remove(child)
         return structure
 
-    def _unit_definitions(self, used):
-        """The ``UnitDefinitions`` element of the units `used` (FMI 2.0 and 3.0 alike)."""
-        units = Element("UnitDefinitions")
-        for unit in sorted(used):
-            node = SubElement(units, "Unit", name=unit)
-            SubElement(node, "BaseUnit", {k: str(e) for k, e in UNITS[unit].items()})
-            if unit in self.display_units:
-                name = self.display_units[unit]
-                base, factor, offset = DISPLAY_UNITS[name]
-                if base != unit:
-                    raise ValueError(f"display unit {name} is not one of {unit}")
-                SubElement(node, "DisplayUnit", name=name, factor=repr(factor),
-                           offset=repr(offset))
-        return units
-
-    def feedthrough(self):
+    def feedthrough(self) -> list[tuple[str, tuple[str, ...]]]:
         """[(output name, names of the inputs it depends on directly)], in declaration order."""
         return [(n, d.depends) for n, d in self._meta.items() if d.depends is not None]
 
-    def to_xml(self, model_options=None):
+    def to_xml(self, model_options: dict[str, str] | None = None) -> Element:
+        """The model description, pythonfmu's (`model_options`: its options) with units and a
+        complete ModelStructure (outputs' dependencies, initial unknowns)."""
         root = super().to_xml(model_options or {})
-        index = {v.get("name"): i for i, v in enumerate(root.find("ModelVariables"), start=1)}
+        index = {v.get("name"): i for i, v in enumerate(_find(root, "ModelVariables"), start=1)}
         structure = self.describe_units(root)
         outputs = self.feedthrough()
         if outputs:

@@ -11,9 +11,13 @@ temperature loop, as sma-drift.toml's PI nearly is: 0.1 K RMS): 50 000 s of co-s
 loop's 200 Hz would be 10 million steps of several FMUs, this is one Preisach step per sample
 (`samples_per_cycle` per 20 s cycle, 200 by default: 1.6 K at most between samples).
 """
+from __future__ import annotations
+
 import json
 import math
 from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -33,16 +37,17 @@ _DRIFT_PARAMETERS = {"drift_amplitude": "amplitude_change", "drift_shift": "shif
 class Protocol:
     """The test's schedule (defaults §drift)."""
 
-    stresses: tuple = STRESS_ORDER  # Pa, in the order of one round
+    stresses: tuple[float, ...] = STRESS_ORDER  # Pa, in the order of one round
     rounds: int = 25
     cycles: int = 20  # per test
     frequency: float = 0.05  # Hz
     T_lo: float = 30.0  # C
     T_hi: float = 130.0  # C
     samples_per_cycle: int = 200
-    compare: tuple = (1, 13, 25)  # tests (per stress, from 1) whose averaged loops are compared
+    # tests (per stress, from 1) whose averaged loops are compared
+    compare: tuple[int, ...] = (1, 13, 25)
 
-    def check(self):
+    def check(self) -> None:
         """Raise UserError naming the first value outside its valid range."""
         for name in ("rounds", "cycles", "samples_per_cycle"):
             value = getattr(self, name)
@@ -58,18 +63,23 @@ class Protocol:
                             f"numbers within 1..{self.rounds} (the rounds run)")
 
 
-def cycle_temperatures(p):
-    """The temperatures [C] of one cycle's samples: a cosine from T_lo up to T_hi and back,
+def cycle_temperatures(p: Protocol) -> list[float]:
+    """The temperatures [C] of one cycle's samples of protocol `p`: a cosine from T_lo up to T_hi
+    and back,
     sampled at the end of each of the cycle's steps (the start, T_lo, is the previous end)."""
     phase = 2 * math.pi * np.arange(1, p.samples_per_cycle + 1) / p.samples_per_cycle
     mid, amp = (p.T_hi + p.T_lo) / 2, (p.T_hi - p.T_lo) / 2
     return [float(x) for x in mid - amp * np.cos(phase)]
 
 
-def run(protocol=None, drift_params=None, hysteresis=0, cycles_start=0.0):
-    """Run the drift test; return {"loops": {stress: {test: averaged loop (array)}},
-    "rmse": {stress: {"a-b": RMSE}}, "temperatures": one cycle's temperatures [C],
-    "cycles": transformation cycles counted at the end}.
+def run(protocol: Protocol | None = None, drift_params: drift.DriftParams | None = None,
+        hysteresis: int | float = 0, cycles_start: float = 0.0) -> dict[str, Any]:
+    """Run the drift test of `protocol` (default: §drift's) on a wire of drift parameters
+    `drift_params` (default: the core's), hysteresis surface `hysteresis` (an id of
+    `musclesim.components.sma.datasets`) and `cycles_start` transformation cycles before; return
+    {"loops": {stress: {test: averaged loop (array)}}, "rmse": {stress: {"a-b": RMSE}},
+    "temperatures": one cycle's temperatures [C], "cycles": transformation cycles counted at the
+    end}.
 
     Only the tests named in ``protocol.compare`` are kept. The model is stepped as the SmaWire FMU
     steps it: the hysteresis sees T - shift(N) clipped to its grid, the strain is scaled by
@@ -96,7 +106,7 @@ def run(protocol=None, drift_params=None, hysteresis=0, cycles_start=0.0):
     model.reset(min(max(p.T_lo, t_lo), t_hi), sigma)  # a new wire at T_lo
     xi = 1.0
     keep = set(p.compare)
-    loops = {s: {} for s in p.stresses}
+    loops: dict[float, dict[int, np.ndarray]] = {s: {} for s in p.stresses}
     for test in range(1, p.rounds + 1):
         for sigma in p.stresses:
             eps_max = surface.F(t_hi, t_lo, sigma)
@@ -118,9 +128,9 @@ def run(protocol=None, drift_params=None, hysteresis=0, cycles_start=0.0):
     return {"loops": loops, "rmse": rmse, "temperatures": temps, "cycles": n_cycles}
 
 
-def scenario_parameters(scenario):
-    """(DriftParams, hysteresis id, cycles before the test) from the wire instance of a scenario
-    file: the drift test uses the same wire as the co-simulated test of that file."""
+def scenario_parameters(scenario: str | Path) -> tuple[drift.DriftParams, float, float]:
+    """(DriftParams, hysteresis id, cycles before the test) from the wire instance of the scenario
+    file `scenario`: the drift test uses the same wire as the co-simulated test of that file."""
     s = load_scenario(scenario)
     if WIRE_INSTANCE not in s.instances:
         raise UserError(f"{scenario}: the drift test needs an instance {WIRE_INSTANCE!r} "
@@ -137,8 +147,9 @@ def scenario_parameters(scenario):
                                                                             0.0))
 
 
-def drift_main(scenario, protocol, as_json=False):
-    """`musclesim drift`: run the test with the scenario's wire, return the text (or dict)."""
+def drift_main(scenario: str | Path, protocol: Protocol, as_json: bool = False) -> str:
+    """`musclesim drift`: run the test of `protocol` with the wire of scenario file `scenario`;
+    return the text (with `as_json`, the report as JSON)."""
     params, hysteresis, start = scenario_parameters(scenario)
     try:
         out = run(protocol, params, hysteresis, start)

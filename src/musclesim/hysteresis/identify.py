@@ -25,22 +25,28 @@ one stress, and identified values that break the monotonicity of a FORC surface.
 
 Validation on the virtual bench (§forc-identification) lives in `musclesim.hysteresis.validation`.
 """
+from __future__ import annotations
+
 import json
 import os
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, Iterable, Sequence
 
 import numpy as np
 
-from musclesim.cosim import read_time_series
+from musclesim.cosim import Signal, read_time_series
 from musclesim.errors import UserError
 from musclesim.hysteresis import validation
+
+if TYPE_CHECKING:
+    from musclesim.components.sma.surface import Hypersurface
 
 ZERO_C = 273.15  # K
 # recorded signals the identification reads (scenario sma-forc-identification)
 # (the phase flag reference.phase is recorded for plots; the peak is the measured maximum)
-COLUMNS = {"temperature": "thermocouple.T_meas", "strain": "wire.strain", "stress": "wire.stress",
-           "run": "reference.run"}
+COLUMNS = {"temperature": Signal("thermocouple", "T_meas"), "strain": Signal("wire", "strain"),
+           "stress": Signal("wire", "stress"), "run": Signal("reference", "run")}
 PEAK_TOL = 0.5  # K, a run whose measured maximum stays further below a_j never reached its peak
 RISE_TOL = 0.5  # K, allowed rise of the descending branch above its running minimum (ripple)
 END_TOL = 0.5  # K, the branch may stop this far above a grid b (b0: nothing transforms there)
@@ -64,11 +70,11 @@ class Record:
     stress: np.ndarray
     run: np.ndarray
     temps: np.ndarray
-    columns: dict
+    columns: dict[str, Signal]
 
 
-def grid_from_parameters(params):
-    """Peak grid [C] of a ForcReference with these (partial) parameters (defaults:
+def grid_from_parameters(params: dict[str, float]) -> np.ndarray:
+    """Peak grid [C] of a ForcReference with the (partial) parameters `params` (defaults:
     §forc-identification).
 
     Examples
@@ -85,7 +91,7 @@ def grid_from_parameters(params):
     return np.round(np.array([p.T_low + j * p.T_step for j in range(p.n_runs)]) - ZERO_C, 9)
 
 
-def find_records(paths):
+def find_records(paths: str | Path | Iterable[str | Path]) -> list[Path]:
     """The results.csv files behind `paths`: run folders, results.csv files, or a sweep's output
     folder (every ``cases/*/``, in name order).
 
@@ -96,7 +102,7 @@ def find_records(paths):
     """
     if isinstance(paths, (str, Path)):
         paths = [paths]
-    found = []
+    found: list[Path] = []
     for path in map(Path, paths):
         if path.is_file():
             found.append(path)
@@ -122,7 +128,7 @@ def find_records(paths):
     return found
 
 
-def _summary(csv_path):
+def _summary(csv_path: str | Path) -> dict[str, Any] | None:
     path = Path(csv_path).parent / "summary.json"
     try:
         return json.loads(path.read_text())
@@ -130,11 +136,12 @@ def _summary(csv_path):
         return None
 
 
-def read_record(csv_path, columns=COLUMNS):
-    """Read one identification record (results.csv, summary.json beside it for the grid).
+def read_record(csv_path: str | Path, columns: dict[str, Signal] = COLUMNS) -> Record:
+    """Read one identification record `csv_path` (results.csv, summary.json beside it for the
+    grid), the signals `columns` names (default `COLUMNS`).
 
     The grid of the runs' peaks comes from the parameters of the instance that records the run
-    markers (``reference`` in ``reference.run``) in summary.json; without summary.json the
+    markers (``reference`` of ``reference.run``) in summary.json; without summary.json the
     ForcReference defaults (30..130 C every 5 C) are used.
 
     Raises
@@ -143,19 +150,20 @@ def read_record(csv_path, columns=COLUMNS):
         For an unreadable or malformed file (every problem located) or a missing column.
     """
     csv_path = Path(csv_path)
-    problems = []
+    problems: list[str] = []
     table = read_time_series(csv_path, problems, str(csv_path))
-    if problems:
+    if problems or table is None:
         raise UserError("; ".join(problems))
     header, time, data = table
     cols = {"time": time}
     for key in COLUMNS:
-        if columns[key] not in header[1:]:
-            raise UserError(f"{csv_path} has no column {columns[key]!r} (the {key} the "
+        name = str(columns[key])  # the results.csv header
+        if name not in header[1:]:
+            raise UserError(f"{csv_path} has no column {name!r} (the {key} the "
                             "identification reads; record it in the scenario)")
-        cols[key] = data[:, header.index(columns[key]) - 1]
+        cols[key] = data[:, header.index(name) - 1]
     summary = _summary(csv_path) or {}
-    instance = columns["run"].partition(".")[0]
+    instance = columns["run"].instance
     params = summary.get("parameters", {}).get(instance, {})
     try:
         temps = grid_from_parameters(params)
@@ -166,8 +174,8 @@ def read_record(csv_path, columns=COLUMNS):
                   cols["stress"], np.rint(cols["run"]).astype(int), temps, dict(columns))
 
 
-def record_stress(rec):
-    """The constant stress [Pa] of a record, rounded to STRESS_ROUND.
+def record_stress(rec: Record) -> float:
+    """The constant stress [Pa] of record `rec`, rounded to STRESS_ROUND.
 
     Raises
     ------
@@ -182,7 +190,9 @@ def record_stress(rec):
     return round(mean / STRESS_ROUND) * STRESS_ROUND
 
 
-def branch_increments(T, strain, a, temps, where="record"):
+def branch_increments(T: Sequence[float] | np.ndarray, strain: Sequence[float] | np.ndarray,
+                      a: float, temps: Sequence[float] | np.ndarray,
+                      where: str = "record") -> np.ndarray:
     """F(a, b) for every b in `temps` (<= a; 0 above) from one run's samples (§forc-identification).
 
     Parameters
@@ -214,6 +224,7 @@ def branch_increments(T, strain, a, temps, where="record"):
     [0.25, 0.125, 0.0, 0.0]
     """
     T, strain, temps = (np.asarray(x, dtype=float) for x in (T, strain, temps))
+    assert isinstance(T, np.ndarray) and isinstance(temps, np.ndarray)
     out = np.zeros(len(temps))
     if len(T) == 0:
         raise UserError(f"{where} has no samples")
@@ -240,8 +251,8 @@ def branch_increments(T, strain, a, temps, where="record"):
     return out
 
 
-def identify_record(rec):
-    """(stress [Pa], table[i, k] = F(temps[i], temps[k])) of one constant-stress record."""
+def identify_record(rec: Record) -> tuple[float, np.ndarray]:
+    """(stress [Pa], table[i, k] = F(temps[i], temps[k])) of one constant-stress record `rec`."""
     sigma = record_stress(rec)
     n = len(rec.temps)
     table = np.zeros((n, n))
@@ -260,7 +271,8 @@ def identify_record(rec):
     return sigma, table
 
 
-def identify(paths, out_path=None, columns=COLUMNS):
+def identify(paths: str | Path | Iterable[str | Path], out_path: str | Path | None = None,
+             columns: dict[str, Signal] = COLUMNS) -> Hypersurface:
     """Identify the FORC hypersurface from constant-stress records and write it to `out_path`.
 
     Parameters
@@ -270,8 +282,8 @@ def identify(paths, out_path=None, columns=COLUMNS):
         stress level.
     out_path : path, optional
         The FORC data file to write (format: `musclesim.components.sma.forcfile`).
-    columns : dict
-        Recorded signal names (default `COLUMNS`).
+    columns : dict of str to Signal
+        The recorded signals read (default `COLUMNS`).
 
     Returns
     -------
@@ -286,8 +298,8 @@ def identify(paths, out_path=None, columns=COLUMNS):
     from musclesim.components.sma import forcfile
     from musclesim.components.sma.surface import Hypersurface
 
-    levels = {}
-    temps = None
+    levels: dict[float, tuple[Path, np.ndarray]] = {}
+    temps: np.ndarray | None = None
     for path in find_records(paths):
         rec = read_record(path, columns)
         if temps is not None and (len(rec.temps) != len(temps) or np.any(rec.temps != temps)):
@@ -300,6 +312,8 @@ def identify(paths, out_path=None, columns=COLUMNS):
                             "record per stress")
         levels[sigma] = (path, table)
     stresses = sorted(levels)
+    if temps is None:  # find_records found none: it raises
+        raise UserError("no identification records given")
     table = np.stack([levels[s][1] for s in stresses])
     try:
         surface = Hypersurface(temps, stresses, table)
@@ -319,7 +333,8 @@ def identify(paths, out_path=None, columns=COLUMNS):
     return surface
 
 
-def identify_main(paths, out, validate=False, as_json=False):
+def identify_main(paths: str | Path | Iterable[str | Path], out: str | Path,
+                  validate: bool = False, as_json: bool = False) -> str | dict[str, Any]:
     """What `musclesim identify PATHS --out FILE [--validate] [--json]` prints.
 
     Identifies the surfaces from `paths` (a sweep output folder, run folders or results.csv
@@ -327,7 +342,7 @@ def identify_main(paths, out, validate=False, as_json=False):
     `as_json`); with `validate` the summary adds the validation numbers of `report`.
     """
     surface = identify(paths, out)
-    info = {"out": str(out), "stresses": [float(s) for s in surface.stresses],
+    info: dict[str, Any] = {"out": str(out), "stresses": [float(s) for s in surface.stresses],
             "grid": [float(surface.temps[0]), float(surface.temps[-1]),
                      float(surface.temps[1] - surface.temps[0])],
             "max_strain": {float(s): float(surface.table[k, -1, 0])

@@ -6,9 +6,12 @@ A band T_lo:T_hi is cycled along a cosine from T_lo a few times through the Prei
 increment F(T_hi, T_lo; sigma). The model is the reference wire (tabulated on a 1 C grid at the
 given stress) or an identified FORC data set.
 """
+from __future__ import annotations
+
 import math
 import warnings
 from pathlib import Path
+from typing import Any, Sequence
 
 import numpy as np
 
@@ -18,9 +21,9 @@ from musclesim.cosim import save_figure
 from musclesim.errors import UserError
 
 
-def tabulate(source, stress, step=1.0):
-    """Single-stress Hypersurface of a `ReferenceWire` on a `step` [C] grid over its saturation
-    range.
+def tabulate(source: ReferenceWire, stress: float, step: float = 1.0) -> Hypersurface:
+    """Single-stress Hypersurface at `stress` [Pa] of a `ReferenceWire` `source` on a `step` [C]
+    grid over its saturation range.
 
     Examples
     --------
@@ -31,8 +34,8 @@ def tabulate(source, stress, step=1.0):
     return source.hypersurface(source.grid(step), [stress])
 
 
-def parse_band(text):
-    """'T_lo:T_hi' [C] -> (T_lo, T_hi); raises ValueError unless T_lo < T_hi.
+def parse_band(text: str) -> tuple[float, float]:
+    """`text` 'T_lo:T_hi' [C] -> (T_lo, T_hi); raises ValueError unless T_lo < T_hi.
 
     Examples
     --------
@@ -48,7 +51,9 @@ def parse_band(text):
     return lo, hi
 
 
-def loops(model, stress, bands, cycles=3, points=200):
+def loops(model: Hypersurface | ReferenceWire, stress: float,
+          bands: Sequence[tuple[float, float] | str], cycles: int = 3,
+          points: int = 200) -> list[dict[str, Any]]:
     """Cycle each temperature band at constant stress and return its steady loop.
 
     Parameters
@@ -102,8 +107,9 @@ def loops(model, stress, bands, cycles=3, points=200):
     return results
 
 
-def plot_loops(results, path, title=""):
-    """Save strain [%] over temperature [C] of each band's steady loop to `path`."""
+def plot_loops(results: list[dict[str, Any]], path: str | Path, title: str = "") -> None:
+    """Save strain [%] over temperature [C] of each band's steady loop in `results` (`loops`') to
+    `path`, titled `title`."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -125,9 +131,10 @@ def plot_loops(results, path, title=""):
     plt.close(fig)
 
 
-def load_model(path=None):
-    """The model behind ``--model``: None -> the reference wire; a .toml file -> a reference wire
-    with those parameters; anything else -> a FORC data set. Raises UserError when unreadable."""
+def load_model(path: str | Path | None = None) -> tuple[Hypersurface | ReferenceWire, str]:
+    """The model behind ``--model`` `path`, and its name: None -> the reference wire; a .toml file
+    -> a reference wire with those parameters; anything else -> a FORC data set. Raises UserError
+    when unreadable."""
     if path is None:
         return ReferenceWire(), f"reference wire ({Path(DEFAULT_PARAMS).name})"
     try:
@@ -138,7 +145,9 @@ def load_model(path=None):
         raise UserError(str(exc)) from None
 
 
-def loops_main(stress, bands, model_path=None, as_json=False, plot_path=None):
+def loops_main(stress: float, bands: Sequence[tuple[float, float] | str],
+               model_path: str | Path | None = None, as_json: bool = False,
+               plot_path: str | Path | None = None) -> str | dict[str, Any]:
     """What ``musclesim loops`` does: cycle the bands, optionally plot, and report.
 
     Parameters

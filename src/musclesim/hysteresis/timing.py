@@ -1,16 +1,20 @@
 """On-demand speed measurements (`musclesim bench`): the Preisach core per step vs a plain call."""
+from __future__ import annotations
+
 import gc
 import platform
 import statistics
 import time
+from typing import Any, Callable, Sequence
 
 GOAL_FORWARD_US = 2.0  # us per forward step on this machine (issue 3, item 7)
 GOAL_INVERSE_US = 3.0  # us per inverse step; the study quotes 8.6 us (§preisach-inverse)
 CHUNK = 1000  # steps timed together; the median is taken over chunks
 
 
-def preisach(n=20000, repeat=5):
-    """Median time per step of the pure Preisach core, forward and inverse, in one process.
+def preisach(n: int = 20000, repeat: int = 5) -> dict[str, Any]:
+    """Median time per step of the pure Preisach core, forward and inverse, in one process, over
+    `repeat` runs of `n` steps.
 
     The inverse follows SP IV (random peaks and troughs) under LP V (random stress) at 25 Hz on
     the SMA-shaped analytic surface of the §preisach grid; the forward model is fed the inverse's
@@ -39,7 +43,7 @@ def preisach(n=20000, repeat=5):
     inverse = PreisachInverse(surface)
     forward = PreisachModel(surface)
     temps = [inverse.step(e, s) for e, s in zip(eps, sigma)]
-    result = {
+    result: dict[str, Any] = {
         "inverse_us": _median_us(inverse.step, eps, sigma, repeat,
                                  lambda: inverse.reset(0.0, sigma[0])),
         "forward_us": _median_us(forward.step, temps, sigma, repeat,
@@ -53,8 +57,8 @@ def preisach(n=20000, repeat=5):
     return result
 
 
-def format_preisach(report):
-    """The `preisach` report as text, one line per figure."""
+def format_preisach(report: dict[str, Any]) -> str:
+    """The `preisach` report `report` as text, one line per figure."""
     lines = []
     for key in ("forward", "inverse"):
         goal = report[f"goal_{key}_us"]
@@ -68,11 +72,12 @@ def format_preisach(report):
     return "\n".join(lines)
 
 
-def _trivial(x, y):
+def _trivial(x: float, y: float) -> float:
     return x
 
 
-def _median_us(step, xs, ys, repeat, reset):
+def _median_us(step: Callable[[float, float], Any], xs: Sequence[float], ys: Sequence[float],
+               repeat: int, reset: Callable[[], Any]) -> float:
     """Median over chunks of the time per call of step(x, y) [us]."""
     per_step = []
     enabled = gc.isenabled()

@@ -5,14 +5,24 @@
 identification (constant and time-varying stress), and `memory_checks` verifies rate
 independence, wiping-out and congruency of the virtual wire.
 """
+from __future__ import annotations
+
 import math
 import warnings
+from typing import TYPE_CHECKING, Any, Sequence
 
 import numpy as np
 
-def surface_error(surface, wire=None):
-    """Largest |F_identified - F_wire| on the surface's grid and stresses, F_wire the reference
-    wire's exact FORC increment; also per stress and where the largest error sits.
+if TYPE_CHECKING:
+    from musclesim.components.sma.surface import Hypersurface
+    from musclesim.components.sma.wire import ReferenceWire
+
+Profiles = dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]  # name: (t, T, sigma)
+
+def surface_error(surface: Hypersurface, wire: ReferenceWire | None = None) -> dict[str, Any]:
+    """Largest |F_identified - F_wire| on the grid and stresses of the identified `surface`,
+    F_wire the exact FORC increment of `wire` (default: the reference wire); also per stress and
+    where the largest error sits.
 
     Returns a dict: ``max_abs`` [strain], ``max_rel`` (of the wire's maximum strain at that
     stress), ``at`` (stress Pa, a C, b C), ``per_stress`` {stress: max_abs}.
@@ -22,7 +32,8 @@ def surface_error(surface, wire=None):
     wire = wire or ReferenceWire()
     temps = surface.temps
     i, j = np.tril_indices(len(temps))
-    best, per = (-1.0, None, 0.0), {}
+    best: tuple[float, tuple[float, float, float] | None, float] = (-1.0, None, 0.0)
+    per: dict[float, float] = {}
     for s, sigma in enumerate(surface.stresses):
         exact = wire.F(temps[i], temps[j], float(sigma))
         err = np.abs(surface.table[s, i, j] - exact)
@@ -34,14 +45,17 @@ def surface_error(surface, wire=None):
     return {"max_abs": best[0], "max_rel": best[2], "at": best[1], "per_stress": per}
 
 
-def strain_error(surface, T, sigma, eps_ref):
-    """Drive a PreisachModel on `surface` with T [C], sigma [Pa] (arrays or a constant stress)
-    and compare with eps_ref: dict of ``rmse``, ``max_abs`` and ``rmse_percent`` (of
+def strain_error(surface: Hypersurface, T: Sequence[float] | np.ndarray,
+                 sigma: float | Sequence[float] | np.ndarray,
+                 eps_ref: Sequence[float] | np.ndarray) -> dict[str, Any]:
+    """Drive a PreisachModel on `surface` with `T` [C], `sigma` [Pa] (arrays or a constant
+    stress) and compare with `eps_ref`: dict of ``rmse``, ``max_abs`` and ``rmse_percent`` (of
     max |eps_ref|), plus the model's strain ``eps``."""
     from musclesim.components.sma.preisach import PreisachModel
     from musclesim.components.sma.surface import RangeWarning
 
     T = np.asarray(T, dtype=float)
+    assert isinstance(T, np.ndarray)
     sigma = np.broadcast_to(np.asarray(sigma, dtype=float), T.shape)
     model = PreisachModel(surface)
     with warnings.catch_warnings():
@@ -54,8 +68,9 @@ def strain_error(surface, T, sigma, eps_ref):
             "rmse_percent": 100 * rmse / float(np.abs(eps_ref).max()), "eps": eps}
 
 
-def validation_profiles(duration=550.0, dt=0.05):
-    """Temperature [C] and stress [Pa] paths of the validation runs (none is a FORC run).
+def validation_profiles(duration: float = 550.0, dt: float = 0.05) -> Profiles:
+    """Temperature [C] and stress [Pa] paths of the validation runs (none is a FORC run), of
+    `duration` [s] sampled every `dt` [s].
 
     - ``minor loops, 120 MPa``: a sine about 80 C whose amplitude decays from 50 K (nested minor
       loops, each a reversal inside the previous one) at constant 120 MPa (between two
@@ -82,19 +97,21 @@ def validation_profiles(duration=550.0, dt=0.05):
     }
 
 
-def validation_runs(surface, truth=None, duration=550.0, dt=0.05):
-    """The identified model's strain error against the virtual wire on `validation_profiles`.
+def validation_runs(surface: Hypersurface, truth: Hypersurface | None = None,
+                    duration: float = 550.0, dt: float = 0.05) -> dict[str, dict[str, float]]:
+    """The strain error of the model on the identified `surface` against the virtual wire on
+    `validation_profiles` (of `duration` [s], every `dt` [s]).
 
-    The virtual wire is the SmaWire FMU's own hysteresis (data set 0: the reference wire on its
-    1 C, 10 MPa table) driven by the same temperature and stress; the thermal part does not
-    enter, as both see the wire's temperature. Returns {name: {rmse, max_abs, rmse_percent,
-    eps_max}}, eps_max the wire's largest strain on the run.
+    The virtual wire is `truth`, by default the SmaWire FMU's own hysteresis (data set 0: the
+    reference wire on its 1 C, 10 MPa table), driven by the same temperature and stress; the thermal
+    part does not enter, as both see the wire's temperature. Returns {name: {rmse, max_abs,
+    rmse_percent, eps_max}}, eps_max the wire's largest strain on the run.
     """
     from musclesim.components.sma import datasets
     from musclesim.components.sma.preisach import PreisachModel
 
     truth = truth or datasets.surface(0)
-    report = {}
+    report: dict[str, dict[str, float]] = {}
     for name, (t, T, sigma) in validation_profiles(duration, dt).items():
         wire = PreisachModel(truth)
         wire.reset(float(T[0]), float(sigma[0]))
@@ -106,10 +123,10 @@ def validation_runs(surface, truth=None, duration=550.0, dt=0.05):
     return report
 
 
-def memory_checks(surface=None, sigma=120e6):
-    """Rate independence, wiping-out and congruency of the virtual wire's hysteresis
-    (§forc-identification) at constant stress; each number is a largest strain difference that must
-    vanish.
+def memory_checks(surface: Hypersurface | None = None, sigma: float = 120e6) -> dict[str, float]:
+    """Rate independence, wiping-out and congruency of the virtual wire's hysteresis `surface`
+    (default: the SmaWire FMU's, §forc-identification) at constant stress `sigma` [Pa]; each
+    number is a largest strain difference that must vanish.
 
     - ``rate_independence``: a sine path 30 -> 120 -> 45 -> 100 -> 30 C sampled at 0.1 s for one
       run and at 1 s for one ten times as slow, compared as strain against temperature on the
@@ -129,14 +146,14 @@ def memory_checks(surface=None, sigma=120e6):
     from musclesim.components.sma import datasets
     from musclesim.components.sma.preisach import MemoryParams, PreisachModel
 
-    surface = surface or datasets.surface(0)
+    hysteresis = surface or datasets.surface(0)
 
-    def drive(path):
-        m = PreisachModel(surface, MemoryParams(tol=0.0))
+    def drive(path: np.ndarray) -> np.ndarray:
+        m = PreisachModel(hysteresis, MemoryParams(tol=0.0))
         m.reset(float(path[0]), sigma)
         return np.array([m.step(float(T), sigma) for T in path])
 
-    def legs(points, n=200):
+    def legs(points: list[float], n: int = 200) -> np.ndarray:
         out = [np.array([points[0]])]
         for lo, hi in zip(points, points[1:]):
             x = np.linspace(0, 1, n + 1)[1:]
@@ -169,8 +186,8 @@ def memory_checks(surface=None, sigma=120e6):
             "offset": float(abs(first[0] - second[0]))}
 
 
-def report(surface):
-    """All validation numbers of an identified surface (§forc-identification) as one dict.
+def report(surface: Hypersurface) -> dict[str, Any]:
+    """All validation numbers of an identified `surface` (§forc-identification) as one dict.
 
     ``grid_floor`` repeats the validation runs with the reference wire tabulated exactly on the
     identified grid and stresses (a perfect identification): the part of the error that comes
@@ -185,8 +202,8 @@ def report(surface):
             "memory_checks": memory_checks()}
 
 
-def format_report(rep):
-    """Human-readable text of `report`."""
+def format_report(rep: dict[str, Any]) -> str:
+    """Human-readable text of a `report` `rep`."""
     se = rep["surface_error"]
     lines = [f"identified F against the reference wire on the grid: max |error| "
              f"{se['max_abs']:.3g} ({100 * se['max_rel']:.2f} % of the maximum strain) at "

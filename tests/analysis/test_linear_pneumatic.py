@@ -1,7 +1,7 @@
-"""The crawler's pressure loops (§crawler-hardware, §gait, §valves) and the gait's pressure
-references (§gait): the identified plants against the ISO 6358 law by hand, the designed PIs, the
-gain and reference files the scenarios read (reproducible from a fresh design / characterisation),
-and `characterise.references` on hand-made results."""
+"""musclesim.analysis.linear_pneumatic: the crawler's pressure loops (§crawler-hardware, §gait,
+§valves): the identified plants against the ISO 6358 law by hand, the designed PIs, and the gain
+and gait reference files the scenarios read (reproducible from a fresh design /
+characterisation)."""
 import math
 import tomllib
 
@@ -135,60 +135,6 @@ def test_cli_writes_pid_files_that_scenarios_read_and_match_the_committed_ones(
     assert s.instances["extremal"].parameters == fresh
     res = Master(s, fmu_dir).run()  # the FMU knows every key as a parameter
     assert res.error is None and len(res.time) == 11
-
-
-# ---- the gait's pressure references (characterise) -------------------------------------------
-
-class FakeResults:
-    """What `characterise.references` reads of a `Master` run's results: time and signals by
-    name."""
-
-    def __init__(self, time, **signals):
-        self.time = np.asarray(time, dtype=float)
-        self.signals = {k.replace("__", "."): np.asarray(v, dtype=float)
-                        for k, v in signals.items()}
-
-    def __getitem__(self, name):
-        return self.signals[name]
-
-
-def fake(elongation=None, u1=None, u2=None):
-    """One sample a second over 0..40 s: the central ramp to 20 s, the extremal ones after 25 s."""
-    t = np.arange(41.0)
-    return FakeResults(
-        t,
-        body__flange_a__s=0.01 + 0.0 * t,  # the back block sits at 10 mm: elongation is relative
-        body__flange_b__s=0.01 + (0.003 * t if elongation is None else elongation),
-        sensorc__p_meas=100.0 * t ** 2,  # not linear: the interpolation shows
-        act1__u=np.clip(t - 29.0, 0.0, 1.0) if u1 is None else u1,  # 0.995 would be at 29.995
-        sensor1__p_meas=500.0 * t,
-        act2__u=np.where(t >= 32, 0.995, 0.5 * (t >= 31)) if u2 is None else u2,
-        sensor2__p_meas=400.0 * t + 7.0)
-
-
-def test_references_interpolate_the_central_pressure_and_take_first_firm_contact():
-    refs = characterise.references(fake())
-    # elongation 0.039 m at 13 s, 0.042 m at 14 s: 0.04 m a third of the way, where
-    # p = 16900 + (19600 - 16900) / 3 = 17800 Pa
-    assert refs["p_central"] == pytest.approx(17800.0, rel=1e-9)
-    assert refs["p_firm1"] == 500.0 * 30  # act1.u = 1 >= 0.99 first at 30 s
-    assert refs["p_firm2"] == 400.0 * 32 + 7.0  # 0.5 at 31 s is not firm; 0.995 at 32 s is
-    for i in (1, 2):  # the references keep a margin above firm contact
-        assert refs[f"p_anchor{i}"] == (1 + characterise.ANCHOR_MARGIN) * refs[f"p_firm{i}"]
-    assert refs["elongation_at_ramp_end"] == pytest.approx(0.06)  # the last sample at 20 s
-    # a target reached at the very first sample takes the first pressure
-    assert characterise.references(fake(), elongation_target=-1.0)["p_central"] == 0.0
-
-
-def test_references_say_what_the_characterisation_did_not_reach():
-    with pytest.raises(UserError, match=r"^the central actuator reaches only 0\.03 m of the "
-                                        r"0\.04 m elongation target by t = 20 s$"):
-        characterise.references(fake(elongation=0.0015 * np.arange(41.0)))
-    with pytest.raises(UserError, match=r"^extremal actuator act2 never reaches firm contact "
-                                        r"\(indicator >= 0\.99\) in the characterisation$"):
-        characterise.references(fake(u2=np.full(41, 0.98)))
-    with pytest.raises(UserError, match="act1 never reaches firm contact"):
-        characterise.references(fake(u1=np.zeros(41)))
 
 
 def test_committed_gait_references_are_what_characterise_computes_now(fmu_dir, tmp_path, capsys):

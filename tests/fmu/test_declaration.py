@@ -1,5 +1,6 @@
-"""One declaration per parameter (`musclesim.fmu.declare`): the slave, its FMU's model description
-and the diagnosis's catalogues read what a core's dataclass declares, and nothing else."""
+"""musclesim.fmu.declaration: one declaration per parameter (`musclesim.fmu.declare`): the slave,
+its FMU's model description and the diagnosis's catalogues read what a core's dataclass declares,
+and nothing else."""
 import dataclasses
 
 import pytest
@@ -83,43 +84,3 @@ def test_the_fmus_model_description_is_the_declaration(fmu_dir, component):
             start = {"Real": float, "Integer": int, "Boolean": lambda x: x == "true"}[v.type]
             assert start(v.start) == d.default, v.name
     assert [v.name for v in md.modelVariables] == list(declared)
-
-
-class Switched(Slave):
-    def __init__(self, **kwargs):
-        super().__init__(**kwargs)
-        self.parameter("n", 3, "1", "A count", type="Integer")
-        self.parameter("on", 1.0, "1", "A switch", type="Boolean")
-        self.output("state", "1", "On and counted", type="Boolean")
-        self.output("count", "1", "Twice the count", type="Integer")
-
-    def evaluate(self):
-        self.state, self.count = self.on, 2 * self.n
-
-
-def test_integer_and_boolean_variables_are_numbers_inside_and_typed_at_the_fmi_calls():
-    slave = Switched(instance_name="s")
-    kinds = {v.name: type(v).__name__ for v in slave.vars.values()}
-    assert kinds == {"n": "Integer", "on": "Boolean", "state": "Boolean", "count": "Integer"}
-    assert slave.vars[2].variability.name == "discrete"  # FMI 2.0 has no continuous Boolean
-    slave.set_integer([0], [4])
-    slave.set_boolean([1], [False])
-    assert (slave.n, slave.on) == (4.0, 0.0)  # the physics reads numbers
-    assert slave.get_integer([3]) == [8] and slave.get_boolean([2]) == [False]
-    assert type(slave.get_integer([3])[0]) is int and type(slave.get_boolean([2])[0]) is bool
-    slave.exit_initialization_mode()
-    with pytest.raises(ValueError, match="parameter n is fixed"):
-        slave.set_integer([0], [5])
-
-
-def test_a_typed_declaration_must_hold_its_type():
-    class Bad(Slave):
-        def __init__(self, value, unit, **kwargs):
-            super().__init__(**kwargs)
-            self.parameter("n", value, unit, "A count", type="Integer")
-
-    with pytest.raises(ValueError, match="variable n: 2.5 is not Integer"):
-        Bad(2.5, "1", instance_name="b")
-    with pytest.raises(ValueError, match="type 'Integer' is not Real, or Integer or Boolean of "
-                                         "unit 1"):
-        Bad(2, "m", instance_name="b")

@@ -1,0 +1,74 @@
+"""One declaration per parameter: `declare` makes a field of a physics core's parameter dataclass
+that carries the parameter's default, unit, description, source and role for the diagnosis (an
+effect's fitting bounds or a `Calibration`); `Declaration` is one variable as a slave declares it,
+which `musclesim.fmu.Slave.declarations` gives to the docs and the diagnosis.
+
+Shipped inside every FMU with the rest of `musclesim.fmu`: the standard library only.
+"""
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+from musclesim.fmu.units import UNITS
+
+
+@dataclasses.dataclass(frozen=True)
+class Calibration:
+    """The role of a nominal value a real bench has differently: the diagnosis calibrates it
+    before it tests any effect. The bounds are factors on the scenario's value (`relative`) or
+    offsets added to it; `why` says what differs on a bench; a `period` (> 0) makes it periodic
+    (a phase)."""
+
+    lower: float
+    upper: float
+    relative: bool
+    why: str
+    period: float = 0.0
+
+
+@dataclasses.dataclass(frozen=True)
+class Declaration:
+    """One variable as its component declares it. `type`: its FMI 2.0 type, "Real", "Integer"
+    (a count, an index, a seed) or "Boolean" (a switch; 0 or 1 where values are numbers);
+    `effect`: the (lower, upper) fitting bounds of an effect parameter, whose default is the
+    effect off; `calibrate`: its `Calibration`; `source`: the model reference section the value
+    comes from (``§label``); `depends`: the inputs an output depends on directly (None for other
+    variables)."""
+
+    name: str
+    causality: str  # "parameter", "input" or "output"
+    default: float
+    unit: str
+    description: str
+    source: str = ""
+    effect: tuple[float, float] | None = None
+    calibrate: Calibration | None = None
+    depends: tuple[str, ...] | None = None
+    type: str = "Real"
+
+
+def declare(default: float, unit: str, description: str, *, source: str = "",
+            effect: tuple[float, float] | None = None, calibrate: Calibration | None = None,
+            type: str = "Real") -> Any:
+    """A field of a core's parameter dataclass declaring the parameter once: its `default`, SI
+    `unit` (a key of `UNITS`), `description`, `source` (a ``§label`` of the model reference),
+    FMI `type` ("Real", "Integer" or "Boolean", the last two of unit "1") and role: an effect's
+    fitting bounds `effect` = (lower, upper) (the default is the effect off) or a
+    `Calibration` (`calibrate`). `musclesim.fmu.Slave.parameters_of` declares such fields as the
+    FMU's parameters. The field (a ``dataclasses.Field``) is typed Any, as
+    ``dataclasses.field`` is, so that ``m: float = declare(...)`` type-checks.
+
+    Examples
+    --------
+    >>> @dataclasses.dataclass(frozen=True)
+    ... class Params:
+    ...     m: float = declare(0.2, "kg", "Block mass", source="§two-mass")
+    >>> Params().m, dataclasses.fields(Params)[0].metadata["unit"]
+    (0.2, 'kg')
+    """
+    if unit not in UNITS:
+        raise ValueError(f"unit {unit!r} is not in musclesim.fmu.UNITS")
+    return dataclasses.field(default=default, metadata={
+        "unit": unit, "description": description, "source": source, "type": type,
+        "effect": tuple(effect) if effect is not None else None, "calibrate": calibrate})
