@@ -25,8 +25,8 @@ def run(fmu_dir, tmp_path_factory):
 def test_the_header_is_line_one_with_time_first(run):
     out, summary, results = run
     lines = (out / "results.csv").read_text().splitlines()
-    assert lines[0] == ",".join(["time", *results.names])
-    assert "." in results.names[0]  # <instance>.<variable>
+    assert lines[0] == ",".join(["time", *map(str, results.names)])
+    assert "." in str(results.names[0])  # <instance>.<variable>
     assert len(lines) == 1 + len(results.time) and not any(ln.startswith("#") for ln in lines)
     assert json.loads((out / "summary.json").read_text())["run_id"] == summary["run_id"]
 
@@ -34,35 +34,35 @@ def test_the_header_is_line_one_with_time_first(run):
 def test_pandas_reads_names_and_values(run):
     out, _, results = run
     frame = pandas.read_csv(out / "results.csv")
-    assert list(frame.columns) == ["time", *results.names]
+    assert list(frame.columns) == ["time", *map(str, results.names)]
     np.testing.assert_array_equal(frame["time"].to_numpy(), results.time)
     for name in results.names:
-        np.testing.assert_array_equal(frame[name].to_numpy(), results[name])
+        np.testing.assert_array_equal(frame[str(name)].to_numpy(), results[name])
 
 
 def test_numpy_reads_names_and_values(run):
     out, _, results = run
     data = np.genfromtxt(out / "results.csv", delimiter=",", names=True, deletechars="")
-    assert data.dtype.names == ("time", *results.names)
+    assert data.dtype.names == ("time", *map(str, results.names))
     np.testing.assert_array_equal(data["time"], results.time)
     for name in results.names:
-        np.testing.assert_array_equal(data[name], results[name])
+        np.testing.assert_array_equal(data[str(name)], results[name])
 
 
 def test_the_csv_module_reads_names_and_values(run):
     out, _, results = run
     with open(out / "results.csv", newline="") as f:
         rows = list(csv.DictReader(f))
-    assert list(rows[0]) == ["time", *results.names]
+    assert list(rows[0]) == ["time", *map(str, results.names)]
     np.testing.assert_array_equal([float(r["time"]) for r in rows], results.time)
     for name in results.names:
-        np.testing.assert_array_equal([float(r[name]) for r in rows], results[name])
+        np.testing.assert_array_equal([float(r[str(name)]) for r in rows], results[name])
 
 
 def test_fmpy_reads_it_as_a_cross_check_result(run):
     out, _, results = run
     traj = read_csv(out / "results.csv")
-    assert traj.dtype.names == ("time", *results.names)
+    assert traj.dtype.names == ("time", *map(str, results.names))
     np.testing.assert_array_equal(traj["time"], results.time)
     for name in results.names:
-        np.testing.assert_array_equal(traj[name], results[name])
+        np.testing.assert_array_equal(traj[str(name)], results[name])

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from musclesim.batch.cases import claim, finished, run_cases
-from musclesim.cosim import save_figure
+from musclesim.cosim import ParamRef, save_figure
 from musclesim.errors import UserError
 
 _SWEEP_KEYS = {"scenario", "grid", "description", "plot"}
@@ -76,8 +76,11 @@ def parse_axis(text, where="--grid"):
     """
     name, sep, spec = text.partition("=")
     name = name.strip()
-    inst, _, par = name.partition(".")
-    if not sep or not inst or not par or not spec.strip():
+    try:
+        ParamRef.parse(name)
+    except ValueError:
+        sep = ""
+    if not sep or not spec.strip():
         raise UserError(f"{where}: grid axis {text!r} is not of the form inst.param=start:stop:n "
                         "or inst.param=a,b,c")
     if ":" in spec:
@@ -179,14 +182,14 @@ def _check(sweep, path, fmu_dir, overrides, point, stop_time):
     scenario every case starts from (with `overrides` and `stop_time`), the scenario of the first
     case, the metrics' units and the plot to draw.
     """
-    from musclesim.cosim import (Master, check_fresh, load_scenario, metric_unit, signal_units,
-                                 split_signal)
+    from musclesim.cosim import Master, check_fresh, load_scenario, metric_unit, signal_units
 
     base = load_scenario(sweep.scenario, overrides, stop_time)
     instances = base.instances
     for axis in sweep.axes:
-        if split_signal(axis)[0] not in instances:
-            raise UserError(f"grid axis {axis!r}: no instance {split_signal(axis)[0]!r} in "
+        inst = ParamRef.parse(axis).instance
+        if inst not in instances:
+            raise UserError(f"grid axis {axis!r}: no instance {inst!r} in "
                             f"{sweep.scenario} (instances: {', '.join(instances)})")
     s = load_scenario(sweep.scenario, [*overrides, *point], stop_time)
     check_fresh(fmu_dir)

@@ -22,8 +22,10 @@ from musclesim.cosim.outputs import (check_output_dir, check_output_file, replac
 from musclesim.cosim.results import compute_metrics, metric_unit, signal_units
 from musclesim.cosim.results import write_all as write_results
 from musclesim.cosim.run import run_scenario
-from musclesim.cosim.scenario import (FORMAT, Instance, Scenario, apply_overrides, format_problem,
-                                      renamed_signals, split_signal, with_values)
+from musclesim.cosim.results import Results
+from musclesim.cosim.scenario import (Instance, Metric, Panel, Scenario, apply_overrides,
+                                      with_values)
+from musclesim.cosim.scenario_files import FORMAT, format_problem, renamed_signals
 from musclesim.cosim.scenario import load as load_scenario
 from musclesim.cosim.container import export as export_fmu
 from musclesim.cosim.ssp import export as export_ssp
@@ -32,7 +34,8 @@ from musclesim.cosim.timeseries import read_time_series
 __all__ = ["Signal", "ParamRef", "with_values", "build_all", "check_fresh", "source_digest", "forget_fmu_resource_paths", "read_fmu",
            "reuse_fmus",
            "Master", "compute_metrics", "metric_unit", "signal_units", "write_results",
-           "run_scenario", "FORMAT", "Instance", "Scenario", "split_signal", "load_scenario",
+           "run_scenario", "FORMAT", "Instance", "Metric", "Panel", "Scenario", "Results",
+           "load_scenario",
            "format_problem", "renamed_signals",
            "apply_overrides", "export_ssp", "export_fmu",
            "Graph", "Link",

@@ -28,9 +28,10 @@ import zipfile
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
-from musclesim.cosim.master import KINDS, Master
+from musclesim.cosim.adapters import KINDS
+from musclesim.cosim.master import Master
 from musclesim.cosim.outputs import check_archive, replace_zip
-from musclesim.cosim.scenario import split_signal
+from musclesim.cosim.address import Signal
 from musclesim.cosim.ssp import base_units, value_text
 from musclesim.errors import UserError
 
@@ -73,11 +74,11 @@ def _variables(scenario, master):
                 add(f"{name}.{par}", "parameter", name, v)
     for name, inst in master.instances.items():
         for v in inst.md.modelVariables:
-            if v.causality == "input" and f"{name}.{v.name}" not in targets:
+            if v.causality == "input" and Signal(name, v.name) not in targets:
                 add(f"{name}.{v.name}", "input", name, v)
     for signal in master.columns:  # the recorded signals
-        name, var = split_signal(signal)
-        add(signal, "output", name, master.instances[name].vars[var])
+        add(str(signal), "output", signal.instance,
+            master.instances[signal.instance].vars[signal.variable])
     return out
 
 
@@ -156,16 +157,14 @@ def configuration(scenario, master, variables, guid):
     index = {n: i for i, n in enumerate(names)}
     position = {n: i for i, n in enumerate(master.exchange_order)}
 
-    def ref(signal):
-        name, var = split_signal(signal)
-        return index[name], master.instances[name].vars[var].valueReference
+    def ref(signal: Signal) -> tuple[int, int]:
+        return index[signal.instance], \
+            master.instances[signal.instance].vars[signal.variable].valueReference
 
     connections = []
-    for src, dst in sorted(scenario.connections,
-                           key=lambda c: position[split_signal(c[0])[0]]):
-        (a, va), (b, vb) = ref(src), ref(dst)
-        kind = _TYPES[KINDS[master.instances[split_signal(src)[0]].vars[
-            split_signal(src)[1]].type]][1]
+    for link in sorted(scenario.graph.links, key=lambda k: position[k.source]):
+        (a, va), (b, vb) = ref(link.src), ref(link.dst)
+        kind = _TYPES[KINDS[master.instances[link.source].vars[link.output].type]][1]
         connections.append({"variableType": kind, "srcComponent": a, "dstComponent": b,
                              "srcValueReferences": [va], "dstValueReferences": [vb],
                              "size": 1})

@@ -29,7 +29,7 @@ from musclesim.errors import UserError
 # process-wide Python function. Registering a new function per run would leave the proxy pointing at
 # a freed callback once that run ends, so one function lives as long as the process and routes each
 # message to the running master named by the componentEnvironment in its callbacks.
-LOG_SINKS = {}  # componentEnvironment -> {instance name: _Instance}
+LOG_SINKS: dict = {}  # componentEnvironment -> {instance name: wiring.Loaded}
 
 
 def _route_log(env, instance_name, status, category, message):
@@ -240,3 +240,18 @@ def extract_fmu(path, dest):
         shutil.rmtree(dest, ignore_errors=True)
         raise
     return str(dest)
+
+
+def remove_orphan_runs() -> None:
+    """Remove the temporary folders of runs whose process is gone (killed with SIGKILL, which no
+    ``finally`` survives): the next run cleans up after them."""
+    for folder in Path(tempfile.gettempdir()).glob("musclesim_run_*_*"):
+        pid = folder.name.split("_")[2]
+        if not pid.isdigit():
+            continue
+        try:
+            os.kill(int(pid), 0)
+        except ProcessLookupError:
+            shutil.rmtree(folder, ignore_errors=True)
+        except OSError:  # alive, another user's
+            continue

@@ -3,9 +3,9 @@ from pathlib import Path
 from xml.etree import ElementTree as ET
 
 from musclesim.errors import UserError
-from musclesim.cosim.master import KINDS, Master
+from musclesim.cosim.adapters import KINDS
+from musclesim.cosim.master import Master
 from musclesim.cosim.outputs import check_archive, replace_zip
-from musclesim.cosim.scenario import split_signal
 
 NS = {
     "ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription",
@@ -35,14 +35,10 @@ def _sub(parent, qname, **attrib):
 
 def _used_variables(scenario):
     """``{instance: set of variable names}`` that the scenario connects, sets or records."""
-    signals = [s for pair in scenario.connections for s in pair]
-    signals += [*scenario.record, *(m.signal for m in scenario.metrics.values()),
-                *(m.over for m in scenario.metrics.values() if m.over),
-                *(sig for panel in scenario.plots for sig in panel["signals"])]
+    signals = [s for pair in scenario.connections for s in pair] + scenario.recorded()
     used = {name: set(inst.parameters) for name, inst in scenario.instances.items()}
     for signal in signals:
-        inst, var = split_signal(signal)
-        used[inst].add(var)
+        used[signal.instance].add(signal.variable)
     return used
 
 
@@ -126,10 +122,9 @@ def system_structure(scenario, master):
                         type="com.opensimulationplatform")
             _sub(note, "osp:StepSizeHint", value=repr(spec.every * scenario.step))
     connections = _sub(system, "ssd:Connections") if scenario.connections else None
-    for src, dst in scenario.connections:
-        (a, x), (b, y) = split_signal(src), split_signal(dst)
-        _sub(connections, "ssd:Connection", startElement=a, startConnector=x,
-             endElement=b, endConnector=y)
+    for link in scenario.graph.links:
+        _sub(connections, "ssd:Connection", startElement=link.source, startConnector=link.output,
+             endElement=link.target, endConnector=link.input)
     if referenced:
         defs = _sub(root, "ssd:Units")
         for unit in sorted(referenced):
