@@ -1,5 +1,5 @@
-"""The fast-actuation scenarios of §multiplier-experiments, shortened, and the metric ops they
-report with.
+"""The fast-actuation scenarios of §multiplier-experiments, shortened (the metric ops they report
+with: tests/cosim/test_results.py).
 
 Topologies::
 
@@ -13,9 +13,7 @@ import math
 import numpy as np
 import pytest
 
-from musclesim.cosim import Signal
-from musclesim.cosim import compute_metrics, master, scenario
-from musclesim.cosim.master import Results
+from musclesim.cosim import Signal, compute_metrics, master, scenario
 from musclesim.errors import UserError
 
 from conftest import SCENARIOS
@@ -37,33 +35,6 @@ def run(name, fmu_dir, stop_time, overrides=()):
 def test_scenarios_load_and_name_their_spec(name):
     s = scenario.load(SCENARIOS / f"{name}.toml")
     assert s.reference.startswith("§") and s.metrics
-
-
-# --- metric ops -------------------------------------------------------------------------------
-
-def _results(t, **signals):
-    return Results(time=t, names=list(signals), data=np.column_stack(list(signals.values())))
-
-
-def test_frequency_cycle_peak_to_peak_and_ratio_ops():
-    t = np.arange(3001) * 1e-3  # 0..3 s
-    y = np.sin(2 * math.pi * 2.0 * t)  # 2 Hz
-    pulses = (np.mod(t, 0.5) < 0.1) * (1.0 + t)  # 0 or 1 + t: peak-to-peak 1.099 + its start
-    res = _results(t, y=y, half=0.5 * y, pulses=pulses)
-    M = scenario.Metric
-    out = compute_metrics(res, {
-        "f": M("y", "frequency"),
-        "ratio": M("y", "peak_to_peak", over="half"),
-        "cycles": M("pulses", "cycle_peak_to_peak", period=0.5, start=1.0),
-        "flat": M("half", "frequency", start=2.9999),
-        "no_ratio": M("y", "peak_to_peak", over="half", start=2.9999),  # one sample: ptp 0
-    })
-    assert out["f"] == pytest.approx(2.0, rel=1e-6)
-    assert out["ratio"] == pytest.approx(2.0, rel=1e-12)
-    # whole periods from 1.0 s: 1.0-1.5 ... 2.5-3.0 (4), the sample at 3.0 s starts a fifth
-    assert out["cycles"] == pytest.approx(np.mean([2.099, 2.599, 3.099, 3.599]), rel=1e-9)
-    assert math.isnan(out["flat"])  # no crossing in its window
-    assert math.isnan(out["no_ratio"])  # over a signal whose op is 0
 
 
 def test_a_periodic_op_without_a_period_is_refused(tmp_path):

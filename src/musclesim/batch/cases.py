@@ -14,17 +14,23 @@ workers need no access to the output folder, and the folder's guarantees are tho
 import hashlib
 import json
 from dataclasses import dataclass
+from typing import Any
 from pathlib import Path
 
 from musclesim.batch.cluster import dask_client, ship_fmus
-from musclesim.cosim import replace_file
+from musclesim.cosim import Results, Scenario, Signal, clear_run_outputs, replace_file
 from musclesim.errors import UserError
 
 
-def write_failure(case_dir, error):
-    """Record in case_dir/summary.json that the case failed with `error`; return that summary."""
+def write_failure(case_dir: str | Path, error: str | None) -> dict[str, Any]:
+    """Record in `case_dir`/summary.json that the case failed with `error`; return that summary.
+
+    An earlier run's outputs there (its results.csv, plot, summary) are removed first, the
+    summary first: the folder then holds this failure alone, never an old run's rows beside it.
+    """
     summary = {"completed": False, "error": error}
     Path(case_dir).mkdir(parents=True, exist_ok=True)
+    clear_run_outputs(case_dir)
     replace_file(Path(case_dir) / "summary.json", json.dumps(summary, indent=2) + "\n")
     return summary
 
@@ -35,11 +41,11 @@ class Outcome:
     (failed or not: ``results.error``) with the recorded signals' `units` and the host that ran
     each instance (``Master.hosts``); or only the `error` of a run that could not start."""
 
-    scenario: object = None
-    results: object = None
-    units: dict = None
-    hosts: dict = None
-    error: str = None
+    scenario: Scenario | None = None
+    results: Results | None = None
+    units: dict[Signal, str] | None = None
+    hosts: dict[str, str] | None = None
+    error: str | None = None
 
 
 def run_case(scenario, fmu_dir, overrides=()):

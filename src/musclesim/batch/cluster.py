@@ -14,6 +14,7 @@ import signal
 import threading
 import uuid
 from pathlib import Path
+from typing import Any
 
 from musclesim.batch.shipped import FOLDERS, FmuFolder, folder_files
 from musclesim.errors import UserError
@@ -87,7 +88,7 @@ def dask_client(scheduler=None, workers=None, tasks=None):
 
 # a client's id (`Client.id`, unique to it) -> {digest of the files: (plugin name, FmuFolder)}
 # of the FMUs shipped on it, withdrawn from its workers as `dask_client` closes it
-_SHIPPED = {}
+_SHIPPED: dict[str, dict[str, tuple[str, Any]]] = {}
 
 
 def ship_fmus(client, fmu_dir, components=None):

@@ -15,7 +15,7 @@ from pathlib import Path
 from musclesim.errors import UserError
 
 BUILD = "BUILD.json"
-FOLDERS = {}  # key of an `FmuFolder` -> the folder this process reads its FMUs from
+FOLDERS: dict[str, str] = {}  # key of an `FmuFolder` -> the folder this process reads its FMUs from
 
 
 @dataclass(frozen=True)

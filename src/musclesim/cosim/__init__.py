@@ -22,7 +22,7 @@ from musclesim.cosim.outputs import (check_output_dir, check_output_file, replac
 from musclesim.cosim.results import compute_metrics, metric_unit, signal_units
 from musclesim.cosim.results import write_all as write_results
 from musclesim.cosim.run import run_scenario
-from musclesim.cosim.results import Results
+from musclesim.cosim.results import Results, clear_run_outputs
 from musclesim.cosim.scenario import (Instance, Metric, Panel, Scenario, apply_overrides,
                                       with_values)
 from musclesim.cosim.scenario_files import FORMAT, format_problem, renamed_signals
@@ -40,4 +40,4 @@ __all__ = ["Signal", "ParamRef", "with_values", "build_all", "check_fresh", "sou
            "apply_overrides", "export_ssp", "export_fmu",
            "Graph", "Link",
            "read_time_series", "Interrupted", "interruptible", "check_output_dir",
-           "check_output_file", "replace_file", "save_figure"]
+           "check_output_file", "replace_file", "save_figure", "clear_run_outputs"]

@@ -50,7 +50,8 @@ class FmpySlave:
 
     sized = False  # FMI 2.0's get and set take the number of value references only
     # per kind: the FMU's get and set functions and the C type of a value
-    functions = {"Real": ("fmi2GetReal", "fmi2SetReal", ctypes.c_double),
+    functions: dict[str, tuple[str, str, Any]] = {
+                 "Real": ("fmi2GetReal", "fmi2SetReal", ctypes.c_double),
                  "Integer": ("fmi2GetInteger", "fmi2SetInteger", ctypes.c_int),
                  "Boolean": ("fmi2GetBoolean", "fmi2SetBoolean", ctypes.c_int)}
 
@@ -179,7 +180,8 @@ class Fmpy3Slave(FmpySlave):
     (status, message)."""
 
     sized = True  # FMI 3.0's get and set take the number of values too
-    functions = {"Real": ("fmi3GetFloat64", "fmi3SetFloat64", ctypes.c_double),
+    functions: dict[str, tuple[str, str, Any]] = {
+                 "Real": ("fmi3GetFloat64", "fmi3SetFloat64", ctypes.c_double),
                  "Integer": ("fmi3GetInt32", "fmi3SetInt32", ctypes.c_int32),
                  "Boolean": ("fmi3GetBoolean", "fmi3SetBoolean", ctypes.c_bool)}
 

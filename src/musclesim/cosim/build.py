@@ -10,6 +10,7 @@ runner can tell when they are stale.
 """
 import functools
 import hashlib
+import importlib
 import json
 import shutil
 import tempfile
@@ -120,6 +121,7 @@ def build_all(dest="fmus", names=None, fmi=2):
             shipped.append(stage / "pythonfmu")
         for name in names or CATALOGUE:
             module, cls = CATALOGUE[name].split(":")
+            _check_imports(name, module)
             # pythonfmu loads the deepest Fmi2Slave subclass of a one-class script: a stub per FMU
             # the script's module name, unique per FMI version: FMUs of both in one process
             script = Path(tmp) / f"musclesim_fmu{'' if fmi == 2 else '3'}_{name}.py"
@@ -138,6 +140,17 @@ def build_all(dest="fmus", names=None, fmi=2):
     (dest / "BUILD.json").write_text(json.dumps(
         {"musclesim": musclesim.__version__, "sources": sources, "fmus": fmus}, indent=2) + "\n")
     return built
+
+
+def _check_imports(name: str, module: str) -> None:
+    """Refuse to build component `name` when its slave's `module` fails to import, in one
+    sentence naming the component and the cause (not a traceback from the builder)."""
+    try:
+        importlib.import_module(module)
+    except Exception as exc:  # whatever the module raises as it is imported
+        cause = " ".join(str(exc).split()) or "no message"
+        raise UserError(f"component {name} cannot be built: its module {module} fails to import "
+                        f"({type(exc).__name__}: {cause})") from None
 
 
 def _file_digest(path):

@@ -17,6 +17,7 @@ import stat
 import sys
 import zipfile
 from pathlib import Path, PurePosixPath
+from typing import Any
 
 from fmpy import read_model_description
 from fmpy.fmi2 import (calloc, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
@@ -109,7 +110,7 @@ def _read_capped(zf, name, cap, where):
     return data
 
 
-_REUSE = {"depth": 0, "folder": None, "descriptions": {}, "extracted": {}}
+_REUSE: dict[str, Any] = {"depth": 0, "folder": None, "descriptions": {}, "extracted": {}}
 
 
 @contextlib.contextmanager

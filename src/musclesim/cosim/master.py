@@ -93,6 +93,7 @@ class Master:
         if host not in HOSTS:
             raise UserError(f"host {host!r} is not one of {', '.join(HOSTS)}")
         self.scenario, self.host = scenario, host
+        self.current: Any = None  # the Loaded instance being called, named if it fails
         self.hosts: dict[str, str] = {}  # instance -> the host that ran it ("direct" or "fmpy"), once loaded
         self.fmu_dir = Path(fmu_dir)
         self.inputs: dict[Signal, np.ndarray] = {
@@ -287,7 +288,7 @@ class Master:
                 inst.slave.set_real([inst.vars[p].valueReference for p in params],
                                     params.values(), [KINDS[inst.vars[p].type] for p in params])
         forget_fmu_resource_paths()
-        self.exchange_calls = [
+        self.exchange_calls: list[tuple[Loaded, int, list[Callable[[], None]]]] = [
             (inst, inst.every, [c for c in (inst.set_early, inst.get) if c is not None])
             for inst in (self.instances[n] for n in self.exchange_order)]
 

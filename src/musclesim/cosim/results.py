@@ -60,7 +60,7 @@ class Results:
         return self.data[:, self.names.index(signal)]
 
 
-def clear_outputs(out_dir: str | Path) -> None:
+def clear_run_outputs(out_dir: str | Path) -> None:
     """Remove a run's outputs from `out_dir`, the summary first: without it, no file there
     claims to be a whole run."""
     for name in OUTPUTS:
@@ -215,7 +215,7 @@ class RunWriter:
     def start(self) -> None:
         """Remove the previous run's outputs and open this run's (``completed: false``)."""
         self.out.mkdir(parents=True, exist_ok=True)
-        clear_outputs(self.out)
+        clear_run_outputs(self.out)
         self._summary({"completed": False, "error": None, "status": "running"})
         replace_file(self.partial, ",".join(["time", *map(str, self.columns)]) + "\n")
         self.csv = open(self.partial, "ab", buffering=0)

@@ -155,7 +155,7 @@ def load(path: str | Path, overrides: Iterable[str] = (), stop_time: float | Non
             else:
                 scenario = replace(scenario, stop_time=stop_time)
         _check_times(scenario, problems)
-    if problems:
+    if problems or scenario is None:
         raise UserError(f"scenario {path} has {len(problems)} problem(s): " + "; ".join(problems))
     return scenario
 
@@ -168,28 +168,33 @@ def _signal(text: object) -> Signal | None:
         return None
 
 
+def _signals(items: object) -> list[Signal] | None:
+    """The signals of the list `items`, or None if it is not a list of signal names."""
+    signals = [_signal(s) for s in items] if isinstance(items, list) else [None]
+    return [s for s in signals if s is not None] if None not in signals else None
+
+
 def _parse(data: dict[str, Any], path: Path, problems: list[str]) -> Scenario | None:
     for key in sorted(set(data) - _TOP_KEYS):
         problems.append(f"unknown key {key!r} (known: {', '.join(sorted(_TOP_KEYS))})")
     instances = _instances(data, path, problems)
     connections = []
     for item in data.get("connections", []):
-        pair = tuple(map(_signal, item)) if isinstance(item, list) and len(item) == 2 else (None,)
-        if None in pair:
+        src, dst = map(_signal, item) if isinstance(item, list) and len(item) == 2 else (None, None)
+        if src is None or dst is None:
             problems.append(f"connection {item!r} is not a pair [\"src.output\", \"dst.input\"]")
             continue
-        connections.append(pair)
+        connections.append((src, dst))
     raw = data.get("record", [])
-    record = [_signal(s) for s in raw] if isinstance(raw, list) else [None]
-    if None in record:
+    record = _signals(raw)
+    if record is None:
         problems.append("'record' must be a list of \"instance.variable\" strings")
         record = []
     metrics = _metrics(data, problems)
     plots = []
     for panel in data.get("plots", []):
-        signals = panel.get("signals") if isinstance(panel, dict) else None
-        parsed = [_signal(s) for s in signals] if isinstance(signals, list) else [None]
-        if None in parsed:
+        parsed = _signals(panel.get("signals") if isinstance(panel, dict) else None)
+        if parsed is None:
             problems.append(f"plot panel {panel!r} needs a 'signals' list")
             continue
         plots.append(Panel(str(panel.get("title", "")), tuple(parsed)))

@@ -51,8 +51,13 @@ class Loaded:
         self.set_all: Call | None = None
         self.before_step: Call | None = None
         self.after_step: Call | None = None
-        self.step: Callable[[float, float], None] | None = None
+        self.step: Callable[[float, float], None] = _not_instantiated
         self.every = 1
+
+
+def _not_instantiated(t: float, h: float) -> None:
+    """The step of an instance not instantiated yet."""
+    raise RuntimeError("an instance steps only once the master has instantiated it")
 
 
 def _a(word: str) -> str:
