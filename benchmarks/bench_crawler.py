@@ -26,7 +26,8 @@ from fmpy.fmi2 import FMU2Slave
 
 from musclesim.components.crawler import body, friction, inputs
 from musclesim.components.crawler.monolithic import simulate_ideal
-from musclesim.cosim import Master, build_all, check_fresh, export_ssp, load_scenario, read_fmu
+from musclesim.cosim import Master, build_all, check_fresh, load_scenario, read_fmu
+from musclesim.export import export_ssp
 
 ROOT = Path(__file__).resolve().parents[1]
 IDEAL = ROOT / "scenarios" / "crawler-ideal.toml"
@@ -292,7 +293,7 @@ def report(times, results, discretise):
           f"(goal >= {GOAL_VS_LIBCOSIM}x: {said('libcosim_over_ours')})")
     print(f"ours vs libcosim less its {discretise['libcosim']['calls']} re-discretisations: "
           f"{ratios['libcosim_less_discretisation_over_ours']:.2f}x faster")
-    # the Jacobi masters delay direct feedthrough by a step (tests/cosim/test_ssp.py), FMPy's
+    # the Jacobi masters delay direct feedthrough by a step (tests/export/test_ssp.py), FMPy's
     # starts every input at 0: they end elsewhere
     print(f"final x_cm: ours {ours['body.x_cm'][-1]:.6f} m, " + ", ".join(
         f"{name} {results[name]['body.x_cm']:.6f} m" for name in ("libcosim", "ecos", "fmpy_ssp")))

@@ -6,8 +6,7 @@ actuator with one wire pulsed and with both alternating, and the quadruped walki
 import pytest
 
 from musclesim.analysis import bending
-from musclesim.cosim import Signal
-from musclesim.cosim import master, results, scenario
+from musclesim.cosim import master, results, scenario, Signal
 
 from conftest import SCENARIOS
 

@@ -4,10 +4,10 @@ and FMPy's runs of it are the same bits, times included."""
 import numpy as np
 from fmpy import simulate_fmu
 
-from musclesim.cosim import Signal
-from musclesim.cosim import Master, export_ssp, forget_fmu_resource_paths, load_scenario
+from musclesim.cosim import Master, Signal, forget_fmu_resource_paths, load_scenario
+from musclesim.export import export_ssp
 
-from test_ssp import run_libcosim
+from export.test_ssp import run_libcosim  # tests/export/test_ssp.py
 
 S = Signal.parse
 

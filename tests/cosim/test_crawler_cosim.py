@@ -12,8 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from musclesim.cosim import Signal
-from musclesim.cosim import master, scenario
+from musclesim.cosim import master, scenario, Signal
 from musclesim.components.crawler import body, friction, inputs
 from musclesim.components.crawler.monolithic import simulate_ideal
 

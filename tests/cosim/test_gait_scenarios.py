@@ -5,8 +5,7 @@ Each run is cut to a few strides (about 0.4 s of wall time per simulated second)
 import numpy as np
 import pytest
 
-from musclesim.cosim import Signal
-from musclesim.cosim import master, results, scenario
+from musclesim.cosim import master, results, scenario, Signal
 
 from conftest import SCENARIOS
 

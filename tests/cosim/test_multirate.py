@@ -10,12 +10,12 @@ import zipfile
 import numpy as np
 import pytest
 
-from musclesim.cosim import Signal
-from musclesim.cosim import scenario, ssp
+from musclesim.cosim import Signal, scenario
 from musclesim.cosim.master import Master
 from musclesim.errors import UserError
+from musclesim.export import ssp
 
-from test_ssp import run_libcosim
+from export.test_ssp import run_libcosim  # tests/export/test_ssp.py
 
 S = Signal.parse
 

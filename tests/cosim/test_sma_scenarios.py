@@ -8,8 +8,7 @@ Topology::
 import numpy as np
 import pytest
 
-from musclesim.cosim import Signal
-from musclesim.cosim import master, scenario
+from musclesim.cosim import master, scenario, Signal
 
 from conftest import SCENARIOS
 

@@ -7,14 +7,27 @@ holds its graph (`Scenario.graph`, built once per scenario object).
 """
 from __future__ import annotations
 
-from collections.abc import Callable, Collection, Iterable, Sequence
+from collections.abc import Callable, Collection, Iterable, Mapping, Sequence
 from dataclasses import dataclass, replace
-from typing import TYPE_CHECKING
+from typing import Any, ClassVar, Generic, Protocol, TypeVar
 
 from musclesim.cosim.address import Signal
 
-if TYPE_CHECKING:
-    from musclesim.cosim.scenario import Scenario
+
+class Wired(Protocol):
+    """What a graph is made of: a dataclass (a `musclesim.cosim.Scenario`) with named instances
+    and connections between their signals."""
+
+    __dataclass_fields__: ClassVar[dict[str, Any]]
+
+    @property
+    def instances(self) -> Mapping[str, Any]: ...
+
+    @property
+    def connections(self) -> tuple[tuple[Signal, Signal], ...]: ...
+
+
+W = TypeVar("W", bound=Wired)
 
 
 @dataclass(frozen=True)
@@ -45,8 +58,8 @@ class Link:
         return self.dst.variable
 
 
-class Graph:
-    """The instances of a `Scenario` and the links between them.
+class Graph(Generic[W]):
+    """The instances of a scenario and the links between them.
 
     Examples
     --------
@@ -65,7 +78,7 @@ class Graph:
     ([], ['a', 'b'])
     """
 
-    def __init__(self, scenario: Scenario) -> None:
+    def __init__(self, scenario: W) -> None:
         """The graph of `scenario`'s instances and connections."""
         self.scenario = scenario
         self.instances: tuple[str, ...] = tuple(scenario.instances)
@@ -119,7 +132,7 @@ class Graph:
         return {k.dst: k.src for k in self.links}
 
     def restrict(self, keep: Collection[str], replayed: Collection[Signal] = (),
-                 record: Sequence[Signal] = ()) -> Scenario:
+                 record: Sequence[Signal] = ()) -> W:
         """The scenario reduced to the instances `keep`: the links between them, but those into
         a `replayed` input; recording `record`, no metrics, no plots."""
         links = tuple((k.src, k.dst) for k in self.links if k.source in keep and k.target in keep

@@ -53,7 +53,7 @@ from musclesim.cosim.scenario import Scenario
 from musclesim.cosim.wiring import Loaded
 from musclesim.errors import UserError
 
-__all__ = ["Master", "Results", "HOSTS", "MAX_VALUES", "FLUSH_SECONDS"]
+__all__ = ["Master", "Results", "signal_units", "HOSTS", "MAX_VALUES", "FLUSH_SECONDS"]
 
 MAX_VALUES = 100_000_000  # recorded values a run keeps in memory (800 MB): rows x columns
 FLUSH_SECONDS = 2.0  # wall time between two hand-overs of new rows to a run's `on_rows`
@@ -362,3 +362,9 @@ class Master:
                 self._exchange(row)
         finally:
             self.row, self.t = row, t
+
+
+def signal_units(master: Master) -> dict[Signal, str]:
+    """Unit of every recorded column of `master` ("1" for a unitless one)."""
+    return {sig: master.instances[sig.instance].vars[sig.variable].unit or "1"
+            for sig in master.columns}

@@ -25,16 +25,13 @@ import uuid
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 
 from musclesim.cosim.address import Signal
 from musclesim.cosim.outputs import replace_file, save_figure
 from musclesim.cosim.scenario import Metric, Panel, Scenario
-
-if TYPE_CHECKING:
-    from musclesim.cosim.master import Master
 
 PART = ".part"  # suffix of a file whose run is still writing it
 OUTPUTS = ("summary.json", "results.csv", "results.csv" + PART, "results.png")
@@ -277,8 +274,3 @@ def write_all(out_dir: str | Path, scenario: Scenario, results: Results,
     writer.rows(results.time, results.data)
     return writer.finish(results)
 
-
-def signal_units(master: Master) -> dict[Signal, str]:
-    """Unit of every recorded column of `master` (a `musclesim.cosim.Master`)."""
-    return {sig: master.instances[sig.instance].vars[sig.variable].unit or "1"
-            for sig in master.columns}

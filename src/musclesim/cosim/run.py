@@ -28,7 +28,7 @@ def run_scenario(path: str | Path, out: str | Path, fmu_dir: str | Path = "fmus"
     s = scenario.load(path, overrides, stop_time)
     build.check_fresh(fmu_dir)
     m = master.Master(s, fmu_dir, host=host)
-    writer = results.RunWriter(out, s, m.columns, results.signal_units(m), with_plot)
+    writer = results.RunWriter(out, s, m.columns, master.signal_units(m), with_plot)
     writer.start()
 
     def no_rows(error: str) -> results.Results:

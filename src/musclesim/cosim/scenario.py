@@ -104,7 +104,7 @@ class Scenario:
         return int(round((self.stop_time - self.start_time) / self.step))
 
     @cached_property
-    def graph(self) -> Graph:
+    def graph(self) -> Graph[Scenario]:
         """The scenario's data flow (instances and links), built once per scenario object."""
         return Graph(self)
 

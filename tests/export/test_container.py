@@ -1,4 +1,4 @@
-"""A scenario exported as one FMU (FMPy's container FMU, musclesim.cosim.container): it validates
+"""A scenario exported as one FMU (FMPy's container FMU, musclesim.export.container): it validates
 clean, and FMPy's simulate_fmu runs it to our results bit for bit, every Jacobi scenario shipped
 (the first 200 steps or 0.25 s)."""
 import tomllib
@@ -11,8 +11,8 @@ from fmpy import read_model_description, simulate_fmu
 from fmpy.validation import validate_fmu
 
 from musclesim.cli import main
-from musclesim.cosim import Signal
-from musclesim.cosim import Master, export_fmu, forget_fmu_resource_paths, load_scenario
+from musclesim.cosim import Master, Signal, forget_fmu_resource_paths, load_scenario
+from musclesim.export import export_fmu
 from musclesim.errors import UserError
 
 from conftest import SCENARIOS

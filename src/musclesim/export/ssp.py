@@ -2,10 +2,8 @@
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
+from musclesim.cosim import KINDS, Master, check_archive, replace_zip
 from musclesim.errors import UserError
-from musclesim.cosim.adapters import KINDS
-from musclesim.cosim.master import Master
-from musclesim.cosim.outputs import check_archive, replace_zip
 
 NS = {
     "ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription",
@@ -168,7 +166,7 @@ def export(scenario, fmu_dir, ssp_path):
     libcosim reads, as does an instance's own step (``every`` steps: its ``StepSizeHint``), and
     each tool steps the system with its own master. libcosim's fixed-step
     master passes values only after all instances stepped, so it delays direct feedthrough by one
-    step where ours resolves it at each communication point (tests/cosim/test_ssp.py shows both).
+    step where ours resolves it at each communication point (tests/export/test_ssp.py shows both).
 
     Examples
     --------

@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from musclesim.cosim import Signal
-from musclesim.cosim import scenario, ssp
+from musclesim.cosim import Signal, scenario
+from musclesim.export import ssp
 from musclesim.components.crawler import body, friction, inputs
 from musclesim.components.crawler.monolithic import simulate_ideal
 from musclesim.errors import UserError

@@ -7,7 +7,7 @@ listed, each output read when its connection's turn comes, on the communication 
 master steps on (its results' time column is ours, bit for bit). Listing the connections in the
 order of the sources' exchange (direct feedthrough first, `Master.exchange_order`) makes that
 order the exchange of our Jacobi master, so a Jacobi scenario gives our results
-(tests/cosim/test_container.py). With ``fmi=3`` the container is an FMI 3.0 FMU; the FMUs inside
+(tests/export/test_container.py). With ``fmi=3`` the container is an FMI 3.0 FMU; the FMUs inside
 may be of either version. A Gauss-Seidel scenario
 runs as Jacobi there: it is refused rather than exported to other numbers. Multi-rate stepping
 (``every``) the container cannot express: refused too.
@@ -28,12 +28,9 @@ import zipfile
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
-from musclesim.cosim.adapters import KINDS
-from musclesim.cosim.master import Master
-from musclesim.cosim.outputs import check_archive, replace_zip
-from musclesim.cosim.address import Signal
-from musclesim.cosim.ssp import base_units, value_text
+from musclesim.cosim import KINDS, Master, Signal, check_archive, replace_zip
 from musclesim.errors import UserError
+from musclesim.export.ssp import base_units, value_text
 
 CONTAINER_VERSION = "0.1.0"  # the container.json format of FMPy's container runtime
 _PLATFORMS = (("x86_64-linux", "linux64", "container_fmu.so"),
