@@ -170,7 +170,8 @@ def export(scenario, fmu_dir, ssp_path):
 
     Examples
     --------
-    >>> from musclesim.cosim import export_ssp, load_scenario
+    >>> from musclesim.cosim import load_scenario
+    >>> from musclesim.export import export_ssp
     >>> s = load_scenario("scenarios/crawler-ideal.toml")
     >>> export_ssp(s, "fmus", "crawler.ssp")  # doctest: +SKIP
     PosixPath('crawler.ssp')
