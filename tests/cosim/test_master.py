@@ -99,18 +99,6 @@ def test_replayed_inputs_reproduce_the_closed_loop_bit_for_bit(fmu_dir):
         assert np.array_equal(res[c], loop[c]), c
 
 
-def test_replayed_inputs_are_checked(fmu_dir):
-    s = scenario.load(SCENARIOS / "sma-bench-tracking.toml", stop_time=1.0)
-    n = s.n_steps + 1
-    with pytest.raises(UserError) as err:
-        Master(s, fmu_dir, {S("wire.u"): np.zeros(n), S("wire.T"): np.zeros(n),
-                            S("wire.flange.f"): np.zeros(3)})
-    msg = str(err.value)
-    assert "replayed input wire.u is also connected (from pid.y)" in msg
-    assert "replayed input wire.T is an output, not an input" in msg
-    assert "replayed input wire.flange.f has 3 values, not one per communication point (51)" in msg
-
-
 def test_an_unconnected_input_holds_the_value_a_scenario_sets(fmu_dir, tmp_path):
     """A bench condition (issue 20 item 1): the ambient temperature, an input nothing feeds, set
     like a parameter. With no heating the wire relaxes from T_init to it, as the lumped thermal
@@ -158,71 +146,3 @@ def test_integer_and_boolean_values_are_checked_and_move_on_both_hosts(fmu_dir, 
     with pytest.raises(UserError, match="connection relay.on -> wire.u joins a Boolean output to "
                                         "a Real input; FMI connects variables of one type"):
         Master(scenario.load(path), fmu_dir)
-
-
-PID_LOOP = """\
-{format}step = 0.01
-stop_time = 0.05
-algorithm = "jacobi"
-connections = [["ref.y", "pid.{r}"], ["ref.y", "pid.{y}"]]
-record = ["pid.{out}"]
-[instances.ref]
-component = "SignalSource"
-[instances.pid]
-component = "PID"
-"""
-
-
-def test_a_file_without_format_2_may_not_name_a_port_format_2_renamed(tmp_path, fmu_dir):
-    """The PID's ports took LimPID's names in format 2 and its y changed meaning (measurement ->
-    output): a file that does not say format = 2 and names an old port is refused, with each new
-    name, whatever the port's role; never read with the other meaning."""
-    old = tmp_path / "old.toml"
-    old.write_text(PID_LOOP.format(format="", r="r", y="y", out="u"))
-    with pytest.raises(UserError) as err:
-        scenario.load(old)
-    assert str(err.value) == (
-        f"scenario {old} names ports as before format 2 (the Modelica Standard Library's port "
-        "names): 'pid.u' is pid.y now; 'pid.r' is pid.u_s now; 'pid.y' is pid.u_m now; write the "
-        "new names and format = 2 at the top of the file")
-    # the recorded y alone, the name that exists in both formats, is refused too
-    alone = tmp_path / "alone.toml"
-    alone.write_text(PID_LOOP.format(format="", r="u_s", y="u_m", out="y"))
-    with pytest.raises(UserError, match=r"'pid.y' is pid.u_m now"):
-        scenario.load(alone)
-    # the same names with format = 2: y is the output, and the loop runs
-    new = tmp_path / "new.toml"
-    new.write_text(PID_LOOP.format(format="format = 2\n", r="u_s", y="u_m", out="y"))
-    res = Master(scenario.load(new), fmu_dir).run()
-    assert res.error is None and np.all(res[S("pid.y")] == 0.0)  # reference = measurement: e = 0
-    # a format-1 file naming none of the renamed ports needs no format line
-    assert scenario.load(SCENARIOS / "crawler-ideal-backward.toml").name
-    for bad in ("3", "0", "2.0", "true"):
-        new.write_text(PID_LOOP.format(format=f"format = {bad}\n", r="u_s", y="u_m", out="y"))
-        with pytest.raises(UserError, match=r"format = .* is not one this musclesim reads "
-                                            r"\(1 to 2\)"):
-            scenario.load(new)
-
-
-def test_each_file_of_an_extends_chain_is_read_in_its_own_format(tmp_path):
-    """A variant without format 2 may extend a format-2 file (the base's pid.y is its output), so
-    long as the variant itself names no renamed port."""
-    (tmp_path / "base.toml").write_text(PID_LOOP.format(format="format = 2\n", r="u_s", y="u_m",
-                                                        out="y"))
-    variant = tmp_path / "variant.toml"
-    variant.write_text('extends = "base.toml"\nstop_time = 0.02\nrecord = ["pid.e"]\n')
-    assert scenario.load(variant).record == (S("pid.y"), S("pid.e"))
-    variant.write_text('extends = "base.toml"\nrecord = ["pid.u"]\n')
-    with pytest.raises(UserError, match=rf"scenario {variant} names ports as before format 2 .*"
-                                        r"'pid.u' is pid.y now"):
-        scenario.load(variant)
-
-
-def test_a_renamed_port_is_refused_with_its_new_name(fmu_dir):
-    """The crawler body's blocks took MSL's flange_a / flange_b: an old scenario's flange1 is
-    named in the message, not listed among unknown variables."""
-    s = scenario.load(SCENARIOS / "crawler-ideal.toml", stop_time=0.1)
-    s = dataclasses.replace(s, record=(S("body.flange1.s"),))
-    with pytest.raises(UserError, match=r"recorded signal 'body.flange1.s': CrawlerBody's "
-                                        r"flange1.s has been renamed flange_a.s"):
-        Master(s, fmu_dir)
