@@ -32,7 +32,8 @@ W = TypeVar("W", bound=Wired)
 
 @dataclass(frozen=True)
 class Link:
-    """One connection: output `src` of instance `source` feeds input `dst` of `target`."""
+    """One connection: the output `src` (of the instance `source`) feeds the input `dst` (of
+    `target`)."""
 
     src: Signal
     dst: Signal

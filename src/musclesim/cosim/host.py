@@ -6,6 +6,11 @@ callback for the whole process, the fixes for pythonfmu 0.7's exit-time use-afte
 and without entity expansion, extraction entry by entry (no absolute path, no ``..``, no link,
 a cap on the total size).
 """
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import Any
+
 import atexit
 import contextlib
 import ctypes
@@ -17,7 +22,6 @@ import stat
 import sys
 import zipfile
 from pathlib import Path, PurePosixPath
-from typing import Any
 
 from fmpy import read_model_description
 from fmpy.fmi2 import (calloc, fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
@@ -33,7 +37,7 @@ from musclesim.errors import UserError
 LOG_SINKS: dict = {}  # componentEnvironment -> {instance name: wiring.Loaded}
 
 
-def _route_log(env, instance_name, status, category, message):
+def _route_log(env: Any, instance_name: bytes, status: int, category: Any, message: bytes) -> None:
     instances = LOG_SINKS.get(env)
     name = instance_name.decode("utf-8", "replace") if instance_name else ""
     if instances is not None and name in instances:
@@ -46,7 +50,7 @@ _PROXY.logger = _ROUTE_LOG
 addLoggerProxy(ctypes.byref(_PROXY))  # _PROXY.logger is now the native proxy
 
 
-def callbacks(key):
+def callbacks(key: int) -> Any:
     """FMI callbacks whose log messages reach the master registered under `key`."""
     cb = fmi2CallbackFunctions()
     cb.logger = _PROXY.logger
@@ -56,7 +60,7 @@ def callbacks(key):
     return cb
 
 
-def release_pythonfmu_libraries():
+def release_pythonfmu_libraries() -> None:
     """Reset the interpreter handle of every pythonfmu FMU library still loaded (Linux).
 
     pythonfmu 0.7.0's library resets its global interpreter handle from an ELF destructor that,
@@ -86,7 +90,7 @@ def release_pythonfmu_libraries():
 atexit.register(release_pythonfmu_libraries)
 
 
-def forget_fmu_resource_paths():
+def forget_fmu_resource_paths() -> None:
     """Drop the FMU resource folders pythonfmu puts at the front of ``sys.path``.
 
     Once an FMU's slave module is imported they serve no purpose, and left there they shadow
@@ -101,7 +105,7 @@ MAX_EXTRACTED = 512 * 2**20  # bytes an FMU may unpack to (ours: ~0.2 MB each)
 MAX_ENTRIES = 10_000  # files in one FMU
 
 
-def _read_capped(zf, name, cap, where):
+def _read_capped(zf: zipfile.ZipFile, name: str, cap: int, where: object) -> bytes:
     """The bytes of entry `name`, read in chunks and refused past `cap` (sizes can lie)."""
     with zf.open(name) as f:
         data = f.read(cap + 1)
@@ -114,7 +118,7 @@ _REUSE: dict[str, Any] = {"depth": 0, "folder": None, "descriptions": {}, "extra
 
 
 @contextlib.contextmanager
-def reuse_fmus():
+def reuse_fmus() -> Iterator[None]:
     """Within it, each FMU file is read and extracted once and reused by every run that follows
     (`read_fmu`, `extracted_fmu`), in one temporary folder removed when the outermost such block
     ends, however it ends. For work that runs a scenario many times in one process (a fit of the
@@ -132,12 +136,12 @@ def reuse_fmus():
             _REUSE.update(folder=None, descriptions={}, extracted={})
 
 
-def _key(path):
+def _key(path: str | Path) -> tuple[str, int, int]:
     stat_ = Path(path).stat()
     return str(Path(path).resolve()), stat_.st_size, stat_.st_mtime_ns
 
 
-def extracted_fmu(path):
+def extracted_fmu(path: str | Path) -> str | None:
     """The folder `reuse_fmus` extracted the FMU at `path` into (extracting it the first time),
     or None outside such a block."""
     if not _REUSE["depth"]:
@@ -149,8 +153,8 @@ def extracted_fmu(path):
     return _REUSE["extracted"][key]
 
 
-def read_fmu(path):
-    """Read an FMU's model description (once per file inside `reuse_fmus`)."""
+def read_fmu(path: str | Path) -> Any:
+    """Read the model description of the FMU at `path` (once per file inside `reuse_fmus`)."""
     if _REUSE["depth"]:
         key = _key(path)
         if key not in _REUSE["descriptions"]:
@@ -159,7 +163,7 @@ def read_fmu(path):
     return _read_fmu(path)
 
 
-def _read_fmu(path):
+def _read_fmu(path: str | Path) -> Any:
     """Read an FMU's model description, refusing XML with a DTD (no entity expansion) and a
     description larger than `MAX_DESCRIPTION` before parsing it, and an archive whose entries
     `extract_fmu` would refuse (so that a command refuses it before any work)."""
@@ -184,7 +188,7 @@ def _read_fmu(path):
     return md
 
 
-def _entry_problem(info):
+def _entry_problem(info: zipfile.ZipInfo) -> str | None:
     name = info.filename
     parts = PurePosixPath(name.replace("\\", "/")).parts
     if name.startswith(("/", "\\")) or (parts and ":" in parts[0]):
@@ -196,7 +200,7 @@ def _entry_problem(info):
     return None
 
 
-def _check_entries(zf, path):
+def _check_entries(zf: zipfile.ZipFile, path: str | Path) -> list[zipfile.ZipInfo]:
     """The archive's entries; raise naming the archive and the first entry that is refused."""
     infos = zf.infolist()
     if len(infos) > MAX_ENTRIES:
@@ -208,7 +212,7 @@ def _check_entries(zf, path):
     return infos
 
 
-def extract_fmu(path, dest):
+def extract_fmu(path: str | Path, dest: str | Path) -> str:
     """Extract the FMU at `path` into the new folder `dest`, checking every entry first.
 
     Refuses, in one sentence naming the archive and the entry, an absolute path, a ``..``, a

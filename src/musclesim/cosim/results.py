@@ -39,11 +39,11 @@ OUTPUTS = ("summary.json", "results.csv", "results.csv" + PART, "results.png")
 
 @dataclass
 class Results:
-    """Recorded signals: ``time[i]`` and ``data[i, j]`` for column ``names[j]``, rows 0..n-1;
-    ``results[signal]`` is the column of a `Signal`.
+    """Recorded signals: `time` ``[i]`` and `data` ``[i, j]`` for the column `names` ``[j]``,
+    rows 0..n-1; ``results[signal]`` is the column of a `Signal`.
 
-    ``error`` is None for a complete run, else the sentence saying which instance failed, when
-    and why; the rows before the failure are kept. ``warnings`` holds what the FMUs logged as
+    `error` is None for a complete run, else the sentence saying which instance failed, when
+    and why; the rows before the failure are kept. `warnings` holds what the FMUs logged as
     warnings (e.g. an input clamped to a model's valid range), each prefixed with its instance.
     """
 
@@ -121,7 +121,7 @@ def metric_unit(unit: str | None, op: str, ratio: bool = False) -> str:
 
 
 def compute_metrics(results: Results, metrics: Mapping[str, Metric]) -> dict[str, float]:
-    """Evaluate ``{name: Metric}`` on `results`; a metric without a value (no sample in its
+    """Evaluate `metrics` (``{name: Metric}``) on `results`; a metric without a value (no sample in its
     window, no oscillation to count, nothing to divide by) is NaN, written null in summary.json."""
     out = {}
     for name, m in metrics.items():

@@ -70,9 +70,9 @@ class Panel:
 
 @dataclass(frozen=True)
 class Instance:
-    """One FMU instance: its name, the component (FMU) it instantiates, parameter values and
-    ``every``: it steps at every ``every``-th communication point, by ``every`` steps at once
-    (multi-rate; 1 = at every point)."""
+    """One FMU instance: its `name`, the `component` (FMU) it instantiates, its `parameters`'
+    values and `every`: it steps at every ``every``-th communication point, by ``every`` steps at
+    once (multi-rate; 1 = at every point)."""
 
     name: str
     component: str
@@ -82,7 +82,14 @@ class Instance:
 
 @dataclass(frozen=True)
 class Scenario:
-    """A checked scenario (see the module docstring); each signal a `Signal`."""
+    """A checked scenario (see the module docstring); each signal a `Signal`.
+
+    Its `name`, the file at `path` it was read from (None for one made in code), the `instances`
+    by name, the `connections` (output, input), the communication `step` [s] from `start_time`
+    to `stop_time` [s], the master's `algorithm` (`ALGORITHMS`), the signals to `record`, the
+    `metrics` by name, the `plots`' panels, and the `description` and `reference` (where the
+    experiment comes from) it states.
+    """
 
     name: str
     path: Path | None

@@ -1,8 +1,12 @@
 """SSP export: a scenario and its FMUs as an SSP 1.0 archive (SystemStructure.ssd + resources/)."""
+from __future__ import annotations
+
+import zipfile
 from pathlib import Path
+from typing import Any
 from xml.etree import ElementTree as ET
 
-from musclesim.cosim import KINDS, Master, check_archive, replace_zip
+from musclesim.cosim import KINDS, Master, Scenario, check_archive, replace_zip
 from musclesim.errors import UserError
 
 NS = {
@@ -21,17 +25,17 @@ for _prefix, _uri in NS.items():
     ET.register_namespace(_prefix, _uri)
 
 
-def _tag(qname):
+def _tag(qname: str) -> str:
     """``"ssd:System"`` -> ``"{http://...}System"``."""
     prefix, _, local = qname.partition(":")
     return f"{{{NS[prefix]}}}{local}"
 
 
-def _sub(parent, qname, **attrib):
+def _sub(parent: Any, qname: str, **attrib: str) -> ET.Element:
     return ET.SubElement(parent, _tag(qname), attrib)
 
 
-def _used_variables(scenario):
+def _used_variables(scenario: Scenario) -> dict[str, set[str]]:
     """``{instance: set of variable names}`` that the scenario connects, sets or records."""
     signals = [s for pair in scenario.connections for s in pair] + scenario.recorded()
     used = {name: set(inst.parameters) for name, inst in scenario.instances.items()}
@@ -40,10 +44,10 @@ def _used_variables(scenario):
     return used
 
 
-def base_units(master):
-    """The components' unit definitions as ``BaseUnit`` attributes (SSC's and FMI 2.0's are the
+def base_units(master: Master) -> dict[str, dict[str, str]]:
+    """The unit definitions of `master`'s components as ``BaseUnit`` attributes (SSC's and FMI 2.0's are the
     same), ``{name: {attr: text}}``; a unit two FMUs define differently is refused."""
-    units = {}
+    units: dict[str, dict[str, str]] = {}
     for inst in master.instances.values():
         for unit in inst.md.unitDefinitions:
             if unit.baseUnit is None:
@@ -58,7 +62,7 @@ def base_units(master):
     return units
 
 
-def value_text(kind, value):
+def value_text(kind: str, value: float) -> str:
     """`value` of a variable of `kind` (Real, Integer, Boolean) as text, as SSP and FMI model
     descriptions write it."""
     value = float(value)
@@ -66,7 +70,8 @@ def value_text(kind, value):
             "Boolean": "true" if value else "false"}[kind]
 
 
-def _parameter_binding(component, set_name, parameters, variables):
+def _parameter_binding(component: ET.Element, set_name: str, parameters: dict[str, float],
+                       variables: dict[str, Any]) -> None:
     """Bind ``{name: value}`` to `component` as an inline ``ssv:ParameterSet``, each value typed
     as its variable (`variables`: {name: fmpy ScalarVariable})."""
     binding = _sub(_sub(component, "ssd:ParameterBindings"), "ssd:ParameterBinding")
@@ -78,8 +83,8 @@ def _parameter_binding(component, set_name, parameters, variables):
         _sub(_sub(params, "ssv:Parameter", name=name), f"ssv:{kind}", value=value_text(kind, value))
 
 
-def system_structure(scenario, master):
-    """Build the ``ssd:SystemStructureDescription`` element of `scenario`.
+def system_structure(scenario: Scenario, master: Master) -> ET.Element:
+    """Build the ``ssd:SystemStructureDescription`` element of `scenario` (checked by `master`).
 
     Parameters
     ----------
@@ -137,7 +142,7 @@ def system_structure(scenario, master):
     return root
 
 
-def export(scenario, fmu_dir, ssp_path):
+def export(scenario: Scenario, fmu_dir: str | Path, ssp_path: str | Path) -> Path:
     """Write `scenario` with its FMUs as the SSP 1.0 archive `ssp_path`.
 
     Parameters
@@ -180,7 +185,7 @@ def export(scenario, fmu_dir, ssp_path):
     root = system_structure(scenario, Master(scenario, fmu_dir))
     ET.indent(root)
 
-    def fill(archive):
+    def fill(archive: zipfile.ZipFile) -> None:
         archive.writestr("SystemStructure.ssd",
                          ET.tostring(root, encoding="UTF-8", xml_declaration=True))
         for comp in sorted({i.component for i in scenario.instances.values()}):
