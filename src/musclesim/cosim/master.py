@@ -86,7 +86,7 @@ class Master:
         or of the wrong length).
     """
 
-    def __init__(self, scenario: Scenario, fmu_dir: str | Path = "fmus",
+    def __init__(self, scenario: Scenario, fmu_dir: str | os.PathLike[str] = "fmus",
                  inputs: Mapping[Signal, Any] | None = None, host: str = "direct") -> None:
         """Read the FMUs of `scenario` from `fmu_dir`, check the wiring (with the replayed
         `inputs`), plan the run on `host` (see the class docstring)."""

@@ -54,6 +54,7 @@ class Results:
     warnings: list[str] = field(default_factory=list)
 
     def __getitem__(self, signal: Signal) -> np.ndarray:
+        """The column of `signal`."""
         return self.data[:, self.names.index(signal)]
 
 
