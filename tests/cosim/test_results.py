@@ -4,7 +4,6 @@ line); a run's files always belong to one run, a failed one too."""
 import csv
 import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pandas
