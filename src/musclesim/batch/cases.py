@@ -74,8 +74,9 @@ def run_case(scenario: Scenario, fmu_dir: str | Path | FmuFolder, overrides: Ite
 
 
 def write_case(case_dir: str | Path, outcome: Outcome) -> dict[str, Any]:
-    """Write a case's `outcome` (an `Outcome`) into `case_dir` (results.csv and summary.json, no plot: drawing
-    it costs about a third of a 60 s case, and sweep.png summarises); return its summary."""
+    """Write a case's `outcome` (an `Outcome`) into `case_dir` (results.csv and summary.json, no
+    plot: drawing it costs about a third of a 60 s case, and sweep.png summarises); return its
+    summary."""
     from musclesim.cosim import write_results
 
     if outcome.results is None:
@@ -86,8 +87,8 @@ def write_case(case_dir: str | Path, outcome: Outcome) -> dict[str, Any]:
 
 
 def case_summary(case_dir: str | Path) -> dict[str, Any] | None:
-    """The summary of the case in `case_dir` if it ran (completed or failed), else None (no summary.json, or not
-    a JSON object)."""
+    """The summary of the case in `case_dir` if it ran (completed or failed), else None (no
+    summary.json, or not a JSON object)."""
     try:
         summary = json.loads((Path(case_dir) / "summary.json").read_text())
     except (OSError, ValueError):

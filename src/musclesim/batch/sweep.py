@@ -34,7 +34,7 @@ class Sweep:
 
     scenario: Path
     axes: dict[str, tuple[float, ...]]
-    plot: dict[str, Any] = field(default_factory=dict)  # {"kind": "line"|"heatmap", "x", "y", "metrics"}
+    plot: dict[str, Any] = field(default_factory=dict)  # {"kind", "x", "y", "metrics"}
     title: str = ""
 
 

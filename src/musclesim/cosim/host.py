@@ -4,7 +4,8 @@ Process-wide concerns of loading FMUs with fmpy, kept apart from the master algo
 callback for the whole process, the fixes for pythonfmu 0.7's exit-time use-after-free and its
 ``sys.path`` entries, and reading untrusted archives: the model description read with a size cap
 and without entity expansion, extraction entry by entry (no absolute path, no ``..``, no link,
-a cap on the total size).
+a cap on the total size); and the temporary folders of runs killed before they could remove
+their own (`remove_orphan_runs`).
 """
 from __future__ import annotations
 

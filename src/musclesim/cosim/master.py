@@ -1,5 +1,9 @@
 """The co-simulation master: fixed communication step over FMI 2.0 and 3.0 co-simulation FMUs.
 
+Before a run the scenario's wiring is checked against the FMUs' model descriptions, every problem
+at once (`musclesim.cosim.wiring`); the order of exchange and of steps is asked of the scenario's
+graph (`Scenario.graph`), and each signal read or set is a `Signal` parsed once with the file.
+
 At every communication point t_k the master first *exchanges* values: it visits the instances in
 the order of direct feedthrough (an output that depends on an input at the same instant, declared
 in ModelStructure/Outputs), sets each one's inputs and reads its outputs, so that every value in a
@@ -70,8 +74,8 @@ class Master:
     fmu_dir : str or Path
         Folder with ``<component>.fmu`` files (output of ``musclesim build``).
     inputs : dict of Signal to array, optional
-        Replayed inputs: ``{Signal("instance", "input"): values}`` with one value per communication point
-        (``scenario.n_steps + 1``), set at every exchange in place of a connection, the way an
+        Replayed inputs: ``{Signal("instance", "input"): values}`` with one value per
+        communication point (``scenario.n_steps + 1``), set at every exchange in place of a connection, the way an
         upstream FMU swapped for a measured signal would set them (sampled and held over the
         step). The diagnosis re-simulates components alone this way.
     host : {"direct", "fmpy"}
@@ -94,7 +98,7 @@ class Master:
             raise UserError(f"host {host!r} is not one of {', '.join(HOSTS)}")
         self.scenario, self.host = scenario, host
         self.current: Any = None  # the Loaded instance being called, named if it fails
-        self.hosts: dict[str, str] = {}  # instance -> the host that ran it ("direct" or "fmpy"), once loaded
+        self.hosts: dict[str, str] = {}  # instance -> the host that ran it, once loaded
         self.fmu_dir = Path(fmu_dir)
         self.inputs: dict[Signal, np.ndarray] = {
             k: np.asarray(v, dtype=float) for k, v in (inputs or {}).items()}

@@ -5,11 +5,11 @@ values, inline or from a TOML file given as ``parameters_file`` relative to the 
 inside its folder, inline values winning, and ``every``: how many communication steps the
 instance takes at once), connections ``"a.y" -> "b.u"``, the communication step, start and stop
 time, the master algorithm, the signals to record, the metrics to compute and the plot panels.
-A file may ``extends = "other.toml"``, and declares its ``format`` (`musclesim.cosim.FORMAT`): how its files are
-read and merged is `musclesim.cosim.scenario_files`'s. Each signal is parsed once, here, into a
-`Signal`; the scenario's data flow is its `Scenario.graph`. Checks collect every problem and
-raise once with the whole list. No message repeats a value read from a parameters file (it may
-hold what is not ours to print), only its key.
+A file may ``extends = "other.toml"``, and declares its ``format`` (`musclesim.cosim.FORMAT`):
+how its files are read and merged is `musclesim.cosim.scenario_files`'s. Each signal is parsed
+once, here, into a `Signal`; the scenario's data flow is its `Scenario.graph`. Checks collect
+every problem and raise once with the whole list. No message repeats a value read from a
+parameters file (it may hold what is not ours to print), only its key.
 
 Limits: a step of at least `MIN_STEP`, at most `MAX_STEPS` communication steps, times of at most
 `MAX_TIME` in magnitude, ``every`` at most `MAX_EVERY`.

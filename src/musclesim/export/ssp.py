@@ -45,8 +45,9 @@ def _used_variables(scenario: Scenario) -> dict[str, set[str]]:
 
 
 def base_units(master: Master) -> dict[str, dict[str, str]]:
-    """The unit definitions of `master`'s components as ``BaseUnit`` attributes (SSC's and FMI 2.0's are the
-    same), ``{name: {attr: text}}``; a unit two FMUs define differently is refused."""
+    """The unit definitions of `master`'s components as ``BaseUnit`` attributes (SSC's and FMI
+    2.0's are the same), ``{name: {attr: text}}``; a unit two FMUs define differently is
+    refused."""
     units: dict[str, dict[str, str]] = {}
     for inst in master.instances.values():
         for unit in inst.md.unitDefinitions:
