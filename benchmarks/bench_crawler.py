@@ -26,8 +26,8 @@ from fmpy.fmi2 import FMU2Slave
 
 from musclesim.components.crawler import body, friction, inputs
 from musclesim.components.crawler.monolithic import simulate_ideal
-from musclesim.cosim import (Master, build_all, check_fresh, export_ssp, load_scenario, read_fmu,
-                             split_signal)
+from musclesim.cosim import Master, build_all, check_fresh, load_scenario, read_fmu
+from musclesim.export import export_ssp
 
 ROOT = Path(__file__).resolve().parents[1]
 IDEAL = ROOT / "scenarios" / "crawler-ideal.toml"
@@ -40,7 +40,7 @@ def run_ours(s, fmu_dir, host="direct"):
     """Our master on `host`; returns {signal: values}."""
     res = Master(s, fmu_dir, host=host).run()
     assert res.error is None, res.error
-    return {name: res[name] for name in res.names}
+    return {str(name): res[name] for name in res.names}  # keyed as the other tools name them
 
 
 def run_libcosim(s, ssp_path):
@@ -56,11 +56,11 @@ def run_libcosim(s, ssp_path):
     execution.add_observer(observer)
     ids = {}
     for signal in s.record:
-        inst, var = split_signal(signal)
+        inst, var = signal.instance, signal.variable
         index = execution.slave_index_from_instance_name(inst)
         ref = next(v.reference for v in execution.slave_variables(index) if v.name.decode() == var)
         observer.start_time_series(index, ref, CosimVariableType.REAL)
-        ids[signal] = index, ref
+        ids[str(signal)] = index, ref
     assert execution.simulate_until(s.n_steps * round(s.step * 1e9))
     # step n only: libcosimpy 0.0.6 drops a sample from reads that include step 0
     return {sig: observer.time_series_real_samples(i, r, s.n_steps, 1)[2][0]
@@ -77,7 +77,7 @@ def run_ecos(s, ssp_path):
     with EcosSimulation(ssp_path=str(ssp_path), step_size=s.step) as sim:
         sim.init(parameter_set=s.name)
         sim.step(s.n_steps)
-        return {sig: sim.get_real("::".join(split_signal(sig))) for sig in s.record}
+        return {str(sig): sim.get_real(f"{sig.instance}::{sig.variable}") for sig in s.record}
 
 
 def run_fmpy_ssp(s, ssp_path):
@@ -93,7 +93,7 @@ def run_fmpy_ssp(s, ssp_path):
                              for pset in b.parameterValues for p in pset.parameters]
     rows = simulate_ssp(str(ssp_path), stop_time=s.stop_time, step_size=s.step,
                         parameter_set=bound)
-    return {sig: rows[sig][-1] for sig in s.record}
+    return {str(sig): rows[str(sig)][-1] for sig in s.record}
 
 
 class _Fmu:
@@ -293,7 +293,7 @@ def report(times, results, discretise):
           f"(goal >= {GOAL_VS_LIBCOSIM}x: {said('libcosim_over_ours')})")
     print(f"ours vs libcosim less its {discretise['libcosim']['calls']} re-discretisations: "
           f"{ratios['libcosim_less_discretisation_over_ours']:.2f}x faster")
-    # the Jacobi masters delay direct feedthrough by a step (tests/cosim/test_ssp.py), FMPy's
+    # the Jacobi masters delay direct feedthrough by a step (tests/export/test_ssp.py), FMPy's
     # starts every input at 0: they end elsewhere
     print(f"final x_cm: ours {ours['body.x_cm'][-1]:.6f} m, " + ", ".join(
         f"{name} {results[name]['body.x_cm']:.6f} m" for name in ("libcosim", "ecos", "fmpy_ssp")))

@@ -63,3 +63,16 @@ def test_write_failure_is_a_case_that_ran_and_failed(tmp_path):
     assert write_failure(case, "it broke") == {"completed": False, "error": "it broke"}
     assert case_summary(case) == {"completed": False, "error": "it broke"}
     assert finished(case) is None
+
+
+def test_a_failure_removes_an_earlier_runs_results(tmp_path):
+    """A case that ran before (its results.csv, plot and summary there) and fails now keeps no
+    row of the earlier run beside the failure's summary."""
+    case = tmp_path / "cases" / "a=1"
+    case.mkdir(parents=True)
+    for name in ("results.csv", "results.csv.part", "results.png"):
+        (case / name).write_text("an earlier run's\n")
+    (case / "summary.json").write_text('{"completed": true, "error": null}\n')
+    write_failure(case, "it broke")
+    assert sorted(p.name for p in case.iterdir()) == ["summary.json"]
+    assert case_summary(case) == {"completed": False, "error": "it broke"}

@@ -22,10 +22,12 @@ import pytest
 from musclesim import cli
 from musclesim.batch import dask_client, run_case, ship_fmus
 from musclesim.benchmark import blind
-from musclesim.cosim import Master, load_scenario, run_scenario
+from musclesim.cosim import Master, Signal, load_scenario, run_scenario
 from musclesim.diagnosis import diagnose, load_dataset
 
 from conftest import SCENARIOS, schema_errors
+
+S = Signal.parse
 
 AUDIT = Path(__file__).with_name("worker_audit.py")
 GRID = "inputs.phi=0,1.5,3"
@@ -117,8 +119,8 @@ def _data_set(folder, fmu_dir):
     res = Master(load_scenario(folder / "bench.toml", ["thermocouple.bias=3.0"]), fmu_dir).run()
     noise = np.random.default_rng(3).standard_normal((2, len(res.time)))
     np.savetxt(folder / "data.csv", np.column_stack([
-        res.time, res["wire.u"], res["wire.flange.f"],
-        res["thermocouple.T_meas"] + 0.05 * noise[0], res["wire.strain"] + 1e-5 * noise[1]]),
+        res.time, res[S("wire.u")], res[S("wire.flange.f")],
+        res[S("thermocouple.T_meas")] + 0.05 * noise[0], res[S("wire.strain")] + 1e-5 * noise[1]]),
         delimiter=",", comments="", fmt="%.17g",
         header="time,wire.u,wire.flange.f,thermocouple.T_meas,wire.strain")
     (folder / "manifest.toml").write_text(

@@ -6,9 +6,11 @@ actuator with one wire pulsed and with both alternating, and the quadruped walki
 import pytest
 
 from musclesim.analysis import bending
-from musclesim.cosim import master, results, scenario
+from musclesim.cosim import master, results, scenario, Signal
 
 from conftest import SCENARIOS
+
+S = Signal.parse
 
 
 def simulate(fmu_dir, name, overrides=()):
@@ -32,7 +34,7 @@ def test_one_wire_bends_toward_itself_within_its_band(runs):
     lo, hi = bending()["thermal"]["band"]  # the linear model's band of the same pulses
     assert m["wireA_T_min"] - 273.15 == pytest.approx(lo, abs=3.0)
     assert m["wireA_T_max"] - 273.15 == pytest.approx(hi, abs=3.0)
-    assert res["actuator.wireB.T"].max() == pytest.approx(293.15)  # B is not heated
+    assert res[S("actuator.wireB.T")].max() == pytest.approx(293.15)  # B is not heated
 
 
 def test_alternating_wires_swing_both_ways_and_further(runs):
@@ -48,4 +50,4 @@ def test_alternating_wires_swing_both_ways_and_further(runs):
 def test_quadruped_walks_forward(runs):
     res, m = runs["quadruped-walk"]
     assert 2e-4 < m["mean_speed"] < 5e-3  # m/s: forward, at most a few strokes per pulse
-    assert res["body.x"][-1] == pytest.approx(m["distance"])
+    assert res[S("body.x")][-1] == pytest.approx(m["distance"])

@@ -4,9 +4,12 @@ and FMPy's runs of it are the same bits, times included."""
 import numpy as np
 from fmpy import simulate_fmu
 
-from musclesim.cosim import Master, export_ssp, forget_fmu_resource_paths, load_scenario
+from musclesim.cosim import Master, Signal, forget_fmu_resource_paths, load_scenario
+from musclesim.export import export_ssp
 
-from test_ssp import run_libcosim
+from export.test_ssp import run_libcosim  # tests/export/test_ssp.py
+
+S = Signal.parse
 
 H, STOP = 1e-3, 2.0
 WAVE = {"kind": 2.0, "amplitude": 1.0, "frequency": 1.0}  # edges at 0.5, 1, 1.5 and 2 s
@@ -25,15 +28,15 @@ def test_a_square_wave_switches_where_fmpy_and_libcosim_switch_it(fmu_dir, tmp_p
     ours = Master(s, fmu_dir).run()
     k = np.arange(s.n_steps + 1)
     assert np.array_equal(ours.time, k * H)
-    assert switches(ours["src.y"]) == [500, 1000, 1500, 2000]
+    assert switches(ours[S("src.y")]) == [500, 1000, 1500, 2000]
 
     fmpy = simulate_fmu(str(fmu_dir / "SignalSource.fmu"), start_values=WAVE, stop_time=STOP,
                         output_interval=H, output=["y"])
     forget_fmu_resource_paths()
     assert np.array_equal(fmpy["time"], ours.time)
-    assert np.array_equal(fmpy["y"], ours["src.y"])
+    assert np.array_equal(fmpy["y"], ours[S("src.y")])
 
     _, cosim = run_libcosim(export_ssp(s, fmu_dir, tmp_path / "square.ssp"), ["src.y"],
                             s.n_steps, s.step)
-    assert switches(cosim["src.y"]) == switches(ours["src.y"])
+    assert switches(cosim["src.y"]) == switches(ours[S("src.y")])
 

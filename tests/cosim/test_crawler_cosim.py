@@ -12,11 +12,13 @@ import math
 import numpy as np
 import pytest
 
-from musclesim.cosim import master, scenario
+from musclesim.cosim import master, scenario, Signal
 from musclesim.components.crawler import body, friction, inputs
 from musclesim.components.crawler.monolithic import simulate_ideal
 
 from conftest import ROOT, SCENARIOS
+
+S = Signal.parse
 
 IDEAL = SCENARIOS / "crawler-ideal.toml"
 
@@ -35,14 +37,14 @@ def assert_matches(res, times, states, tol=1e-9):
     for col, i in (("body.flange_a.s", 0), ("body.flange_a.v", 1), ("body.flange_b.s", 2),
                    ("body.flange_b.v", 3)):
         scale = max(1.0, np.abs(states[:, i]).max())
-        np.testing.assert_allclose(res[col], states[:, i], rtol=0, atol=tol * scale, err_msg=col)
+        np.testing.assert_allclose(res[S(col)], states[:, i], rtol=0, atol=tol * scale, err_msg=col)
 
 
 def test_nominal_scenario_equals_monolithic_model(fmu_dir):
     res = cosim(fmu_dir)
     assert_matches(res, *simulate_ideal())
     # the crawler moves forward at 1 Hz, phi = 1.64 rad (§ideal-actuation)
-    assert res["body.x_cm"][-1] > 1.0
+    assert res[S("body.x_cm")][-1] > 1.0
 
 
 def test_gauss_seidel_feeds_the_body_the_stepped_source(fmu_dir):
@@ -50,7 +52,7 @@ def test_gauss_seidel_feeds_the_body_the_stepped_source(fmu_dir):
     res = cosim(fmu_dir, stop_time=5.0, algorithm="gauss-seidel")
     assert_matches(res, *simulate_ideal(stop_time=5.0, actuator_lead=True))
     jacobi = cosim(fmu_dir, stop_time=5.0)
-    assert not np.array_equal(res["body.flange_a.s"], jacobi["body.flange_a.s"])
+    assert not np.array_equal(res[S("body.flange_a.s")], jacobi[S("body.flange_a.s")])
 
 
 def test_incline_effects_and_parameters_reach_the_fmus(fmu_dir):
@@ -73,13 +75,13 @@ def test_rows_belong_to_their_time_stamp(fmu_dir):
     for k in (0, 17, 50):
         t = res.time[k]
         f_a, u1, _ = inputs.signals(t, ip)
-        assert res["inputs.f_a"][k] == f_a and res["inputs.u1"][k] == u1
-        x = [res["body.flange_a.s"][k], res["body.flange_a.v"][k],
-             res["body.flange_b.s"][k], res["body.flange_b.v"][k]]
+        assert res[S("inputs.f_a")][k] == f_a and res[S("inputs.u1")][k] == u1
+        x = [res[S("body.flange_a.s")][k], res[S("body.flange_a.v")][k],
+             res[S("body.flange_b.s")][k], res[S("body.flange_b.v")][k]]
         f_n1, _ = body.nonfriction_forces(x, f_a, p)
         mu_s, mu_k = friction.coefficients(u1, fp)
         expected = friction.friction_force(x[1], f_n1, body.normal_forces(p)[0], mu_s, mu_k, fp.v_s)
-        assert res["friction1.flange.f"][k] == expected
+        assert res[S("friction1.flange.f")][k] == expected
 
 
 def test_reference_result_is_reproduced(fmu_dir):
@@ -91,7 +93,7 @@ def test_reference_result_is_reproduced(fmu_dir):
     np.testing.assert_array_equal(res.time[::10], ref[:, 0])
     for col, i in (("body.flange_a.s", 1), ("body.flange_a.v", 2), ("body.flange_b.s", 3),
                    ("body.flange_b.v", 4)):
-        np.testing.assert_array_equal(res[col][::10], ref[:, i], err_msg=col)
+        np.testing.assert_array_equal(res[S(col)][::10], ref[:, i], err_msg=col)
 
 
 def test_runs_leave_no_fmu_copy_of_musclesim_on_sys_path(fmu_dir):
@@ -111,9 +113,9 @@ def test_direction_minus_one_is_the_mirror_image(fmu_dir):
     back = master.Master(scenario.load(SCENARIOS / "crawler-ideal-backward.toml", (), 3.0),
                          fmu_dir).run()
     assert back.error is None
-    np.testing.assert_allclose(back["body.flange_a.s"], -fwd["body.flange_b.s"], rtol=0, atol=1e-12)
-    np.testing.assert_allclose(back["body.flange_b.s"], -fwd["body.flange_a.s"], rtol=0, atol=1e-12)
-    assert fwd["body.x_cm"][-1] > 0.1
+    np.testing.assert_allclose(back[S("body.flange_a.s")], -fwd[S("body.flange_b.s")], rtol=0, atol=1e-12)
+    np.testing.assert_allclose(back[S("body.flange_b.s")], -fwd[S("body.flange_a.s")], rtol=0, atol=1e-12)
+    assert fwd[S("body.x_cm")][-1] > 0.1
     from musclesim.cosim import results
     s = scenario.load(SCENARIOS / "crawler-ideal-backward.toml", (), 3.0)
     m_back = results.compute_metrics(back, s.metrics)

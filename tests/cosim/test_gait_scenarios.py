@@ -5,9 +5,11 @@ Each run is cut to a few strides (about 0.4 s of wall time per simulated second)
 import numpy as np
 import pytest
 
-from musclesim.cosim import master, results, scenario
+from musclesim.cosim import master, results, scenario, Signal
 
 from conftest import SCENARIOS
+
+S = Signal.parse
 
 STRIDE = 3.0  # s, 1.2 s protrusion + 1.8 s stance (§gait)
 PHASE = 0.6  # s, each of phases 1, 3 and 4 (stance split equally)
@@ -32,7 +34,7 @@ def runs(fmu_dir):
 
 def at(res, signal, t):
     """The signal's sample at time t (the communication point nearest to it)."""
-    return res[signal][np.argmin(np.abs(res.time - t))]
+    return res[S(signal)][np.argmin(np.abs(res.time - t))]
 
 
 def between(res, t0, t1):
@@ -41,14 +43,14 @@ def between(res, t0, t1):
 
 def test_forward_and_backward_runs_move_the_centre_of_mass_and_mirror_each_other(runs):
     fwd, bwd = runs["forward"][0], runs["backward"][0]
-    assert fwd["body.x_cm"][-1] > 0.05  # 83 mm in 9 s (three strides)
-    assert bwd["body.x_cm"][-1] < -0.05
+    assert fwd[S("body.x_cm")][-1] > 0.05  # 83 mm in 9 s (three strides)
+    assert bwd[S("body.x_cm")][-1] < -0.05
     # the nominal model is symmetric (equal masses, blocks, actuators, gains and anchoring
     # pressures), so backward is forward's mirror image, back and front swapping roles (to 1 um:
     # the order of floating-point sums differs between the mirrored runs)
-    np.testing.assert_allclose(bwd["body.x_cm"], -fwd["body.x_cm"], rtol=0, atol=1e-6)
-    np.testing.assert_allclose(bwd["body.flange_a.s"], -fwd["body.flange_b.s"], rtol=0, atol=1e-6)
-    np.testing.assert_allclose(bwd["friction1.slip"], fwd["friction2.slip"], rtol=0, atol=1e-6)
+    np.testing.assert_allclose(bwd[S("body.x_cm")], -fwd[S("body.x_cm")], rtol=0, atol=1e-6)
+    np.testing.assert_allclose(bwd[S("body.flange_a.s")], -fwd[S("body.flange_b.s")], rtol=0, atol=1e-6)
+    np.testing.assert_allclose(bwd[S("friction1.slip")], fwd[S("friction2.slip")], rtol=0, atol=1e-6)
 
 
 def test_bidirectional_run_goes_forward_then_comes_back(runs):
@@ -56,22 +58,22 @@ def test_bidirectional_run_goes_forward_then_comes_back(runs):
     forward = runs["forward"][0]
     # identical to the forward run until the reversal at 6 s
     n = np.count_nonzero(res.time <= 6.0)
-    np.testing.assert_array_equal(res["body.x_cm"][:n], forward["body.x_cm"][:n])
+    np.testing.assert_array_equal(res[S("body.x_cm")][:n], forward[S("body.x_cm")][:n])
     reached = at(res, "body.x_cm", 6.0)
     assert reached > 0.04
     assert at(res, "gait.phase", 6.0) == 1.0
     # two strides backward undo most of the two forward ones
-    assert res["body.x_cm"][-1] < reached / 2
-    assert np.all(res["body.x_cm"] > -0.005)  # never behind the start by more than 5 mm
+    assert res[S("body.x_cm")][-1] < reached / 2
+    assert np.all(res[S("body.x_cm")] > -0.005)  # never behind the start by more than 5 mm
 
 
 def test_incline_advances_less_than_flat_ground(runs):
     flat, incline = runs["forward"][0], runs["incline"][0]
-    assert 0.01 < incline["body.x_cm"][-1] < flat["body.x_cm"][-1]
+    assert 0.01 < incline[S("body.x_cm")][-1] < flat[S("body.x_cm")][-1]
     assert runs["incline"][1]["mean_speed"] < runs["forward"][1]["mean_speed"]
     # tan 7.5 deg = 0.1317 > mu_s low = 0.13: with both casings down the crawler slides back
     # at the start, before the back actuator anchors
-    assert incline["body.x_cm"][np.argmin(np.abs(incline.time - 0.6))] < -0.001
+    assert incline[S("body.x_cm")][np.argmin(np.abs(incline.time - 0.6))] < -0.001
 
 
 @pytest.mark.parametrize("name", ["forward", "backward"])
@@ -84,13 +86,13 @@ def test_anchoring_extremal_actuators_hold_and_grip_in_time(runs, name):
     first, second = (1, 2) if name == "forward" else (2, 1)
     for start in (STRIDE, 2 * STRIDE):
         phase3 = between(res, start + PHASE + 1.2, start + 2 * PHASE + 1.2)
-        assert set(res["gait.phase"][phase3]) == {3.0}
-        ref = res[f"gait.p_ref{first}"][phase3]
-        assert np.all(np.abs(res[f"sensor{first}.p_meas"][phase3] - ref) <= 0.01 * ref)
+        assert set(res[S("gait.phase")][phase3]) == {3.0}
+        ref = res[S(f"gait.p_ref{first}")][phase3]
+        assert np.all(np.abs(res[S(f"sensor{first}.p_meas")][phase3] - ref) <= 0.01 * ref)
         t3 = res.time[phase3]
-        firm = t3[res[f"act{second}.u"][phase3] >= 0.99]
+        firm = t3[res[S(f"act{second}.u")][phase3] >= 0.99]
         assert len(firm) and firm[0] - t3[0] <= 0.4, firm[:1] - t3[0]
-        ref, p = res[f"gait.p_ref{second}"][phase3], res[f"sensor{second}.p_meas"][phase3]
+        ref, p = res[S(f"gait.p_ref{second}")][phase3], res[S(f"sensor{second}.p_meas")][phase3]
         assert np.all(p[t3 >= firm[0]] <= 1.3 * ref[t3 >= firm[0]]), p.max()
 
 
@@ -100,14 +102,14 @@ def test_central_pressure_in_phase_3_is_near_its_reference(runs):
     res = runs["forward"][0]
     for start in (STRIDE, 2 * STRIDE):
         phase3 = between(res, start + PHASE + 1.2 + SETTLE, start + 2 * PHASE + 1.2)
-        ref, p = res["gait.p_ref_c"][phase3], res["sensorc.p_meas"][phase3]
+        ref, p = res[S("gait.p_ref_c")][phase3], res[S("sensorc.p_meas")][phase3]
         assert np.all(np.abs(p - ref) <= 0.15 * ref), (p.min(), p.max(), ref[0])
 
 
 def test_slip_grows_only_while_the_contact_is_high(runs):
     for name, (res, _) in runs.items():
         for i in (1, 2):
-            slip, contact = res[f"friction{i}.slip"], res[f"act{i}.u"]
+            slip, contact = res[S(f"friction{i}.slip")], res[S(f"act{i}.u")]
             step = np.diff(slip)
             assert np.all(step >= 0), (name, i)
             assert slip[-1] > 0, (name, i)  # the anchors do slip a little

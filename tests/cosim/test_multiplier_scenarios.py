@@ -1,5 +1,5 @@
-"""The fast-actuation scenarios of §multiplier-experiments, shortened, and the metric ops they
-report with.
+"""The fast-actuation scenarios of §multiplier-experiments, shortened (the metric ops they report
+with: tests/cosim/test_results.py).
 
 Topologies::
 
@@ -13,11 +13,12 @@ import math
 import numpy as np
 import pytest
 
-from musclesim.cosim import compute_metrics, master, scenario
-from musclesim.cosim.master import Results
+from musclesim.cosim import Signal, compute_metrics, master, scenario
 from musclesim.errors import UserError
 
 from conftest import SCENARIOS
+
+S = Signal.parse
 
 NEW = ["sma-multiplier-bands", "sma-multiplier-band-50-100", "sma-multiplier-band-60-90",
        "sma-multiplier-bang-bang", "sma-multiplier-pulse", "sma-drift"]
@@ -34,33 +35,6 @@ def run(name, fmu_dir, stop_time, overrides=()):
 def test_scenarios_load_and_name_their_spec(name):
     s = scenario.load(SCENARIOS / f"{name}.toml")
     assert s.reference.startswith("§") and s.metrics
-
-
-# --- metric ops -------------------------------------------------------------------------------
-
-def _results(t, **signals):
-    return Results(time=t, names=list(signals), data=np.column_stack(list(signals.values())))
-
-
-def test_frequency_cycle_peak_to_peak_and_ratio_ops():
-    t = np.arange(3001) * 1e-3  # 0..3 s
-    y = np.sin(2 * math.pi * 2.0 * t)  # 2 Hz
-    pulses = (np.mod(t, 0.5) < 0.1) * (1.0 + t)  # 0 or 1 + t: peak-to-peak 1.099 + its start
-    res = _results(t, y=y, half=0.5 * y, pulses=pulses)
-    M = scenario.Metric
-    out = compute_metrics(res, {
-        "f": M("y", "frequency"),
-        "ratio": M("y", "peak_to_peak", over="half"),
-        "cycles": M("pulses", "cycle_peak_to_peak", period=0.5, start=1.0),
-        "flat": M("half", "frequency", start=2.9999),
-        "no_ratio": M("y", "peak_to_peak", over="half", start=2.9999),  # one sample: ptp 0
-    })
-    assert out["f"] == pytest.approx(2.0, rel=1e-6)
-    assert out["ratio"] == pytest.approx(2.0, rel=1e-12)
-    # whole periods from 1.0 s: 1.0-1.5 ... 2.5-3.0 (4), the sample at 3.0 s starts a fifth
-    assert out["cycles"] == pytest.approx(np.mean([2.099, 2.599, 3.099, 3.599]), rel=1e-9)
-    assert math.isnan(out["flat"])  # no crossing in its window
-    assert math.isnan(out["no_ratio"])  # over a signal whose op is 0
 
 
 def test_a_periodic_op_without_a_period_is_refused(tmp_path):
@@ -91,12 +65,12 @@ def test_with_friction_the_clamp_segments_carry_more_and_move_more(fmu_dir):
     _, res, m = run("sma-multiplier-band-60-90", fmu_dir, 40.0, [
         "mult.contact_conductance=0.0", "mult.composition_shift=0.0", "wire.hysteresis_shift=0.0"])
     ratio = math.exp(0.0237 * math.pi)
-    np.testing.assert_allclose(res["mult.segment[1].stress"], res["mult.segment[3].stress"]
+    np.testing.assert_allclose(res[S("mult.segment[1].stress")], res[S("mult.segment[3].stress")]
                                * ratio ** 2, rtol=1e-14)
     # the minor loop 60-90 C grows with stress (§forc-identification): more than n
     assert m["ratio"] > 0.214 / 0.056 * 1.02
     late = res.time >= 20.0
-    assert np.ptp(res["mult.segment[1].strain"][late]) > np.ptp(res["mult.segment[3].strain"][late])
+    assert np.ptp(res[S("mult.segment[1].strain")][late]) > np.ptp(res[S("mult.segment[3].strain")][late])
 
 
 def test_bang_bang_holds_the_measured_temperature_between_the_thresholds(fmu_dir):
@@ -105,14 +79,14 @@ def test_bang_bang_holds_the_measured_temperature_between_the_thresholds(fmu_dir
     _, res, _ = run("sma-multiplier-bang-bang", fmu_dir, 4.0, ["tc_m.tau=0.0", "tc_s.tau=0.0"])
     late = res.time >= 1.0
     for T, on in (("mult.segment[2].T", "relay_m.on"), ("wire.T", "relay_s.on")):
-        assert 348.15 - 0.2 < res[T][late].min() and res[T][late].max() < 363.15 + 0.2
-        switches = np.flatnonzero(np.diff(res[on][late]) > 0)
+        assert 348.15 - 0.2 < res[S(T)][late].min() and res[S(T)][late].max() < 363.15 + 0.2
+        switches = np.flatnonzero(np.diff(res[S(on)][late]) > 0)
         assert len(switches) >= 4  # the relay oscillates
         # every switch-on follows a fall to 75 C, every switch-off a rise to 90 C
-        assert np.all(res[T][late][switches + 1] <= 348.15)
+        assert np.all(res[S(T)][late][switches + 1] <= 348.15)
     # the displacement's frequency is the relay's
-    on_times = res.time[late][np.flatnonzero(np.diff(res["relay_s.on"][late]) > 0) + 1]
-    f = compute_metrics(res, {"f": scenario.Metric("wire.flange.s", "frequency", start=1.0)})["f"]
+    on_times = res.time[late][np.flatnonzero(np.diff(res[S("relay_s.on")][late]) > 0) + 1]
+    f = compute_metrics(res, {"f": scenario.Metric(S("wire.flange.s"), "frequency", start=1.0)})["f"]
     assert f == pytest.approx(
         (len(on_times) - 1) / (on_times[-1] - on_times[0]), rel=0.05)
 
@@ -122,7 +96,7 @@ def test_bang_bang_overshoots_by_the_lag(fmu_dir):
     # reaches 90 C, when the wire is hotter by about the heating rate times the lag
     _, res, _ = run("sma-multiplier-bang-bang", fmu_dir, 4.0)
     late = res.time >= 1.0
-    T = res["wire.T"][late]
+    T = res[S("wire.T")][late]
     rate = np.max(np.diff(T)) / 4e-4  # K/s while heating
     over = T.max() - 363.15
     assert 0.3 * rate * 0.006 < over < 2.0 * rate * 0.006
@@ -130,11 +104,11 @@ def test_bang_bang_overshoots_by_the_lag(fmu_dir):
 
 def test_pulses_are_7_5_ms_of_13_125_V_every_50_ms(fmu_dir):
     s, res, m = run("sma-multiplier-pulse", fmu_dir, 1.0)
-    u = res["pulses.y"][:-1]  # held over each step
+    u = res[S("pulses.y")][:-1]  # held over each step
     per_period = u.reshape(-1, round(0.05 / s.step))
     # high over steps 1..30 of each period (the wave is delayed by half a step)
     assert np.all(per_period[:, 1:31] == 13.125)
     assert np.all(per_period[:, 31:] == 0.0) and np.all(per_period[:, 0] == 0.0)
-    assert res["mult.flange.s"][-1] > 0.005  # the first pulses contract it against the spring
-    assert res["spring.flange.f"][-1] == pytest.approx(
-        1.5834609 + 490.0 * res["mult.flange.s"][-1], rel=1e-6)
+    assert res[S("mult.flange.s")][-1] > 0.005  # the first pulses contract it against the spring
+    assert res[S("spring.flange.f")][-1] == pytest.approx(
+        1.5834609 + 490.0 * res[S("mult.flange.s")][-1], rel=1e-6)

@@ -10,11 +10,14 @@ import zipfile
 import numpy as np
 import pytest
 
-from musclesim.cosim import scenario, ssp
+from musclesim.cosim import Signal, scenario
 from musclesim.cosim.master import Master
 from musclesim.errors import UserError
+from musclesim.export import ssp
 
-from test_ssp import run_libcosim
+from export.test_ssp import run_libcosim  # tests/export/test_ssp.py
+
+S = Signal.parse
 
 STEP, N, M = 0.01, 10, 3  # 10 steps, the source every 3rd point: its last step is 1 step long
 SINE = 'kind = 1.0, amplitude = 2.0, frequency = 0.7, offset = 0.5'
@@ -39,10 +42,10 @@ def test_an_instance_is_read_at_its_own_points_and_held_between(fmu_dir, tmp_pat
     slow = Master(source_only(tmp_path, M, algorithm), fmu_dir).run()
     fast = Master(source_only(tmp_path, 1, algorithm), fmu_dir).run()
     assert slow.error is None and fast.error is None
-    y, exact = slow["src.y"], 0.5 + 2.0 * np.sin(2 * math.pi * 0.7 * fast.time)
+    y, exact = slow[S("src.y")], 0.5 + 2.0 * np.sin(2 * math.pi * 0.7 * fast.time)
     own = [0, 3, 6, 9, 10]
     np.testing.assert_allclose(y[own], exact[own], rtol=0, atol=1e-14)
-    np.testing.assert_allclose(fast["src.y"], exact, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(fast[S("src.y")], exact, rtol=0, atol=1e-14)
     held = [k - k % M for k in range(N + 1)]
     held[N] = N
     assert list(y) == list(y[held])
@@ -72,12 +75,12 @@ def test_stepping_at_once_equals_stepping_point_by_point_where_the_inputs_are_he
     assert single.error is None and five.error is None and ten.error is None
     own = np.arange(0, 401, 5)
     for sig in ("body.flange_a.s", "body.flange_b.s", "body.flange_b.v"):
-        scale = np.abs(single[sig]).max()
+        scale = np.abs(single[S(sig)]).max()
         assert scale > 1e-4
-        np.testing.assert_allclose(five[sig][own], single[sig][own], rtol=0, atol=1e-12 * scale)
+        np.testing.assert_allclose(five[S(sig)][own], single[S(sig)][own], rtol=0, atol=1e-12 * scale)
         between = np.setdiff1d(np.arange(401), own)
-        assert np.all(five[sig][between] == five[sig][between - between % 5])
-        assert np.abs(ten[sig][::10] - single[sig][::10]).max() > 1e-3 * scale
+        assert np.all(five[S(sig)][between] == five[S(sig)][between - between % 5])
+        assert np.abs(ten[S(sig)][::10] - single[S(sig)][::10]).max() > 1e-3 * scale
 
 
 @pytest.mark.parametrize("every", ["0", "-2", "2.5", "true", '"3"'])
@@ -112,6 +115,6 @@ def test_ssp_carries_the_rate_and_libcosim_steps_it_the_same(fmu_dir, tmp_path):
     every_point = Master(body_driven(tmp_path, 1, every_force=1, n=200, name="fine.toml"),
                          fmu_dir).run()
     for sig in signals:
-        scale = np.abs(ours[sig]).max()
-        np.testing.assert_allclose(theirs[sig], ours[sig], rtol=0, atol=1e-12 * scale)
-        assert np.abs(every_point[sig] - ours[sig]).max() > 1e-4 * scale
+        scale = np.abs(ours[S(sig)]).max()
+        np.testing.assert_allclose(theirs[sig], ours[S(sig)], rtol=0, atol=1e-12 * scale)
+        assert np.abs(every_point[S(sig)] - ours[S(sig)]).max() > 1e-4 * scale

@@ -8,9 +8,11 @@ Topology::
 import numpy as np
 import pytest
 
-from musclesim.cosim import master, scenario
+from musclesim.cosim import master, scenario, Signal
 
 from conftest import SCENARIOS
+
+S = Signal.parse
 
 
 def run(name, stop_time, fmu_dir):
@@ -24,16 +26,16 @@ def test_regulation_settles_on_the_reference(fmu_dir):
     s, res = run("sma-temperature-regulation", 4.0, fmu_dir)
     assert s.instances["pid"].parameters["Kp[11]"] > 0  # gains read from the design's table
     late = res.time >= 3.0
-    assert np.abs(res["pid.e"][late]).max() < 0.01  # K
-    assert res["wire.T"][-1] == pytest.approx(348.15, abs=0.01)
-    assert 0 <= res["pid.y"].min() and res["pid.y"].max() <= 2.5  # heating only, within 2.5 V
+    assert np.abs(res[S("pid.e")][late]).max() < 0.01  # K
+    assert res[S("wire.T")][-1] == pytest.approx(348.15, abs=0.01)
+    assert 0 <= res[S("pid.y")].min() and res[S("pid.y")].max() <= 2.5  # heating only, within 2.5 V
 
 
 def test_tracking_follows_the_sine_and_the_wire_contracts(fmu_dir):
     _, res = run("sma-temperature-tracking", 8.0, fmu_dir)
     late = res.time >= 2.0
-    assert np.sqrt(np.mean(res["pid.e"][late] ** 2)) < 0.3  # K
-    assert res["wire.strain"].max() > 0.03  # heated through the transformation (to 102 C by 8 s)
+    assert np.sqrt(np.mean(res[S("pid.e")][late] ** 2)) < 0.3  # K
+    assert res[S("wire.strain")].max() > 0.03  # heated through the transformation (to 102 C by 8 s)
 
 
 def test_stress_outside_the_data_set_is_clamped_with_one_warning(fmu_dir):

@@ -11,44 +11,55 @@ process, which alone writes the case's folder (`write_case`) with the run's writ
 workers need no access to the output folder, and the folder's guarantees are those of one run
 (`musclesim.cosim.write_results`).
 """
+from __future__ import annotations
+
 import hashlib
 import json
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from musclesim.batch.cluster import dask_client, ship_fmus
-from musclesim.cosim import replace_file
+from musclesim.batch.shipped import FmuFolder
+from musclesim.cosim import Results, Scenario, Signal, clear_run_outputs, replace_file
 from musclesim.errors import UserError
 
 
-def write_failure(case_dir, error):
-    """Record in case_dir/summary.json that the case failed with `error`; return that summary."""
+def write_failure(case_dir: str | Path, error: str | None) -> dict[str, Any]:
+    """Record in `case_dir`/summary.json that the case failed with `error`; return that summary.
+
+    An earlier run's outputs there (its results.csv, plot, summary) are removed first, the
+    summary first: the folder then holds this failure alone, never an old run's rows beside it.
+    """
     summary = {"completed": False, "error": error}
     Path(case_dir).mkdir(parents=True, exist_ok=True)
+    clear_run_outputs(case_dir)
     replace_file(Path(case_dir) / "summary.json", json.dumps(summary, indent=2) + "\n")
     return summary
 
 
 @dataclass(frozen=True)
 class Outcome:
-    """What a case's run hands back (`run_case`): the case's scenario, the master's `results`
-    (failed or not: ``results.error``) with the recorded signals' `units` and the host that ran
-    each instance (``Master.hosts``); or only the `error` of a run that could not start."""
+    """What a case's run hands back (`run_case`): the case's `scenario`, the master's `results`
+    (failed or not: ``results.error``) with the recorded signals' `units` and the `hosts` that
+    ran each instance (``Master.hosts``); or only the `error` of a run that could not start."""
 
-    scenario: object = None
-    results: object = None
-    units: dict = None
-    hosts: dict = None
-    error: str = None
+    scenario: Scenario | None = None
+    results: Results | None = None
+    units: dict[Signal, str] | None = None
+    hosts: dict[str, str] | None = None
+    error: str | None = None
 
 
-def run_case(scenario, fmu_dir, overrides=()):
+def run_case(scenario: Scenario, fmu_dir: str | Path | FmuFolder, overrides: Iterable[str] = ()
+             ) -> Outcome:
     """Run one case, the loaded `scenario` with `overrides` (``"inst.param=value"``) on the FMUs
     in `fmu_dir` (a Dask worker's task); return its `Outcome`, failed or not. Writes nothing."""
     from musclesim.cosim import Master, apply_overrides, signal_units
 
     try:
-        problems = []
+        problems: list[str] = []
         s = apply_overrides(scenario, overrides, problems)
         if problems:
             raise UserError(f"scenario {scenario.path} has {len(problems)} problem(s): "
@@ -62,20 +73,22 @@ def run_case(scenario, fmu_dir, overrides=()):
     return Outcome(s, res, signal_units(m), dict(m.hosts))
 
 
-def write_case(case_dir, outcome):
-    """Write a case's `Outcome` into `case_dir` (results.csv and summary.json, no plot: drawing
-    it costs about a third of a 60 s case, and sweep.png summarises); return its summary."""
+def write_case(case_dir: str | Path, outcome: Outcome) -> dict[str, Any]:
+    """Write a case's `outcome` (an `Outcome`) into `case_dir` (results.csv and summary.json, no
+    plot: drawing it costs about a third of a 60 s case, and sweep.png summarises); return its
+    summary."""
     from musclesim.cosim import write_results
 
     if outcome.results is None:
         return write_failure(case_dir, outcome.error)
+    assert outcome.scenario is not None and outcome.units is not None  # set with results
     return write_results(case_dir, outcome.scenario, outcome.results, outcome.units,
                          with_plot=False)
 
 
-def case_summary(case_dir):
-    """The summary of a case that ran (completed or failed), else None (no summary.json, or not
-    a JSON object)."""
+def case_summary(case_dir: str | Path) -> dict[str, Any] | None:
+    """The summary of the case in `case_dir` if it ran (completed or failed), else None (no
+    summary.json, or not a JSON object)."""
     try:
         summary = json.loads((Path(case_dir) / "summary.json").read_text())
     except (OSError, ValueError):
@@ -83,15 +96,16 @@ def case_summary(case_dir):
     return summary if isinstance(summary, dict) else None
 
 
-def finished(case_dir):
-    """The summary of a case that completed (``"completed": true``), else None."""
+def finished(case_dir: str | Path) -> dict[str, Any] | None:
+    """The summary of the case in `case_dir` if it completed (``"completed": true``), else None."""
     summary = case_summary(case_dir)
     return summary if summary is not None and summary.get("completed") is True else None
 
 
-def claim(out, scenario_path, **settings):
-    """Record in out/sweep.json what the cases come from (the scenario file and its hash, the
-    FMUs' sources, `settings`), refusing a folder whose cases came from something else.
+def claim(out: str | Path, scenario_path: str | Path, **settings: Any) -> None:
+    """Record in `out`/sweep.json what the cases come from (the scenario file `scenario_path` and
+    its hash, the FMUs' sources, `settings`), refusing a folder whose cases came from something
+    else.
 
     Raises
     ------
@@ -119,7 +133,9 @@ def claim(out, scenario_path, **settings):
     replace_file(path, json.dumps(config, indent=2) + "\n")
 
 
-def run_cases(out, todo, scenario, fmu_dir, scheduler=None, workers=None, record=None):
+def run_cases(out: str | Path, todo: Sequence[tuple[str, Sequence[str]]], scenario: Scenario,
+              fmu_dir: str | Path, scheduler: str | None = None, workers: int | None = None,
+              record: Callable[[str, dict[str, Any]], None] | None = None) -> None:
     """Run the cases `todo` of `scenario` on Dask (a LocalCluster unless `scheduler` is given),
     writing each into out/cases/<id>/ in this process as it finishes.
 

@@ -6,6 +6,8 @@ the command line; sweeps and tables submit their cases on `dask_client` (`cases.
 The workers need none of the client's files: `ship_fmus` sends them the FMUs as bytes, a task
 takes its scenario as an object, and its results come back to the client.
 """
+from __future__ import annotations
+
 import contextlib
 import hashlib
 import logging
@@ -13,7 +15,9 @@ import os
 import signal
 import threading
 import uuid
+from collections.abc import Callable, Iterable, Iterator
 from pathlib import Path
+from typing import Any
 
 from musclesim.batch.shipped import FOLDERS, FmuFolder, folder_files
 from musclesim.errors import UserError
@@ -29,7 +33,8 @@ QUIET = {"distributed.worker.profile.enabled": False,
 
 
 @contextlib.contextmanager
-def dask_client(scheduler=None, workers=None, tasks=None):
+def dask_client(scheduler: str | None = None, workers: int | None = None,
+                tasks: int | None = None) -> Iterator[Any]:
     """A Dask client on `scheduler`, else on a LocalCluster of `workers` processes (default: the
     cores, at most `tasks`), closed on exit. Sweeps and the diagnosis's fits run on it.
 
@@ -87,10 +92,11 @@ def dask_client(scheduler=None, workers=None, tasks=None):
 
 # a client's id (`Client.id`, unique to it) -> {digest of the files: (plugin name, FmuFolder)}
 # of the FMUs shipped on it, withdrawn from its workers as `dask_client` closes it
-_SHIPPED = {}
+_SHIPPED: dict[str, dict[str, tuple[str, Any]]] = {}
 
 
-def ship_fmus(client, fmu_dir, components=None):
+def ship_fmus(client: Any, fmu_dir: str | Path, components: Iterable[str] | None = None
+              ) -> FmuFolder:
     """Send the FMUs of `components` (default: all) in `fmu_dir`, with its BUILD.json, to every
     worker of `client` (and to every worker that joins later), and return the `FmuFolder` that
     tasks carry in the folder's place: each worker writes the files once into a folder of its
@@ -127,14 +133,14 @@ def ship_fmus(client, fmu_dir, components=None):
     return shipped[digest.hexdigest()][1]
 
 
-def _withdraw_fmus(client):
+def _withdraw_fmus(client: Any) -> None:
     """Remove the FMUs shipped on `client` from its workers (each deletes its copy)."""
     for name, folder in _SHIPPED.pop(client.id, {}).values():
         FOLDERS.pop(folder.key, None)
         _unregister(client, name)
 
 
-def _unregister(client, name):
+def _unregister(client: Any, name: str) -> None:
     try:
         client.unregister_worker_plugin(name)
     except Exception:  # a scheduler gone, or the plugin never registered: nothing to remove
@@ -142,7 +148,7 @@ def _unregister(client, name):
 
 
 @contextlib.contextmanager
-def _workers_ignore_sigint():
+def _workers_ignore_sigint() -> Iterator[None]:
     """Start worker processes with SIGINT ignored (a disposition they inherit, and under which
     Python installs no KeyboardInterrupt): Ctrl-C reaches the whole process group, and only this
     process should act on it, by closing the cluster, rather than every worker dying with a
@@ -157,8 +163,37 @@ def _workers_ignore_sigint():
         signal.signal(signal.SIGINT, previous)
 
 
-def dask_map(client):
-    """`pmap` over a Dask client: ``pmap(fn, items)`` returns the tasks' results in order. Every
+class DaskMap:
+    """`pmap` over a Dask client (`dask_map`): ``pmap(fn, items)`` returns the tasks' results in
+    order; `concurrent`, `width`, `share` and `ship_fmus` as `dask_map` says."""
+
+    concurrent = True  # callable from several threads at once
+
+    def __init__(self, client: Any) -> None:
+        """The map over the Dask `client`."""
+        self.client = client
+
+    def __call__(self, fn: Callable[[Any], Any], items: Iterable[Any]) -> list[Any]:
+        """`fn` of each of the `items`, each a task on the cluster, in order."""
+        items = list(items)
+        return self.client.gather(self.client.map(fn, items, pure=False)) if items else []
+
+    def width(self) -> int:
+        """How many tasks the cluster runs at once (its workers' threads)."""
+        return max(1, sum(self.client.nthreads().values()))
+
+    def share(self, obj: Any) -> Any:
+        """Send `obj` to every worker once; return what items carry in its place."""
+        return self.client.scatter(obj, broadcast=True, hash=False)
+
+    def ship_fmus(self, fmu_dir: str | Path, components: Iterable[str] | None = None
+                  ) -> FmuFolder:
+        """`ship_fmus` of `fmu_dir` (the FMUs of `components`) on this client."""
+        return ship_fmus(self.client, fmu_dir, components)
+
+
+def dask_map(client: Any) -> DaskMap:
+    """`pmap` over the Dask `client`: ``pmap(fn, items)`` returns the tasks' results in order. Every
     item is a task on the cluster, none runs here, so that the map may be called from several
     threads at once (``pmap.concurrent``: the diagnosis's fits steer their simulations so).
     ``pmap.share(obj)`` sends `obj` to every worker once and returns what items carry in its
@@ -166,18 +201,12 @@ def dask_map(client):
     ``pmap.width()`` is how many tasks the cluster runs at once (its workers' threads);
     ``pmap.ship_fmus(fmu_dir, components)`` is `ship_fmus` on this client: what tasks carry in
     place of an FMU folder."""
-    def pmap(fn, items):
-        items = list(items)
-        return client.gather(client.map(fn, items, pure=False)) if items else []
-    pmap.concurrent = True
-    pmap.width = lambda: max(1, sum(client.nthreads().values()))  # tasks it runs at once
-    pmap.share = lambda obj: client.scatter(obj, broadcast=True, hash=False)
-    pmap.ship_fmus = lambda fmu_dir, components=None: ship_fmus(client, fmu_dir, components)
-    return pmap
+    return DaskMap(client)
 
 
-def serial_map(fn, items):
-    """`pmap` one item after the other, in this process: ``[fn(x) for x in items]``.
+def serial_map(fn: Callable[[Any], Any], items: Iterable[Any]) -> list[Any]:
+    """`pmap` one item after the other, in this process: ``[fn(x) for x in items]``, `fn` of
+    each of the `items`.
 
     Examples
     --------

@@ -1,7 +1,10 @@
 """Dask worker plugins of the cluster `musclesim.batch.dask_client` starts or joins (imported
 only with Dask's distributed itself, when a client starts)."""
+from __future__ import annotations
+
 import shutil
 import tempfile
+from typing import Any
 
 from distributed.diagnostics.plugin import WorkerPlugin
 
@@ -17,11 +20,13 @@ class ReusedFmus(WorkerPlugin):
 
     name = "musclesim-reused-fmus"
 
-    def setup(self, worker):
+    def setup(self, worker: Any) -> None:
+        """Open `reuse_fmus` on `worker` for its life."""
         self._reuse = reuse_fmus()
         self._reuse.__enter__()
 
-    def teardown(self, worker):
+    def teardown(self, worker: Any) -> None:
+        """Close `reuse_fmus` as `worker` closes."""
         self._reuse.__exit__(None, None, None)
 
 
@@ -34,11 +39,14 @@ class ShippedFmus(WorkerPlugin):
     (`musclesim.cosim.check_fresh`): their slaves would import its own, different, modules.
     """
 
-    def __init__(self, key, files):
-        self.key, self.files, self.folder = key, files, None
+    def __init__(self, key: str, files: dict[str, bytes]) -> None:
+        """The FMU folder's `files` ({name: bytes}), found on the workers under `key`."""
+        self.key, self.files = key, files
+        self.folder: str | None = None
         self.name = f"musclesim-fmus-{key}"
 
-    def setup(self, worker):
+    def setup(self, worker: Any) -> None:
+        """Write the files into a folder of `worker`'s own and check them fresh."""
         where = getattr(worker, "address", "this worker")
         try:
             self.folder = tempfile.mkdtemp(prefix="musclesim-fmus-",
@@ -58,12 +66,13 @@ class ShippedFmus(WorkerPlugin):
                             "worker") from None
         FOLDERS[self.key] = self.folder
 
-    def teardown(self, worker):
+    def teardown(self, worker: Any) -> None:
+        """Remove the folder as the plugin or `worker` goes."""
         if FOLDERS.get(self.key) == self.folder:
             del FOLDERS[self.key]
         self._remove()
 
-    def _remove(self):
+    def _remove(self) -> None:
         if self.folder is not None:
             shutil.rmtree(self.folder, ignore_errors=True)
             self.folder = None

@@ -8,14 +8,17 @@ process reads those FMUs from: on a worker its own copy, in the client the clien
 BUILD.json beside them, the master's direct host (`musclesim.cosim.Master`) recognises the FMUs on
 a worker that runs the same musclesim, as it does on the client.
 """
+from __future__ import annotations
+
 import json
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
 from musclesim.errors import UserError
 
 BUILD = "BUILD.json"
-FOLDERS = {}  # key of an `FmuFolder` -> the folder this process reads its FMUs from
+FOLDERS: dict[str, str] = {}  # key of an `FmuFolder` -> the folder this process reads its FMUs from
 
 
 @dataclass(frozen=True)
@@ -29,7 +32,7 @@ class FmuFolder:
 
     key: str
 
-    def __fspath__(self):
+    def __fspath__(self) -> str:
         folder = FOLDERS.get(self.key)
         if folder is None:
             raise UserError(f"the FMUs sent to the Dask workers as {self.key} are not unpacked in "
@@ -37,7 +40,8 @@ class FmuFolder:
         return folder
 
 
-def folder_files(fmu_dir, components=None):
+def folder_files(fmu_dir: str | Path, components: Iterable[str] | None = None
+                 ) -> dict[str, bytes]:
     """{file name: bytes} of the FMUs of `components` (default: every FMU) in `fmu_dir`, and of
     the folder's BUILD.json when it has one. An FMU that is not there is left out: the master
     names it when it looks for it.
@@ -62,7 +66,7 @@ def folder_files(fmu_dir, components=None):
     return files
 
 
-def unpack(files, folder):
+def unpack(files: Mapping[str, bytes], folder: str | Path) -> None:
     """Write `files` ({file name: bytes}, `folder_files`) into the existing `folder`."""
     for name, data in files.items():
         if Path(name).name != name or name in ("", ".", ".."):  # a name, never a path
@@ -70,7 +74,7 @@ def unpack(files, folder):
         (Path(folder) / name).write_bytes(data)
 
 
-def built_version(files):
+def built_version(files: Mapping[str, bytes]) -> str | None:
     """The musclesim version BUILD.json among `files` says the FMUs were built with, or None."""
     try:
         return str(json.loads(files[BUILD]).get("musclesim"))

@@ -4,18 +4,22 @@ A sweep file (`load`) names a scenario, its grid axes (`parse_axis`) and the plo
 the scenario once, runs every case of the grid (`grid_cases`) not finished yet in its case folder
 (`musclesim.batch.cases`), and writes sweep.csv and sweep.png.
 """
+from __future__ import annotations
+
 import csv
 import itertools
 import math
 import time
 import tomllib
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from musclesim.batch.cases import claim, finished, run_cases
-from musclesim.cosim import save_figure
+from musclesim.cosim import ParamRef, Scenario, save_figure
 from musclesim.errors import UserError
 
 _SWEEP_KEYS = {"scenario", "grid", "description", "plot"}
@@ -24,15 +28,17 @@ _PLOT_KEYS = {"kind", "x", "y", "metrics"}
 
 @dataclass(frozen=True)
 class Sweep:
-    """A sweep: the scenario file, the grid axes ``{"inst.param": values}`` and the plot."""
+    """A sweep: the `scenario` file, the grid `axes` ``{"inst.param": values}`` (the sweep
+    file's spelling, which names the cases and sweep.csv's columns), the `plot` to draw and its
+    `title`."""
 
     scenario: Path
-    axes: dict
-    plot: dict = field(default_factory=dict)  # {"kind": "line"|"heatmap", "x", "y", "metrics"}
+    axes: dict[str, tuple[float, ...]]
+    plot: dict[str, Any] = field(default_factory=dict)  # {"kind", "x", "y", "metrics"}
     title: str = ""
 
 
-def _number(token, axis, where):
+def _number(token: str, axis: str, where: str) -> float:
     """A finite float from `token`; angles may be written ``pi``, ``2pi`` or ``2*pi``."""
     text = token.strip()
     try:
@@ -48,7 +54,7 @@ def _number(token, axis, where):
     return value
 
 
-def parse_axis(text, where="--grid"):
+def parse_axis(text: str, where: str = "--grid") -> tuple[str, tuple[float, ...]]:
     """Parse one grid axis.
 
     Parameters
@@ -76,8 +82,11 @@ def parse_axis(text, where="--grid"):
     """
     name, sep, spec = text.partition("=")
     name = name.strip()
-    inst, _, par = name.partition(".")
-    if not sep or not inst or not par or not spec.strip():
+    try:
+        ParamRef.parse(name)
+    except ValueError:
+        sep = ""
+    if not sep or not spec.strip():
         raise UserError(f"{where}: grid axis {text!r} is not of the form inst.param=start:stop:n "
                         "or inst.param=a,b,c")
     if ":" in spec:
@@ -86,14 +95,14 @@ def parse_axis(text, where="--grid"):
         if len(parts) != 3 or not count.isdigit() or int(count) < 2:
             raise UserError(f"{where}: grid axis {text!r} needs start:stop:n with an integer "
                             "n >= 2")
-        values = np.linspace(_number(parts[0], name, where), _number(parts[1], name, where),
-                             int(count))
+        values: Iterable[float] = np.linspace(_number(parts[0], name, where),
+                                              _number(parts[1], name, where), int(count))
     else:
         values = [_number(p, name, where) for p in spec.split(",")]
     return name, tuple(dict.fromkeys(float(f"{v:.12g}") for v in values))
 
 
-def _axes(texts, where):
+def _axes(texts: Iterable[str], where: str) -> dict[str, tuple[float, ...]]:
     axes = {}
     for text in texts:
         name, values = parse_axis(text, where)
@@ -103,7 +112,7 @@ def _axes(texts, where):
     return axes
 
 
-def load(path, grid=()):
+def load(path: str | Path, grid: Iterable[str] = ()) -> Sweep:
     """Read a sweep file (a TOML file with a ``[sweep]`` table) or take `path` as a scenario.
 
     Parameters
@@ -154,8 +163,9 @@ def load(path, grid=()):
     return Sweep(sweep.scenario, axes, sweep.plot, sweep.title)
 
 
-def grid_cases(axes):
-    """Every point of the Cartesian grid as ``(case id, {axis: value})``, in grid order.
+def grid_cases(axes: Mapping[str, Sequence[float]]) -> list[tuple[str, dict[str, float]]]:
+    """Every point of the Cartesian grid of `axes` as ``(case id, {axis: value})``, in grid
+    order.
 
     The id names the values (axes sorted by name), so it does not change between runs.
 
@@ -168,25 +178,27 @@ def grid_cases(axes):
     return [(",".join(f"{n}={p[n]:.12g}" for n in sorted(p)), p) for p in points]
 
 
-def _sets(point):
+def _sets(point: Mapping[str, float]) -> list[str]:
     return [f"{name}={value!r}" for name, value in point.items()]
 
 
-def _check(sweep, path, fmu_dir, overrides, point, stop_time):
+def _check(sweep: Sweep, path: str | Path, fmu_dir: str | Path, overrides: Sequence[str],
+           point: Sequence[str], stop_time: float | None
+           ) -> tuple[Scenario, Scenario, dict[str, str], dict[str, Any]]:
     """Check the scenario, axes and plot once, rather than fail every case the same way.
 
     `overrides` are the user's (``--set``), `point` the first case's grid values. Returns the
     scenario every case starts from (with `overrides` and `stop_time`), the scenario of the first
     case, the metrics' units and the plot to draw.
     """
-    from musclesim.cosim import (Master, check_fresh, load_scenario, metric_unit, signal_units,
-                                 split_signal)
+    from musclesim.cosim import Master, check_fresh, load_scenario, metric_unit, signal_units
 
     base = load_scenario(sweep.scenario, overrides, stop_time)
     instances = base.instances
     for axis in sweep.axes:
-        if split_signal(axis)[0] not in instances:
-            raise UserError(f"grid axis {axis!r}: no instance {split_signal(axis)[0]!r} in "
+        inst = ParamRef.parse(axis).instance
+        if inst not in instances:
+            raise UserError(f"grid axis {axis!r}: no instance {inst!r} in "
                             f"{sweep.scenario} (instances: {', '.join(instances)})")
     s = load_scenario(sweep.scenario, [*overrides, *point], stop_time)
     check_fresh(fmu_dir)
@@ -201,8 +213,9 @@ def _check(sweep, path, fmu_dir, overrides, point, stop_time):
     return base, s, units, plot_spec
 
 
-def run(scenario_path, grid, out, fmu_dir="fmus", scheduler=None, workers=None, overrides=(),
-        stop_time=None):
+def run(scenario_path: str | Path, grid: Sequence[str], out: str | Path,
+        fmu_dir: str | Path = "fmus", scheduler: str | None = None, workers: int | None = None,
+        overrides: Sequence[str] = (), stop_time: float | None = None) -> dict[str, Any]:
     """Run every case of a grid, write out/cases/<id>/, out/sweep.csv and out/sweep.png.
 
     Parameters
@@ -254,7 +267,7 @@ def run(scenario_path, grid, out, fmu_dir="fmus", scheduler=None, workers=None, 
 
     points = dict(all_cases)
 
-    def record(cid, summary):
+    def record(cid: str, summary: dict[str, Any]) -> None:
         point = points[cid]
         if not summary.get("completed"):
             failed[cid] = summary.get("error") or "the case did not complete"
@@ -266,8 +279,9 @@ def run(scenario_path, grid, out, fmu_dir="fmus", scheduler=None, workers=None, 
 
     csv_path.write_text(",".join(columns) + "\n")
     for cid, _ in all_cases:
-        if done[cid] is not None:
-            record(cid, done[cid])
+        summary = done[cid]
+        if summary is not None:
+            record(cid, summary)
     if todo:
         run_cases(out, [(cid, _sets(p)) for cid, p in todo], base, fmu_dir, scheduler, workers,
                   record)
@@ -280,7 +294,7 @@ def run(scenario_path, grid, out, fmu_dir="fmus", scheduler=None, workers=None, 
             "plot": str(png) if drawn else None, "seconds": round(time.perf_counter() - start, 1)}
 
 
-def _default_plot(axes, metrics):
+def _default_plot(axes: Mapping[str, Any], metrics: Mapping[str, Any]) -> dict[str, Any]:
     names = list(axes)
     if len(names) == 1:
         return {"kind": "line", "x": names[0], "metrics": list(metrics)}
@@ -289,9 +303,10 @@ def _default_plot(axes, metrics):
     return {}
 
 
-def _plot(csv_path, png, spec, axes, units, title):
+def _plot(csv_path: Path, png: Path, spec: dict[str, Any], axes: Mapping[str, Any],
+          units: Mapping[str, str], title: str) -> bool:
     """Draw `spec` from sweep.csv into `png`; False if the plot's axes are not the grid's."""
-    used = [spec.get("x"), *([spec.get("y")] if spec.get("kind") == "heatmap" else [])]
+    used: list[Any] = [spec.get("x"), *([spec.get("y")] if spec.get("kind") == "heatmap" else [])]
     if not spec or set(used) != set(axes) or not spec["metrics"]:
         return False
     import matplotlib

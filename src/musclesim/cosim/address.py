@@ -23,7 +23,7 @@ def _split(text: str, what: str) -> tuple[str, str]:
 
 @dataclass(frozen=True, order=True)
 class Signal:
-    """A variable of an instance: an input, output or recorded signal.
+    """The variable `variable` of the instance `instance`: an input, output or recorded signal.
 
     Examples
     --------
@@ -46,7 +46,8 @@ class Signal:
 
 @dataclass(frozen=True, order=True)
 class ParamRef:
-    """A parameter of an instance, as ``--set`` and a data set's ``[calibrate]`` name it.
+    """The parameter `name` of the instance `instance`, as ``--set`` and a data set's
+    ``[calibrate]`` name it.
 
     Examples
     --------

@@ -8,8 +8,14 @@ package __init__) and pythonfmu's Python files, so it runs where only Python, nu
 installed. BUILD.json beside them records a digest of the sources the FMUs came from, so that the
 runner can tell when they are stale.
 """
+from __future__ import annotations
+
+from collections.abc import Iterable
+from typing import Any
+
 import functools
 import hashlib
+import importlib
 import json
 import shutil
 import tempfile
@@ -75,7 +81,7 @@ _OPTIONS = {2: {"canGetAndSetFMUstate": True, "canSerializeFMUstate": True},
 _SHIPPED = ("*.py", "*/params/*.toml", "*/data/*.toml", "*/data/*.csv")
 
 
-def _component_sources():
+def _component_sources() -> dict[Path, Path]:
     """The files shipped in every FMU: {relative path in resources: source path}."""
     import musclesim.components as comps
 
@@ -88,7 +94,7 @@ def _component_sources():
     return files
 
 
-def source_digest():
+def source_digest() -> str:
     """SHA-256 over the sources an FMU is built from (names and contents, and its entry point)."""
     h = hashlib.sha256(musclesim.__version__.encode() + _STUB.encode() + _STUB3.encode())
     for rel, src in _component_sources().items():
@@ -97,9 +103,16 @@ def source_digest():
     return h.hexdigest()
 
 
-def build_all(dest="fmus", names=None, fmi=2):
+def build_all(dest: str | Path = "fmus", names: Iterable[str] | None = None, fmi: int = 2
+              ) -> list[Any]:
     """Build the FMUs of `names` (default: the whole catalogue) into `dest`, as FMI `fmi` (2 or 3)
-    co-simulation FMUs; return their paths."""
+    co-simulation FMUs; return their paths.
+
+    Raises
+    ------
+    UserError
+        For another FMI version, or naming a component whose module fails to import.
+    """
     if fmi not in (2, 3):
         raise UserError(f"FMI version {fmi!r}: musclesim builds FMI 2.0 or 3.0 FMUs (2 or 3)")
     builder = FmuBuilder if fmi == 2 else Fmu3Builder
@@ -120,6 +133,7 @@ def build_all(dest="fmus", names=None, fmi=2):
             shipped.append(stage / "pythonfmu")
         for name in names or CATALOGUE:
             module, cls = CATALOGUE[name].split(":")
+            _check_imports(name, module)
             # pythonfmu loads the deepest Fmi2Slave subclass of a one-class script: a stub per FMU
             # the script's module name, unique per FMI version: FMUs of both in one process
             script = Path(tmp) / f"musclesim_fmu{'' if fmi == 2 else '3'}_{name}.py"
@@ -130,7 +144,7 @@ def build_all(dest="fmus", names=None, fmi=2):
                 # no external-tool flag: PyFMI refuses an FMU that sets it, and the FMU carries
                 # its code; what it needs installed (Python, numpy, scipy) the docs say
                 needsExecutionTool=False, **_OPTIONS[fmi]))
-    sources, fmus = source_digest(), {}
+    sources, fmus = source_digest(), dict[str, str]()
     if names:  # a partial build keeps the digests of the FMUs built before from the same sources
         old = _stamp(dest)
         fmus = old.get("fmus", {}) if old.get("sources") == sources else {}
@@ -140,22 +154,33 @@ def build_all(dest="fmus", names=None, fmi=2):
     return built
 
 
-def _file_digest(path):
+def _check_imports(name: str, module: str) -> None:
+    """Refuse to build component `name` when its slave's `module` fails to import, in one
+    sentence naming the component and the cause (not a traceback from the builder)."""
+    try:
+        importlib.import_module(module)
+    except Exception as exc:  # whatever the module raises as it is imported
+        cause = " ".join(str(exc).split()) or "no message"
+        raise UserError(f"component {name} cannot be built: its module {module} fails to import "
+                        f"({type(exc).__name__}: {cause})") from None
+
+
+def _file_digest(path: str | Path) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
 @functools.cache
-def _installed_digest():
+def _installed_digest() -> str:
     """`source_digest` computed once: what `built_here` compares against for every run."""
     return source_digest()
 
 
 @functools.cache
-def _cached_file_digest(path, size, mtime_ns):
+def _cached_file_digest(path: str, size: int, mtime_ns: int) -> str:
     return _file_digest(path)
 
 
-def _stamp(fmu_dir):
+def _stamp(fmu_dir: str | Path) -> dict[str, Any]:
     """BUILD.json's content as a dict ({} when absent or unreadable)."""
     try:
         stamp = json.loads((Path(fmu_dir) / "BUILD.json").read_text())
@@ -164,7 +189,7 @@ def _stamp(fmu_dir):
     return stamp if isinstance(stamp, dict) else {}
 
 
-def built_here(fmu_path):
+def built_here(fmu_path: str | Path) -> bool:
     """Whether `musclesim build` made the FMU at `fmu_path` from the sources this process runs:
     BUILD.json beside it lists it with its digest and those sources' digest (what
     `check_fresh` checks, as a yes or no; digests of the sources computed once per process, the
@@ -181,8 +206,9 @@ def built_here(fmu_path):
     return _cached_file_digest(str(path.resolve()), stat.st_size, stat.st_mtime_ns) == listed
 
 
-def check_fresh(fmu_dir):
-    """Refuse FMUs that `musclesim build` made from other sources than the installed ones.
+def check_fresh(fmu_dir: str | Path) -> None:
+    """Refuse the FMUs in `fmu_dir` that `musclesim build` made from other sources than the
+    installed ones.
 
     In the runner's process the FMUs' slaves import the installed musclesim modules, so a stale
     FMU would run code that differs from the one it ships; rebuilding keeps the two the same.

@@ -25,7 +25,7 @@ from fmpy.fmi1 import FMICallException
 
 ERROR = 3  # fmi2Error
 
-_CLASSES = {}  # content of the resources' script -> slave class
+_CLASSES: dict[str, type] = {}  # content of the resources' script -> slave class
 
 
 def slave_class(unzipped, model_identifier):

@@ -4,8 +4,14 @@ Process-wide concerns of loading FMUs with fmpy, kept apart from the master algo
 callback for the whole process, the fixes for pythonfmu 0.7's exit-time use-after-free and its
 ``sys.path`` entries, and reading untrusted archives: the model description read with a size cap
 and without entity expansion, extraction entry by entry (no absolute path, no ``..``, no link,
-a cap on the total size).
+a cap on the total size); and the temporary folders of runs killed before they could remove
+their own (`remove_orphan_runs`).
 """
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import Any
+
 import atexit
 import contextlib
 import ctypes
@@ -29,10 +35,10 @@ from musclesim.errors import UserError
 # process-wide Python function. Registering a new function per run would leave the proxy pointing at
 # a freed callback once that run ends, so one function lives as long as the process and routes each
 # message to the running master named by the componentEnvironment in its callbacks.
-LOG_SINKS = {}  # componentEnvironment -> {instance name: _Instance}
+LOG_SINKS: dict = {}  # componentEnvironment -> {instance name: wiring.Loaded}
 
 
-def _route_log(env, instance_name, status, category, message):
+def _route_log(env: Any, instance_name: bytes, status: int, category: Any, message: bytes) -> None:
     instances = LOG_SINKS.get(env)
     name = instance_name.decode("utf-8", "replace") if instance_name else ""
     if instances is not None and name in instances:
@@ -45,7 +51,7 @@ _PROXY.logger = _ROUTE_LOG
 addLoggerProxy(ctypes.byref(_PROXY))  # _PROXY.logger is now the native proxy
 
 
-def callbacks(key):
+def callbacks(key: int) -> Any:
     """FMI callbacks whose log messages reach the master registered under `key`."""
     cb = fmi2CallbackFunctions()
     cb.logger = _PROXY.logger
@@ -55,7 +61,7 @@ def callbacks(key):
     return cb
 
 
-def release_pythonfmu_libraries():
+def release_pythonfmu_libraries() -> None:
     """Reset the interpreter handle of every pythonfmu FMU library still loaded (Linux).
 
     pythonfmu 0.7.0's library resets its global interpreter handle from an ELF destructor that,
@@ -85,7 +91,7 @@ def release_pythonfmu_libraries():
 atexit.register(release_pythonfmu_libraries)
 
 
-def forget_fmu_resource_paths():
+def forget_fmu_resource_paths() -> None:
     """Drop the FMU resource folders pythonfmu puts at the front of ``sys.path``.
 
     Once an FMU's slave module is imported they serve no purpose, and left there they shadow
@@ -100,7 +106,7 @@ MAX_EXTRACTED = 512 * 2**20  # bytes an FMU may unpack to (ours: ~0.2 MB each)
 MAX_ENTRIES = 10_000  # files in one FMU
 
 
-def _read_capped(zf, name, cap, where):
+def _read_capped(zf: zipfile.ZipFile, name: str, cap: int, where: object) -> bytes:
     """The bytes of entry `name`, read in chunks and refused past `cap` (sizes can lie)."""
     with zf.open(name) as f:
         data = f.read(cap + 1)
@@ -109,11 +115,11 @@ def _read_capped(zf, name, cap, where):
     return data
 
 
-_REUSE = {"depth": 0, "folder": None, "descriptions": {}, "extracted": {}}
+_REUSE: dict[str, Any] = {"depth": 0, "folder": None, "descriptions": {}, "extracted": {}}
 
 
 @contextlib.contextmanager
-def reuse_fmus():
+def reuse_fmus() -> Iterator[None]:
     """Within it, each FMU file is read and extracted once and reused by every run that follows
     (`read_fmu`, `extracted_fmu`), in one temporary folder removed when the outermost such block
     ends, however it ends. For work that runs a scenario many times in one process (a fit of the
@@ -131,12 +137,12 @@ def reuse_fmus():
             _REUSE.update(folder=None, descriptions={}, extracted={})
 
 
-def _key(path):
+def _key(path: str | Path) -> tuple[str, int, int]:
     stat_ = Path(path).stat()
     return str(Path(path).resolve()), stat_.st_size, stat_.st_mtime_ns
 
 
-def extracted_fmu(path):
+def extracted_fmu(path: str | Path) -> str | None:
     """The folder `reuse_fmus` extracted the FMU at `path` into (extracting it the first time),
     or None outside such a block."""
     if not _REUSE["depth"]:
@@ -148,8 +154,8 @@ def extracted_fmu(path):
     return _REUSE["extracted"][key]
 
 
-def read_fmu(path):
-    """Read an FMU's model description (once per file inside `reuse_fmus`)."""
+def read_fmu(path: str | Path) -> Any:
+    """Read the model description of the FMU at `path` (once per file inside `reuse_fmus`)."""
     if _REUSE["depth"]:
         key = _key(path)
         if key not in _REUSE["descriptions"]:
@@ -158,7 +164,7 @@ def read_fmu(path):
     return _read_fmu(path)
 
 
-def _read_fmu(path):
+def _read_fmu(path: str | Path) -> Any:
     """Read an FMU's model description, refusing XML with a DTD (no entity expansion) and a
     description larger than `MAX_DESCRIPTION` before parsing it, and an archive whose entries
     `extract_fmu` would refuse (so that a command refuses it before any work)."""
@@ -183,7 +189,7 @@ def _read_fmu(path):
     return md
 
 
-def _entry_problem(info):
+def _entry_problem(info: zipfile.ZipInfo) -> str | None:
     name = info.filename
     parts = PurePosixPath(name.replace("\\", "/")).parts
     if name.startswith(("/", "\\")) or (parts and ":" in parts[0]):
@@ -195,7 +201,7 @@ def _entry_problem(info):
     return None
 
 
-def _check_entries(zf, path):
+def _check_entries(zf: zipfile.ZipFile, path: str | Path) -> list[zipfile.ZipInfo]:
     """The archive's entries; raise naming the archive and the first entry that is refused."""
     infos = zf.infolist()
     if len(infos) > MAX_ENTRIES:
@@ -207,7 +213,7 @@ def _check_entries(zf, path):
     return infos
 
 
-def extract_fmu(path, dest):
+def extract_fmu(path: str | Path, dest: str | Path) -> str:
     """Extract the FMU at `path` into the new folder `dest`, checking every entry first.
 
     Refuses, in one sentence naming the archive and the entry, an absolute path, a ``..``, a
@@ -240,3 +246,18 @@ def extract_fmu(path, dest):
         shutil.rmtree(dest, ignore_errors=True)
         raise
     return str(dest)
+
+
+def remove_orphan_runs() -> None:
+    """Remove the temporary folders of runs whose process is gone (killed with SIGKILL, which no
+    ``finally`` survives): the next run cleans up after them."""
+    for folder in Path(tempfile.gettempdir()).glob("musclesim_run_*_*"):
+        pid = folder.name.split("_")[2]
+        if not pid.isdigit():
+            continue
+        try:
+            os.kill(int(pid), 0)
+        except ProcessLookupError:
+            shutil.rmtree(folder, ignore_errors=True)
+        except OSError:  # alive, another user's
+            continue

@@ -8,12 +8,17 @@ results so far. Outside such a section the handler raises `Interrupted` at once,
 Dask cluster or writing a report ends the same way, through every ``finally``: temporary folders
 are removed and clusters closed.
 """
+from __future__ import annotations
+
+from collections.abc import Iterator
+from typing import Any
+
 import contextlib
 import signal
 import threading
 
 _SIGNALS = (signal.SIGINT, signal.SIGTERM)
-STATE = {"signum": None, "polled": 0}
+STATE: dict[str, Any] = {"signum": None, "polled": 0}
 
 
 class Interrupted(BaseException):
@@ -23,25 +28,26 @@ class Interrupted(BaseException):
     (``except Exception``) let it through.
     """
 
-    def __init__(self, signum, results=None):
+    def __init__(self, signum: int, results: Any = None) -> None:
+        """Stopped by signal number `signum`; `results`: the run's `Results` so far, or None."""
         self.signum, self.results = signum, results
         self.exit_code = 128 + signum  # the shell's convention: 130 for SIGINT, 143 for SIGTERM
         super().__init__(f"interrupted by {signal.Signals(signum).name}")
 
 
-def requested():
+def requested() -> int | None:
     """The signal received inside `interruptible` and not yet acted on, else None."""
     return STATE["signum"]
 
 
-def _handle(signum, frame):
+def _handle(signum: int, frame: Any) -> None:
     STATE["signum"] = signum
     if not STATE["polled"]:
         raise Interrupted(signum)
 
 
 @contextlib.contextmanager
-def polled():
+def polled() -> Iterator[None]:
     """A section that checks `requested` itself and raises `Interrupted` when it is set (a master
     stepping FMUs): in it, a signal is only recorded."""
     STATE["polled"] += 1
@@ -52,7 +58,7 @@ def polled():
 
 
 @contextlib.contextmanager
-def interruptible():
+def interruptible() -> Iterator[None]:
     """Catch SIGINT and SIGTERM for the duration (main thread only; elsewhere a no-op)."""
     if threading.current_thread() is not threading.main_thread():
         yield

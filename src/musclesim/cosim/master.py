@@ -1,5 +1,9 @@
 """The co-simulation master: fixed communication step over FMI 2.0 and 3.0 co-simulation FMUs.
 
+Before a run the scenario's wiring is checked against the FMUs' model descriptions, every problem
+at once (`musclesim.cosim.wiring`); the order of exchange and of steps is asked of the scenario's
+graph (`Scenario.graph`), and each signal read or set is a `Signal` parsed once with the file.
+
 At every communication point t_k the master first *exchanges* values: it visits the instances in
 the order of direct feedthrough (an output that depends on an input at the same instant, declared
 in ModelStructure/Outputs), sets each one's inputs and reads its outputs, so that every value in a
@@ -23,269 +27,42 @@ here the later end takes the newest value it finds).
 Values move through one preallocated float64 buffer: one batched get and one batched set per
 instance and phase. Two hosts make those calls: the FMUs musclesim built from the installed
 sources are called directly in this process (`musclesim.cosim.direct`, the default), every other
-FMU through fmpy with preallocated ctypes arrays (``host="fmpy"`` sends ours that way too). Both
+FMU through fmpy with preallocated ctypes arrays (`musclesim.cosim.adapters`; ``host="fmpy"``
+sends ours that way too). Both
 call the same slave code in the same order: the results agree to the bit.
 """
-import ctypes
+from __future__ import annotations
+
 import math
 import os
 import re
 import shutil
 import tempfile
 import time as clock
-from dataclasses import dataclass, field
+from collections.abc import Callable, Mapping
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 from fmpy.fmi1 import FMICallException
-from fmpy.fmi2 import FMU2Slave
-from fmpy.fmi3 import FMU3Slave
 
-from musclesim.cosim import direct, interrupt
+from musclesim.cosim import direct, interrupt, wiring
+from musclesim.cosim.adapters import KINDS, Fmpy3Slave, FmpySlave
+from musclesim.cosim.address import Signal
 from musclesim.cosim.build import built_here
 from musclesim.cosim.host import (LOG_SINKS, callbacks, extract_fmu, extracted_fmu,
-                                  forget_fmu_resource_paths, read_fmu)
-from musclesim.cosim.graph import Graph
-from musclesim.components import renamed
-from musclesim.cosim.scenario import split_signal
+                                  forget_fmu_resource_paths, read_fmu, remove_orphan_runs)
+from musclesim.cosim.results import Results
+from musclesim.cosim.scenario import Scenario
+from musclesim.cosim.wiring import Loaded
 from musclesim.errors import UserError
+
+__all__ = ["Master", "Results", "signal_units", "HOSTS", "MAX_VALUES", "FLUSH_SECONDS"]
 
 MAX_VALUES = 100_000_000  # recorded values a run keeps in memory (800 MB): rows x columns
 FLUSH_SECONDS = 2.0  # wall time between two hand-overs of new rows to a run's `on_rows`
 HOSTS = ("direct", "fmpy")  # who calls the FMUs musclesim built: see the module's docstring
-
-
-@dataclass
-class Results:
-    """Recorded signals: ``time[i]`` and ``data[i, j]`` for column ``names[j]``, rows 0..n-1.
-
-    ``error`` is None for a complete run, else the sentence saying which instance failed, when
-    and why; the rows before the failure are kept. ``warnings`` holds what the FMUs logged as
-    warnings (e.g. an input clamped to a model's valid range), each prefixed with its instance.
-    """
-
-    time: np.ndarray
-    names: list
-    data: np.ndarray
-    error: str = None
-    warnings: list = field(default_factory=list)
-
-    def __getitem__(self, name):
-        return self.data[:, self.names.index(name)]
-
-
-def _a(word):
-    """`word` with its indefinite article ("an output", "a parameter")."""
-    return ("an " if word[0].lower() in "aeiou" else "a ") + word
-
-
-def _remove_orphans():
-    """Remove the temporary folders of runs whose process is gone (killed with SIGKILL, which no
-    ``finally`` survives): the next run cleans up after them."""
-    for folder in Path(tempfile.gettempdir()).glob("musclesim_run_*_*"):
-        pid = folder.name.split("_")[2]
-        if not pid.isdigit():
-            continue
-        try:
-            os.kill(int(pid), 0)
-        except ProcessLookupError:
-            shutil.rmtree(folder, ignore_errors=True)
-        except OSError:  # alive, another user's
-            continue
-
-
-def _check(status, function):
-    """Raise like fmpy does for a status above fmi2Warning."""
-    if status > 1:
-        raise FMICallException(function=function, status=status)
-
-
-def _recorded(s):
-    """The signals a scenario records, plots or computes metrics of, each once, in order."""
-    return list(dict.fromkeys([*s.record, *(m.signal for m in s.metrics.values()),
-                               *(m.over for m in s.metrics.values() if m.over),
-                               *(sig for panel in s.plots for sig in panel["signals"])]))
-
-
-# a variable's type as the master moves it: the FMI 2.0 name of FMI 2.0 and FMI 3.0 types
-KINDS = {"Real": "Real", "Float64": "Real", "Integer": "Integer", "Int32": "Integer",
-         "Boolean": "Boolean"}
-
-
-def _groups(kinds):
-    """[(kind, [positions in `kinds` of that kind])] for each kind present, Real first."""
-    return [(k, [i for i, x in enumerate(kinds) if x == k]) for k in ("Real", "Integer", "Boolean")
-            if k in kinds]
-
-
-class _FmpySlave:
-    """An FMU instantiated by fmpy, with the calls of the master's loop made on preallocated
-    ctypes arrays straight to the FMU's functions (fmpy's wrapper costs a Python call each);
-    a status above fmi2Warning raises as fmpy would. `reader` and `writer` give None where there
-    is nothing to get or set, as `direct.DirectSlave`'s do. The master's values are floats:
-    Integer and Boolean variables (`kinds`) are read and set through their own functions and
-    converted."""
-
-    sized = False  # FMI 2.0's get and set take the number of value references only
-    # per kind: the FMU's get and set functions and the C type of a value
-    functions = {"Real": ("fmi2GetReal", "fmi2SetReal", ctypes.c_double),
-                 "Integer": ("fmi2GetInteger", "fmi2SetInteger", ctypes.c_int),
-                 "Boolean": ("fmi2GetBoolean", "fmi2SetBoolean", ctypes.c_int)}
-
-    def __init__(self, md, unzipped, name, fmi_callbacks):
-        self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped, instanceName=name,
-                             modelIdentifier=md.coSimulation.modelIdentifier)
-        self.fmu.instantiate(callbacks=fmi_callbacks, loggingOn=True)
-        self._bind("fmi2GetReal", "fmi2SetReal", "fmi2DoStep")
-
-    def _bind(self, *names):
-        """The FMU's get, set and step functions, called straight (fmpy's checks bypassed)."""
-        self.c, self.names = self.fmu.component, names
-        self.get, self.set, self.do_step = (self.fmu._functions[f] for f in names)
-
-    def setup_experiment(self, start_time, stop_time):
-        self.fmu.setupExperiment(startTime=start_time, stopTime=stop_time)
-
-    def enter_initialization_mode(self):
-        self.fmu.enterInitializationMode()
-
-    def exit_initialization_mode(self):
-        self.fmu.exitInitializationMode()
-
-    def terminate(self):
-        if self.fmu.component is not None:
-            self.fmu.terminate()
-            self.fmu.freeInstance()
-
-    def set_real(self, vrs, values, kinds=None):
-        """Set `vrs` to `values` (numbers), each through the function of its kind."""
-        vrs, values = list(vrs), [float(v) for v in values]
-        for kind, at in _groups(kinds or ["Real"] * len(vrs)):
-            _, name, ctype = self.functions[kind]
-            refs = (ctypes.c_uint * len(at))(*[vrs[i] for i in at])
-            cast = {"Real": float, "Integer": int, "Boolean": bool}[kind]
-            vals = (ctype * len(at))(*[cast(values[i]) for i in at])
-            sized = (len(at),) if self.sized else ()
-            _check(self.fmu._functions[name](self.c, refs, len(at), vals, *sized), name)
-
-    def reader(self, vrs, out, kinds=None):
-        if not vrs:
-            return None
-        kinds = kinds or ["Real"] * len(vrs)
-        if set(kinds) == {"Real"}:  # straight into the buffer
-            n, vr = len(vrs), (ctypes.c_uint * len(vrs))(*vrs)
-            ptr, get, c = out.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), self.get, self.c
-            sized, name = (n,) if self.sized else (), self.names[0]
-
-            def read():
-                _check(get(c, vr, n, ptr, *sized), name)
-            return read
-        reads = [self._reader([vrs[i] for i in at], kind, out, np.array(at))
-                 for kind, at in _groups(kinds)]
-
-        def read_all():
-            for read in reads:
-                read()
-        return read_all
-
-    def _reader(self, vrs, kind, out, at):
-        """A function reading `vrs` of one kind into ``out[at]``."""
-        name, _, ctype = self.functions[kind]
-        n, vr, vals = len(vrs), (ctypes.c_uint * len(vrs))(*vrs), (ctype * len(vrs))()
-        get, c, view = self.fmu._functions[name], self.c, np.ctypeslib.as_array(vals)
-        sized = (n,) if self.sized else ()
-
-        def read():
-            _check(get(c, vr, n, vals, *sized), name)
-            out[at] = view
-        return read
-
-    def writer(self, vrs, slots, values, kinds=None):
-        if not vrs:
-            return None
-        kinds = kinds or ["Real"] * len(vrs)
-        if set(kinds) == {"Real"}:  # one call, from a buffer taken in place
-            n, vr, vals = len(vrs), (ctypes.c_uint * len(vrs))(*vrs), (ctypes.c_double * len(vrs))()
-            view, set_, c = np.ctypeslib.as_array(vals), self.set, self.c
-            sized, name = (n,) if self.sized else (), self.names[1]
-
-            def write_reals():
-                values.take(slots, out=view)
-                _check(set_(c, vr, n, vals, *sized), name)
-            return write_reals
-        writes = []
-        for kind, at in _groups(kinds):
-            _, name, ctype = self.functions[kind]
-            n, vr = len(at), (ctypes.c_uint * len(at))(*[vrs[i] for i in at])
-            vals, chosen = (ctype * n)(), slots[at]
-            view, set_ = np.ctypeslib.as_array(vals), self.fmu._functions[name]
-            writes.append((view, chosen, set_, vr, n, vals, (n,) if self.sized else (), name))
-
-        def write():
-            for view, chosen, set_, vr, n, vals, sized, name in writes:
-                view[:] = values[chosen]
-                _check(set_(self.c, vr, n, vals, *sized), name)
-        return write
-
-    def stepper(self):
-        do_step, c, name = self.do_step, self.c, self.names[2]
-
-        def step(t, h):
-            _check(do_step(c, t, h, 1), name)
-        return step
-
-
-class _Fmpy3Slave(_FmpySlave):
-    """An FMI 3.0 co-simulation FMU instantiated by fmpy, with the same calls as `_FmpySlave`:
-    FMI 3.0's Float64, Int32 and Boolean functions, the start and stop time given when
-    initialization mode is entered, log messages (formatted by the FMU) appended to `log` as
-    (status, message)."""
-
-    sized = True  # FMI 3.0's get and set take the number of values too
-    functions = {"Real": ("fmi3GetFloat64", "fmi3SetFloat64", ctypes.c_double),
-                 "Integer": ("fmi3GetInt32", "fmi3SetInt32", ctypes.c_int32),
-                 "Boolean": ("fmi3GetBoolean", "fmi3SetBoolean", ctypes.c_bool)}
-
-    def __init__(self, md, unzipped, name, log):
-        def route(env, status, category, message):
-            log.append((status, message.decode("utf-8", "replace").strip()))
-
-        self.fmu = FMU3Slave(guid=md.guid, unzipDirectory=unzipped, instanceName=name,
-                             modelIdentifier=md.coSimulation.modelIdentifier)
-        self.fmu.instantiate(loggingOn=True, logMessage=route)
-        self._bind("fmi3GetFloat64", "fmi3SetFloat64", "fmi3DoStep")
-        self.span = (0.0, None)
-
-    def setup_experiment(self, start_time, stop_time):
-        self.span = (start_time, stop_time)
-
-    def enter_initialization_mode(self):
-        self.fmu.enterInitializationMode(startTime=self.span[0], stopTime=self.span[1])
-
-    def stepper(self):
-        do_step, c, name = self.do_step, self.c, self.names[2]
-        flags, last = [ctypes.c_bool() for _ in range(3)], ctypes.c_double()
-        refs = [ctypes.byref(f) for f in flags] + [ctypes.byref(last)]
-
-        def step(t, h):
-            _check(do_step(c, t, h, True, *refs), name)
-        return step
-
-
-class _Instance:
-    """An instantiated FMU with the value-reference and buffer-slot tables the loop uses."""
-
-    def __init__(self, name, component, md):
-        self.name, self.component, self.md = name, component, md
-        self.vars = {v.name: v for v in md.modelVariables}
-        self.feedthrough = {}  # input name -> True if some output depends on it directly
-        for out in md.outputs:
-            deps = out.dependencies
-            for v in md.modelVariables:
-                if v.causality == "input" and (deps is None or v in deps):
-                    self.feedthrough[v.name] = True
-        self.slave = None
-        self.log = []
+Rows = Callable[[np.ndarray, np.ndarray], None]  # on_rows(time, data): rows recorded so far
 
 
 class Master:
@@ -296,9 +73,9 @@ class Master:
     scenario : musclesim.cosim.Scenario
     fmu_dir : str or Path
         Folder with ``<component>.fmu`` files (output of ``musclesim build``).
-    inputs : dict, optional
-        Replayed inputs: ``{"instance.input": values}`` with one value per communication point
-        (``scenario.n_steps + 1``), set at every exchange in place of a connection, the way an
+    inputs : dict of Signal to array, optional
+        Replayed inputs: ``{Signal("instance", "input"): values}`` with one value per
+        communication point (``scenario.n_steps + 1``), set at every exchange in place of a connection, the way an
         upstream FMU swapped for a measured signal would set them (sampled and held over the
         step). The diagnosis re-simulates components alone this way.
     host : {"direct", "fmpy"}
@@ -313,14 +90,19 @@ class Master:
         or of the wrong length).
     """
 
-    def __init__(self, scenario, fmu_dir="fmus", inputs=None, host="direct"):
+    def __init__(self, scenario: Scenario, fmu_dir: str | os.PathLike[str] = "fmus",
+                 inputs: Mapping[Signal, Any] | None = None, host: str = "direct") -> None:
+        """Read the FMUs of `scenario` from `fmu_dir`, check the wiring (with the replayed
+        `inputs`), plan the run on `host` (see the class docstring)."""
         if host not in HOSTS:
             raise UserError(f"host {host!r} is not one of {', '.join(HOSTS)}")
         self.scenario, self.host = scenario, host
-        self.hosts = {}  # instance -> the host that ran it ("direct" or "fmpy"), once loaded
+        self.current: Any = None  # the Loaded instance being called, named if it fails
+        self.hosts: dict[str, str] = {}  # instance -> the host that ran it, once loaded
         self.fmu_dir = Path(fmu_dir)
-        self.inputs = {k: np.asarray(v, dtype=float) for k, v in (inputs or {}).items()}
-        problems = []
+        self.inputs: dict[Signal, np.ndarray] = {
+            k: np.asarray(v, dtype=float) for k, v in (inputs or {}).items()}
+        problems: list[str] = []
         mds = {}
         for comp in sorted({i.component for i in scenario.instances.values()}):
             path = self.fmu_dir / f"{comp}.fmu"
@@ -330,11 +112,11 @@ class Master:
                 known = sorted(p.stem for p in self.fmu_dir.glob("*.fmu"))
                 problems.append(f"component {comp!r} has no FMU {path} (found: "
                                 f"{', '.join(known) or 'none'}; `musclesim build` builds them)")
-        self.instances = {n: _Instance(n, i.component, mds[i.component])
+        self.instances = {n: Loaded(n, i.component, mds[i.component])
                           for n, i in scenario.instances.items() if i.component in mds}
         if problems:
             raise UserError("; ".join(problems))
-        self._check(problems)
+        wiring.check(scenario, self.instances, self.inputs, problems)
         if problems:
             raise UserError(f"scenario {scenario.path}: " + "; ".join(problems))
         self._plan(problems)
@@ -347,92 +129,14 @@ class Master:
                             f"than the {MAX_VALUES:,} a run keeps; record fewer signals, take a "
                             "longer step or a shorter stop time")
 
-    # ---- checks --------------------------------------------------------------------------------
-    def _variable(self, signal, problems, what):
-        inst, var = split_signal(signal)
-        if inst not in self.instances:
-            problems.append(f"{what} {signal!r}: no instance {inst!r}")
-            return None
-        v = self.instances[inst].vars.get(var)
-        now = renamed(self.instances[inst].component, var)
-        if v is None and now:
-            problems.append(f"{what} {signal!r}: {self.instances[inst].component}'s {var} has "
-                            f"been renamed {now} (the Modelica Standard Library's port names)")
-        elif v is None:
-            problems.append(f"{what} {signal!r}: {self.instances[inst].component} has no variable "
-                            f"{var!r} (variables: {', '.join(self.instances[inst].vars)})")
-        elif v.type not in KINDS:
-            problems.append(f"{what} {signal!r}: only Real, Integer and Boolean (FMI 2.0) and "
-                            f"Float64, Int32 and Boolean (FMI 3.0) variables are supported, not "
-                            f"{v.type}")
-            return None
-        return v
-
-    def _check(self, problems):
-        s = self.scenario
-        targets = {}
-        for src, dst in s.connections:
-            vs = self._variable(src, problems, "connection source")
-            vd = self._variable(dst, problems, "connection destination")
-            if vs is None or vd is None:
-                continue
-            if vs.causality != "output":
-                problems.append(f"connection {src} -> {dst}: {src} is {_a(vs.causality)}, "
-                                "not an output")
-            if vd.causality != "input":
-                problems.append(f"connection {src} -> {dst}: {dst} is {_a(vd.causality)}, "
-                                "not an input")
-            if KINDS[vs.type] != KINDS[vd.type]:
-                problems.append(f"connection {src} -> {dst} joins {_a(vs.type)} output to "
-                                f"{_a(vd.type)} input; FMI connects variables of one type")
-            if vs.unit and vd.unit and vs.unit != vd.unit:  # a unitless port takes any signal
-                problems.append(f"connection {src} -> {dst} joins incompatible units "
-                                f"{vs.unit!r} and {vd.unit!r}")
-            if dst in targets:
-                problems.append(f"input {dst} is connected twice (from {targets[dst]} and {src})")
-            targets[dst] = src
-        for dst, values in self.inputs.items():
-            v = self._variable(dst, problems, "replayed input")
-            if v is not None and v.causality != "input":
-                problems.append(f"replayed input {dst} is {_a(v.causality)}, not an input")
-            if dst in targets:
-                problems.append(f"replayed input {dst} is also connected (from {targets[dst]})")
-            if values.shape != (s.n_steps + 1,):
-                problems.append(f"replayed input {dst} has {values.size} values, not one per "
-                                f"communication point ({s.n_steps + 1})")
-        for name, spec in s.instances.items():
-            for par, value in spec.parameters.items():
-                self._check_value(f"{name}.{par}", value, targets, problems)
-        for sig in _recorded(s):
-            self._variable(sig, problems, "recorded signal")
-
-    def _check_value(self, signal, value, targets, problems):
-        """A value a scenario sets: a parameter, or an input nothing feeds (a bench condition
-        such as the ambient temperature, held constant); an Integer's a whole number, a
-        Boolean's 0 or 1."""
-        v = self._variable(signal, problems, "parameter")
-        if v is not None and KINDS[v.type] == "Integer" and not float(value).is_integer():
-            problems.append(f"{signal} is an Integer: {value!r} is not a whole number")
-        if v is not None and KINDS[v.type] == "Boolean" and value not in (0, 1):
-            problems.append(f"{signal} is a Boolean: {value!r} is neither 0 (false) nor 1 (true)")
-        if v is None or v.causality == "parameter":
-            return
-        if v.causality != "input":
-            problems.append(f"{signal} is {_a(v.causality)}, not a parameter or an input")
-        elif signal in targets:
-            problems.append(f"{signal} is an input connected from {targets[signal]}: a value set "
-                            "on it would be overwritten at every step")
-        elif signal in self.inputs:
-            problems.append(f"{signal} is an input replayed from data: it cannot also be set")
-
     # ---- planning ------------------------------------------------------------------------------
-    def _plan(self, problems):
+    def _plan(self, problems: list[str]) -> None:
         s = self.scenario
         names = list(self.instances)
-        graph = Graph(s)
+        graph = s.graph
         ft_edges = graph.edges(lambda inst, var: self.instances[inst].feedthrough.get(var))
 
-        def algebraic_loop(remaining):
+        def algebraic_loop(remaining: list[str]) -> str:
             loop = [n for n in remaining if any((m, n) in ft_edges for m in remaining)]
             problems.append("algebraic loop: outputs of " + ", ".join(loop) + " depend on each "
                             "other's inputs at the same instant (direct feedthrough in a cycle)")
@@ -445,13 +149,13 @@ class Master:
 
         # One buffer slot per signal read from an instance, each instance's slots contiguous so
         # that fmi2GetReal writes straight into the buffer.
-        source_of = {dst: src for src, dst in s.connections}
+        source_of: dict[Signal, Signal | str] = dict(graph.source_of())
         replayed = {dst: f"{dst} (replayed)" for dst in self.inputs}
-        self.columns = _recorded(s)
-        reads = {n: [] for n in names}
-        for sig in [src for src, _ in s.connections] + [c for c in self.columns if c not in source_of]:
-            reads[split_signal(sig)[0]].append(sig)
-        slots = {}
+        self.columns: list[Signal] = s.recorded()
+        reads: dict[str, list[Signal]] = {n: [] for n in names}
+        for sig in [k.src for k in graph.links] + [c for c in self.columns if c not in source_of]:
+            reads[sig.instance].append(sig)
+        slots: dict[Signal | str, int] = {}
         for name in names:
             inst = self.instances[name]
             inst.reads = list(dict.fromkeys(reads[name]))
@@ -465,24 +169,24 @@ class Master:
         self.values = np.zeros(max(1, len(slots)))
         position = {n: i for i, n in enumerate(self.exchange_order)}
         for name, inst in self.instances.items():
-            inst.read_vrs = [inst.vars[split_signal(x)[1]].valueReference for x in inst.reads]
-            inst.read_kinds = [KINDS[inst.vars[split_signal(x)[1]].type] for x in inst.reads]
-            ins = [(dst, src) for dst, src in source_of.items() if split_signal(dst)[0] == name]
+            inst.read_vrs = [inst.vars[x.variable].valueReference for x in inst.reads]
+            inst.read_kinds = [KINDS[inst.vars[x.variable].type] for x in inst.reads]
+            ins = [(dst, src) for dst, src in source_of.items() if dst.instance == name]
             # replayed inputs, and inputs from instances exchanged earlier if they feed through,
             # are set during the exchange; all others are set just before the step
             early = [(d, x) for d, x in ins if d in replayed or (
-                inst.feedthrough.get(split_signal(d)[1])
-                and position[split_signal(x)[0]] < position[name])]
+                inst.feedthrough.get(d.variable) and isinstance(x, Signal)
+                and position[x.instance] < position[name])]
             late = [pair for pair in ins if pair not in early]
             inst.transfers = [  # (value references, buffer slots, kinds) set early, late, all
-                ([inst.vars[split_signal(d)[1]].valueReference for d, _ in pairs],
+                ([inst.vars[d.variable].valueReference for d, _ in pairs],
                  np.array([slots[x] for _, x in pairs], dtype=np.intp),
-                 [KINDS[inst.vars[split_signal(d)[1]].type] for d, _ in pairs])
+                 [KINDS[inst.vars[d.variable].type] for d, _ in pairs])
                 for pairs in (early, late, ins)]
         self.record_slots = np.array([slots[source_of.get(c, c)] for c in self.columns], dtype=np.intp)
 
     # ---- running -------------------------------------------------------------------------------
-    def _exchange(self, row):
+    def _exchange(self, row: int) -> None:
         """Values at communication point `row`: replayed inputs, then every instance's."""
         if self.replay_table is not None:
             self.values[self.replay_slots] = self.replay_table[row]
@@ -493,7 +197,7 @@ class Master:
             for call in calls:
                 call()
 
-    def _failure(self, inst, t):
+    def _failure(self, inst: Loaded, t: float) -> str:
         lines = [ln for _, msg in inst.log for ln in msg.splitlines() if ln.strip()]
         cause = lines[-1] if lines else "the FMU reported an error"
         # pythonfmu reports an exception as its repr, e.g. ValueError('m1 must be positive')
@@ -501,7 +205,7 @@ class Master:
         return (f"instance {inst.name!r} ({inst.component}) failed {self.phase} "
                 f"at t = {t:.6g} s: {cause}")
 
-    def run(self, on_rows=None):
+    def run(self, on_rows: Rows | None = None) -> Results:
         """Run the scenario; return `Results` (with ``error`` set if an instance failed).
 
         `on_rows(time, data)`, if given, receives the rows recorded since its last call about
@@ -516,8 +220,10 @@ class Master:
         self.callbacks = callbacks(id(self))
         LOG_SINKS[id(self)] = self.instances
         self.current, self.phase, self.row, self.t = None, "while loading", 0, s.start_time
-        failed, error, stopped = None, None, None
-        _remove_orphans()
+        failed: Loaded | None = None
+        error: str | None = None
+        stopped: int | None = None
+        remove_orphan_runs()
         tmp = Path(tempfile.mkdtemp(prefix=f"musclesim_run_{os.getpid()}_"))
         try:
             with interrupt.polled():
@@ -546,19 +252,19 @@ class Master:
         self._flush(time, data)
         if stopped is not None:
             error = f"{interrupt.Interrupted(stopped)} at t = {self.t:.6g} s"
-        res = Results(time[:self.row].copy(), list(self.columns), data[:self.row].copy(), error,
+        res = Results(time[:self.row].copy(), tuple(self.columns), data[:self.row].copy(), error,
                       warnings)
         if stopped is not None:
             raise interrupt.Interrupted(stopped, res)
         return res
 
-    def _flush(self, time, data):
+    def _flush(self, time: np.ndarray, data: np.ndarray) -> None:
         """Hand the rows recorded since the last call to `on_rows`."""
         if self.on_rows is not None and self.row > self.flushed:
             self.on_rows(time[self.flushed:self.row], data[self.flushed:self.row])
             self.flushed = self.row
 
-    def _instantiate(self, tmp):
+    def _instantiate(self, tmp: Path) -> None:
         s = self.scenario
         gauss_seidel = s.algorithm == "gauss-seidel"
         unzipped = {}
@@ -586,29 +292,29 @@ class Master:
                 inst.slave.set_real([inst.vars[p].valueReference for p in params],
                                     params.values(), [KINDS[inst.vars[p].type] for p in params])
         forget_fmu_resource_paths()
-        self.exchange_calls = [
+        self.exchange_calls: list[tuple[Loaded, int, list[Callable[[], None]]]] = [
             (inst, inst.every, [c for c in (inst.set_early, inst.get) if c is not None])
             for inst in (self.instances[n] for n in self.exchange_order)]
 
-    def _load(self, inst, path, unzipped):
+    def _load(self, inst: Loaded, path: Path, unzipped: str) -> Any:
         """Instantiate `inst` from the FMU at `path` extracted in `unzipped`, on its host."""
         try:  # fmpy raises bare Exceptions for a missing or broken library, a failed instance
             if inst.md.fmiVersion.startswith("3"):  # through the FMI 3.0 C API, always
                 self.hosts[inst.name] = "fmpy"
-                return _Fmpy3Slave(inst.md, unzipped, inst.name, inst.log)
+                return Fmpy3Slave(inst.md, unzipped, inst.name, inst.log)
             if self.host == "direct" and built_here(path):
                 cls = direct.slave_class(unzipped, inst.md.coSimulation.modelIdentifier)
                 self.hosts[inst.name] = "direct"
                 return direct.DirectSlave(cls, inst.name, unzipped, inst.log)
             self.hosts[inst.name] = "fmpy"
-            return _FmpySlave(inst.md, unzipped, inst.name, self.callbacks)
+            return FmpySlave(inst.md, unzipped, inst.name, self.callbacks)
         except FMICallException:
             raise
         except Exception as exc:
             raise UserError(f"FMU {path} cannot be loaded as instance {inst.name!r}: "
                             f"{exc}") from None
 
-    def _initialize(self):
+    def _initialize(self) -> None:
         """Initialization mode: propagate start values in feedthrough order, then leave it."""
         for inst in self.instances.values():
             self.current = inst
@@ -621,7 +327,7 @@ class Master:
             inst.slave.exit_initialization_mode()
         self._exchange(0)
 
-    def _loop(self, time, data):
+    def _loop(self, time: np.ndarray, data: np.ndarray) -> str | None:
         """Record, step, exchange until the stop time; return an error sentence or None."""
         s = self.scenario
         n, h, t, row = s.n_steps, s.step, self.t, 0
@@ -660,3 +366,9 @@ class Master:
                 self._exchange(row)
         finally:
             self.row, self.t = row, t
+
+
+def signal_units(master: Master) -> dict[Signal, str]:
+    """Unit of every recorded column of `master` ("1" for a unitless one)."""
+    return {sig: master.instances[sig.instance].vars[sig.variable].unit or "1"
+            for sig in master.columns}

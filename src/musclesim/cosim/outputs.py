@@ -1,4 +1,9 @@
 """Output paths checked before the work, and files replaced whole (never left half-written)."""
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
 import os
 import tempfile
 import zipfile
@@ -7,7 +12,7 @@ from pathlib import Path
 from musclesim.errors import UserError
 
 
-def _writable_ancestor(path, what):
+def _writable_ancestor(path: Path, what: str) -> None:
     """Raise unless the nearest existing ancestor of `path` is a folder we can create files in."""
     parent = path.parent
     while not parent.exists() and parent != parent.parent:
@@ -23,23 +28,25 @@ def _writable_ancestor(path, what):
     os.unlink(probe)
 
 
-def check_output_dir(path, what="--out"):
-    """Refuse, before any work, an output folder that exists as a file or cannot be made."""
+def check_output_dir(path: str | Path, what: str = "--out") -> None:
+    """Refuse (UserError naming it as `what`), before any work, an output folder `path` that
+    exists as a file or cannot be made."""
     path = Path(path)
     if path.exists() and not path.is_dir():
         raise UserError(f"{what} {path} is a file, not a folder")
     _writable_ancestor(path / "x" if path.is_dir() else path, what)
 
 
-def check_output_file(path, what="--out"):
-    """Refuse, before any work, an output file that is a folder or whose folder cannot hold it."""
+def check_output_file(path: str | Path, what: str = "--out") -> None:
+    """Refuse (UserError naming it as `what`), before any work, an output file `path` that is a
+    folder or whose folder cannot hold it."""
     path = Path(path)
     if path.is_dir():
         raise UserError(f"{what} {path} is a folder, not a file")
     _writable_ancestor(path, what)
 
 
-def replace_file(path, data):
+def replace_file(path: str | Path, data: str | bytes) -> None:
     """Write `data` (str or bytes) to `path` under a temporary name, then rename it in place, so
     that a reader sees the old file or the new one, never a part; a missing folder is made, as
     for the output folders (`check_output_file` checked that it can be)."""
@@ -53,8 +60,9 @@ def replace_file(path, data):
     os.replace(tmp, path)
 
 
-def save_figure(fig, path, **options):
-    """Save a matplotlib figure the way `replace_file` writes a file (``savefig`` `options`)."""
+def save_figure(fig: Any, path: str | Path, **options: Any) -> None:
+    """Save the matplotlib figure `fig` at `path` the way `replace_file` writes a file (``savefig``
+    `options`)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.stem}.tmp{path.suffix}")  # the suffix names the format
@@ -62,7 +70,7 @@ def save_figure(fig, path, **options):
     os.replace(tmp, path)
 
 
-def check_archive(path, suffix, what):
+def check_archive(path: str | Path, suffix: str, what: str) -> Path:
     """`path` as a Path if it names a file ending in `suffix`; else UserError naming it as
     `what` (e.g. "the FMU")."""
     path = Path(path)
@@ -73,7 +81,7 @@ def check_archive(path, suffix, what):
     return path
 
 
-def replace_zip(path, fill):
+def replace_zip(path: Path, fill: Callable[[zipfile.ZipFile], Any]) -> Path:
     """Write the zip archive `path` (its folder made if missing) by `fill(archive)`, an open
     ``zipfile.ZipFile``, under a temporary name renamed in place when `fill` returns: never a
     half-written archive, even when `fill` fails. Returns `path`."""

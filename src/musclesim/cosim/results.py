@@ -15,26 +15,62 @@ A run killed at any moment (even by SIGKILL) leaves the previous run's files or 
 ``results.csv`` when the kill came as the run ended), never one run's results beside another
 run's summary; a killed write may cut the last row, which then has no line end.
 """
+from __future__ import annotations
+
 import io
 import json
 import math
 import os
 import uuid
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from musclesim.cosim.address import Signal
 from musclesim.cosim.outputs import replace_file, save_figure
-from musclesim.cosim.scenario import split_signal
+from musclesim.cosim.scenario import Metric, Panel, Scenario
 
 PART = ".part"  # suffix of a file whose run is still writing it
 OUTPUTS = ("summary.json", "results.csv", "results.csv" + PART, "results.png")
 
-def _rate(t, y):
+
+@dataclass
+class Results:
+    """Recorded signals: `time` ``[i]`` and `data` ``[i, j]`` for the column `names` ``[j]``,
+    rows 0..n-1; ``results[signal]`` is the column of a `Signal`.
+
+    `error` is None for a complete run, else the sentence saying which instance failed, when
+    and why; the rows before the failure are kept. `warnings` holds what the FMUs logged as
+    warnings (e.g. an input clamped to a model's valid range), each prefixed with its instance.
+    """
+
+    time: np.ndarray
+    names: tuple[Signal, ...]
+    data: np.ndarray
+    error: str | None = None
+    warnings: list[str] = field(default_factory=list)
+
+    def __getitem__(self, signal: Signal) -> np.ndarray:
+        """The column of `signal`."""
+        return self.data[:, self.names.index(signal)]
+
+
+def clear_run_outputs(out_dir: str | Path) -> None:
+    """Remove a run's outputs from `out_dir`, the summary first: without it, no file there
+    claims to be a whole run."""
+    for name in OUTPUTS:
+        (Path(out_dir) / name).unlink(missing_ok=True)
+
+
+
+def _rate(t: np.ndarray, y: np.ndarray) -> float:
     return (y[-1] - y[0]) / (t[-1] - t[0]) if t[-1] > t[0] else math.nan
 
 
-def _frequency(t, y):
+def _frequency(t: np.ndarray, y: np.ndarray) -> float:
     """Oscillation frequency [Hz]: rising crossings of the middle of the range, (count - 1) over
     the time from the first to the last (linear between samples); NaN with fewer than two."""
     if len(y) < 3:
@@ -47,7 +83,7 @@ def _frequency(t, y):
     return (len(k) - 1) / (crossings[-1] - crossings[0])
 
 
-def _cycle_peak_to_peak(t, y, period):
+def _cycle_peak_to_peak(t: np.ndarray, y: np.ndarray, period: float) -> float:
     """Mean over the whole periods in the window (from its first sample) of each one's
     peak-to-peak; NaN without a whole period."""
     if not len(t):
@@ -59,7 +95,7 @@ def _cycle_peak_to_peak(t, y, period):
 
 
 # op -> (function of (time, values, metric), how the unit changes)
-_OPS = {
+_OPS: dict[str, tuple[Callable[[np.ndarray, np.ndarray, Any], float], str]] = {
     "final": (lambda t, y, m: y[-1], "{}"),
     "initial": (lambda t, y, m: y[0], "{}"),
     "mean": (lambda t, y, m: float(np.mean(y)), "{}"),
@@ -79,14 +115,14 @@ _OPS = {
 }
 
 
-def metric_unit(unit, op, ratio=False):
+def metric_unit(unit: str | None, op: str, ratio: bool = False) -> str:
     """Unit of a metric computed with `op` from a signal in `unit` ("1" for a `ratio`: the same
     op on another signal divides it, the metric's ``over``)."""
     return "1" if ratio else _OPS[op][1].format(unit or "1")
 
 
-def compute_metrics(results, metrics):
-    """Evaluate ``{name: Metric}`` on `results`; a metric without a value (no sample in its
+def compute_metrics(results: Results, metrics: Mapping[str, Metric]) -> dict[str, float]:
+    """Evaluate `metrics` (``{name: Metric}``) on `results`; a metric without a value (no sample in its
     window, no oscillation to count, nothing to divide by) is NaN, written null in summary.json."""
     out = {}
     for name, m in metrics.items():
@@ -102,7 +138,7 @@ def compute_metrics(results, metrics):
     return out
 
 
-def _no_value(m, results, end):
+def _no_value(m: Metric, results: Results, end: float) -> str:
     """Why metric `m` has no value on `results` (a run ending at `end` s), in a few words."""
     tol = 1e-9 * max(1.0, abs(end))
     window = (results.time >= m.start - tol) & (results.time <= m.stop + tol)
@@ -118,15 +154,18 @@ def _no_value(m, results, end):
     return f"no value: {m.op} needs more than the one sample in its window"
 
 
-def csv_rows(time, data):
-    """Rows ``time,<values>`` at full double precision, each ending in a line end."""
+def csv_rows(time: np.ndarray, data: np.ndarray) -> str:
+    """Rows ``time,<values>`` of `time` and `data` at full double precision, each ending in a
+    line end."""
     buf = io.StringIO()
     np.savetxt(buf, np.column_stack([time, data]), delimiter=",", fmt="%.17g")
     return buf.getvalue()
 
 
-def plot(path, results, panels, units, title=""):
-    """Save a stacked time plot, one panel per ``{"title", "signals"}`` entry."""
+def plot(path: Path, results: Results, panels: Sequence[Panel], units: Mapping[Signal, str],
+         title: str = "") -> None:
+    """Save at `path` a stacked time plot of `results` titled `title`, one of the `panels` above
+    the other (each signal with its unit from `units`), or one panel per signal without."""
     import warnings
 
     import matplotlib
@@ -134,7 +173,7 @@ def plot(path, results, panels, units, title=""):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    panels = panels or [{"title": name, "signals": [name]} for name in results.names]
+    panels = panels or [Panel(str(name), (name,)) for name in results.names]
     fig, axes = plt.subplots(len(panels), 1, sharex=True, squeeze=False,
                              figsize=(9, 2.2 * len(panels) + 0.8))
     # values near the float limit (a run that failed as a signal overflowed) make matplotlib's
@@ -142,10 +181,10 @@ def plot(path, results, panels, units, title=""):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         for ax, panel in zip(axes[:, 0], panels):
-            for sig in panel["signals"]:
+            for sig in panel.signals:
                 ax.plot(results.time, results[sig], label=f"{sig} [{units.get(sig) or '1'}]",
                         lw=0.8)
-            ax.set_title(panel.get("title", ""), fontsize=9)
+            ax.set_title(panel.title, fontsize=9)
             ax.legend(fontsize=7, loc="best")
             ax.grid(alpha=0.3)
         axes[-1, 0].set_xlabel("time [s]")
@@ -162,34 +201,36 @@ class RunWriter:
     `finish` with the run's `Results`. `units` maps each recorded signal to its unit.
     """
 
-    def __init__(self, out_dir, scenario, columns, units, with_plot=True):
+    def __init__(self, out_dir: str | Path, scenario: Scenario, columns: Sequence[Signal],
+                 units: Mapping[Signal, str], with_plot: bool = True) -> None:
+        """The writer of a run of `scenario` recording `columns` into `out_dir` (see the
+        class docstring; the plot only `with_plot`)."""
         self.out, self.scenario, self.columns = Path(out_dir), scenario, list(columns)
         self.units, self.with_plot = units, with_plot
         self.run_id = uuid.uuid4().hex
-        self.csv = None
+        self.csv: Any = None
 
-    def start(self):
+    def start(self) -> None:
         """Remove the previous run's outputs and open this run's (``completed: false``)."""
         self.out.mkdir(parents=True, exist_ok=True)
-        for name in OUTPUTS:  # the summary first: without it, no file claims to be a whole run
-            (self.out / name).unlink(missing_ok=True)
+        clear_run_outputs(self.out)
         self._summary({"completed": False, "error": None, "status": "running"})
-        replace_file(self.partial, ",".join(["time", *self.columns]) + "\n")
+        replace_file(self.partial, ",".join(["time", *map(str, self.columns)]) + "\n")
         self.csv = open(self.partial, "ab", buffering=0)
 
     @property
-    def partial(self):
+    def partial(self) -> Path:
         """The file the rows grow in while the run goes: results.csv.part."""
         return self.out / ("results.csv" + PART)
 
-    def rows(self, time, data):
-        """Append whole rows to results.csv.part (one write)."""
+    def rows(self, time: np.ndarray, data: np.ndarray) -> None:
+        """Append whole rows (`time`, `data`) to results.csv.part (one write)."""
         if len(time):
             self.csv.write(csv_rows(time, data).encode())
 
-    def finish(self, results):
-        """Close the rows and name them results.csv, draw the plot, write the final summary;
-        return the summary."""
+    def finish(self, results: Results) -> dict[str, Any]:
+        """Close the rows and name them results.csv, draw the plot of `results`, write the final
+        summary; return the summary."""
         if self.csv is not None:
             self.csv.close()
             self.csv = None
@@ -213,7 +254,7 @@ class RunWriter:
             "warnings": warnings,
             "end_time": float(results.time[-1]) if len(results.time) else None})
 
-    def _summary(self, state):
+    def _summary(self, state: dict[str, Any]) -> dict[str, Any]:
         s = self.scenario
         summary = {**state, "run_id": self.run_id, "scenario": s.name,
                    "description": s.description, "scenario_file": str(s.path),
@@ -224,20 +265,13 @@ class RunWriter:
         return summary
 
 
-def write_all(out_dir, scenario, results, units, with_plot=True):
+def write_all(out_dir: str | Path, scenario: Scenario, results: Results,
+              units: Mapping[Signal, str], with_plot: bool = True) -> dict[str, Any]:
     """Write results.csv, summary.json and (unless not `with_plot`) results.png of a finished
-    run into `out_dir`; return the summary dict (metrics at top level, their units under
+    run of `scenario` (its `results`, the signals' `units`) into `out_dir`; return the summary dict (metrics at top level, their units under
     ``"units"``, the run's id, scenario, algorithm, step, times, parameters and error)."""
     writer = RunWriter(out_dir, scenario, results.names, units, with_plot)
     writer.start()
     writer.rows(results.time, results.data)
     return writer.finish(results)
 
-
-def signal_units(master):
-    """Unit of every recorded column of a `musclesim.cosim.Master`."""
-    units = {}
-    for sig in master.columns:
-        inst, var = split_signal(sig)
-        units[sig] = master.instances[inst].vars[var].unit or "1"
-    return units

@@ -1,14 +1,23 @@
 """One scenario run from file to folder: load, check the FMUs are fresh, run, write as it goes."""
+from __future__ import annotations
+
+from collections.abc import Iterable
+from pathlib import Path
+from typing import Any
+
 import numpy as np
 
 from musclesim.cosim import build, interrupt, master, results, scenario
 from musclesim.errors import UserError
 
 
-def run_scenario(path, out, fmu_dir="fmus", overrides=(), stop_time=None, with_plot=True,
-                 host="direct"):
-    """Load, run and write one scenario (the plot only `with_plot`) on `host` (`master.HOSTS`);
-    return (summary, results).
+def run_scenario(path: str | Path, out: str | Path, fmu_dir: str | Path = "fmus",
+                 overrides: Iterable[str] = (), stop_time: float | None = None,
+                 with_plot: bool = True, host: str = "direct"
+                 ) -> tuple[dict[str, Any], results.Results]:
+    """Load the scenario at `path` (with the ``--set`` `overrides` and `stop_time`), run it on
+    the FMUs in `fmu_dir` on `host` (`master.HOSTS`) and write it into `out` (the plot only
+    `with_plot`); return (summary, results).
 
     The rows reach `out`/results.csv as the run goes (`results.RunWriter`). When a signal stops
     the run, its rows so far are kept, the summary says ``completed: false`` with the signal and
@@ -19,11 +28,12 @@ def run_scenario(path, out, fmu_dir="fmus", overrides=(), stop_time=None, with_p
     s = scenario.load(path, overrides, stop_time)
     build.check_fresh(fmu_dir)
     m = master.Master(s, fmu_dir, host=host)
-    writer = results.RunWriter(out, s, m.columns, results.signal_units(m), with_plot)
+    writer = results.RunWriter(out, s, m.columns, master.signal_units(m), with_plot)
     writer.start()
 
-    def no_rows(error):
-        return master.Results(np.empty(0), list(m.columns), np.empty((0, len(m.columns))), error)
+    def no_rows(error: str) -> results.Results:
+        return results.Results(np.empty(0), tuple(m.columns), np.empty((0, len(m.columns))),
+                               error)
 
     try:
         res = m.run(on_rows=writer.rows)

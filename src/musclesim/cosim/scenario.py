@@ -5,27 +5,29 @@ values, inline or from a TOML file given as ``parameters_file`` relative to the 
 inside its folder, inline values winning, and ``every``: how many communication steps the
 instance takes at once), connections ``"a.y" -> "b.u"``, the communication step, start and stop
 time, the master algorithm, the signals to record, the metrics to compute and the plot panels.
-A file may ``extends = "other.toml"`` (relative to it): its tables merge key by key onto the
-other's, its connections, recorded signals and plots are added to the other's, its other values
-replace them, so that variants of an experiment state only what differs. ``format = 2``
-(`FORMAT`) declares that a file uses the port names of the Modelica Standard Library (e.g. the
-PID's ``u_s``, ``u_m`` -> ``y``); a file without it is format 1 and may use none of the names
-format 2 changed (`musclesim.components.RENAMED`): the PID's ``y`` was its measurement. Checks
-collect every problem and raise once with the whole list. No message repeats a value read from a
+A file may ``extends = "other.toml"``, and declares its ``format`` (`musclesim.cosim.FORMAT`):
+how its files are read and merged is `musclesim.cosim.scenario_files`'s. Each signal is parsed
+once, here, into a `Signal`; the scenario's data flow is its `Scenario.graph`. Checks collect
+every problem and raise once with the whole list. No message repeats a value read from a
 parameters file (it may hold what is not ours to print), only its key.
 
 Limits: a step of at least `MIN_STEP`, at most `MAX_STEPS` communication steps, times of at most
 `MAX_TIME` in magnitude, ``every`` at most `MAX_EVERY`.
 """
+from __future__ import annotations
+
 import math
 import re
 import tomllib
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
-from typing import Mapping, NamedTuple
+from typing import Any, NamedTuple
 
-from musclesim.components import renamed
-from musclesim.cosim.address import ParamRef
+from musclesim.cosim.address import ParamRef, Signal
+from musclesim.cosim.graph import Graph
+from musclesim.cosim.scenario_files import read
 from musclesim.errors import UserError
 
 ALGORITHMS = ("gauss-seidel", "jacobi")
@@ -34,7 +36,6 @@ METRIC_OPS = ("final", "initial", "mean", "min", "max", "max_abs", "rms", "rate"
 _PERIODIC = ("per_period", "cycle_peak_to_peak")  # ops that need a period
 _TOP_KEYS = {"format", "name", "description", "reference", "step", "start_time", "stop_time",
              "algorithm", "connections", "record", "instances", "metrics", "plots"}
-FORMAT = 2  # the scenario and data-set format written now: the ports' MSL names
 MIN_STEP = 1e-7  # s: a communication step shorter than any physics here needs
 MAX_STEPS = 100_000_000  # communication steps of one run (hours of compute at the fastest)
 MAX_TIME = 1e9  # s: start and stop times (about 30 years)
@@ -50,63 +51,84 @@ class Metric(NamedTuple):
     metric is then the op on ``signal`` divided by the op on ``over`` (a ratio, unit 1).
     """
 
-    signal: str
+    signal: Signal
     op: str
     start: float = -math.inf
     stop: float = math.inf
     scale: float = 1.0
-    period: float = None
-    over: str = None
+    period: float | None = None
+    over: Signal | None = None
+
+
+@dataclass(frozen=True)
+class Panel:
+    """One panel of a run's plot: its `title` and the `signals` drawn in it."""
+
+    title: str
+    signals: tuple[Signal, ...]
 
 
 @dataclass(frozen=True)
 class Instance:
-    """One FMU instance: its name, the component (FMU) it instantiates, parameter values and
-    ``every``: it steps at every ``every``-th communication point, by ``every`` steps at once
-    (multi-rate; 1 = at every point)."""
+    """One FMU instance: its `name`, the `component` (FMU) it instantiates, its `parameters`'
+    values and `every`: it steps at every ``every``-th communication point, by ``every`` steps at
+    once (multi-rate; 1 = at every point)."""
 
     name: str
     component: str
-    parameters: dict = field(default_factory=dict)
+    parameters: dict[str, float] = field(default_factory=dict)
     every: int = 1
 
 
 @dataclass(frozen=True)
 class Scenario:
-    """A checked scenario (see the module docstring); signals are ``"instance.variable"``
-    strings."""
+    """A checked scenario (see the module docstring); each signal a `Signal`.
+
+    Its `name`, the file at `path` it was read from (None for one made in code), the `instances`
+    by name, the `connections` (output, input), the communication `step` [s] from `start_time`
+    to `stop_time` [s], the master's `algorithm` (`ALGORITHMS`), the signals to `record`, the
+    `metrics` by name, the `plots`' panels, and the `description` and `reference` (where the
+    experiment comes from) it states.
+    """
 
     name: str
-    path: Path
-    instances: dict
-    connections: tuple  # ((source signal, destination signal), ...)
+    path: Path | None
+    instances: dict[str, Instance]
+    connections: tuple[tuple[Signal, Signal], ...]  # ((source, destination), ...)
     step: float
     stop_time: float
     start_time: float = 0.0
     algorithm: str = "gauss-seidel"
-    record: tuple = ()
-    metrics: dict = field(default_factory=dict)  # name -> Metric
-    plots: tuple = ()  # ({"title": str, "signals": [..]}, ...)
+    record: tuple[Signal, ...] = ()
+    metrics: dict[str, Metric] = field(default_factory=dict)
+    plots: tuple[Panel, ...] = ()
     description: str = ""
     reference: str = ""
 
     @property
-    def n_steps(self):
+    def n_steps(self) -> int:
         """Number of communication steps from start to stop time."""
         return int(round((self.stop_time - self.start_time) / self.step))
 
+    @cached_property
+    def graph(self) -> Graph[Scenario]:
+        """The scenario's data flow (instances and links), built once per scenario object."""
+        return Graph(self)
 
-def split_signal(signal):
-    """Split ``"instance.variable"`` (the variable may itself contain dots) into its two parts."""
-    inst, _, var = signal.partition(".")
-    return inst, var
+    def recorded(self) -> list[Signal]:
+        """The signals the scenario records, plots or computes metrics of, each once, in
+        order."""
+        return list(dict.fromkeys([*self.record, *(m.signal for m in self.metrics.values()),
+                                   *(m.over for m in self.metrics.values() if m.over),
+                                   *(sig for panel in self.plots for sig in panel.signals)]))
 
 
-def _number(value):
+def _number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
 
 
-def load(path, overrides=(), stop_time=None):
+def load(path: str | Path, overrides: Iterable[str] = (), stop_time: float | None = None
+         ) -> Scenario:
     """Read and check the scenario file at `path`.
 
     Parameters
@@ -128,8 +150,8 @@ def load(path, overrides=(), stop_time=None):
         raise UserError(f"scenario {path} is a folder, not a scenario file")
     if not path.is_file():
         raise UserError(f"scenario file {path} does not exist")
-    data = _read(path, ())
-    problems = []
+    data = read(path)
+    problems: list[str] = []
     scenario = _parse(data, path, problems)
     if scenario is not None:
         scenario = apply_overrides(scenario, overrides, problems)
@@ -140,104 +162,70 @@ def load(path, overrides=(), stop_time=None):
             else:
                 scenario = replace(scenario, stop_time=stop_time)
         _check_times(scenario, problems)
-    if problems:
+    if problems or scenario is None:
         raise UserError(f"scenario {path} has {len(problems)} problem(s): " + "; ".join(problems))
     return scenario
 
 
-def _read(path, chain):
-    """The scenario file's table, merged onto the file it ``extends`` (tables merge key by key,
-    connections, recorded signals and plots are added, other values replace); `chain` holds the
-    files that extend this one."""
-    if path in chain:
-        loop = " -> ".join(map(str, chain))
-        raise UserError(f"scenario {chain[0]} extends itself through {loop}")
+def _signal(text: object) -> Signal | None:
+    """The signal `text` names, or None if it is not a string ``"instance.variable"``."""
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise UserError(f"scenario {chain[-1]} extends {path}, which cannot be read: {exc}") from None
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise UserError(f"scenario file {path} is not valid TOML: {exc}") from None
-    base = data.pop("extends", None)
-    fmt = data.pop("format", 1)
-    if problem := format_problem(fmt):
-        raise UserError(f"scenario {path}: {problem}")
-    if base is not None and not isinstance(base, str):
-        raise UserError(f"scenario {path}: extends must be a file name, not {base!r}")
-    merged = data if base is None else _merge(_read(path.parent / base, (*chain, path)), data)
-    if fmt < 2:
-        _old_names(path, data, merged)
-    return merged
+        return Signal.parse(text)  # type: ignore[arg-type]  # parse refuses a non-string
+    except ValueError:
+        return None
 
 
-def _signals(data):
-    """The "instance.variable" strings a scenario file's table names."""
-    def strings(items):
-        return [s for s in items if isinstance(s, str)] if isinstance(items, list) else []
-    out = strings(data.get("record"))
-    for pair in data.get("connections", []) if isinstance(data.get("connections"), list) else ():
-        out += strings(pair)
-    metrics = data.get("metrics")
-    for spec in metrics.values() if isinstance(metrics, dict) else ():
-        out += strings([spec.get("signal"), spec.get("over")] if isinstance(spec, dict) else [])
-    for panel in data.get("plots", []) if isinstance(data.get("plots"), list) else ():
-        out += strings(panel.get("signals") if isinstance(panel, dict) else None)
-    return out
+def _signals(items: object) -> list[Signal] | None:
+    """The signals of the list `items`, or None if it is not a list of signal names."""
+    signals = [_signal(s) for s in items] if isinstance(items, list) else [None]
+    return [s for s in signals if s is not None] if None not in signals else None
 
 
-def format_problem(value):
-    """What is wrong with a file's ``format`` = `value` (a whole number from 1 to `FORMAT`), or
-    None."""
-    if not isinstance(value, int) or isinstance(value, bool) or not 1 <= value <= FORMAT:
-        return f"format = {value!r} is not one this musclesim reads (1 to {FORMAT})"
-    return None
-
-
-def renamed_signals(signals, components):
-    """{signal: its name since format 2} of the `signals` ("instance.variable") that name a port
-    format 2 renamed; `components` maps instance names to their component's."""
-    out = {}
-    for signal in signals:
-        inst, var = split_signal(signal)
-        now = renamed(components[inst], var) if inst in components else None
-        if now:
-            out[signal] = f"{inst}.{now}"
-    return out
-
-
-def _old_names(path, data, merged):
-    """Refuse the names format 2 changed in the format-1 file at `path` (its table `data`; the
-    instances are those of `merged`, its chain): the PID's y then meant another variable."""
-    instances = merged.get("instances")
-    components = {name: spec["component"] for name, spec in
-                  (instances.items() if isinstance(instances, dict) else ())
-                  if isinstance(spec, dict) and isinstance(spec.get("component"), str)}
-    problems = [f"{signal!r} is {now} now" for signal, now in
-                renamed_signals(dict.fromkeys(_signals(data)), components).items()]
-    if problems:
-        raise UserError(f"scenario {path} names ports as before format 2 (the Modelica Standard "
-                        "Library's port names): " + "; ".join(problems)
-                        + "; write the new names and format = 2 at the top of the file")
-
-
-_ADDED = ("connections", "record", "plots")  # lists an extending file adds to
-
-
-def _merge(base, data):
-    out = dict(base)
-    for key, value in data.items():
-        if isinstance(value, dict) and isinstance(out.get(key), dict):
-            out[key] = _merge(out[key], value)
-        elif key in _ADDED and isinstance(value, list) and isinstance(out.get(key), list):
-            out[key] = out[key] + value
-        else:
-            out[key] = value
-    return out
-
-
-def _parse(data, path, problems):
+def _parse(data: dict[str, Any], path: Path, problems: list[str]) -> Scenario | None:
     for key in sorted(set(data) - _TOP_KEYS):
         problems.append(f"unknown key {key!r} (known: {', '.join(sorted(_TOP_KEYS))})")
+    instances = _instances(data, path, problems)
+    connections = []
+    for item in data.get("connections", []):
+        src, dst = map(_signal, item) if isinstance(item, list) and len(item) == 2 else (None, None)
+        if src is None or dst is None:
+            problems.append(f"connection {item!r} is not a pair [\"src.output\", \"dst.input\"]")
+            continue
+        connections.append((src, dst))
+    raw = data.get("record", [])
+    record = _signals(raw)
+    if record is None:
+        problems.append("'record' must be a list of \"instance.variable\" strings")
+        record = []
+    metrics = _metrics(data, problems)
+    plots = []
+    for panel in data.get("plots", []):
+        parsed = _signals(panel.get("signals") if isinstance(panel, dict) else None)
+        if parsed is None:
+            problems.append(f"plot panel {panel!r} needs a 'signals' list")
+            continue
+        plots.append(Panel(str(panel.get("title", "")), tuple(parsed)))
+    algorithm = data.get("algorithm", "gauss-seidel")
+    if algorithm not in ALGORITHMS:
+        problems.append(f"algorithm {algorithm!r} is not one of {ALGORITHMS}")
+    for key in ("step", "stop_time"):
+        if key not in data:
+            problems.append(f"missing '{key}'")
+    for key in ("step", "stop_time", "start_time"):
+        if key in data and not _number(data[key]):
+            problems.append(f"'{key}' = {data[key]!r} is not a finite number")
+    if problems:
+        return None
+    return Scenario(
+        name=str(data.get("name", path.stem)), path=path, instances=instances,
+        connections=tuple(connections), step=float(data["step"]),
+        stop_time=float(data["stop_time"]), start_time=float(data.get("start_time", 0.0)),
+        algorithm=algorithm, record=tuple(record), metrics=metrics, plots=tuple(plots),
+        description=str(data.get("description", "")), reference=str(data.get("reference", "")))
+
+
+def _instances(data: dict[str, Any], path: Path, problems: list[str]) -> dict[str, Instance]:
+    """The scenario's ``[instances.NAME]`` tables, checked."""
     instances = {}
     raw = data.get("instances")
     if not isinstance(raw, dict) or not raw:
@@ -270,26 +258,18 @@ def _parse(data, path, problems):
         instances[name] = Instance(name, spec["component"],
                                    {k: float(v) for k, v in params.items() if k not in bad},
                                    every)
+    return instances
 
-    connections = []
-    for item in data.get("connections", []):
-        if (not isinstance(item, list) or len(item) != 2
-                or not all(isinstance(s, str) and "." in s for s in item)):
-            problems.append(f"connection {item!r} is not a pair [\"src.output\", \"dst.input\"]")
-            continue
-        connections.append(tuple(item))
-    record = data.get("record", [])
-    if not isinstance(record, list) or not all(isinstance(s, str) for s in record):
-        problems.append("'record' must be a list of \"instance.variable\" strings")
-        record = []
 
+def _metrics(data: dict[str, Any], problems: list[str]) -> dict[str, Metric]:
+    """The scenario's ``[metrics.NAME]`` tables, checked."""
     metrics = {}
     for name, spec in data.get("metrics", {}).items():
         keys = {"signal", "op", "from", "to", "scale", "over"} | (
             {"period"} if isinstance(spec, dict) and spec.get("op") in _PERIODIC else set())
         if not isinstance(spec, dict) or spec.get("op") not in METRIC_OPS \
-                or not isinstance(spec.get("signal"), str) or set(spec) - keys \
-                or not isinstance(spec.get("over", ""), str) \
+                or _signal(spec.get("signal")) is None or set(spec) - keys \
+                or ("over" in spec and _signal(spec["over"]) is None) \
                 or not all(_number(spec.get(k, 1.0)) for k in ("from", "to", "scale", "period")) \
                 or (spec["op"] in _PERIODIC and not spec.get("period", 0) > 0):
             problems.append(f"metric {name!r} needs signal = \"inst.var\", op in {METRIC_OPS} "
@@ -298,33 +278,16 @@ def _parse(data, path, problems):
                             "optionally from / to = the window's start / end time [s], scale = "
                             "a factor and over = \"inst.var\" (the ratio to the op on that signal)")
             continue
-        metrics[name] = Metric(spec["signal"], spec["op"], float(spec.get("from", -math.inf)),
+        over = spec.get("over")
+        metrics[name] = Metric(Signal.parse(spec["signal"]), spec["op"],
+                               float(spec.get("from", -math.inf)),
                                float(spec.get("to", math.inf)), float(spec.get("scale", 1.0)),
-                               spec.get("period"), spec.get("over"))
-    plots = data.get("plots", [])
-    for panel in plots:
-        if not isinstance(panel, dict) or not isinstance(panel.get("signals"), list):
-            problems.append(f"plot panel {panel!r} needs a 'signals' list")
-    algorithm = data.get("algorithm", "gauss-seidel")
-    if algorithm not in ALGORITHMS:
-        problems.append(f"algorithm {algorithm!r} is not one of {ALGORITHMS}")
-    for key in ("step", "stop_time"):
-        if key not in data:
-            problems.append(f"missing '{key}'")
-    for key in ("step", "stop_time", "start_time"):
-        if key in data and not _number(data[key]):
-            problems.append(f"'{key}' = {data[key]!r} is not a finite number")
-    if problems:
-        return None
-    return Scenario(
-        name=str(data.get("name", path.stem)), path=path, instances=instances,
-        connections=tuple(connections), step=float(data["step"]),
-        stop_time=float(data["stop_time"]), start_time=float(data.get("start_time", 0.0)),
-        algorithm=algorithm, record=tuple(record), metrics=metrics, plots=tuple(plots),
-        description=str(data.get("description", "")), reference=str(data.get("reference", "")))
+                               spec.get("period"), None if over is None else Signal.parse(over))
+    return metrics
 
 
-def _parameters_file(scenario_path, instance, name, problems):
+def _parameters_file(scenario_path: Path, instance: str, name: object, problems: list[str]
+                     ) -> dict[str, Any]:
     """Parameter values from an instance's ``parameters_file`` (relative to the scenario, inside
     its folder tree); a problem names the file and the key, never a value read from it."""
     if name is None:
@@ -354,7 +317,7 @@ def _parameters_file(scenario_path, instance, name, problems):
     return {k: v for k, v in values.items() if k not in bad}
 
 
-def with_values(scenario: "Scenario", values: Mapping[ParamRef, float]) -> "Scenario":
+def with_values(scenario: Scenario, values: Mapping[ParamRef, float]) -> Scenario:
     """`scenario` with parameter `values` applied (the one way values reach a scenario: ``--set``,
     a data set's stated values, a fit's candidates); instances not in `scenario` are skipped."""
     instances = dict(scenario.instances)
@@ -366,17 +329,23 @@ def with_values(scenario: "Scenario", values: Mapping[ParamRef, float]) -> "Scen
     return replace(scenario, instances=instances)
 
 
-def apply_overrides(scenario, overrides, problems):
-    """Return `scenario` with ``instance.parameter=value`` overrides applied; problems appended."""
+def apply_overrides(scenario: Scenario, overrides: Iterable[str], problems: list[str]
+                    ) -> Scenario:
+    """Return `scenario` with `overrides`, ``instance.parameter=value`` strings (``--set``),
+    parsed with `ParamRef.parse` and applied with `with_values`; what is wrong with one is
+    appended to `problems`."""
     values = {}
     for text in overrides:
         target, sep, value = text.partition("=")
-        inst, var = split_signal(target.strip())
-        if not sep or not var:
+        try:
+            ref = ParamRef.parse(target.strip()) if sep else None
+        except ValueError:
+            ref = None
+        if ref is None:
             problems.append(f"--set {text!r} is not of the form instance.parameter=value")
             continue
-        if inst not in scenario.instances:
-            problems.append(f"--set {text!r}: no instance {inst!r} "
+        if ref.instance not in scenario.instances:
+            problems.append(f"--set {text!r}: no instance {ref.instance!r} "
                             f"(instances: {', '.join(scenario.instances)})")
             continue
         try:
@@ -387,11 +356,11 @@ def apply_overrides(scenario, overrides, problems):
         if not math.isfinite(number):
             problems.append(f"--set {text!r}: the value must be finite")
             continue
-        values[ParamRef(inst, var)] = number
+        values[ref] = number
     return with_values(scenario, values)
 
 
-def _check_times(s, problems):
+def _check_times(s: Scenario, problems: list[str]) -> None:
     if not s.step > 0:
         problems.append(f"step must be positive (got {s.step!r})")
     elif s.step < MIN_STEP:

@@ -5,17 +5,23 @@ numbers; time increases strictly and every value is finite and at most `MAX_MAGN
 Lines starting with ``#`` before the header are comments, skipped (a run's results.csv has none:
 its header is its first line).
 """
+from __future__ import annotations
+
 import csv
 import math
 from pathlib import Path
 
 import numpy as np
 
+from musclesim.cosim.address import Signal
+
 MAX_MAGNITUDE = 1e12  # SI values beyond this are a unit or file error, not a bench's quantity
 
 
-def read_time_series(path, problems, where=None):
-    """(header, time, data) of a results.csv-format file, or None when it is unusable.
+def read_time_series(path: str | Path, problems: list[str], where: str | None = None
+                     ) -> tuple[list[str], np.ndarray | None, np.ndarray | None] | None:
+    """(header, time, data) of the results.csv-format file at `path`, or None when it is
+    unusable.
 
     Every problem found is appended to `problems` as a sentence naming `where` (default: the
     file name), the line and the column; per-row problems are counted per column, not repeated.
@@ -33,7 +39,10 @@ def read_time_series(path, problems, where=None):
             header = [h.strip() for h in header]
             before = len(problems)
             _check_header(header, where, problems)
-            rows, bad_fields, bad_values, n = [], {}, {}, len(header)
+            rows: list[tuple[int, list[float]]] = []
+            bad_fields: dict[str, list[tuple[int, int]]] = {}
+            bad_values: dict[int, list[tuple[int, str]]] = {}
+            n = len(header)
             for row in reader:
                 line = reader.line_num
                 if not row or all(not x.strip() for x in row):
@@ -100,14 +109,15 @@ def read_time_series(path, problems, where=None):
     return header, array[:, 0], array[:, 1:]
 
 
-def _check_header(header, where, problems):
+def _check_header(header: list[str], where: str, problems: list[str]) -> None:
     if not header or header[0] != "time":
         problems.append(f"{where} line 1: the first column must be 'time' "
                         f"(got {header[0] if header else ''!r})")
     seen = set()
     for j, name in enumerate(header[1:], start=2):
-        inst, _, var = name.partition(".")
-        if not inst or not var:
+        try:
+            Signal.parse(name)
+        except ValueError:
             problems.append(f"{where} line 1, column {j}: {name!r} is not of the form "
                             "instance.variable")
         if name in seen or name == "time":

@@ -17,7 +17,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from musclesim.cosim import scenario, ssp
+from musclesim.cosim import Signal, scenario
+from musclesim.export import ssp
 from musclesim.components.crawler import body, friction, inputs
 from musclesim.components.crawler.monolithic import simulate_ideal
 from musclesim.errors import UserError
@@ -25,6 +26,8 @@ from musclesim.cosim.master import Master
 from musclesim.fmu import step_end
 
 from conftest import SCENARIOS
+
+S = Signal.parse
 
 IDEAL = SCENARIOS / "crawler-ideal.toml"
 NS = ssp.NS
@@ -51,8 +54,8 @@ def test_archive_is_valid_ssp_with_every_instance_connection_and_parameter(fmu_d
     kinds = {(c.get("name"), k.get("name")): k.get("kind")
              for c in components for k in c.findall("ssd:Connectors/ssd:Connector", NS)}
     connections = root.findall("ssd:System/ssd:Connections/ssd:Connection", NS)
-    assert [(f"{c.get('startElement')}.{c.get('startConnector')}",
-             f"{c.get('endElement')}.{c.get('endConnector')}") for c in connections] \
+    assert [(Signal(c.get('startElement'), c.get('startConnector')),
+             Signal(c.get('endElement'), c.get('endConnector'))) for c in connections] \
         == list(s.connections)
     for c in connections:
         assert kinds[c.get("startElement"), c.get("startConnector")] == "output"
@@ -128,7 +131,8 @@ def test_integer_and_boolean_variables_are_typed_in_the_archive_and_libcosim_app
 
 @pytest.mark.parametrize("name, change, message", [
     ("crawler.zip", None, "must have a name ending in .ssp"),
-    ("crawler.ssp", {"connections": (("inputs.f_a", "body.f_b"),)}, "has no variable 'f_b'"),
+    ("crawler.ssp", {"connections": ((S("inputs.f_a"), S("body.f_b")),)},
+     "has no variable 'f_b'"),
 ])
 def test_export_refuses_what_a_user_can_fix(fmu_dir, tmp_path, name, change, message):
     s = scenario.load(IDEAL)
@@ -157,8 +161,8 @@ def run_libcosim(path, signals, n_steps, step):
     observer = CosimObserver.create_time_series()
     execution.add_observer(observer)
     ids = {}
-    for signal in signals:
-        inst, var = scenario.split_signal(signal)
+    for signal in map(str, signals):  # each tool's results keyed by the signal's string
+        inst, var = Signal.parse(signal).instance, Signal.parse(signal).variable
         index = execution.slave_index_from_instance_name(inst)
         refs = {v.name.decode(): v.reference for v in execution.slave_variables(index)}
         ids[signal] = index, refs[var]
@@ -294,7 +298,7 @@ def test_libcosim_runs_the_archive_as_a_jacobi_master_that_delays_feedthrough(
 
     ours = Master(s, fmu_dir).run()
     assert ours.error is None
-    assert_close(ours.time, {c: ours[c] for c in ours.names}, *crawler_reference(s, "ours"))
+    assert_close(ours.time, {str(c): ours[c] for c in ours.names}, *crawler_reference(s, "ours"))
     # the reference without libcosim's delays is the project's monolithic model
     ref_time, ref = crawler_reference(s, "ours")
     mono_time, states = simulate_ideal(
@@ -304,7 +308,7 @@ def test_libcosim_runs_the_archive_as_a_jacobi_master_that_delays_feedthrough(
     flanges = ["body.flange_a.s", "body.flange_a.v", "body.flange_b.s", "body.flange_b.v"]
     assert_close(mono_time, dict(zip(flanges, states.T)), ref_time, {k: ref[k] for k in flanges})
     # and the delay matters: libcosim and our master part once the friction sticks or slips
-    assert not np.allclose(values["body.flange_a.s"], ours["body.flange_a.s"], rtol=0, atol=1e-6)
+    assert not np.allclose(values["body.flange_a.s"], ours[S("body.flange_a.s")], rtol=0, atol=1e-6)
 
 
 # ---- running the archive in ecos and in FMPy's SSP simulator -------------------------------------
@@ -316,7 +320,7 @@ def run_ecos(path, signals, n_steps, step, parameter_set=None):
     ctypes.CDLL(str(Path(sys.prefix) / "lib" / "libtbb.so.12"), mode=ctypes.RTLD_GLOBAL)
     from ecospy import EcosSimulation
 
-    ids = ["::".join(scenario.split_signal(signal)) for signal in signals]
+    ids = [f"{s.instance}::{s.variable}" for s in map(Signal.parse, map(str, signals))]
     times, rows = [], []
     with EcosSimulation(ssp_path=str(path), step_size=step) as sim:
         sim.init(parameter_set=parameter_set)
@@ -326,7 +330,7 @@ def run_ecos(path, signals, n_steps, step, parameter_set=None):
             times.append(sim.get_time())
             rows.append([sim.get_real(i) for i in ids])
         sim.terminate()
-    return np.array(times), dict(zip(signals, np.array(rows).T))
+    return np.array(times), dict(zip(map(str, signals), np.array(rows).T))
 
 
 def run_fmpy_ssp(path, stop_time, step):
@@ -363,7 +367,7 @@ def test_ecos_and_fmpys_ssp_simulator_run_the_archive_each_as_its_master_steps(
                                    ("fmpy-ssp", run_fmpy_ssp(path, s.stop_time, s.step))):
         ref_time, ref = crawler_reference(s, master)
         np.testing.assert_array_equal(time, ref_time, err_msg=master)
-        for signal in s.record:
+        for signal in map(str, s.record):
             np.testing.assert_array_equal(values[signal], ref[signal], err_msg=f"{master} {signal}")
     # each switch matters: ecos's late reading shows other friction forces than libcosim's
     # observer, and FMPy's zero start moves the blocks

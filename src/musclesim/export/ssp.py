@@ -1,11 +1,13 @@
 """SSP export: a scenario and its FMUs as an SSP 1.0 archive (SystemStructure.ssd + resources/)."""
+from __future__ import annotations
+
+import zipfile
 from pathlib import Path
+from typing import Any
 from xml.etree import ElementTree as ET
 
+from musclesim.cosim import KINDS, Master, Scenario, check_archive, replace_zip
 from musclesim.errors import UserError
-from musclesim.cosim.master import KINDS, Master
-from musclesim.cosim.outputs import check_archive, replace_zip
-from musclesim.cosim.scenario import split_signal
 
 NS = {
     "ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription",
@@ -23,33 +25,30 @@ for _prefix, _uri in NS.items():
     ET.register_namespace(_prefix, _uri)
 
 
-def _tag(qname):
+def _tag(qname: str) -> str:
     """``"ssd:System"`` -> ``"{http://...}System"``."""
     prefix, _, local = qname.partition(":")
     return f"{{{NS[prefix]}}}{local}"
 
 
-def _sub(parent, qname, **attrib):
+def _sub(parent: Any, qname: str, **attrib: str) -> ET.Element:
     return ET.SubElement(parent, _tag(qname), attrib)
 
 
-def _used_variables(scenario):
+def _used_variables(scenario: Scenario) -> dict[str, set[str]]:
     """``{instance: set of variable names}`` that the scenario connects, sets or records."""
-    signals = [s for pair in scenario.connections for s in pair]
-    signals += [*scenario.record, *(m.signal for m in scenario.metrics.values()),
-                *(m.over for m in scenario.metrics.values() if m.over),
-                *(sig for panel in scenario.plots for sig in panel["signals"])]
+    signals = [s for pair in scenario.connections for s in pair] + scenario.recorded()
     used = {name: set(inst.parameters) for name, inst in scenario.instances.items()}
     for signal in signals:
-        inst, var = split_signal(signal)
-        used[inst].add(var)
+        used[signal.instance].add(signal.variable)
     return used
 
 
-def base_units(master):
-    """The components' unit definitions as ``BaseUnit`` attributes (SSC's and FMI 2.0's are the
-    same), ``{name: {attr: text}}``; a unit two FMUs define differently is refused."""
-    units = {}
+def base_units(master: Master) -> dict[str, dict[str, str]]:
+    """The unit definitions of `master`'s components as ``BaseUnit`` attributes (SSC's and FMI
+    2.0's are the same), ``{name: {attr: text}}``; a unit two FMUs define differently is
+    refused."""
+    units: dict[str, dict[str, str]] = {}
     for inst in master.instances.values():
         for unit in inst.md.unitDefinitions:
             if unit.baseUnit is None:
@@ -64,7 +63,7 @@ def base_units(master):
     return units
 
 
-def value_text(kind, value):
+def value_text(kind: str, value: float) -> str:
     """`value` of a variable of `kind` (Real, Integer, Boolean) as text, as SSP and FMI model
     descriptions write it."""
     value = float(value)
@@ -72,7 +71,8 @@ def value_text(kind, value):
             "Boolean": "true" if value else "false"}[kind]
 
 
-def _parameter_binding(component, set_name, parameters, variables):
+def _parameter_binding(component: ET.Element, set_name: str, parameters: dict[str, float],
+                       variables: dict[str, Any]) -> None:
     """Bind ``{name: value}`` to `component` as an inline ``ssv:ParameterSet``, each value typed
     as its variable (`variables`: {name: fmpy ScalarVariable})."""
     binding = _sub(_sub(component, "ssd:ParameterBindings"), "ssd:ParameterBinding")
@@ -84,8 +84,8 @@ def _parameter_binding(component, set_name, parameters, variables):
         _sub(_sub(params, "ssv:Parameter", name=name), f"ssv:{kind}", value=value_text(kind, value))
 
 
-def system_structure(scenario, master):
-    """Build the ``ssd:SystemStructureDescription`` element of `scenario`.
+def system_structure(scenario: Scenario, master: Master) -> ET.Element:
+    """Build the ``ssd:SystemStructureDescription`` element of `scenario` (checked by `master`).
 
     Parameters
     ----------
@@ -126,10 +126,9 @@ def system_structure(scenario, master):
                         type="com.opensimulationplatform")
             _sub(note, "osp:StepSizeHint", value=repr(spec.every * scenario.step))
     connections = _sub(system, "ssd:Connections") if scenario.connections else None
-    for src, dst in scenario.connections:
-        (a, x), (b, y) = split_signal(src), split_signal(dst)
-        _sub(connections, "ssd:Connection", startElement=a, startConnector=x,
-             endElement=b, endConnector=y)
+    for link in scenario.graph.links:
+        _sub(connections, "ssd:Connection", startElement=link.source, startConnector=link.output,
+             endElement=link.target, endConnector=link.input)
     if referenced:
         defs = _sub(root, "ssd:Units")
         for unit in sorted(referenced):
@@ -144,7 +143,7 @@ def system_structure(scenario, master):
     return root
 
 
-def export(scenario, fmu_dir, ssp_path):
+def export(scenario: Scenario, fmu_dir: str | Path, ssp_path: str | Path) -> Path:
     """Write `scenario` with its FMUs as the SSP 1.0 archive `ssp_path`.
 
     Parameters
@@ -173,11 +172,12 @@ def export(scenario, fmu_dir, ssp_path):
     libcosim reads, as does an instance's own step (``every`` steps: its ``StepSizeHint``), and
     each tool steps the system with its own master. libcosim's fixed-step
     master passes values only after all instances stepped, so it delays direct feedthrough by one
-    step where ours resolves it at each communication point (tests/cosim/test_ssp.py shows both).
+    step where ours resolves it at each communication point (tests/export/test_ssp.py shows both).
 
     Examples
     --------
-    >>> from musclesim.cosim import export_ssp, load_scenario
+    >>> from musclesim.cosim import load_scenario
+    >>> from musclesim.export import export_ssp
     >>> s = load_scenario("scenarios/crawler-ideal.toml")
     >>> export_ssp(s, "fmus", "crawler.ssp")  # doctest: +SKIP
     PosixPath('crawler.ssp')
@@ -186,7 +186,7 @@ def export(scenario, fmu_dir, ssp_path):
     root = system_structure(scenario, Master(scenario, fmu_dir))
     ET.indent(root)
 
-    def fill(archive):
+    def fill(archive: zipfile.ZipFile) -> None:
         archive.writestr("SystemStructure.ssd",
                          ET.tostring(root, encoding="UTF-8", xml_declaration=True))
         for comp in sorted({i.component for i in scenario.instances.values()}):

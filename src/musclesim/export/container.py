@@ -7,7 +7,7 @@ listed, each output read when its connection's turn comes, on the communication 
 master steps on (its results' time column is ours, bit for bit). Listing the connections in the
 order of the sources' exchange (direct feedthrough first, `Master.exchange_order`) makes that
 order the exchange of our Jacobi master, so a Jacobi scenario gives our results
-(tests/cosim/test_container.py). With ``fmi=3`` the container is an FMI 3.0 FMU; the FMUs inside
+(tests/export/test_container.py). With ``fmi=3`` the container is an FMI 3.0 FMU; the FMUs inside
 may be of either version. A Gauss-Seidel scenario
 runs as Jacobi there: it is refused rather than exported to other numbers. Multi-rate stepping
 (``every``) the container cannot express: refused too.
@@ -22,25 +22,28 @@ FMPy 0.3.32's own packager writes connections of FMI 2.0 FMUs with a type its ru
 leaves a stray archive inside the FMU; the packaging here is ours (a model description, the
 runtime's ``container.json``, the FMUs unpacked under ``resources/``).
 """
+from __future__ import annotations
+
 import json
 import uuid
 import zipfile
 from pathlib import Path
+from typing import Any
 from xml.etree import ElementTree as ET
 
-from musclesim.cosim.master import KINDS, Master
-from musclesim.cosim.outputs import check_archive, replace_zip
-from musclesim.cosim.scenario import split_signal
-from musclesim.cosim.ssp import base_units, value_text
+from musclesim.cosim import KINDS, Master, Scenario, Signal, check_archive, replace_zip
 from musclesim.errors import UserError
+from musclesim.export.ssp import base_units, value_text
 
+# (name, causality, instance, its model variable, start value as text or None)
+Variable = tuple[str, str, str, Any, "str | None"]
 CONTAINER_VERSION = "0.1.0"  # the container.json format of FMPy's container runtime
 _PLATFORMS = (("x86_64-linux", "linux64", "container_fmu.so"),
               ("x86_64-windows", "win64", "container_fmu.dll"),
               ("x86_64-darwin", "darwin64", "container_fmu.dylib"))
 
 
-def _runtime():
+def _runtime() -> Path:
     """Folder of FMPy's container runtime binaries."""
     import fmpy.container_fmu
     return Path(fmpy.container_fmu.__file__).parent / "binaries"
@@ -51,14 +54,14 @@ _TYPES = {"Real": ("Real", "Float64"), "Integer": ("Integer", "Int32"),
           "Boolean": ("Boolean", "Boolean")}
 
 
-def _variables(scenario, master):
+def _variables(scenario: Scenario, master: Master) -> list[Variable]:
     """[(name, causality, instance, its variable, start value as text or None)] of the
     container, in value-reference order (from 1): a parameter or input starts at the value the
     scenario sets, else at the FMU's start value; an output has none."""
     targets = {dst for _, dst in scenario.connections}
     out, named = [], set()
 
-    def add(name, causality, inst, var):
+    def add(name: str, causality: str, inst: str, var: Any) -> None:
         if name not in named:
             named.add(name)
             value = None if causality == "output" else \
@@ -73,16 +76,18 @@ def _variables(scenario, master):
                 add(f"{name}.{par}", "parameter", name, v)
     for name, inst in master.instances.items():
         for v in inst.md.modelVariables:
-            if v.causality == "input" and f"{name}.{v.name}" not in targets:
+            if v.causality == "input" and Signal(name, v.name) not in targets:
                 add(f"{name}.{v.name}", "input", name, v)
     for signal in master.columns:  # the recorded signals
-        name, var = split_signal(signal)
-        add(signal, "output", name, master.instances[name].vars[var])
+        add(str(signal), "output", signal.instance,
+            master.instances[signal.instance].vars[signal.variable])
     return out
 
 
-def model_description(scenario, master, variables, fmi=2):
-    """The container's ``fmiModelDescription`` element (FMI `fmi`.0 co-simulation)."""
+def model_description(scenario: Scenario, master: Master, variables: list[Variable],
+                      fmi: int = 2) -> ET.Element:
+    """The container's ``fmiModelDescription`` element (FMI `fmi`.0 co-simulation) of `scenario`
+    checked by `master`, declaring the container's `variables` (`_variables`)."""
     token = {2: "guid", 3: "instantiationToken"}[fmi]
     root = ET.Element("fmiModelDescription", {
         "fmiVersion": f"{fmi}.0", "modelName": scenario.name, token: "{" + str(uuid.uuid4()) + "}",
@@ -108,7 +113,7 @@ def model_description(scenario, master, variables, fmi=2):
                   stopTime=repr(scenario.stop_time), stepSize=repr(scenario.step))
     mv = ET.SubElement(root, "ModelVariables")
 
-    def variable(attrs, real, kind="Real"):
+    def variable(attrs: dict[str, str], real: dict[str, Any], kind: str = "Real") -> None:
         """An FMI 2.0 ScalarVariable with its type element (Real, ...), or an FMI 3.0 variable
         (Float64, ...) holding both."""
         real = {k: x for k, x in real.items() if x is not None}
@@ -150,26 +155,26 @@ def model_description(scenario, master, variables, fmi=2):
     return root
 
 
-def configuration(scenario, master, variables, guid):
-    """The container runtime's ``container.json`` for `scenario`."""
+def configuration(scenario: Scenario, master: Master, variables: list[Variable],
+                  guid: str | None) -> dict[str, Any]:
+    """The container runtime's ``container.json`` for `scenario` checked by `master`, mapping
+    the container's `variables` onto the instances'; `guid` is the container's token."""
     names = list(master.instances)
     index = {n: i for i, n in enumerate(names)}
     position = {n: i for i, n in enumerate(master.exchange_order)}
 
-    def ref(signal):
-        name, var = split_signal(signal)
-        return index[name], master.instances[name].vars[var].valueReference
+    def ref(signal: Signal) -> tuple[int, int]:
+        return index[signal.instance], \
+            master.instances[signal.instance].vars[signal.variable].valueReference
 
     connections = []
-    for src, dst in sorted(scenario.connections,
-                           key=lambda c: position[split_signal(c[0])[0]]):
-        (a, va), (b, vb) = ref(src), ref(dst)
-        kind = _TYPES[KINDS[master.instances[split_signal(src)[0]].vars[
-            split_signal(src)[1]].type]][1]
+    for link in sorted(scenario.graph.links, key=lambda k: position[k.source]):
+        (a, va), (b, vb) = ref(link.src), ref(link.dst)
+        kind = _TYPES[KINDS[master.instances[link.source].vars[link.output].type]][1]
         connections.append({"variableType": kind, "srcComponent": a, "dstComponent": b,
                              "srcValueReferences": [va], "dstValueReferences": [vb],
                              "size": 1})
-    data = {
+    data: dict[str, Any] = {
         "containerVersion": CONTAINER_VERSION, "instantiationToken": guid,
         "fixedStepSize": scenario.step, "parallelDoStep": False,
         "components": [{"fmiMajorVersion": master.instances[n].md.fmiVersion[0], "name": n,
@@ -187,9 +192,9 @@ def configuration(scenario, master, variables, guid):
     return data
 
 
-def export(scenario, fmu_dir, fmu_path, fmi=2):
-    """Write `scenario` with its FMUs (FMI 2.0 or 3.0, or both) as the one FMI `fmi`.0
-    co-simulation FMU `fmu_path` (see the module).
+def export(scenario: Scenario, fmu_dir: str | Path, fmu_path: str | Path, fmi: int = 2) -> Path:
+    """Write `scenario` with its FMUs from `fmu_dir` (FMI 2.0 or 3.0, or both) as the one FMI
+    `fmi`.0 co-simulation FMU `fmu_path` (see the module); return its path.
 
     Raises
     ------
@@ -221,7 +226,7 @@ def export(scenario, fmu_dir, fmu_path, fmi=2):
     config = configuration(scenario, master, variables,
                            root.get("guid") or root.get("instantiationToken"))
 
-    def fill(archive):
+    def fill(archive: zipfile.ZipFile) -> None:
         archive.writestr("modelDescription.xml",
                          ET.tostring(root, encoding="UTF-8", xml_declaration=True))
         archive.writestr("resources/container.json", json.dumps(config, indent=2))
