@@ -42,7 +42,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
 
 def _cmd_export(args: argparse.Namespace) -> int:
-    from musclesim.cosim import check_fresh, export_fmu, export_ssp, load_scenario
+    from musclesim.cosim import check_fresh, load_scenario
+    from musclesim.export import export_fmu, export_ssp
 
     s = load_scenario(args.scenario, args.set, args.stop_time)
     check_fresh(args.fmus)
