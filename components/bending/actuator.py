@@ -24,7 +24,7 @@ from pathlib import Path
 from musclesim.components.checks import require
 from musclesim.components.sma import thermal
 from musclesim.components.sma.preisach import PreisachModel
-from musclesim.components.sma.wire import ReferenceWire
+from musclesim.components.sma.reference_wire import ReferenceWire
 from musclesim.fmu import declare
 
 from . import beam
@@ -94,12 +94,12 @@ def hysteresis_surface(wire_params, sigma):
     """The wire's hysteresis at the constant stress sigma [Pa], tabulated on a 1 C grid (~25 ms,
     once per process and stress).
 
-    ``wire_params`` is the reference wire's `sma.wire.WireParams` (the 127 um wire's: the 50 um
+    ``wire_params`` is the reference wire's `sma.reference_wire.WireParams` (the 127 um wire's: the 50 um
     wire's hysteresis is scaled from it, §bending-actuator).
 
     Examples
     --------
-    >>> from musclesim.components.sma.wire import load_params
+    >>> from musclesim.components.sma.reference_wire import load_params
     >>> s = hysteresis_surface(load_params(), 100e6)
     >>> round(s.F(130.0, 30.0, 100e6), 4)
     0.0372

@@ -3,7 +3,7 @@
 import math
 
 from musclesim.components.bending import actuator, beam
-from musclesim.components.sma import datasets, thermal, wire
+from musclesim.components.sma import datasets, reference_wire, thermal
 from musclesim.fmu import Slave, experiment
 
 ZERO_C = 273.15  # K; the FMU speaks K, the cores C
@@ -85,7 +85,8 @@ class BendingActuator(Slave):
             rho_austenite=self.rho_austenite, h=self.h, drive="current")
         sigma = self.pretension / thermal.cross_section(wire_p)  # the hysteresis' stress
         #                                                          (§bending-actuator)
-        params = wire.load_params(datasets.shipped(self.resources) / datasets.WIRE_PARAMS)
+        params = reference_wire.load_params(
+            datasets.shipped(self.resources) / datasets.WIRE_PARAMS)
         surface = actuator.hysteresis_surface(params, sigma)
         self.core = self.logged(actuator.BendingActuator, b, layout, wire_p, surface)
         self._start()

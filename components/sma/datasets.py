@@ -18,7 +18,7 @@ import tomllib
 from pathlib import Path
 
 from .surface import Hypersurface
-from .wire import DEFAULT_PARAMS, ReferenceWire, load_params
+from .reference_wire import DEFAULT_PARAMS, ReferenceWire, load_params
 
 PACKAGE_DIR = Path(__file__).parent
 INDEX = Path("data") / "forc-sets.toml"  # below the root

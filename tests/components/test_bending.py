@@ -11,7 +11,7 @@ from fmpy.fmi2 import FMU2Slave
 from musclesim.components.bending import actuator, beam
 from musclesim.components.bending.slaves import BendingActuator
 from musclesim.components.sma import thermal
-from musclesim.components.sma.wire import load_params
+from musclesim.components.sma.reference_wire import load_params
 
 from conftest import in_process
 

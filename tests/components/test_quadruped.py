@@ -8,7 +8,7 @@ import pytest
 
 from musclesim.components.bending import actuator, beam
 from musclesim.components.quadruped import body, sequencer
-from musclesim.components.sma.wire import load_params
+from musclesim.components.sma.reference_wire import load_params
 
 from test_bending import fmu_run
 
