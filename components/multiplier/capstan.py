@@ -14,15 +14,16 @@ current drive the same current. The end displacement is the sum of the segments'
 
     s = sum_i eps_i L_i.
 
-The cores are the straight wire's (`musclesim.components.sma.thermal`, `.preisach`); with one
-segment and mu_f = 0 a step is the SmaWire FMU's step exactly. Equations and every assumption:
+The cores are the straight wire's (`musclesim.components.sma.thermal`, `.preisach`; its thermal
+submodel `submodels.Lumped`, no end zones); with one segment and mu_f = 0 a step is the SmaWire
+FMU's step exactly. Equations and every assumption:
 §capstan-multiplier (docs/model/multiplier.md).
 """
 import math
 from dataclasses import dataclass, field
 
 from musclesim.components.checks import require
-from musclesim.components.sma import thermal
+from musclesim.components.sma import submodels, thermal
 from musclesim.components.sma.preisach import PreisachModel
 from musclesim.components.sma.surface import clamp
 from musclesim.fmu import declare
@@ -166,6 +167,8 @@ class Segment:
 
     def __init__(self, params, surface):
         self.p = params  # ThermalParams with this segment's length
+        # the straight wire's thermal submodel, without its effects: lumped, ends none
+        self.thermal = submodels.Lumped()
         self.surface = surface
         self.model = PreisachModel(surface)
         self.T_C = 0.0
@@ -247,7 +250,7 @@ class Multiplier:
         self.power = self.joule_power(u)
         for seg, sigma, ui in zip(self.segments, sigmas, drives):
             eps_max = seg.eps_max(sigma)
-            T_new = thermal.step(seg.T_C, thermal.ThermalInputs(ui, T_amb, seg.xi), dt, seg.p)
+            T_new = seg.thermal.step(seg.T_C, thermal.ThermalInputs(ui, T_amb, seg.xi), dt, seg.p)
             eps = seg.model.step(self._seen(T_new), sigma, t + dt)
             seg.xi = thermal.martensite_fraction(eps, eps_max)
             seg.eps = eps

@@ -12,7 +12,7 @@ The update is exponential (Rosenbrock-Euler): exact in one step when h is consta
 are held, sub-stepped with h(T), stable at any step.
 """
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import NamedTuple
 
 from scipy.optimize import brentq
@@ -67,6 +67,15 @@ class ThermalParams:
                 non_negative=("h", "latent_heat", "h_exponent"))
         if self.drive not in DRIVES:
             raise ValueError(f"drive must be one of {DRIVES} (got {self.drive!r})")
+
+
+def params_of(values: object, drive: str, skip: tuple[str, ...] = ()) -> ThermalParams:
+    """The `ThermalParams` of the declared parameters' values, read as attributes of `values` (an
+    FMU slave that declared them with ``parameters_of(ThermalParams)``), but not those in `skip`
+    (their defaults hold), with the electrical input `drive` ("voltage" or "current")."""
+    return ThermalParams(drive=drive, **{f.name: getattr(values, f.name)
+                                         for f in fields(ThermalParams)
+                                         if "unit" in f.metadata and f.name not in skip})
 
 
 class ThermalInputs(NamedTuple):
