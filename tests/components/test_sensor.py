@@ -1,11 +1,11 @@
-"""The sensors' reading (components/sensors/thermocouple.py): lag exact for a ramp, bias and
+"""The scalar-sensor core (components/sensors/sensor.py): lag exact for a ramp, bias and
 quantisation, seeded noise."""
 import math
 
 import numpy as np
 import pytest
 
-from musclesim.components.sensors import thermocouple as tc
+from musclesim.components.sensors import sensor as tc
 
 
 def test_lag_is_exact_for_a_ramp_and_continuous_at_zero():
