@@ -2,7 +2,7 @@
 
 Selected by an integer id (the SmaWire FMU's Real parameter ``hysteresis``):
 
-- 0: the reference wire (`wire.ReferenceWire`, the virtual hardware, parameters from
+- 0: the reference wire (`reference_wire.ReferenceWire`, the virtual hardware, parameters from
   ``params/flexinol-127um-90C.toml``) tabulated on a 1 C grid over its saturation range and at
   60..200 MPa every 10 MPa (`REFERENCE_STRESSES`): within 1.5e-4 strain (0.4 % of the maximum)
   of the wire's exact FORC increment everywhere inside;
