@@ -139,7 +139,8 @@ class PreisachInverse(Slave):
         self.output("T_ref", "K", "Temperature reference for the wire's temperature controller",
                     depends=["eps_ref", "sigma_ref"])
 
-    def setup(self):
+    def setup(self) -> None:
+        """Load the data set's surface and the inverse's bases (once per process), then start."""
         self.surface = datasets.surface(self.hysteresis, self.sigma_surface,
                                         datasets.shipped(self.resources))
         key = id(self.surface)
@@ -148,24 +149,28 @@ class PreisachInverse(Slave):
         self.bases = _BASES[key][1]
         self._start()
 
-    def initialize(self):
-        self._start()  # the inputs are known now
+    def initialize(self) -> None:
+        """Clear the memory at the reference stress, now that the inputs are known."""
+        self._start()
 
-    def _start(self):
+    def _start(self) -> None:
         self.core = InverseCore(self.surface, bases=self.bases)
         self._checked(self.time)
         self.logged(self.core.clear, self.sigma_ref, self.time)
 
-    def evaluate(self):
+    def evaluate(self) -> None:
+        """T_ref: the core's `peek` at the present inputs, its memory untouched."""
         t = self.time
         self._checked(t)
         self.T_ref = self.logged(self.core.peek, self.eps_ref, self.sigma_ref, t) + ZERO_C
 
-    def advance(self, t, dt):
+    def advance(self, t: float, dt: float) -> None:
+        """Commit the inputs at `t` [s] with the core's `step` (the step `dt` [s] plays no part:
+        the inverse has no dynamics)."""
         self._checked(t)
         self.logged(self.core.step, self.eps_ref, self.sigma_ref, t)
 
-    def _checked(self, t):
+    def _checked(self, t: float) -> None:
         for name, value in (("eps_ref", self.eps_ref), ("sigma_ref", self.sigma_ref)):
             if not math.isfinite(value):
                 raise ValueError(f"input {name} is {value!r} at t = {t:g} s")

@@ -87,8 +87,8 @@ class ColdEnds:
 
     def strain(self, eps_core: float, T_core: float, T_amb: float, strain_of: StrainOf) -> float:
         """The wire's strain, averaged over its length: the core's `eps_core` (at `T_core` [C])
-        and each zone's, `strain_of(its memory, its temperature)` at `T_amb` [C] plus its share
-        of the core's excess temperature."""
+        and each zone's, `strain_of` (its memory, its temperature), at `T_amb` [C] plus its
+        share of the core's excess temperature."""
         temps = ends.zone_temperatures(T_core, T_amb, self.zones)
         return (1 - sum(w for w, _ in self.zones)) * eps_core + sum(
             w * strain_of(m, T) for (w, _), m, T in zip(self.zones, self.models, temps))
