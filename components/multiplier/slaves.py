@@ -25,7 +25,7 @@ class CapstanMultiplier(Slave):
     description = ("Capstan multiplier: one SMA wire folded over fixed capstans into segments with "
                    "their own temperature, stress and hysteresis memory (§capstan-multiplier)")
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         # the fold's length and number of segments, the capstans' friction and the effects
         self.parameters_of(capstan.CapstanParams)
@@ -72,7 +72,7 @@ class CapstanMultiplier(Slave):
             self.output(f"segment[{i}].stress", "Pa", f"Stress of segment {i}, capstan-scaled "
                         "from the load end (0 if unused)")
 
-    def setup(self):
+    def setup(self) -> None:
         if self.drive_current not in (0.0, 1.0):
             raise ValueError(f"drive_current must be 0 (voltage) or 1 (current), "
                              f"got {self.drive_current!r}")
@@ -95,7 +95,7 @@ class CapstanMultiplier(Slave):
         self.surface = datasets.surface(self.hysteresis, 0.0, datasets.shipped(self.resources))
         self._start()
 
-    def initialize(self):
+    def initialize(self) -> None:
         self._start()  # the inputs (ambient, load) are known now
 
     def _start(self):
@@ -103,7 +103,7 @@ class CapstanMultiplier(Slave):
         self.logged(self.core.start, self.T_init - ZERO_C, self.flange_f, self.time, self.u)
         self.stress_held = self.flange_f / self.core.area
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         core = self.core
         s = core.displacement()
         self.flange_s = s
@@ -117,7 +117,8 @@ class CapstanMultiplier(Slave):
             setattr(self, f"segment[{i}]_strain", seg.eps)
             setattr(self, f"segment[{i}]_stress", seg.sigma)
 
-    def advance(self, t, dt):
+    def advance(self, t: float, dt: float) -> None:
+        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
         ports.check_inputs(self.u, self.T_amb, self.flange_f, t)
         self.logged(self.core.step, self.u, self.T_amb - ZERO_C, self.flange_f, t, dt)
         self.stress_held = self.flange_f / self.core.area

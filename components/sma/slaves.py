@@ -122,7 +122,7 @@ class PreisachInverse(Slave):
     description = ("Feed-forward inverse of the modified Preisach model: reference strain and "
                    "stress in, temperature reference out (§position-control)")
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         self.parameter("hysteresis", 0.0, "1", HYSTERESIS + "; set it to the data set the "
                        "wire is modelled with", source="§preisach", type="Integer")
