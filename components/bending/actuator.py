@@ -16,6 +16,8 @@ series resistance R_s (driver, leads): I = u / (R(xi) + R_s), P = R(xi) I^2. Eac
 is taken at the stress of its pretension (assumption, §bending-actuator: coupling it to the changing
 tension makes this stiff system oscillate numerically). Temperatures in C, SI otherwise.
 """
+from __future__ import annotations
+
 import math
 import tomllib
 from dataclasses import dataclass
@@ -142,7 +144,7 @@ class WireLayout:
                                  "moduli; numerics: well below the first mode's period, about "
                                  "3 ms)")
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         # a pretension is needed: the hysteresis is taken at its stress, and a wire detwins
         # (elongates, §forc-identification) only under stress

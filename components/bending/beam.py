@@ -13,6 +13,8 @@ stiffness K = EI / L (plus what the wires add), modal inertia J = m_tip (z_tip -
 L^2 / 20 (the cap and foot as a point mass), viscous damping c = 2 zeta sqrt(K J). Lengths in m,
 angles in rad.
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
 
@@ -52,7 +54,7 @@ class BeamParams:
                                    "wires cold (open; assumption: a carbon-fibre beam in air with "
                                    "the wires' internal friction)", source="§bending-actuator")
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("length", "n_beams", "width", "thickness", "modulus",
                                 "density", "tip_mass"),

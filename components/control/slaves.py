@@ -50,7 +50,7 @@ class PID(_PIDBase):
         self.parameters_of(pid.PIDParams)
         self._declare_common()
 
-    def gains(self) -> tuple[float, float, float]:
+    def gains(self) -> tuple[float, ...]:
         """Current (Kp, Ki, Kd)."""
         return self.Kp, self.Ki, self.Kd
 
@@ -85,7 +85,7 @@ class GainScheduledPID(_PIDBase):
         self.table = [(attr("Kp", i), attr("Ki", i), attr("Kd", i)) for i in range(1, 22)]
         super().setup()
 
-    def gains(self) -> tuple[float, float, float]:
+    def gains(self) -> tuple[float, ...]:
         """(Kp, Ki, Kd) interpolated at the current reference."""
         return pid.scheduled_gains(self.u_s, self.breakpoints, self.table)
 

@@ -5,6 +5,8 @@ inflation pump and emptied into an exhaust pump, each line through a PWM-driven 
 Pressures are gauge [Pa] everywhere except in the ISO 6358 flow law, which takes absolute ones.
 Equations and where every default comes from: §pneumatics (docs/model/pneumatics.md).
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass, field, fields
 
@@ -89,7 +91,7 @@ class ActuatorParams:
                                  "p_supply (1 - supply_drop)", source="§named-effects",
                                  effect=(0.0, 0.5))
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         for f in fields(self):
             if not math.isfinite(getattr(self, f.name)):

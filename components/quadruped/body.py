@@ -18,6 +18,8 @@ whose force stays below static friction stops (velocity 0), and a kinetic step t
 foot's velocity stops it there: without these remedies (§stick-slip-numerics) a foot chatters at the
 per-step change of velocity, larger than any band narrow enough for feet moving at mm/s.
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
 
@@ -79,7 +81,7 @@ class QuadrupedParams:
     max_substep: float = declare(2e-5, "s", "Longest internal sub-step (numerics: about 1/8 of a "
                                  "radian of the foot's mode)", source="§quadruped")
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("body_mass", "foot_mass", "leg_stiffness", "v_s", "max_substep"),
                 non_negative=("leg_damping_ratio", "mu_s_forward", "mu_k_forward",

@@ -9,6 +9,8 @@ while its shifted cycle is in the first `duty` of a period, else at 0:
 
 The pulse is the SignalSource's square wave (`sources.signals.unit_wave`).
 """
+from __future__ import annotations
+
 from dataclasses import dataclass
 
 from musclesim.components.checks import require
@@ -41,7 +43,7 @@ class SequencerParams:
     phase4: float = declare(0.0, "1", "Phase of leg 4's wire A (rear right) in periods (open; "
                             "default: a trot)", source="§quadruped")
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("frequency",), non_negative=("voltage",))
         if not 0.0 < self.duty < 1.0:
