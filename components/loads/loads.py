@@ -91,8 +91,8 @@ def link_omega(p: WeightParams) -> float:
 
 def link_transition(dt: float, p: WeightParams) -> list[list[float]]:
     """2x2 matrix (rows of floats) advancing (y, dy/dt) of y'' = -w^2 y - 2 zeta w y' of the
-    weight `p` exactly over `dt`: its matrix exponential, taken in a fixed order of operations (no BLAS, whose kernel
-    is chosen per CPU: the same bits on every CPU)."""
+    weight `p` exactly over `dt`: its matrix exponential, taken in a fixed order of operations (no
+    BLAS, whose kernel is chosen per CPU: the same bits on every CPU)."""
     w = link_omega(p)
     return fixedorder.exp_and_integral([[0.0, 1.0], [-w * w, -2.0 * p.zeta * w]], dt)[0]
 

@@ -48,7 +48,8 @@ class DeadWeight(Slave):
 
     def setup(self) -> None:
         self.p = self.core_params(loads.WeightParams)
-        self.phi: dict[float, list[list[float]]] = {}  # step -> the link's transition matrix over it
+        # step -> the link's transition matrix over it
+        self.phi: dict[float, list[list[float]]] = {}
         self.initialize()
 
     def initialize(self) -> None:

@@ -96,8 +96,8 @@ class CapstanParams:
 
 
 def segment_lengths(p: CapstanParams) -> list[float]:
-    """Length [m] of each segment of the fold `p`, clamp first: given entries as they are, the zeros sharing the
-    rest of ``length`` equally.
+    """Length [m] of each segment of the fold `p`, clamp first: given entries as they are, the
+    zeros sharing the rest of ``length`` equally.
 
     Examples
     --------
@@ -126,8 +126,9 @@ def contact_wraps(p: CapstanParams) -> list[float]:
 
 
 def tension_ratios(p: CapstanParams) -> list[float]:
-    """Tension of each segment of the fold `p` over the load's tension, clamp first: exp(mu_f sum of the wraps
-    between it and the load end); exactly 1.0 for the load-end segment and when mu_f = 0.
+    """Tension of each segment of the fold `p` over the load's tension, clamp first: exp(mu_f sum
+    of the wraps between it and the load end); exactly 1.0 for the load-end segment and when mu_f =
+    0.
 
     Examples
     --------

@@ -50,13 +50,13 @@ class SequencerParams:
             raise ValueError(f"duty must be within (0, 1) (got {self.duty!r})")
 
 
-def phases(p):
-    """Phase of each leg's wire A [periods]."""
+def phases(p: SequencerParams) -> tuple[float, float, float, float]:
+    """Phase of each leg's wire A [periods] of the sequencer `p`."""
     return (p.phase1, p.phase2, p.phase3, p.phase4)
 
 
-def voltages(t, p):
-    """[(u_A, u_B) per leg] [V] at time t [s] (module equation).
+def voltages(t: float, p: SequencerParams) -> list[tuple[float, ...]]:
+    """[(u_A, u_B) per leg] [V] of the sequencer `p` at time `t` [s] (module equation).
 
     Examples
     --------
