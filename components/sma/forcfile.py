@@ -36,7 +36,7 @@ _PREAMBLE = ("# musclesim FORC data set: F(a, b; stress) = strain increment of t
 class TableError(ValueError):
     """Bad table entries; `entries` lists their (stress, a, b) positions in the table."""
 
-    def __init__(self, message, entries):
+    def __init__(self, message: str, entries: list[tuple[int, int, int]]) -> None:
         super().__init__(message)
         self.entries = entries
 

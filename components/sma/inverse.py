@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from .preisach import MemoryParams, StressInput, clamp, push_extremum
+from .surface import Hypersurface
 
 N_DENSE = 201  # points per axis of the densified surfaces and of the inverse bases
 #                (§preisach-inverse)
@@ -33,7 +34,7 @@ class InverseBases:
     a' = dense[i]; ``b_fmax[s * n + i]``. Immutable: ``copy.deepcopy`` returns it unchanged.
     """
 
-    def __init__(self, surface, n=N_DENSE):
+    def __init__(self, surface: Hypersurface, n: int = N_DENSE) -> None:
         if not (isinstance(n, int) and n >= 2):
             raise ValueError(f"n must be an integer >= 2 (got {n!r})")
         self.n = n
@@ -100,7 +101,8 @@ class PreisachInverse(StressInput):
         Built from `surface` when not given (share one between inverses of the same surface).
     """
 
-    def __init__(self, surface, params=None, bases=None):
+    def __init__(self, surface: Hypersurface, params: MemoryParams | None = None,
+                 bases: InverseBases | None = None) -> None:
         self.params = params or MemoryParams()
         self.params.check()
         self.surface = surface

@@ -108,7 +108,7 @@ class PreisachModel(StressInput):
     [1800.0, 1000.0, 1200.0, 1150.0, 2112.5]
     """
 
-    def __init__(self, surface, params=None):
+    def __init__(self, surface: Hypersurface, params: MemoryParams | None = None) -> None:
         self.params = params or MemoryParams()
         self.params.check()
         self.surface = surface

@@ -22,7 +22,8 @@ class Profile:
     ``(function, arguments)``, which copying and pickling repeat (an FMU's saved state holds it).
     """
 
-    def __init__(self, name, fn, lo, hi, duration, made=None):
+    def __init__(self, name: str, fn: Callable[[np.ndarray], np.ndarray], lo: float, hi: float,
+                 duration: float, made: tuple[Callable[..., Profile], tuple] | None = None) -> None:
         self.name, self.lo, self.hi, self.duration = name, lo, hi, duration
         self._fn, self.made = fn, made
 

@@ -58,7 +58,7 @@ class Hypersurface:
     (10.0, 5.0)
     """
 
-    def __init__(self, temps, stresses, F):
+    def __init__(self, temps, stresses, F):  # array-likes, made read-only arrays here
         temps = np.array(temps, dtype=float)
         stresses = np.array(stresses, dtype=float)
         table = np.array(F, dtype=float)

@@ -62,7 +62,7 @@ class _ProfileSlave(Slave):
     # profiles.strain_profile or profiles.loading_profile
     make: Callable[..., profiles.Profile] | None = None
 
-    def __init__(self, lo, hi, unit, **kwargs):
+    def __init__(self, lo: float, hi: float, unit: str, **kwargs: object) -> None:
         super().__init__(**kwargs)
         self.parameter("profile", 1.0, "1", "Profile number: " + ", ".join(
             f"{i} = {n}" for i, n in enumerate(self.names, 1)), source="§reference-profiles",
