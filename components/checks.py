@@ -1,7 +1,11 @@
 """Parameter checks shared by the components' cores: one sentence naming the bad parameter."""
+from __future__ import annotations
+
+from collections.abc import Iterable
 
 
-def require(params, positive=(), non_negative=()):
+def require(params: object, positive: Iterable[str] = (),
+            non_negative: Iterable[str] = ()) -> None:
     """Raise ValueError naming the first field of `params` in `positive` that is not > 0, then the
     first in `non_negative` that is not >= 0 (NaN fails both).
 

@@ -9,11 +9,16 @@ CPU. Matrices are sequences of rows of floats (numpy arrays work as well); resul
 lists. `least_squares` fits long columns: its sums are `math.fsum`'s, exactly rounded whatever
 their order. Python's own floats carry no fused multiply-add, so nothing here depends on the CPU.
 """
+from __future__ import annotations
+
 import math
+from collections.abc import Sequence
+
+Matrix = Sequence[Sequence[float]]  # rows of floats (numpy arrays work as well)
 
 
-def matvec(a, x):
-    """The product a x. Each row's terms t_k are summed in a fixed order: for an even length n,
+def matvec(a: Matrix, x: Sequence[float]) -> list[float]:
+    """The product `a` `x`. Each row's terms t_k are summed in a fixed order: for an even length n,
     first t_k + t_(k + n/2) (the two halves in pairs), then those left to right; for an odd n
     left to right. A mirror that swaps the halves (the crawler's two blocks) leaves these sums
     alone, so mirrored inputs give mirrored bits."""
@@ -30,8 +35,8 @@ def matvec(a, x):
     return out
 
 
-def matmul(a, b):
-    """The product a b, each element summed over the inner index as `matvec` sums."""
+def matmul(a: Matrix, b: Matrix) -> list[list[float]]:
+    """The product `a` `b`, each element summed over the inner index as `matvec` sums."""
     cols = list(zip(*b))
     if len(cols[0]) == 4:  # the crawler body's size, written out: the same sums, twice as fast
         return [[(r0 * c0 + r2 * c2) + (r1 * c1 + r3 * c3) for c0, c1, c2, c3 in cols]
@@ -80,16 +85,16 @@ def _balance(a):
     return a, d
 
 
-def identity(n):
-    """The n x n identity matrix."""
+def identity(n: int) -> list[list[float]]:
+    """The `n` x `n` identity matrix."""
     return [[1.0 if i == j else 0.0 for j in range(n)] for i in range(n)]
 
 
 TAYLOR_TERMS = 13  # E^13 / 14! is the last term kept: the next is below 5e-17 at |E| <= 1/2
 
 
-def exp_and_integral(A, h):
-    """(exp(A h), integral_0^h exp(A t) dt) of a square matrix A.
+def exp_and_integral(A: Matrix, h: float) -> tuple[list[list[float]], list[list[float]]]:
+    """(exp(A h), integral_0^h exp(A t) dt) of a square matrix `A` over the step `h`.
 
     Scaling and squaring (Moler and Van Loan's method 3, for the pair): with tau = h / 2^s small
     enough that |A tau| <= 1/2 (1-norm), Phi(tau) = tau P, P = sum_k (A tau)^k / (k + 1)! summed by
@@ -131,8 +136,8 @@ def exp_and_integral(A, h):
         [[v * d[i] / d[j] for j, v in enumerate(row)] for i, row in enumerate(Phi)]
 
 
-def zoh(A, B, h):
-    """Zero-order-hold discretisation of dx/dt = A x + B u over a step h: (Ad, Bd) with
+def zoh(A: Matrix, B: Matrix, h: float) -> tuple[list[list[float]], list[list[float]]]:
+    """Zero-order-hold discretisation of dx/dt = `A` x + `B` u over a step `h`: (Ad, Bd) with
     Ad = exp(A h) and Bd = integral_0^h exp(A t) dt B, so that x[k+1] = Ad x[k] + Bd u[k] is
     exact for u held over the step: the pair scipy's ``cont2discrete(..., method="zoh")`` computes
     through LAPACK and BLAS, here in a fixed order (`exp_and_integral`).
@@ -151,8 +156,8 @@ def _dot(a, b):
     return math.fsum([p * q for p, q in zip(a, b)])
 
 
-def least_squares(columns, y):
-    """The coefficients c minimising |sum_j c_j columns[j] - y| (columns of one length, at least
+def least_squares(columns: Sequence[Sequence[float]], y: Sequence[float]) -> list[float]:
+    """The coefficients c minimising |sum_j c_j `columns`[j] - `y`| (columns of one length, at least
     as long as there are columns, independent), by Householder QR: what numpy's lstsq gives to
     rounding, in a fixed order of operations.
 

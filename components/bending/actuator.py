@@ -16,15 +16,19 @@ series resistance R_s (driver, leads): I = u / (R(xi) + R_s), P = R(xi) I^2. Eac
 is taken at the stress of its pretension (assumption, §bending-actuator: coupling it to the changing
 tension makes this stiff system oscillate numerically). Temperatures in C, SI otherwise.
 """
+from __future__ import annotations
+
 import math
 import tomllib
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 from musclesim.components.checks import require
 from musclesim.components.sma import thermal
 from musclesim.components.sma.preisach import PreisachModel
-from musclesim.components.sma.wire import ReferenceWire
+from musclesim.components.sma.reference_wire import ReferenceWire, WireParams
+from musclesim.components.sma.surface import Hypersurface
 from musclesim.fmu import declare
 
 from . import beam
@@ -33,11 +37,12 @@ WIRE_FILE = Path(__file__).parent / "params" / "flexinol-50um-90C.toml"
 GRID_STEP = 1.0  # C, temperature grid of the tabulated hysteresis (as the 127 um reference wire)
 SIDES = ("A", "B")
 
-_SURFACES = {}  # (WireParams, stress) -> Hypersurface (built once per process)
+# (WireParams, stress) -> Hypersurface (built once per process)
+_SURFACES: dict[tuple[WireParams, float], Hypersurface] = {}
 
 
-def read_wire_file(path=WIRE_FILE):
-    """The [thermal] table of a wire parameter file as a dict of floats.
+def read_wire_file(path: str | Path = WIRE_FILE) -> dict[str, float]:
+    """The [thermal] table of the wire parameter file `path` as a dict of floats.
 
     Raises
     ------
@@ -66,9 +71,10 @@ def read_wire_file(path=WIRE_FILE):
 WIRE_50UM = read_wire_file()  # read once at import: an FMU's first folder may be gone later
 
 
-def resistivities(diameter, resistance_martensite, resistance_austenite):
-    """(rho_M, rho_A) [Ohm m] of a wire from its resistances per metre [Ohm/m] (§sma-material's
-    form).
+def resistivities(diameter: float, resistance_martensite: float,
+                  resistance_austenite: float) -> tuple[float, float]:
+    """(rho_M, rho_A) [Ohm m] of a wire of `diameter` [m] from its resistances per metre
+    `resistance_martensite`, `resistance_austenite` [Ohm/m] (§sma-material's form).
 
     Examples
     --------
@@ -79,9 +85,11 @@ def resistivities(diameter, resistance_martensite, resistance_austenite):
     return resistance_martensite * area, resistance_austenite * area
 
 
-def wire_thermal(length, file_values=None):
-    """ThermalParams [SI] of a wire of `length` with the values of a wire file (default: the
-    50 um wire), under current drive (the core divides the voltage by the circuit's resistance)."""
+def wire_thermal(length: float,
+                 file_values: dict[str, float] | None = None) -> thermal.ThermalParams:
+    """ThermalParams [SI] of a wire of `length` with the values `file_values` of a wire file
+    (default: the 50 um wire), under current drive (the core divides the voltage by the circuit's
+    resistance)."""
     d = file_values or WIRE_50UM
     rho_m, rho_a = resistivities(d["diameter"], d["resistance_martensite"],
                                  d["resistance_austenite"])
@@ -90,16 +98,16 @@ def wire_thermal(length, file_values=None):
                                  rho_austenite=rho_a, h=d["h"], drive="current")
 
 
-def hysteresis_surface(wire_params, sigma):
-    """The wire's hysteresis at the constant stress sigma [Pa], tabulated on a 1 C grid (~25 ms,
-    once per process and stress).
+def hysteresis_surface(wire_params: WireParams, sigma: float) -> Hypersurface:
+    """The wire's hysteresis at the constant stress `sigma` [Pa], tabulated on a 1 C grid (~25
+    ms, once per process and stress).
 
-    ``wire_params`` is the reference wire's `sma.wire.WireParams` (the 127 um wire's: the 50 um
-    wire's hysteresis is scaled from it, §bending-actuator).
+    `wire_params` is the reference wire's `sma.reference_wire.WireParams` (the 127 um wire's:
+    the 50 um wire's hysteresis is scaled from it, §bending-actuator).
 
     Examples
     --------
-    >>> from musclesim.components.sma.wire import load_params
+    >>> from musclesim.components.sma.reference_wire import load_params
     >>> s = hysteresis_surface(load_params(), 100e6)
     >>> round(s.F(130.0, 30.0, 100e6), 4)
     0.0372
@@ -142,7 +150,7 @@ class WireLayout:
                                  "moduli; numerics: well below the first mode's period, about "
                                  "3 ms)")
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         # a pretension is needed: the hysteresis is taken at its stress, and a wire detwins
         # (elongates, §forc-identification) only under stress
@@ -151,20 +159,23 @@ class WireLayout:
                 non_negative=("series_resistance",))
 
 
-def modulus(xi, layout):
-    """Young's modulus of a wire of martensite fraction xi (Reuss mix) [Pa]."""
+def modulus(xi: float, layout: WireLayout) -> float:
+    """Young's modulus of a wire of `layout` at martensite fraction `xi` (Reuss mix) [Pa]."""
     return 1.0 / (xi / layout.modulus_martensite + (1.0 - xi) / layout.modulus_austenite)
 
 
-def wire_terms(eps, xi, area, layout):
-    """(a, b) of a taut wire's tension a - s b theta [N, N/rad] (module equation)."""
+def wire_terms(eps: float, xi: float, area: float, layout: WireLayout) -> tuple[float, float]:
+    """(a, b) of a taut wire's tension a - s b theta [N, N/rad] (module equation), the wire of
+    `layout` and cross-section `area` at strain `eps` and martensite fraction `xi`."""
     E = modulus(xi, layout)
     eps0 = layout.pretension / (layout.modulus_martensite * area)
     return E * area * (eps + eps0), E * area * layout.offset / layout.length
 
 
-def tensions(theta, eps, xi, area, layout):
-    """Tensions (T_A, T_B) [N] of the wires at cap rotation theta (0 when slack)."""
+def tensions(theta: float, eps: Sequence[float], xi: Sequence[float], area: float,
+             layout: WireLayout) -> tuple[float, ...]:
+    """Tensions (T_A, T_B) [N] of the wires at cap rotation `theta` (0 when slack), at strains
+    `eps` and martensite fractions `xi`, of cross-section `area` and `layout`."""
     out = []
     for s, e_i, x_i in zip((1.0, -1.0), eps, xi):
         a, b = wire_terms(e_i, x_i, area, layout)
@@ -172,9 +183,10 @@ def tensions(theta, eps, xi, area, layout):
     return tuple(out)
 
 
-def moment_terms(theta, eps, xi, area, layout):
-    """(M0, K_w): the wires' moment on the cap is M0 - K_w theta near theta [N m, N m/rad];
-    a wire slack at theta contributes nothing."""
+def moment_terms(theta: float, eps: Sequence[float], xi: Sequence[float], area: float,
+                 layout: WireLayout) -> tuple[float, ...]:
+    """(M0, K_w): the wires' moment on the cap is M0 - K_w theta near `theta` [N m, N m/rad];
+    a wire slack at theta contributes nothing (`eps`, `xi`, `area`, `layout` as in `tensions`)."""
     M0 = K = 0.0
     e = layout.offset
     for s, e_i, x_i in zip((1.0, -1.0), eps, xi):
@@ -185,8 +197,10 @@ def moment_terms(theta, eps, xi, area, layout):
     return M0, K
 
 
-def static_rotation(eps, xi, area, layout, beam_p):
-    """Cap rotation [rad] where the beams balance the wires (slack found by iteration).
+def static_rotation(eps: Sequence[float], xi: Sequence[float], area: float, layout: WireLayout,
+                    beam_p: beam.BeamParams) -> float:
+    """Cap rotation [rad] where the beams `beam_p` balance the wires (`eps`, `xi`, `area`,
+    `layout` as in `tensions`; slack found by iteration).
 
     Examples
     --------
@@ -225,7 +239,8 @@ class BendingActuator:
         The wires' hysteresis at their pretension's stress (`hysteresis_surface`).
     """
 
-    def __init__(self, beam_p, layout, wire, surface):
+    def __init__(self, beam_p: beam.BeamParams, layout: WireLayout, wire: thermal.ThermalParams,
+                 surface: Hypersurface) -> None:
         beam_p.check()
         layout.check()
         wire.check()
@@ -241,12 +256,12 @@ class BendingActuator:
         self.eps_max = surface.F(surface.t_hi, surface.t_lo, self.sigma)
         self.reset(20.0)
 
-    def cold_stiffness(self):
+    def cold_stiffness(self) -> float:
         """Rotational stiffness [N m/rad] of beams and both taut, martensitic wires."""
         return self.K_beam + moment_terms(0.0, (0.0, 0.0), (1.0, 1.0), self.area, self.layout)[1]
 
-    def reset(self, T_init):
-        """Both wires at T_init [C] (heated there from martensite), the cap at rest in balance."""
+    def reset(self, T_init: float) -> None:
+        """Both wires at `T_init` [C] (heated there from martensite), the cap at rest in balance."""
         s = self.surface
         self.T = [T_init, T_init]
         self.models = [PreisachModel(s), PreisachModel(s)]
@@ -261,8 +276,9 @@ class BendingActuator:
         """Temperature [C] the hysteresis sees: saturated at its grid's ends (§sma-wire)."""
         return min(max(T, self.surface.t_lo), self.surface.t_hi)
 
-    def step(self, dt, u, T_amb, t=None):
-        """Advance by dt [s] with the voltages u = (u_A, u_B) [V] and ambient T_amb [C] held."""
+    def step(self, dt: float, u: Sequence[float], T_amb: float, t: float | None = None) -> None:
+        """Advance by `dt` [s] from `t` [s] with the voltages `u` = (u_A, u_B) [V] and ambient
+        `T_amb` [C] held."""
         R_s = self.layout.series_resistance
         for i, model in enumerate(self.models):
             R = thermal.resistance(self.xi[i], self.wire)
@@ -281,10 +297,10 @@ class BendingActuator:
                                                           self.c, self.J, h)
         self.tension = list(tensions(self.theta, self.eps, self.xi, self.area, self.layout))
 
-    def deflection(self, z):
-        """Lateral deflection [m] at height z [m] (toward wire A positive)."""
+    def deflection(self, z: float) -> float:
+        """Lateral deflection [m] at height `z` [m] (toward wire A positive)."""
         return beam.deflection(self.theta, z, self.beam)
 
-    def velocity(self, z):
-        """Lateral velocity [m/s] at height z [m]."""
+    def velocity(self, z: float) -> float:
+        """Lateral velocity [m/s] at height `z` [m]."""
         return beam.deflection(self.omega, z, self.beam)

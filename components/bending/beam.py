@@ -13,6 +13,8 @@ stiffness K = EI / L (plus what the wires add), modal inertia J = m_tip (z_tip -
 L^2 / 20 (the cap and foot as a point mass), viscous damping c = 2 zeta sqrt(K J). Lengths in m,
 angles in rad.
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
 
@@ -52,15 +54,15 @@ class BeamParams:
                                    "wires cold (open; assumption: a carbon-fibre beam in air with "
                                    "the wires' internal friction)", source="§bending-actuator")
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("length", "n_beams", "width", "thickness", "modulus",
                                 "density", "tip_mass"),
                 non_negative=("tip_height", "damping_ratio"))
 
 
-def bending_stiffness(p):
-    """EI of the beam pair [N m^2]: n E b t^3 / 12.
+def bending_stiffness(p: BeamParams) -> float:
+    """EI of the beam pair `p` [N m^2]: n E b t^3 / 12.
 
     Examples
     --------
@@ -71,13 +73,14 @@ def bending_stiffness(p):
     return p.n_beams * p.modulus * p.width * p.thickness ** 3 / 12
 
 
-def rotational_stiffness(p):
-    """End moment per rotation of the top cap, EI / L [N m/rad]."""
+def rotational_stiffness(p: BeamParams) -> float:
+    """End moment per rotation of the top cap of the beams `p`, EI / L [N m/rad]."""
     return bending_stiffness(p) / p.length
 
 
-def deflection(theta, z, p):
-    """Lateral deflection [m] at height z [m] above the base for a cap rotation theta [rad].
+def deflection(theta: float, z: float, p: BeamParams) -> float:
+    """Lateral deflection [m] of the beams `p` at height `z` [m] above the base for a cap rotation
+    `theta` [rad].
 
     Examples
     --------
@@ -91,34 +94,40 @@ def deflection(theta, z, p):
     return theta * z * z / (2 * L)
 
 
-def lever(z, p):
-    """d(deflection at z) / d theta [m/rad]: how far a point at height z moves per radian."""
+def lever(z: float, p: BeamParams) -> float:
+    """d(deflection at `z`) / d theta [m/rad] of the beams `p`: how far a point at height z moves
+    per radian."""
     return deflection(1.0, z, p)
 
 
-def beam_mass(p):
-    """Mass of the beam pair [kg]."""
+def beam_mass(p: BeamParams) -> float:
+    """Mass of the beam pair `p` [kg]."""
     return p.n_beams * p.width * p.thickness * p.length * p.density
 
 
-def modal_inertia(p):
-    """Inertia of the first mode in the coordinate theta [kg m^2] (module equation)."""
+def modal_inertia(p: BeamParams) -> float:
+    """Inertia of the first mode of the beams `p` in the coordinate theta [kg m^2] (module
+    equation)."""
     arm = lever(p.tip_height, p)
     return p.tip_mass * arm * arm + beam_mass(p) * p.length ** 2 / 20
 
 
-def natural_frequency(K, p):
-    """Undamped first resonance [Hz] for a total rotational stiffness K [N m/rad]."""
+def natural_frequency(K: float, p: BeamParams) -> float:
+    """Undamped first resonance [Hz] of the beams `p` for a total rotational stiffness `K`
+    [N m/rad]."""
     return math.sqrt(K / modal_inertia(p)) / (2 * math.pi)
 
 
-def damping_coefficient(K_ref, p):
-    """Viscous damping c [N m s/rad] giving the damping ratio at stiffness K_ref."""
+def damping_coefficient(K_ref: float, p: BeamParams) -> float:
+    """Viscous damping c [N m s/rad] giving the damping ratio of the beams `p` at stiffness
+    `K_ref`."""
     return 2 * p.damping_ratio * math.sqrt(K_ref * modal_inertia(p))
 
 
-def oscillator_step(x, v, x_eq, K, c, J, dt):
-    """Exact solution of J x'' + c x' + K (x - x_eq) = 0 after dt from (x, v): return (x, v).
+def oscillator_step(x: float, v: float, x_eq: float, K: float, c: float, J: float,
+                    dt: float) -> tuple[float, float]:
+    """Exact solution of `J` x'' + `c` x' + `K` (x - `x_eq`) = 0 after `dt` from (`x`, `v`):
+    return (x, v).
 
     Stable at any step; exact while K, c and x_eq are held.
 

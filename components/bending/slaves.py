@@ -1,9 +1,11 @@
 """FMU slave of the bending actuator (§bending-actuator): a thin adapter over
 `actuator.BendingActuator`."""
+from __future__ import annotations
+
 import math
 
 from musclesim.components.bending import actuator, beam
-from musclesim.components.sma import datasets, thermal, wire
+from musclesim.components.sma import datasets, reference_wire, thermal
 from musclesim.fmu import Slave, experiment
 
 ZERO_C = 273.15  # K; the FMU speaks K, the cores C
@@ -24,7 +26,7 @@ class BendingActuator(Slave):
                    "Preisach hysteresis) bending a carbon-fibre beam pair, first bending mode "
                    "(§bending-actuator)")
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         self.parameters_of(beam.BeamParams)
         self.parameters_of(actuator.WireLayout)
@@ -69,7 +71,7 @@ class BendingActuator(Slave):
                         "cross-section")
             self.output(f"wire{side}.P", "W", f"Joule power in wire {side} over the last step")
 
-    def setup(self):
+    def setup(self) -> None:
         b = self.core_params(beam.BeamParams)
         layout = actuator.WireLayout(
             offset=self.offset, length=self.wire_length, pretension=self.pretension,
@@ -85,18 +87,19 @@ class BendingActuator(Slave):
             rho_austenite=self.rho_austenite, h=self.h, drive="current")
         sigma = self.pretension / thermal.cross_section(wire_p)  # the hysteresis' stress
         #                                                          (§bending-actuator)
-        params = wire.load_params(datasets.shipped(self.resources) / datasets.WIRE_PARAMS)
+        params = reference_wire.load_params(
+            datasets.shipped(self.resources) / datasets.WIRE_PARAMS)
         surface = actuator.hysteresis_surface(params, sigma)
         self.core = self.logged(actuator.BendingActuator, b, layout, wire_p, surface)
         self._start()
 
-    def initialize(self):
+    def initialize(self) -> None:
         self._start()
 
     def _start(self):
         self.logged(self.core.reset, self.T_init - ZERO_C)
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         core = self.core
         self.tip_s = core.deflection(self.z_tip)
         self.tip_v = core.velocity(self.z_tip)
@@ -108,7 +111,8 @@ class BendingActuator(Slave):
             setattr(self, f"wire{side}_stress", core.tension[i] / core.area)
             setattr(self, f"wire{side}_P", core.power[i])
 
-    def advance(self, t, dt):
+    def advance(self, t: float, dt: float) -> None:
+        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
         for name, value in (("wireA.u", self.wireA_u), ("wireB.u", self.wireB_u),
                             ("T_amb", self.T_amb)):
             if not math.isfinite(value):

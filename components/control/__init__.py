@@ -1,1 +1,3 @@
 """Controllers: discrete PID and gain-scheduled PID (§temperature-control, §crawler-hardware)."""
+
+__all__ = ["pid", "relay"]

@@ -8,8 +8,11 @@ Parallel form u = Kp e + I + D with e = r - y, sampled at the communication step
 
 The integral is stored already multiplied by Ki, so changing gains (scheduling) does not bump u.
 """
+from __future__ import annotations
+
 import bisect
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from musclesim.components.checks import require
@@ -34,7 +37,7 @@ class PIDParams:
     u_min: float = -math.inf
     u_max: float = math.inf
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, non_negative=("Kd", "Tf"))
         if not self.u_min < self.u_max:
@@ -50,22 +53,27 @@ class PIDState:
     y_last: float = math.nan  # NaN: no sample yet, so no derivative kick on the first one
 
 
-def derivative_term(state, y, dt, Kd, Tf):
-    """Filtered derivative of -y at this sample (0 on the first sample)."""
+def derivative_term(state: PIDState, y: float, dt: float, Kd: float, Tf: float) -> float:
+    """Filtered derivative of -`y` at this sample, after `dt` [s] in `state`, with gain `Kd` and
+    filter time `Tf` [s] (0 on the first sample)."""
     if math.isnan(state.y_last) or dt <= 0 or Kd == 0:
         return 0.0
     return (Tf * state.derivative - Kd * (y - state.y_last)) / (Tf + dt)
 
 
-def output(state, r, y, dt, gains, p):
-    """Controller output for reference r and measurement y; `gains` = (Kp, Ki, Kd)."""
+def output(state: PIDState, r: float, y: float, dt: float, gains: Sequence[float],
+           p: PIDParams) -> float:
+    """Output of the controller `p` in `state` for reference `r` and measurement `y`, `dt` [s]
+    after the last sample; `gains` = (Kp, Ki, Kd)."""
     Kp, _, Kd = gains
     u = Kp * (r - y) + state.integral + derivative_term(state, y, dt, Kd, p.Tf)
     return min(max(u, p.u_min), p.u_max)
 
 
-def update(state, r, y, dt, gains, p):
-    """Advance the state over one sample (conditional integration as anti-windup)."""
+def update(state: PIDState, r: float, y: float, dt: float, gains: Sequence[float],
+           p: PIDParams) -> PIDState:
+    """Advance `state` over one sample of `dt` [s] with reference `r`, measurement `y`, `gains`
+    (Kp, Ki, Kd) and the controller `p` (conditional integration as anti-windup)."""
     Kp, Ki, Kd = gains
     e = r - y
     d = derivative_term(state, y, dt, Kd, p.Tf)
@@ -74,8 +82,10 @@ def update(state, r, y, dt, gains, p):
     return PIDState(state.integral + (0.0 if winding_up else Ki * e * dt), d, y)
 
 
-def scheduled_gains(x, breakpoints, table):
-    """Gains (Kp, Ki, Kd) at scheduling variable x, linear between breakpoints, held at the ends.
+def scheduled_gains(x: float, breakpoints: Sequence[float],
+                    table: Sequence[tuple[float, float, float]]) -> tuple[float, ...]:
+    """Gains (Kp, Ki, Kd) of `table` at scheduling variable `x`, linear between `breakpoints`,
+    held at the ends.
 
     Examples
     --------

@@ -10,7 +10,10 @@ Between the thresholds the relay keeps its state, so the switching has hysteresi
 The decision at a sample uses that sample's measurement (direct feedthrough), as the study's
 relay on the measured temperature does.
 """
+from __future__ import annotations
+
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from musclesim.fmu import declare
@@ -35,7 +38,7 @@ class RelayParams:
                                   "between the thresholds (1 on, 0 off): a wire started between "
                                   "them heats first", type="Boolean")
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         for name in ("y_on", "y_off", "u_on", "u_off"):
             if not math.isfinite(getattr(self, name)):
@@ -47,8 +50,8 @@ class RelayParams:
             raise ValueError(f"initially_on must be 0 or 1 (got {self.initially_on!r})")
 
 
-def switch(on, y, p):
-    """The relay's state after seeing measurement y in state `on` (a bool).
+def switch(on: bool, y: float, p: RelayParams) -> bool:
+    """The state of the relay `p` after seeing measurement `y` in state `on`.
 
     Examples
     --------
@@ -63,8 +66,9 @@ def switch(on, y, p):
     return y <= p.y_on
 
 
-def initial_state(y, p):
-    """State at the start: on below y_on, off above y_off, ``initially_on`` in between."""
+def initial_state(y: float, p: RelayParams) -> bool:
+    """State of the relay `p` at the start, measuring `y`: on below y_on, off above y_off,
+    ``initially_on`` in between."""
     if y <= p.y_on:
         return True
     if y >= p.y_off:
@@ -72,13 +76,14 @@ def initial_state(y, p):
     return p.initially_on == 1.0
 
 
-def output(on, p):
-    """u_on or u_off."""
+def output(on: bool, p: RelayParams) -> float:
+    """u_on or u_off of the relay `p`, as it is `on` or not."""
     return p.u_on if on else p.u_off
 
 
-def sequence(ys, p):
-    """States after each sample of the measurement trace `ys`, starting from `initial_state`.
+def sequence(ys: Sequence[float], p: RelayParams) -> list[bool]:
+    """States of the relay `p` after each sample of the measurement trace `ys`, starting from
+    `initial_state`.
 
     Examples
     --------

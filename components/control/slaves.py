@@ -1,4 +1,6 @@
 """FMU slaves of the controllers: thin adapters over musclesim.components.control.pid and .relay."""
+from __future__ import annotations
+
 import math
 
 from musclesim.components.control import pid, relay
@@ -22,17 +24,18 @@ class _PIDBase(Slave):
         self.output("y", "1", "Controller output", depends=["u_s", "u_m"])
         self.output("e", "1", "Control error u_s - u_m", depends=["u_s", "u_m"])
 
-    def setup(self):
+    def setup(self) -> None:
         self.p = pid.PIDParams(*self.gains(), self.Tf, self.u_min, self.u_max)
         self.p.check()
         self.state = pid.PIDState()
         self.dt = 0.0
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         self.e = self.u_s - self.u_m
         self.y = pid.output(self.state, self.u_s, self.u_m, self.dt, self.gains(), self.p)
 
-    def advance(self, t, dt):
+    def advance(self, t: float, dt: float) -> None:
+        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
         self.dt = dt
         self.state = pid.update(self.state, self.u_s, self.u_m, dt, self.gains(), self.p)
 
@@ -42,12 +45,12 @@ class PID(_PIDBase):
 
     description = "Discrete PID: derivative on measurement, output limits, conditional integration"
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         self.parameters_of(pid.PIDParams)
         self._declare_common()
 
-    def gains(self):
+    def gains(self) -> tuple[float, ...]:
         """Current (Kp, Ki, Kd)."""
         return self.Kp, self.Ki, self.Kd
 
@@ -60,7 +63,7 @@ class GainScheduledPID(_PIDBase):
     description = ("Gain-scheduled PID: 21 gain sets on the reference, 30..130 C every 5 C, "
                    "linear in between (§temperature-control)")
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         # the scheduled gains are tables, not the core's single gains
         for i, x in enumerate(SCHEDULE_K, start=1):
@@ -74,7 +77,7 @@ class GainScheduledPID(_PIDBase):
         self.parameters_of(pid.PIDParams, skip=("Kp", "Ki", "Kd"))
         self._declare_common()
 
-    def setup(self):
+    def setup(self) -> None:
         attr = lambda name, i: getattr(self, f"{name}[{i}]")
         self.breakpoints = [attr("x", i) for i in range(1, 22)]
         if any(b >= c for b, c in zip(self.breakpoints, self.breakpoints[1:])):
@@ -82,7 +85,7 @@ class GainScheduledPID(_PIDBase):
         self.table = [(attr("Kp", i), attr("Ki", i), attr("Kd", i)) for i in range(1, 22)]
         super().setup()
 
-    def gains(self):
+    def gains(self) -> tuple[float, ...]:
         """(Kp, Ki, Kd) interpolated at the current reference."""
         return pid.scheduled_gains(self.u_s, self.breakpoints, self.table)
 
@@ -98,7 +101,7 @@ class BangBang(Slave):
     description = ("Bang-bang (relay) temperature controller: on when T falls to T_on, off when T "
                    "rises to T_off; output u_on / u_off (§multiplier-experiments)")
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         d = relay.RelayParams()
         # the core's thresholds y_on, y_off, named here for the temperature they compare
@@ -111,25 +114,26 @@ class BangBang(Slave):
         self.output("y", "1", "Controller output u_on or u_off", depends=["T"])
         self.output("on", "1", "Relay state: 1 on, 0 off", depends=["T"], type="Boolean")
 
-    def setup(self):
+    def setup(self) -> None:
         self.p = relay.RelayParams(y_on=self.T_on, y_off=self.T_off, u_on=self.u_on,
                                    u_off=self.u_off, initially_on=self.initially_on)
         self.p.check()
         self.state = relay.initial_state(self.T, self.p)
 
-    def initialize(self):
+    def initialize(self) -> None:
         self.state = relay.initial_state(self.T, self.p)  # the measurement is known now
 
     def _checked(self, t):
         if math.isnan(self.T):
             raise ValueError(f"input T is NaN at t = {t:g} s")
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         self._checked(self.time)
         on = relay.switch(self.state, self.T, self.p)
         self.y = relay.output(on, self.p)
         self.on = 1.0 if on else 0.0
 
-    def advance(self, t, dt):
+    def advance(self, t: float, dt: float) -> None:
+        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
         self._checked(t)
         self.state = relay.switch(self.state, self.T, self.p)

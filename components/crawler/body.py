@@ -5,7 +5,10 @@ State x = [x1, v1, x2, v2] (positions are variations from rest, climbing is posi
 input u = [f_a, f1, f2] (actuator force pushing the blocks apart, friction on block 1 and 2).
 The same `state_space` serves the FMU, the monolithic reference simulation and the linear analysis.
 """
+from __future__ import annotations
+
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -47,20 +50,22 @@ class BodyParams:
     c_ground: float = declare(0.0, "N.s/m", "Effect, 0 = off: viscous drag of the ground on "
                               "each block", source="§named-effects", effect=(0.0, 5.0))
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its physical range."""
         require(self, positive=("m1", "m2"), non_negative=("k", "c", "c_ground"))
         if not abs(self.theta) < math.pi / 2:
             raise ValueError(f"theta must lie in (-pi/2, pi/2) rad (got {self.theta!r})")
 
 
-def stiffness(p, f_a=0.0):
-    """Actuator stiffness at actuator force f_a: k (1 + k_slope f_a), never below zero."""
+def stiffness(p: BodyParams, f_a: float = 0.0) -> float:
+    """Actuator stiffness of the body `p` at actuator force `f_a`: k (1 + k_slope f_a), never
+    below zero."""
     return max(0.0, p.k * (1.0 + p.k_slope * f_a))
 
 
-def state_space(p, f_a=0.0):
-    """Continuous plant of §two-mass: return (A, B) with B's columns for f_a, f1, f2.
+def state_space(p: BodyParams, f_a: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Continuous plant of §two-mass of the body `p`: return (A, B) with B's columns for f_a,
+    f1, f2.
 
     With the effects on, k is the stiffness at actuator force `f_a` and each block also feels
     the ground's viscous drag -c_ground v_i.
@@ -77,8 +82,9 @@ def state_space(p, f_a=0.0):
     return A, B
 
 
-def discretise(p, Ts, f_a=0.0):
-    """Zero-order-hold discretisation at step Ts, gravity included as a constant fourth input.
+def discretise(p: BodyParams, Ts: float, f_a: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """Zero-order-hold discretisation of the body `p` at step `Ts`, gravity included as a
+    constant fourth input.
 
     Returns (Ad, Bd) with x[k+1] = Ad x[k] + Bd [f_a, f1, f2, 1]; `f_a` sets the stiffness when
     k_slope is on. The pair scipy's cont2discrete (the routine behind python-control's
@@ -91,27 +97,31 @@ def discretise(p, Ts, f_a=0.0):
     return np.array(Ad), np.array(Bd)
 
 
-def nonfriction_forces(x, f_a, p):
-    """Net non-friction force along the surface on each block (spring, damper, actuator, gravity,
-    and the ground's viscous drag when that effect is on)."""
+def nonfriction_forces(x: Sequence[float], f_a: float, p: BodyParams) -> tuple[float, float]:
+    """Net non-friction force along the surface on each block of the body `p` in state `x` under
+    actuator force `f_a` (spring, damper, actuator, gravity, and the ground's viscous drag when
+    that effect is on)."""
     f_spring = stiffness(p, f_a) * (x[0] - x[2]) + p.c * (x[1] - x[3])
     slope = G * math.sin(p.theta)
     return (-f_spring - f_a - p.m1 * slope - p.c_ground * x[1],
             f_spring + f_a - p.m2 * slope - p.c_ground * x[3])
 
 
-def normal_forces(p):
-    """Normal force of each block on the ground, N_i = m_i g cos(theta) (§friction)."""
+def normal_forces(p: BodyParams) -> tuple[float, float]:
+    """Normal force of each block of the body `p` on the ground, N_i = m_i g cos(theta)
+    (§friction)."""
     return p.m1 * G * math.cos(p.theta), p.m2 * G * math.cos(p.theta)
 
 
-def centre_of_mass(x, p):
-    """Position of the centre of mass (m1 x1 + m2 x2) / (m1 + m2)."""
+def centre_of_mass(x: Sequence[float], p: BodyParams) -> float:
+    """Position of the centre of mass (m1 x1 + m2 x2) / (m1 + m2) of the body `p` in state `x`."""
     return (p.m1 * x[0] + p.m2 * x[2]) / (p.m1 + p.m2)
 
 
-def step_state(x, u, Ad, Bd):
-    """One zero-order-hold step: x[k+1] = Ad x[k] + Bd [f_a, f1, f2, 1], written out rather than
+def step_state(x: Sequence[float] | np.ndarray, u: Sequence[float], Ad: np.ndarray,
+               Bd: np.ndarray) -> np.ndarray:
+    """One zero-order-hold step of the state `x` under the inputs `u` (f_a, f1, f2): x[k+1] =
+    `Ad` x[k] + `Bd` [f_a, f1, f2, 1], written out rather than
     through BLAS, whose kernel is chosen per CPU and rounds differently (a stick-slip run would
     differ from CPU to CPU). Each row sums the positions' terms, then the velocities', then
     f_a's, the frictions' and gravity's: mirroring the blocks (x1 <-> -x2, v1 <-> -v2,

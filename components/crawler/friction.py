@@ -8,6 +8,8 @@ actuator under shear on an incline, and contamination of the silicone over time 
 §named-effects). The anchoring slip, the distance a block slides while its contact is high, is
 accumulated here too.
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
 
@@ -48,16 +50,16 @@ class FrictionParams:
                               "exp(-mu_decay t): particles collect on the silicone and lower its "
                               "friction over time", source="§gait", effect=(0.0, 0.02))
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("v_s",),
                 non_negative=("mu_s_high", "mu_k_high", "mu_s_low", "mu_k_low", "t_switch",
                               "bending", "mu_decay"))
 
 
-def high_scale(theta, t, p):
-    """Factor on the high coefficients from bending on the incline theta [rad] and decay at time t
-    [s].
+def high_scale(theta: float, t: float, p: FrictionParams) -> float:
+    """Factor on the high coefficients of `p` from bending on the incline `theta` [rad] and decay
+    at time `t` [s].
 
     Exactly 1.0 with both effects off.
 
@@ -71,15 +73,17 @@ def high_scale(theta, t, p):
     return max(0.0, 1.0 - p.bending * abs(theta)) * math.exp(-p.mu_decay * t)
 
 
-def coefficients(s, p, scale=1.0):
-    """Static and kinetic coefficients at contact state s (0 = low, 1 = high friction), with the
-    high coefficients multiplied by `scale` (see `high_scale`); the low ones are unaffected."""
+def coefficients(s: float, p: FrictionParams, scale: float = 1.0) -> tuple[float, float]:
+    """Static and kinetic coefficients of `p` at contact state `s` (0 = low, 1 = high
+    friction), with the high coefficients multiplied by `scale` (see `high_scale`); the low ones
+    are unaffected."""
     mu_s_high, mu_k_high = scale * p.mu_s_high, scale * p.mu_k_high
     return (p.mu_s_low + s * (mu_s_high - p.mu_s_low),
             p.mu_k_low + s * (mu_k_high - p.mu_k_low))
 
 
-def friction_force(v, f_n, normal, mu_s, mu_k, v_s):
+def friction_force(v: float, f_n: float, normal: float, mu_s: float, mu_k: float,
+                   v_s: float) -> float:
     """Friction force on a block (§friction).
 
     Parameters
@@ -117,17 +121,18 @@ def friction_force(v, f_n, normal, mu_s, mu_k, v_s):
     return -math.copysign(mu_k * normal, f_n)
 
 
-def advance_contact(s, u, dt, t_switch):
-    """Contact state after dt: jumps to u when t_switch == 0, else ramps towards u at 1/t_switch."""
+def advance_contact(s: float, u: float, dt: float, t_switch: float) -> float:
+    """Contact state `s` after `dt` [s]: jumps to the indicator `u` when `t_switch` == 0, else
+    ramps towards u at 1/t_switch."""
     if t_switch <= 0.0:
         return u
     rate = dt / t_switch
     return min(u, s + rate) if u > s else max(u, s - rate)
 
 
-def accumulate_slip(slip, v, contact, dt, v_s):
-    """Anchoring slip after a step of dt: grows by |v| dt while the contact is high (>= 0.5) and
-    the block slides (|v| > v_s); v and contact are the values at the start of the step.
+def accumulate_slip(slip: float, v: float, contact: float, dt: float, v_s: float) -> float:
+    """Anchoring `slip` after a step of `dt`: grows by |v| dt while the `contact` is high (>= 0.5)
+    and the block slides (|`v`| > `v_s`); v and contact are the values at the start of the step.
 
     Examples
     --------

@@ -18,6 +18,8 @@ equally over phases 1, 3 and 4 (an assumption: §gait gives only the protrusion 
 times). With t_reverse > 0 the direction flips every t_reverse seconds and a new stride starts at
 phase 1 in the other direction (§gait bidirectional test).
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
 
@@ -55,7 +57,7 @@ class GaitParams:
                                "placeholder, as p_central)", source="§pressure-control")
     p_off: float = declare(0.0, "Pa", "Reference of a deflated actuator")
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("t_protrusion", "t_stance"), non_negative=("t_reverse",))
         if self.direction not in (1.0, -1.0):
@@ -66,18 +68,18 @@ class GaitParams:
                 raise ValueError(f"{name} must be a finite pressure (got {getattr(self, name)!r})")
 
 
-def period(p):
-    """Stride period [s]: protrusion plus stance time (3 s in §gait)."""
+def period(p: GaitParams) -> float:
+    """Stride period [s] of the gait `p`: protrusion plus stance time (3 s in §gait)."""
     return p.t_protrusion + p.t_stance
 
 
-def phase_ends(p):
-    """Times since the start of a stride at which phases 1, 2 and 3 end [s]."""
+def phase_ends(p: GaitParams) -> tuple[float, float, float]:
+    """Times since the start of a stride of the gait `p` at which phases 1, 2 and 3 end [s]."""
     d = p.t_stance / 3
     return d, d + p.t_protrusion, 2 * d + p.t_protrusion
 
 
-def references(t, p):
+def references(t: float, p: GaitParams) -> tuple[float, float, float, float, float, float]:
     """Pressure references and gait state at time t.
 
     Parameters
@@ -120,6 +122,6 @@ def references(t, p):
         back, front = anchor_first, anchor_second
     else:  # mirror image: the front actuator anchors first
         back, front = anchor_second, anchor_first
-    back = p.p_anchor1 if back else off
-    front = p.p_anchor2 if front else off
-    return back, central, front, float(phase), float(direction), float(k * per_segment + j + 1)
+    p_back = p.p_anchor1 if back else off
+    p_front = p.p_anchor2 if front else off
+    return p_back, central, p_front, float(phase), float(direction), float(k * per_segment + j + 1)

@@ -1,5 +1,7 @@
 """Ideal open-loop actuation of §ideal-actuation: a sinusoidal actuator force and two friction
 indicators."""
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
 
@@ -24,15 +26,16 @@ class InputParams:
     direction: float = declare(1.0, "1", "1, as in the study; -1 swaps u1 and u2: the mirror "
                                "image of the gait, driven backward", type="Integer")
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, non_negative=("f_f", "f_u", "f_amp"))
         if self.direction not in (1.0, -1.0):
             raise ValueError(f"direction must be 1 or -1 (got {self.direction!r})")
 
 
-def signals(t, p):
-    """Return (f_a [N], u1, u2) at time t: u_i = 1 while its square wave is high (inflated)."""
+def signals(t: float, p: InputParams) -> tuple[float, float, float]:
+    """Return (f_a [N], u1, u2) of the signals `p` at time `t` [s]: u_i = 1 while its square
+    wave is high (inflated)."""
     f_a = p.f_mean + p.f_amp * math.sin(2 * math.pi * p.f_f * t)
     u1 = 1.0 if math.sin(2 * math.pi * p.f_u * t) >= 0 else 0.0
     u2 = 1.0 if math.sin(2 * math.pi * p.f_u * t - p.phi) >= 0 else 0.0

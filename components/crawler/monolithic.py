@@ -5,13 +5,21 @@ co-simulated scenario must agree with it (tests/cosim/test_crawler_cosim.py) and
 it as the speed reference. Time is accumulated step by step exactly as the master does, so that
 square waves switch on the same sample in both.
 """
+from __future__ import annotations
+
+from pathlib import Path
+
 import numpy as np
 
 from musclesim.components.crawler import body, friction, inputs
 
 
-def simulate_ideal(body_p=body.BodyParams(), friction_p=(friction.FrictionParams(),) * 2,
-                   inputs_p=inputs.InputParams(), step=1e-3, stop_time=60.0, actuator_lead=False):
+def simulate_ideal(body_p: body.BodyParams = body.BodyParams(),
+                   friction_p: tuple[friction.FrictionParams, ...] = (
+                       friction.FrictionParams(),) * 2,
+                   inputs_p: inputs.InputParams = inputs.InputParams(), step: float = 1e-3,
+                   stop_time: float = 60.0,
+                   actuator_lead: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Simulate §ideal-actuation and return (time, x) with x[:, :] = [x1, v1, x2, v2] at every step.
 
     Parameters
@@ -54,8 +62,9 @@ def simulate_ideal(body_p=body.BodyParams(), friction_p=(friction.FrictionParams
     return times, states
 
 
-def write_reference(path, stop_time=5.0, every=10):
-    """Write the reference result CSV kept next to the components (time, x1, v1, x2, v2)."""
+def write_reference(path: str | Path, stop_time: float = 5.0, every: int = 10) -> None:
+    """Write to `path` the reference result CSV kept next to the components (time, x1, v1, x2,
+    v2): the run to `stop_time` [s], one row of `every`."""
     times, states = simulate_ideal(stop_time=stop_time)
     np.savetxt(path, np.column_stack([times, states])[::every], delimiter=",", fmt="%.17g",
                header="time,x1,v1,x2,v2", comments="")

@@ -1,4 +1,6 @@
 """FMU slaves of the crawler components: thin adapters from FMI variables to the physics cores."""
+from __future__ import annotations
+
 import math
 
 import numpy as np
@@ -15,7 +17,7 @@ class CrawlerBody(Slave):
     description = ("Crawler body: two blocks joined by the central actuator's spring, damper and "
                    "force (§two-mass)")
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         self.parameters_of(body.BodyParams)
         self.input("f_a", 0.0, "N", "Actuator force pushing the blocks apart")
@@ -31,20 +33,22 @@ class CrawlerBody(Slave):
         self.output("incline", "rad", "Incline of the ground, the parameter theta (for the "
                     "friction blocks' bending effect)")
 
-    def setup(self):
+    def setup(self) -> None:
         self.p = self.core_params(body.BodyParams)
         self.x = np.zeros(4)  # zero initial state (§ideal-actuation)
-        self.dt = self.f_held = None
+        self.dt: float | None = None
+        self.f_held: float | None = None
         self.flange_a_N, self.flange_b_N = body.normal_forces(self.p)
         self.incline = self.p.theta
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         x = self.x
         self.flange_a_s, self.flange_a_v, self.flange_b_s, self.flange_b_v = x
         self.flange_a_f_n, self.flange_b_f_n = body.nonfriction_forces(x, self.f_a, self.p)
         self.x_cm = body.centre_of_mass(x, self.p)
 
-    def advance(self, t, dt):
+    def advance(self, t: float, dt: float) -> None:
+        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
         # masters with an integer clock (libcosim counts nanoseconds) hand steps that differ in
         # the last bits; the hold matrices of such steps agree to machine precision. With a
         # force-dependent stiffness they hold for the step's actuator force.
@@ -62,7 +66,7 @@ class FrictionBlock(Slave):
     default_experiment = experiment(60.0, 0.001)  # crawler-ideal, §ideal-actuation
     description = "Stick-slip friction block with switchable high/low coefficients (§friction)"
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         self.parameters_of(friction.FrictionParams)
         self.input("flange.v", 0.0, "m/s", "Velocity of the block")
@@ -76,15 +80,15 @@ class FrictionBlock(Slave):
         self.output("stuck", "1", "1 while the block sticks, else 0", depends=ins, type="Boolean")
         self.output("slip", "m", "Anchoring slip: distance slid while the contact is high")
 
-    def setup(self):
+    def setup(self) -> None:
         self.p = self.core_params(friction.FrictionParams)
         self.s = self.u
         self.slip = 0.0
 
-    def initialize(self):
+    def initialize(self) -> None:
         self.s = self.u  # the contact starts settled in the state the indicator asks for
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         p = self.p
         self.contact = self.u if p.t_switch <= 0 else self.s
         scale = friction.high_scale(self.theta, self.time, p)
@@ -94,7 +98,8 @@ class FrictionBlock(Slave):
         self.stuck = float(abs(self.flange_v) <= p.v_s
                            and abs(self.flange_f_n) <= mu_s * self.flange_N)
 
-    def advance(self, t, dt):
+    def advance(self, t: float, dt: float) -> None:
+        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
         self.slip = friction.accumulate_slip(self.slip, self.flange_v, self.contact, dt, self.p.v_s)
         self.s = friction.advance_contact(self.s, self.u, dt, self.p.t_switch)
 
@@ -107,17 +112,17 @@ class FrictionSwitchingInputs(Slave):
     description = ("Open-loop friction-switching inputs: f_a sinusoid and indicators u1, u2 "
                    "(§ideal-actuation)")
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         self.parameters_of(inputs.InputParams)
         self.output("f_a", "N", "Actuator force")
         self.output("u1", "1", "Friction indicator of block 1")
         self.output("u2", "1", "Friction indicator of block 2")
 
-    def setup(self):
+    def setup(self) -> None:
         self.p = self.core_params(inputs.InputParams)
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         self.f_a, self.u1, self.u2 = inputs.signals(self.time, self.p)
 
 
@@ -129,7 +134,7 @@ class GaitSequencer(Slave):
     description = ("Peristaltic gait sequencer: pressure references of the back, central and front "
                    "actuators (§gait)")
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         self.parameters_of(gait.GaitParams)
         self.output("p_ref1", "Pa", "Pressure reference of the back extremal actuator 1")
@@ -142,9 +147,9 @@ class GaitSequencer(Slave):
         self.output("stride", "1", "Index of the current stride since the start, from 1",
                     type="Integer")
 
-    def setup(self):
+    def setup(self) -> None:
         self.p = self.core_params(gait.GaitParams)
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         (self.p_ref1, self.p_ref_c, self.p_ref2, self.phase, self.stride_direction,
          self.stride) = gait.references(self.time, self.p)

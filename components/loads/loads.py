@@ -6,7 +6,10 @@ shortens and lifts or pulls its load; f [N] is the tension the load puts on the 
 (`musclesim.fmu.declare`), with its unit, description, source and diagnosis role: the FMUs, the
 docs' tables and the diagnosis read it there.
 """
+from __future__ import annotations
+
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from musclesim.components import fixedorder
@@ -34,14 +37,14 @@ class SpringParams:
                              "the 127 um wire, that spring's preload",
                              source="§multiplier-experiments")
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, non_negative=("k", "preload"))
         _require_finite(self, ("k", "preload"))
 
 
-def spring_tension(s, p):
-    """Tension [N] of the bias spring stretched by the wire's contraction s [m].
+def spring_tension(s: float, p: SpringParams) -> float:
+    """Tension [N] of the bias spring `p` stretched by the wire's contraction `s` [m].
 
     Examples
     --------
@@ -72,7 +75,7 @@ class WeightParams:
                           "(assumption: lightly damped, the ringing of 150 g decays by 1/e in "
                           "about 1.1 s)")
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("mass", "k_link"), non_negative=("g", "zeta"))
         _require_finite(self, ("mass", "g", "k_link", "zeta"))
@@ -81,23 +84,24 @@ class WeightParams:
                              f"got {self.inertia!r})")
 
 
-def link_omega(p):
-    """Natural angular frequency [rad/s] of the weight on its link (whatever share moves)."""
+def link_omega(p: WeightParams) -> float:
+    """Natural angular frequency [rad/s] of the weight `p` on its link (whatever share moves)."""
     return math.sqrt(p.k_link / p.mass)
 
 
-def link_transition(dt, p):
-    """2x2 matrix (rows of floats) advancing (y, dy/dt) of y'' = -w^2 y - 2 zeta w y' exactly
-    over dt: its matrix exponential, taken in a fixed order of operations (no BLAS, whose kernel
-    is chosen per CPU: the same bits on every CPU)."""
+def link_transition(dt: float, p: WeightParams) -> list[list[float]]:
+    """2x2 matrix (rows of floats) advancing (y, dy/dt) of y'' = -w^2 y - 2 zeta w y' of the
+    weight `p` exactly over `dt`: its matrix exponential, taken in a fixed order of operations (no
+    BLAS, whose kernel is chosen per CPU: the same bits on every CPU)."""
     w = link_omega(p)
     return fixedorder.exp_and_integral([[0.0, 1.0], [-w * w, -2.0 * p.zeta * w]], dt)[0]
 
 
-def weight_step(x, v, s, u, phi, dt, p):
-    """Position x [m] and velocity v [m/s] of the weight's moving share after dt, with
-    phi = link_transition(dt, p) and the wire's end moving as s + u t over the step (u: its
-    slope extrapolated).
+def weight_step(x: float, v: float, s: float, u: float, phi: Sequence[Sequence[float]], dt: float,
+                p: WeightParams) -> tuple[float, float]:
+    """Position `x` [m] and velocity `v` [m/s] of the moving share of the weight `p` after `dt`,
+    with `phi` = link_transition(dt, p) and the wire's end moving as `s` + `u` t over the step
+    (u: its slope extrapolated).
 
     The share r = inertia of the weight hangs on r k_link, so any share rings alike:
     m x'' = k_link (s - x) - d x', d = 2 zeta w m (the weight's motion damped, not the link: a
@@ -116,15 +120,15 @@ def weight_step(x, v, s, u, phi, dt, p):
     return float(y + s + u * dt - lag), float(w + u)
 
 
-def weight_tension(x, s, p):
-    """Tension [N] on the wire: m g plus the moving share's pull inertia k_link (s - x) (exactly
-    m g with the inertia off)."""
+def weight_tension(x: float, s: float, p: WeightParams) -> float:
+    """Tension [N] of the weight `p` on the wire: m g plus the moving share's pull inertia k_link
+    (`s` - `x`) (exactly m g with the inertia off)."""
     return p.mass * p.g + p.inertia * p.k_link * (s - x)
 
 
-def weight_lift(x, s, p):
-    """Lift [m] of the weight: the wire's end s less the link's stretch beyond its static one,
-    (tension - m g) / k_link = inertia (s - x); s exactly with the inertia off."""
+def weight_lift(x: float, s: float, p: WeightParams) -> float:
+    """Lift [m] of the weight `p`: the wire's end `s` less the link's stretch beyond its static
+    one, (tension - m g) / k_link = inertia (s - `x`); s exactly with the inertia off."""
     return s + p.inertia * (x - s)
 
 
@@ -151,19 +155,20 @@ class MagnetParams:
                                   "growing as the gap closes", source="§loads, §named-effects",
                                   effect=(-0.5, 0.5))
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("R", "L"), non_negative=("m_cal", "g", "V_supply", "k_f"))
         _require_finite(self, ("m_cal", "g", "V_supply", "R", "L", "k_f", "nonlinearity"))
 
 
-def coil_steady(duty, p):
-    """Steady coil current [A] of the PWM-averaged voltage V_supply duty."""
+def coil_steady(duty: float, p: MagnetParams) -> float:
+    """Steady coil current [A] of the magnet `p` under the PWM-averaged voltage V_supply `duty`."""
     return p.V_supply * duty / p.R
 
 
-def coil_step(i, duty, dt, p):
-    """Exact update of L di/dt = V_supply duty - R i over dt with the duty held.
+def coil_step(i: float, duty: float, dt: float, p: MagnetParams) -> float:
+    """Exact update of the current `i` of the magnet `p`, L di/dt = V_supply `duty` - R i, over
+    `dt` with the duty held.
 
     Examples
     --------
@@ -175,6 +180,7 @@ def coil_step(i, duty, dt, p):
     return i_inf + (i - i_inf) * math.exp(-dt * p.R / p.L)
 
 
-def magnet_tension(i, p):
-    """Tension [N]: the calibration weight plus the coil's pull k_f i (1 + nonlinearity i)."""
+def magnet_tension(i: float, p: MagnetParams) -> float:
+    """Tension [N] of the magnet `p` at coil current `i`: the calibration weight plus the coil's
+    pull k_f i (1 + nonlinearity i)."""
     return p.m_cal * p.g + p.k_f * i * (1.0 + p.nonlinearity * i)

@@ -14,17 +14,21 @@ current drive the same current. The end displacement is the sum of the segments'
 
     s = sum_i eps_i L_i.
 
-The cores are the straight wire's (`musclesim.components.sma.thermal`, `.preisach`); with one
-segment and mu_f = 0 a step is the SmaWire FMU's step exactly. Equations and every assumption:
+The cores are the straight wire's (`musclesim.components.sma.thermal`, `.preisach`; its thermal
+submodel `submodels.Lumped`, no end zones); with one segment and mu_f = 0 a step is the SmaWire
+FMU's step exactly. Equations and every assumption:
 §capstan-multiplier (docs/model/multiplier.md).
 """
+from __future__ import annotations
+
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 from musclesim.components.checks import require
-from musclesim.components.sma import thermal
+from musclesim.components.sma import submodels, thermal
 from musclesim.components.sma.preisach import PreisachModel
-from musclesim.components.sma.surface import clamp
+from musclesim.components.sma.surface import Hypersurface, clamp
 from musclesim.fmu import declare
 
 MAX_SEGMENTS = 6  # variables the FMU declares per segment (§capstan-multiplier suggests three)
@@ -52,8 +56,8 @@ class CapstanParams:
     n_segments: int = declare(3, "1", f"Number of segments, 1..{MAX_SEGMENTS} (the study's "
                               "sensing, one thermocouple per segment, suggests three over two "
                               "turning tubes)", source="§capstan-multiplier", type="Integer")
-    segment_lengths: tuple = ()  # the FMU's segment_length[i]
-    wraps: tuple = ()  # the FMU's wrap[j]
+    segment_lengths: tuple[float, ...] = ()  # the FMU's segment_length[i]
+    wraps: tuple[float, ...] = ()  # the FMU's wrap[j]
     mu_f: float = declare(MU_F, "1", "Friction coefficient of the wire on the capstans (the "
                           "study: 0.0237 +/- 0.0037, wire on PTFE)", source="§capstan-multiplier",
                           effect=(0.0, 0.1))
@@ -68,7 +72,7 @@ class CapstanParams:
                                          effect=(0.0, 0.01))
     wire: thermal.ThermalParams = field(default_factory=thermal.ThermalParams)
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("length",), non_negative=("mu_f", "contact_conductance"))
         if not (self.n_segments == int(self.n_segments) and 1 <= self.n_segments <= MAX_SEGMENTS):
@@ -91,9 +95,9 @@ class CapstanParams:
         self.wire.check()
 
 
-def segment_lengths(p):
-    """Length [m] of each segment, clamp first: given entries as they are, the zeros sharing the
-    rest of ``length`` equally.
+def segment_lengths(p: CapstanParams) -> list[float]:
+    """Length [m] of each segment of the fold `p`, clamp first: given entries as they are, the
+    zeros sharing the rest of ``length`` equally.
 
     Examples
     --------
@@ -116,14 +120,15 @@ def segment_lengths(p):
     return given
 
 
-def contact_wraps(p):
-    """Wrap angle [rad] of each contact, between segments j and j + 1."""
+def contact_wraps(p: CapstanParams) -> list[float]:
+    """Wrap angle [rad] of each contact of the fold `p`, between segments j and j + 1."""
     return list(p.wraps) if p.wraps else [WRAP] * (int(p.n_segments) - 1)
 
 
-def tension_ratios(p):
-    """Tension of each segment over the load's tension, clamp first: exp(mu_f sum of the wraps
-    between it and the load end); exactly 1.0 for the load-end segment and when mu_f = 0.
+def tension_ratios(p: CapstanParams) -> list[float]:
+    """Tension of each segment of the fold `p` over the load's tension, clamp first: exp(mu_f sum
+    of the wraps between it and the load end); exactly 1.0 for the load-end segment and when mu_f =
+    0.
 
     Examples
     --------
@@ -135,8 +140,9 @@ def tension_ratios(p):
     return [math.exp(p.mu_f * math.fsum(wraps[i:])) if p.mu_f else 1.0 for i in range(n)]
 
 
-def segment_h(p, lengths):
-    """Convection coefficient [W/(m^2 K)] of each segment with its contacts' heat loss lumped
+def segment_h(p: CapstanParams, lengths: Sequence[float]) -> list[float]:
+    """Convection coefficient [W/(m^2 K)] of each segment of the fold `p` (of `lengths` [m]) with
+    its contacts' heat loss lumped
     into it: h + G_i / (pi d L_i), G_i the half conductances of the contacts at its ends.
 
     A contact draws ``contact_conductance`` (T - T_amb) from the wire where it lies on a tube;
@@ -155,8 +161,9 @@ def segment_h(p, lengths):
     return out
 
 
-def segment_voltages(u, resistances):
-    """Voltage [V] across each of the series segments: u R_i / sum R (u itself for one)."""
+def segment_voltages(u: float, resistances: Sequence[float]) -> list[float]:
+    """Voltage [V] across each of the series segments of `resistances` [Ohm]: `u` R_i / sum R (u
+    itself for one)."""
     total = sum(resistances)
     return [u * (r / total) for r in resistances]
 
@@ -164,18 +171,20 @@ def segment_voltages(u, resistances):
 class Segment:
     """One segment's state: temperature [C], hysteresis memory, martensite fraction, strain."""
 
-    def __init__(self, params, surface):
+    def __init__(self, params: thermal.ThermalParams, surface: Hypersurface) -> None:
         self.p = params  # ThermalParams with this segment's length
+        # the straight wire's thermal submodel, without its effects: lumped, ends none
+        self.thermal = submodels.Lumped()
         self.surface = surface
         self.model = PreisachModel(surface)
         self.T_C = 0.0
         self.xi = 1.0
         self.eps = 0.0
         self.sigma = 0.0
-        self._eps_max_at = (None, None)
+        self._eps_max_at: tuple[float | None, float] = (None, 0.0)
 
-    def eps_max(self, sigma):
-        """F(a0, b0; sigma): the strain of a fully transformed segment (one F per new stress)."""
+    def eps_max(self, sigma: float) -> float:
+        """F(a0, b0; `sigma`): the strain of a fully transformed segment (one F per new stress)."""
         if self._eps_max_at[0] != sigma:
             s = self.surface
             self._eps_max_at = (sigma, s.F(s.t_hi, s.t_lo, sigma))
@@ -202,7 +211,7 @@ class Multiplier:
     (8.33, [138, 139, 139])
     """
 
-    def __init__(self, params, surface):
+    def __init__(self, params: CapstanParams, surface: Hypersurface) -> None:
         params.check()
         self.params = params
         self.surface = surface
@@ -213,12 +222,12 @@ class Multiplier:
         self.area = thermal.cross_section(params.wire)
         self.segments = [Segment(_with_length(params.wire, L, h), surface)
                          for L, h in zip(self.lengths, segment_h(params, self.lengths))]
-        self._warned = set()
+        self._warned: set[str] = set()
         self.power = 0.0
 
-    def stresses(self, f, t=None):
-        """Stress [Pa] of each segment under the load's tension f [N], as the hysteresis takes
-        it: clamped to the data set's stresses, warned once per segment."""
+    def stresses(self, f: float, t: float | None = None) -> list[float]:
+        """Stress [Pa] of each segment under the load's tension `f` [N] at `t` [s], as the
+        hysteresis takes it: clamped to the data set's stresses, warned once per segment."""
         s = self.surface
         out = []
         for i, r in enumerate(self.ratios, start=1):
@@ -229,8 +238,9 @@ class Multiplier:
             out.append(sigma)
         return out
 
-    def start(self, T_init, f, t=0.0, u=0.0):
-        """Every segment at T_init [C], all-off memory then T_init (a new wire heated to it)."""
+    def start(self, T_init: float, f: float, t: float = 0.0, u: float = 0.0) -> None:
+        """Every segment at `T_init` [C], all-off memory then T_init (a new wire heated to it),
+        under the load `f` [N] at `t` [s], the power that of the input `u`."""
         for seg, sigma, r in zip(self.segments, self.stresses(f, t), self.ratios):
             seg.T_C = T_init
             seg.model = PreisachModel(self.surface)
@@ -240,14 +250,15 @@ class Multiplier:
             seg.sigma = f * r / self.area
         self.power = self.joule_power(u)
 
-    def step(self, u, T_amb, f, t, dt):
-        """Advance every segment over [t, t + dt] with u, T_amb [C] and f [N] held."""
+    def step(self, u: float, T_amb: float, f: float, t: float, dt: float) -> None:
+        """Advance every segment over [`t`, `t` + `dt`] [s] with `u`, `T_amb` [C] and `f` [N]
+        held."""
         sigmas = self.stresses(f, t)
         drives = self._drives(u)
         self.power = self.joule_power(u)
         for seg, sigma, ui in zip(self.segments, sigmas, drives):
             eps_max = seg.eps_max(sigma)
-            T_new = thermal.step(seg.T_C, thermal.ThermalInputs(ui, T_amb, seg.xi), dt, seg.p)
+            T_new = seg.thermal.step(seg.T_C, thermal.ThermalInputs(ui, T_amb, seg.xi), dt, seg.p)
             eps = seg.model.step(self._seen(T_new), sigma, t + dt)
             seg.xi = thermal.martensite_fraction(eps, eps_max)
             seg.eps = eps
@@ -265,29 +276,29 @@ class Multiplier:
         """Temperature [C] the hysteresis sees: composition-shifted, saturated at the grid."""
         return min(max(T - self.params.composition_shift, self.surface.t_lo), self.surface.t_hi)
 
-    def resistance(self):
+    def resistance(self) -> float:
         """Series resistance [Ohm] of the segments at their present martensite fractions."""
         return sum(thermal.resistance(s.xi, s.p) for s in self.segments)
 
-    def joule_power(self, u):
-        """Joule power [W] of input u over all segments at their present resistances."""
+    def joule_power(self, u: float) -> float:
+        """Joule power [W] of input `u` over all segments at their present resistances."""
         return sum(thermal.joule_power(ui, s.xi, s.p)
                    for s, ui in zip(self.segments, self._drives(u)))
 
-    def displacement(self):
+    def displacement(self) -> float:
         """End displacement [m]: the sum of the segments' contractions eps_i L_i."""
         return sum(s.eps * L for s, L in zip(self.segments, self.lengths))
 
-    def mean_temperature(self):
+    def mean_temperature(self) -> float:
         """Length-weighted mean temperature [C] of the segments."""
         return sum(s.T_C * w for s, w in zip(self.segments, self.shares))
 
-    def mean_strain(self):
+    def mean_strain(self) -> float:
         """Length-weighted mean strain of the segments (the displacement over the length)."""
         return sum(s.eps * w for s, w in zip(self.segments, self.shares))
 
 
-def _with_length(wire, length, h):
+def _with_length(wire: thermal.ThermalParams, length: float, h: float) -> thermal.ThermalParams:
     """`wire`'s ThermalParams with another length and convection coefficient."""
     fields = {name: getattr(wire, name) for name in wire.__dataclass_fields__}
     fields.update(length=length, h=h)

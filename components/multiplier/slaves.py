@@ -1,13 +1,14 @@
 """FMU slave of the capstan multiplier: a thin adapter over
 musclesim.components.multiplier.capstan."""
-import math
+from __future__ import annotations
 
 from musclesim.components.multiplier import capstan
-from musclesim.components.sma import datasets, thermal
+from musclesim.components.sma import datasets, ports, thermal
 from musclesim.fmu import Slave, experiment
 
+__all__ = ["CapstanMultiplier", "ZERO_C", "N"]
+
 ZERO_C = 273.15  # K; the FMU speaks K, the cores C
-LOAD_150G = 0.150 * 9.80665  # N, the 150 g weight of the multiplier tests (§capstan-multiplier)
 N = capstan.MAX_SEGMENTS
 
 
@@ -24,7 +25,7 @@ class CapstanMultiplier(Slave):
     description = ("Capstan multiplier: one SMA wire folded over fixed capstans into segments with "
                    "their own temperature, stress and hysteresis memory (§capstan-multiplier)")
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         # the fold's length and number of segments, the capstans' friction and the effects
         self.parameters_of(capstan.CapstanParams)
@@ -52,22 +53,18 @@ class CapstanMultiplier(Slave):
                        "grid, 60-200 MPa, which covers the clamp-side 135 MPa under 150 g); "
                        "k >= 1 = FORC data set k of sma/data/forc-sets.toml", source="§preisach",
                        type="Integer")
-        self.input("u", 0.0, "1", "Electrical input: voltage across the wire [V], or current "
-                   "through it [A] when drive_current = 1")
-        self.input("T_amb", 293.15, "K", "Ambient air temperature (assumption: a 20 C "
-                   "laboratory)", source="§thermal-model", calibrate=thermal.AMBIENT)
-        self.input("flange.f", LOAD_150G, "N", "Tensile load at the wire's load end, positive "
-                   "pulling (start: a 150 g weight)", source="§capstan-multiplier")
-        self.output("flange.s", "m", "End displacement: sum of the segments' contractions; "
-                    "positive = the load end moves toward the clamp")
-        self.output("strain", "1", "Mean strain flange.s / length")
-        self.output("T", "K", "Length-weighted mean temperature of the segments")
-        self.output("stress", "Pa", "Stress at the load end flange.f / cross-section over the "
-                    "last step")
-        self.output("R", "Ohm", "Series resistance of the segments (§sma-material per-metre "
-                    "values)")
-        self.output("P", "W", "Joule heating power over the last step (input held, resistances "
-                    "at its start)")
+        ports.declare_ports(self, "Tensile load at the wire's load end, positive pulling (start: "
+                            "a 150 g weight)", {
+                                "flange.s": "End displacement: sum of the segments' contractions; "
+                                            "positive = the load end moves toward the clamp",
+                                "strain": "Mean strain flange.s / length",
+                                "T": "Length-weighted mean temperature of the segments",
+                                "stress": "Stress at the load end flange.f / cross-section over "
+                                          "the last step",
+                                "R": "Series resistance of the segments (§sma-material per-metre "
+                                     "values)",
+                                "P": "Joule heating power over the last step (input held, "
+                                     "resistances at its start)"})
         for i in range(1, N + 1):
             self.output(f"segment[{i}].T", "K", f"Temperature of segment {i} (0 if unused)")
             self.output(f"segment[{i}].strain", "1", f"Strain of segment {i}, contraction / its "
@@ -75,7 +72,7 @@ class CapstanMultiplier(Slave):
             self.output(f"segment[{i}].stress", "Pa", f"Stress of segment {i}, capstan-scaled "
                         "from the load end (0 if unused)")
 
-    def setup(self):
+    def setup(self) -> None:
         if self.drive_current not in (0.0, 1.0):
             raise ValueError(f"drive_current must be 0 (voltage) or 1 (current), "
                              f"got {self.drive_current!r}")
@@ -85,11 +82,9 @@ class CapstanMultiplier(Slave):
         if not (n == int(n) and 1 <= n <= N):
             raise ValueError(f"n_segments must be an integer within 1..{N} (got {n!r})")
         n = int(n)
-        wire = thermal.ThermalParams(
-            length=self.length, diameter=self.diameter, density=self.density,
-            specific_heat=self.specific_heat, rho_martensite=self.rho_martensite,
-            rho_austenite=self.rho_austenite, h=self.h,
-            drive="current" if self.drive_current == 1 else "voltage")
+        # the straight wire's parameters as declared, but for its effects (the fold has none)
+        wire = thermal.params_of(self, "current" if self.drive_current == 1 else "voltage",
+                                 skip=("latent_heat", "h_exponent"))
         self.p = capstan.CapstanParams(
             length=self.length, n_segments=n,
             segment_lengths=tuple(getattr(self, f"segment_length[{i}]") for i in range(1, n + 1)),
@@ -100,7 +95,7 @@ class CapstanMultiplier(Slave):
         self.surface = datasets.surface(self.hysteresis, 0.0, datasets.shipped(self.resources))
         self._start()
 
-    def initialize(self):
+    def initialize(self) -> None:
         self._start()  # the inputs (ambient, load) are known now
 
     def _start(self):
@@ -108,7 +103,7 @@ class CapstanMultiplier(Slave):
         self.logged(self.core.start, self.T_init - ZERO_C, self.flange_f, self.time, self.u)
         self.stress_held = self.flange_f / self.core.area
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         core = self.core
         s = core.displacement()
         self.flange_s = s
@@ -122,9 +117,8 @@ class CapstanMultiplier(Slave):
             setattr(self, f"segment[{i}]_strain", seg.eps)
             setattr(self, f"segment[{i}]_stress", seg.sigma)
 
-    def advance(self, t, dt):
-        for name, value in (("u", self.u), ("T_amb", self.T_amb), ("flange.f", self.flange_f)):
-            if not math.isfinite(value):
-                raise ValueError(f"input {name} is {value!r} at t = {t:g} s")
+    def advance(self, t: float, dt: float) -> None:
+        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
+        ports.check_inputs(self.u, self.T_amb, self.flange_f, t)
         self.logged(self.core.step, self.u, self.T_amb - ZERO_C, self.flange_f, t, dt)
         self.stress_held = self.flange_f / self.core.area

@@ -5,6 +5,8 @@ inflation pump and emptied into an exhaust pump, each line through a PWM-driven 
 Pressures are gauge [Pa] everywhere except in the ISO 6358 flow law, which takes absolute ones.
 Equations and where every default comes from: §pneumatics (docs/model/pneumatics.md).
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass, field, fields
 
@@ -89,7 +91,7 @@ class ActuatorParams:
                                  "p_supply (1 - supply_drop)", source="§named-effects",
                                  effect=(0.0, 0.5))
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         for f in fields(self):
             if not math.isfinite(getattr(self, f.name)):
@@ -112,9 +114,10 @@ class ActuatorParams:
             raise ValueError(f"supply_drop must be within [0, 1) (got {self.supply_drop!r})")
 
 
-def mass_flow(p_up, p_down, C, b, T_up=T_0):
-    """Mass flow [kg/s] from p_up to p_down (absolute [Pa]) through an ISO 6358 orifice of sonic
-    conductance C [m^3/(s Pa)] and critical pressure ratio b; 0 when p_down >= p_up.
+def mass_flow(p_up: float, p_down: float, C: float, b: float, T_up: float = T_0) -> float:
+    """Mass flow [kg/s] from `p_up` to `p_down` (absolute [Pa]) through an ISO 6358 orifice of
+    sonic conductance `C` [m^3/(s Pa)] and critical pressure ratio `b`, the upstream air at
+    `T_up` [K]; 0 when p_down >= p_up.
 
     Examples
     --------
@@ -133,9 +136,10 @@ def mass_flow(p_up, p_down, C, b, T_up=T_0):
     return q * math.sqrt(1.0 - x * x)
 
 
-def signed_flow(p_a, p_b, C, b, T=T_0):
-    """Mass flow [kg/s] from side a to side b (absolute pressures [Pa]), negative when it runs
-    from b to a; the upstream side's temperature is T.
+def signed_flow(p_a: float, p_b: float, C: float, b: float, T: float = T_0) -> float:
+    """Mass flow [kg/s] from side a at `p_a` to side b at `p_b` (absolute pressures [Pa]),
+    negative when it runs from b to a, through the orifice `C`, `b` (`mass_flow`); the upstream
+    side's temperature is `T`.
 
     Examples
     --------
@@ -145,8 +149,10 @@ def signed_flow(p_a, p_b, C, b, T=T_0):
     return mass_flow(p_a, p_b, C, b, T) if p_a >= p_b else -mass_flow(p_b, p_a, C, b, T)
 
 
-def pwm_edges(t0, t1, duty, period, phase=0.0):
-    """The PWM command over [t0, t1): [(t0, state at t0), (time, on) of each switching in (t0, t1)].
+def pwm_edges(t0: float, t1: float, duty: float, period: float,
+              phase: float = 0.0) -> list[tuple[float, bool]]:
+    """The PWM command of `duty` over [`t0`, `t1`): [(t0, state at t0), (time, on) of each
+    switching in (t0, t1)], the carrier of `period` [s] shifted by `phase` [periods].
 
     The carrier's period k starts at k period + phase period (any phase: 1.25 is 0.25); the
     command is on for the first duty of each. The state at t0 comes from the same edge times as
@@ -185,10 +191,12 @@ class Valve:
 
     cmd: bool = False
     is_open: bool = False
-    pending: list = field(default_factory=list)
+    pending: list[tuple[float, bool]] = field(default_factory=list)
 
-    def open_intervals(self, edges, t1, d_open, d_close):
-        """Take the command over [t0, t1) (`pwm_edges`) and return the intervals the valve is open.
+    def open_intervals(self, edges: list[tuple[float, bool]], t1: float, d_open: float,
+                       d_close: float) -> list[tuple[float, float]]:
+        """Take the command `edges` over [t0, `t1`) (`pwm_edges`) and return the intervals the
+        valve is open, opening `d_open` [s] and closing `d_close` [s] after its command.
 
         A command edge at t makes the valve follow at t + d_open (opening) or t + d_close
         (closing) and cancels the switchings scheduled at or after that time: a command pulse
@@ -218,19 +226,19 @@ class Valve:
         return intervals
 
 
-def open_time(intervals, a, b):
-    """Time [s] the intervals [(start, end)] cover within [a, b)."""
+def open_time(intervals: list[tuple[float, float]], a: float, b: float) -> float:
+    """Time [s] the `intervals` [(start, end)] cover within [`a`, `b`)."""
     return sum(max(0.0, min(e, b) - max(s, a)) for s, e in intervals)
 
 
-def source_pressures(p):
-    """Effective gauge pressures [Pa] of the inflation and the exhaust pump."""
+def source_pressures(p: ActuatorParams) -> tuple[float, float]:
+    """Effective gauge pressures [Pa] of the inflation and the exhaust pump of `p`."""
     return p.p_supply * (1.0 - p.supply_drop), p.p_exhaust
 
 
-def volume(elongation, contact, p):
-    """Chamber volume [m^3]: V0 + s_a elongation (central) or V0 + dV_contact contact (extremal),
-    at least V_MIN V0.
+def volume(elongation: float, contact: float, p: ActuatorParams) -> float:
+    """Chamber volume [m^3] of `p`: V0 + s_a `elongation` (central) or V0 + dV_contact `contact`
+    (extremal), at least V_MIN V0.
 
     Examples
     --------
@@ -241,9 +249,9 @@ def volume(elongation, contact, p):
     return max(v, V_MIN * p.V0)
 
 
-def contact_step(c, pressure, dt, p):
-    """Contact state after dt at gauge pressure `pressure`: towards 1 above p_contact, towards 0 at
-    or below it, at the rate 1 / t_contact (a jump when t_contact <= 0).
+def contact_step(c: float, pressure: float, dt: float, p: ActuatorParams) -> float:
+    """Contact state `c` of `p` after `dt` [s] at gauge pressure `pressure`: towards 1 above
+    p_contact, towards 0 at or below it, at the rate 1 / t_contact (a jump when t_contact <= 0).
 
     Examples
     --------
@@ -257,8 +265,9 @@ def contact_step(c, pressure, dt, p):
     return min(c + rate, 1.0) if target else max(c - rate, 0.0)
 
 
-def bulge_contact(c, pressure, p):
-    """Contact of an extremal chamber whose bulge follows at once (t_contact <= 0, dV_contact > 0):
+def bulge_contact(c: float, pressure: float, p: ActuatorParams) -> tuple[float, float]:
+    """Contact (from `c`, at gauge `pressure` [Pa]) of an extremal chamber `p` whose bulge follows
+    at once (t_contact <= 0, dV_contact > 0):
     the chamber grows or shrinks at its mass (p_abs V^kappa constant) until its gauge pressure is
     p_contact, within contact 0..1. A jump of the volume instead would throw the pressure back
     across p_contact at every sub-step.
@@ -287,16 +296,17 @@ class Actuator:
         Elongation [m] of the central actuator at the start (the volume follows it).
     """
 
-    def __init__(self, params, elongation=0.0):
+    def __init__(self, params: ActuatorParams, elongation: float = 0.0) -> None:
         self.params = params
         self.pressure = 0.0  # Pa gauge
         self.contact = 0.0
         self.elongation = elongation  # m, the elongation the volume stands at
         self.inflate, self.exhaust = Valve(), Valve()
 
-    def step(self, t, h, duty, elongation):
-        """Advance from t to t + h with the duty in [-1, 1] held (> 0 inflates, < 0 exhausts) and
-        the elongation [m] moving linearly to `elongation`; return the mass [kg] that flowed in."""
+    def step(self, t: float, h: float, duty: float, elongation: float) -> float:
+        """Advance from `t` to `t` + `h` with the `duty` in [-1, 1] held (> 0 inflates, < 0
+        exhausts) and the elongation [m] moving linearly to `elongation`; return the mass [kg] that
+        flowed in."""
         p = self.params
         duty = min(max(duty, -1.0), 1.0)
         period, t1 = 1.0 / p.f_pwm, t + h

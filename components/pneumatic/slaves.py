@@ -2,6 +2,8 @@
 
 Equations, ports and sign conventions: §pneumatics (docs/model/pneumatics.md).
 """
+from __future__ import annotations
+
 from musclesim.components.pneumatic import actuator
 from musclesim.fmu import Slave, experiment
 
@@ -16,7 +18,7 @@ class SoftActuator(Slave):
                    "PWM solenoid valves (ISO 6358) from an inflation and an exhaust pump "
                    "(§crawler-hardware, §gait, §valves)")
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         self.parameters_of(actuator.ActuatorParams)
         self.input("duty", 0.0, "1", "PWM duty, -1..1 (clamped, with one warning): > 0 drives the "
@@ -32,21 +34,22 @@ class SoftActuator(Slave):
         self.output("m_flow", "kg/s", "Net mass flow into the chamber, averaged over the last "
                     "step")
 
-    def setup(self):
+    def setup(self) -> None:
         self.params = self.core_params(actuator.ActuatorParams)
         self.core = actuator.Actuator(self.params, self._elongation())
         self.m_flow = 0.0
 
-    def initialize(self):
+    def initialize(self) -> None:
         self.core = actuator.Actuator(self.params, self._elongation())
         self.m_flow = 0.0
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         self.p = self.core.pressure
         self.f_a = self.params.s_a * self.core.pressure
         self.u = self.core.contact
 
-    def advance(self, t, dt):
+    def advance(self, t: float, dt: float) -> None:
+        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
         duty = self.clamped_input("duty", -1.0, 1.0, t)
         mass = self.core.step(t, dt, duty, self._elongation())
         self.m_flow = mass / dt if dt > 0 else 0.0

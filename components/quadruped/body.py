@@ -18,7 +18,10 @@ whose force stays below static friction stops (velocity 0), and a kinetic step t
 foot's velocity stops it there: without these remedies (§stick-slip-numerics) a foot chatters at the
 per-step change of velocity, larger than any band narrow enough for feet moving at mm/s.
 """
+from __future__ import annotations
+
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from musclesim.components.bending import actuator, beam
@@ -31,7 +34,7 @@ LEGS = 4
 FOOT_HEIGHT = 17e-3  # m, the foot point the body sees: where the study's laser reads (§quadruped)
 
 
-def leg_stiffness():
+def leg_stiffness() -> float:
     """Lateral stiffness [N/m] of a default bending-actuator leg at FOOT_HEIGHT: its first mode's
     stiffness with both wires cold, seen at the foot (K / lever^2)."""
     b, layout = beam.BeamParams(), actuator.WireLayout()
@@ -79,26 +82,27 @@ class QuadrupedParams:
     max_substep: float = declare(2e-5, "s", "Longest internal sub-step (numerics: about 1/8 of a "
                                  "radian of the foot's mode)", source="§quadruped")
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("body_mass", "foot_mass", "leg_stiffness", "v_s", "max_substep"),
                 non_negative=("leg_damping_ratio", "mu_s_forward", "mu_k_forward",
                               "mu_s_backward", "mu_k_backward"))
 
 
-def normal_force(p):
-    """Normal force on each foot [N]: a quarter of the weight of body and feet."""
+def normal_force(p: QuadrupedParams) -> float:
+    """Normal force on each foot of `p` [N]: a quarter of the weight of body and feet."""
     return (p.body_mass + LEGS * p.foot_mass) * G / LEGS
 
 
-def leg_damping(p):
-    """Damping c [N s/m] of a leg at its foot from its damping ratio."""
+def leg_damping(p: QuadrupedParams) -> float:
+    """Damping c [N s/m] of a leg of `p` at its foot from its damping ratio."""
     return 2 * p.leg_damping_ratio * math.sqrt(p.leg_stiffness * p.foot_mass)
 
 
-def coefficients(v, f_n, p):
-    """(mu_s, mu_k) of a foot moving at v [m/s] under the net force f_n [N]: by the direction of
-    sliding, or of the force that would start it (+x: forward, easy; -x: backward, grip).
+def coefficients(v: float, f_n: float, p: QuadrupedParams) -> tuple[float, float]:
+    """(mu_s, mu_k) of a foot of `p` moving at `v` [m/s] under the net force `f_n` [N]: by the
+    direction of sliding, or of the force that would start it (+x: forward, easy; -x: backward,
+    grip).
 
     Examples
     --------
@@ -126,14 +130,14 @@ class Quadruped:
     ([-0.15, -0.15, -0.15, -0.15], True)
     """
 
-    def __init__(self, p):
+    def __init__(self, p: QuadrupedParams) -> None:
         p.check()
         self.p = p
         self.N = normal_force(p)
         self.c = leg_damping(p)
         self.reset()
 
-    def reset(self):
+    def reset(self) -> None:
         """Body and feet at rest at x = 0, legs straight."""
         self.x = self.v = 0.0
         self.feet_x = [0.0] * LEGS
@@ -141,9 +145,9 @@ class Quadruped:
         self.forces = [0.0] * LEGS  # friction on each foot [N]
         self.s_held = [0.0] * LEGS
 
-    def step(self, dt, s, s_dot):
-        """Advance by dt [s] with the legs' deflections s [m] and their rates s_dot [m/s] at the
-        start of the step, each leg held as s + s_dot tau over it."""
+    def step(self, dt: float, s: Sequence[float], s_dot: Sequence[float]) -> None:
+        """Advance by `dt` [s] with the legs' deflections `s` [m] and their rates `s_dot` [m/s] at
+        the start of the step, each leg held as s + s_dot tau over it."""
         p, N, k, c = self.p, self.N, self.p.leg_stiffness, self.c
         n = max(1, math.ceil(dt / p.max_substep - 1e-9))
         h = dt / n
@@ -167,6 +171,6 @@ class Quadruped:
             self.x += h * self.v
         self.s_held = [s[i] + s_dot[i] * dt for i in range(LEGS)]
 
-    def stuck(self, i):
-        """Whether foot i holds still (its velocity is 0)."""
+    def stuck(self, i: int) -> bool:
+        """Whether foot `i` holds still (its velocity is 0)."""
         return self.feet_v[i] == 0.0

@@ -9,6 +9,8 @@ while its shifted cycle is in the first `duty` of a period, else at 0:
 
 The pulse is the SignalSource's square wave (`sources.signals.unit_wave`).
 """
+from __future__ import annotations
+
 from dataclasses import dataclass
 
 from musclesim.components.checks import require
@@ -41,20 +43,20 @@ class SequencerParams:
     phase4: float = declare(0.0, "1", "Phase of leg 4's wire A (rear right) in periods (open; "
                             "default: a trot)", source="§quadruped")
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("frequency",), non_negative=("voltage",))
         if not 0.0 < self.duty < 1.0:
             raise ValueError(f"duty must be within (0, 1) (got {self.duty!r})")
 
 
-def phases(p):
-    """Phase of each leg's wire A [periods]."""
+def phases(p: SequencerParams) -> tuple[float, float, float, float]:
+    """Phase of each leg's wire A [periods] of the sequencer `p`."""
     return (p.phase1, p.phase2, p.phase3, p.phase4)
 
 
-def voltages(t, p):
-    """[(u_A, u_B) per leg] [V] at time t [s] (module equation).
+def voltages(t: float, p: SequencerParams) -> list[tuple[float, ...]]:
+    """[(u_A, u_B) per leg] [V] of the sequencer `p` at time `t` [s] (module equation).
 
     Examples
     --------

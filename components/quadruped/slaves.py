@@ -1,5 +1,7 @@
 """FMU slaves of the quadruped (§quadruped): thin adapters over `body.Quadruped` and
 `sequencer.voltages`."""
+from __future__ import annotations
+
 import math
 
 from musclesim.components.quadruped import body, sequencer
@@ -17,7 +19,7 @@ class QuadrupedBody(Slave):
     description = ("Quadruped body on four bending-actuator legs, feet with direction-dependent "
                    "stick-slip friction (§quadruped, friction of §friction)")
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         self.parameters_of(body.QuadrupedParams)
         for i in range(1, body.LEGS + 1):
@@ -32,13 +34,13 @@ class QuadrupedBody(Slave):
             self.output(f"foot{i}.stuck", "1", f"1 while foot {i} holds still, else 0",
                         type="Boolean")
 
-    def setup(self):
+    def setup(self) -> None:
         self.core = body.Quadruped(self.core_params(body.QuadrupedParams))
 
-    def initialize(self):
+    def initialize(self) -> None:
         self.core.reset()
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         c = self.core
         self.x, self.v = c.x, c.v
         for i in range(body.LEGS):
@@ -46,8 +48,10 @@ class QuadrupedBody(Slave):
             setattr(self, f"foot{i + 1}_f", c.forces[i])
             setattr(self, f"foot{i + 1}_stuck", 1.0 if c.stuck(i) else 0.0)
 
-    def advance(self, t, dt):
-        s, v = [], []
+    def advance(self, t: float, dt: float) -> None:
+        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
+        s: list[float] = []
+        v: list[float] = []
         for i in range(1, body.LEGS + 1):
             for name, out in ((f"leg{i}.s", s), (f"leg{i}.v", v)):
                 value = getattr(self, name.replace(".", "_"))
@@ -65,17 +69,17 @@ class LegSequencer(Slave):
     description = ("Leg sequencer of the quadruped: the study's heating pulses (5 V, 5 % at "
                    "4 Hz, §quadruped) per wire, phased per leg")
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         self.parameters_of(sequencer.SequencerParams)
         for i in range(1, sequencer.LEGS + 1):
             self.output(f"leg{i}.uA", "V", f"Voltage on leg {i}'s wire A")
             self.output(f"leg{i}.uB", "V", f"Voltage on leg {i}'s wire B")
 
-    def setup(self):
+    def setup(self) -> None:
         self.p = self.core_params(sequencer.SequencerParams)
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         for i, (uA, uB) in enumerate(sequencer.voltages(self.time, self.p), start=1):
             setattr(self, f"leg{i}_uA", uA)
             setattr(self, f"leg{i}_uB", uB)

@@ -5,6 +5,8 @@ The core of every sensor FMU (thermocouple, load cell, laser displacement sensor
 scales it by a gain about the sensor's origin (0 C for a thermocouple, 0 for the others), adds a
 bias and Gaussian noise and is rounded to the quantisation step.
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
 
@@ -33,15 +35,16 @@ class SensorParams:
                              source="§sensors")
     seed: float = declare(0.0, "1", "Seed of the noise generator (>= 0)", type="Integer")
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("gain",), non_negative=("tau", "noise_std", "quantum"))
         if self.seed != int(self.seed) or self.seed < 0:
             raise ValueError(f"seed must be a non-negative whole number (got {self.seed!r})")
 
 
-def lag_weights(dt, tau):
-    """(a, b) of the exact first-order lag over dt for an input linear between two samples:
+def lag_weights(dt: float, tau: float) -> tuple[float, float]:
+    """(a, b) of the exact first-order lag of time constant `tau` over `dt` for an input linear
+    between two samples:
     y1 = a y0 + (1 - a - b) u0 + b u1, with a = exp(-dt/tau), b = 1 - tau (1 - a) / dt.
 
     Continuous in tau: at tau = 0 the reading is the signal itself (a = 0, b = 1), and a lag
@@ -58,13 +61,15 @@ def lag_weights(dt, tau):
     return a, 1.0 - tau * (-math.expm1(-dt / tau)) / dt
 
 
-def noise_sample(p, rng):
-    """One noise sample of the reading (0 when the noise is off; the generator is not used then)."""
+def noise_sample(p: SensorParams, rng: np.random.Generator) -> float:
+    """One noise sample of the reading of the sensor `p` from `rng` (0 when the noise is off; the
+    generator is not used then)."""
     return p.noise_std * rng.standard_normal() if p.noise_std > 0 else 0.0
 
 
-def reading(x, p, noise=0.0):
-    """Sensor reading of the (lagged) signal x: gain about the origin, bias, a noise sample,
+def reading(x: float, p: SensorParams, noise: float = 0.0) -> float:
+    """Reading of the sensor `p` of the (lagged) signal `x`: gain about the origin, bias, the
+    `noise` sample,
     quantisation.
 
     Examples
@@ -82,6 +87,6 @@ def reading(x, p, noise=0.0):
     return y
 
 
-def make_rng(p):
-    """The sensor's random generator (its state is part of the FMU state)."""
+def make_rng(p: SensorParams) -> np.random.Generator:
+    """The random generator of the sensor `p` (its state is part of the FMU state)."""
     return np.random.default_rng(int(p.seed))

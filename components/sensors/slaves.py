@@ -1,4 +1,6 @@
 """FMU slaves of the sensors: thin adapters over musclesim.components.sensors.sensor."""
+from __future__ import annotations
+
 from musclesim.components.sensors import sensor
 from musclesim.fmu import Calibration, Slave, experiment
 
@@ -19,9 +21,9 @@ class _ScalarSensor(Slave):
 
     signal = measured = unit = element = signal_description = ""
     start = origin = 0.0
-    roles = {}
+    roles: dict[str, dict[str, object]] = {}
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         u = self.unit
         own = {"tau": {"description": f"Time constant of the first-order lag of the "
@@ -34,14 +36,14 @@ class _ScalarSensor(Slave):
         self.output(self.measured, u, f"Measured {self.signal_description[0].lower()}"
                     f"{self.signal_description[1:]}", depends=[self.signal])
 
-    def setup(self):
+    def setup(self) -> None:
         # not self.p: PressureSensor reads "p"; `origin` is the class's
         self.params = self.core_params(sensor.SensorParams)
         self.rng = sensor.make_rng(self.params)
         self._settle()
         self.noise = sensor.noise_sample(self.params, self.rng)
 
-    def initialize(self):
+    def initialize(self) -> None:
         self._settle()
 
     def _settle(self):
@@ -56,10 +58,11 @@ class _ScalarSensor(Slave):
         u = getattr(self, self.signal)
         return u if self.weight == 1.0 and self.held == 0.0 else self.held + self.weight * u
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         setattr(self, self.measured, sensor.reading(self._element(), self.params, self.noise))
 
-    def advance(self, t, dt):
+    def advance(self, t: float, dt: float) -> None:
+        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
         y0, u0 = self._element(), getattr(self, self.signal)
         a, b = sensor.lag_weights(dt, self.params.tau)
         self.held, self.weight = a * y0 + (1.0 - a - b) * u0, b

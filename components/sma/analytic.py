@@ -1,12 +1,16 @@
 """Closed-form FORC surfaces for tests, benchmarks and examples (not identified from any wire)."""
+from __future__ import annotations
+
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from .surface import GRID_TEMPS, STRESSES, Hypersurface
 
 
-def uniform(c):
-    """F(a, b) = c (a - b)^2 / 2: the FORC increment of a density c uniform over the triangle."""
+def uniform(c: float) -> Callable[[float, float, float], float]:
+    """F(a, b) = c (a - b)^2 / 2: the FORC increment of a density `c` [1/C^2] uniform over the
+    triangle."""
     return lambda a, b, sigma: 0.5 * c * (a - b) ** 2
 
 
@@ -33,8 +37,8 @@ class SmaLikeParams:
     lo: float = 30.0  # C, lower saturation (§sma-wire)
     hi: float = 130.0  # C, upper saturation (§sma-wire)
 
-    def F(self, a, b, sigma):
-        """The FORC increment [strain] at a >= b [C] and stress sigma [Pa]."""
+    def F(self, a: float, b: float, sigma: float) -> float:
+        """The FORC increment [strain] at `a` >= `b` [C] and stress `sigma` [Pa]."""
         amp = self.eps_max * (1.0 + self.growth * (sigma - self.sigma_ref))
         shift = (sigma - self.sigma_mid) / self.slope
         h, c = self.T_heat + shift, self.T_cool + shift
@@ -46,8 +50,10 @@ class SmaLikeParams:
         return (s(T) - s(self.lo)) / (s(self.hi) - s(self.lo))
 
 
-def sma_like_surface(params=None, temps=GRID_TEMPS, stresses=STRESSES):
-    """`SmaLikeParams` tabulated on the §preisach grid (21 x 21, five stresses by default).
+def sma_like_surface(params: SmaLikeParams | None = None, temps: Sequence[float] = GRID_TEMPS,
+                     stresses: Sequence[float] = STRESSES) -> Hypersurface:
+    """`SmaLikeParams` `params` (default: its defaults) tabulated on `temps` [C] x `stresses`
+    [Pa] (default: the §preisach grid, 21 x 21, five stresses).
 
     Examples
     --------

@@ -2,7 +2,7 @@
 
 Selected by an integer id (the SmaWire FMU's Real parameter ``hysteresis``):
 
-- 0: the reference wire (`wire.ReferenceWire`, the virtual hardware, parameters from
+- 0: the reference wire (`reference_wire.ReferenceWire`, the virtual hardware, parameters from
   ``params/flexinol-127um-90C.toml``) tabulated on a 1 C grid over its saturation range and at
   60..200 MPa every 10 MPa (`REFERENCE_STRESSES`): within 1.5e-4 strain (0.4 % of the maximum)
   of the wire's exact FORC increment everywhere inside;
@@ -13,12 +13,14 @@ since the folder a module was first imported from may be gone by the next instan
 the reference wire takes ~0.5 s, so surfaces are built once per process per content and shared
 (a `Hypersurface` is immutable; copies of a model share it).
 """
+from __future__ import annotations
+
 import hashlib
 import tomllib
 from pathlib import Path
 
 from .surface import Hypersurface
-from .wire import DEFAULT_PARAMS, ReferenceWire, load_params
+from .reference_wire import DEFAULT_PARAMS, ReferenceWire, load_params
 
 PACKAGE_DIR = Path(__file__).parent
 INDEX = Path("data") / "forc-sets.toml"  # below the root
@@ -29,10 +31,10 @@ REFERENCE_STEP = 1.0  # C, temperature grid of the tabulated reference wire (bil
 # temperature-grid error
 REFERENCE_STRESSES = tuple(60e6 + 10e6 * k for k in range(15))
 
-_SURFACES = {}  # (what the surface is made from, single-surface stress or 0) -> Hypersurface
+_SURFACES: dict[tuple[object, float], Hypersurface] = {}  # (what the surface is made from, single-surface stress or 0) -> Hypersurface
 
 
-def shipped(resources):
+def shipped(resources: str | Path | None) -> Path:
     """The SMA data files' root an FMU ships below its `resources` folder (None: not in an FMU,
     this package's): the folder the modules were first imported from may be another FMU
     instance's, already deleted."""
@@ -41,8 +43,8 @@ def shipped(resources):
     return Path(resources) / "musclesim" / "components" / "sma"
 
 
-def forc_sets(root=PACKAGE_DIR):
-    """{id: (path, description)} of the FORC data sets listed in ``root/data/forc-sets.toml``.
+def forc_sets(root: Path = PACKAGE_DIR) -> dict[int, tuple[Path, str]]:
+    """{id: (path, description)} of the FORC data sets listed in data/forc-sets.toml below `root`.
 
     Raises
     ------
@@ -69,9 +71,10 @@ def forc_sets(root=PACKAGE_DIR):
     return found
 
 
-def surface(k, sigma_surface=0.0, root=PACKAGE_DIR):
-    """The Hypersurface of data set `k` (0 = the reference wire), or with ``sigma_surface`` > 0
-    its single constant-stress surface at that stress [Pa] (stress ignored, §position-control).
+def surface(k: float, sigma_surface: float = 0.0, root: Path = PACKAGE_DIR) -> Hypersurface:
+    """The Hypersurface of data set `k` (0 = the reference wire) below `root`, or with
+    `sigma_surface` > 0 its single constant-stress surface at that stress [Pa] (stress ignored,
+    §position-control).
 
     Raises
     ------

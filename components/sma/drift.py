@@ -9,6 +9,8 @@ A new wire's major loop changes markedly over its first ~13 tests of 20 cycles e
 so the hysteresis model sees a shifted temperature and its strain is scaled. Both changes are 0
 by default, which leaves the nominal strain untouched bit for bit.
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
 
@@ -23,15 +25,16 @@ class DriftParams:
     shift: float = 0.0  # K, settled shift of the transformation temperatures; 0 = off
     cycles_to_settle: float = 87.0  # cycles, e-folding: 95 % after 13 tests x 20 cycles (§drift)
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("cycles_to_settle",))
         if not self.amplitude_change > -1:
             raise ValueError(f"amplitude_change must exceed -1 (got {self.amplitude_change!r})")
 
 
-def count_cycles(n_cycles, xi_old, xi_new):
-    """Accumulated cycles after xi moved from xi_old to xi_new: each full sweep 1 -> 0 -> 1 is one.
+def count_cycles(n_cycles: float, xi_old: float, xi_new: float) -> float:
+    """Accumulated cycles after `n_cycles` when xi moved from `xi_old` to `xi_new`: each full
+    sweep 1 -> 0 -> 1 is one.
 
     Examples
     --------
@@ -41,20 +44,22 @@ def count_cycles(n_cycles, xi_old, xi_new):
     return n_cycles + abs(xi_new - xi_old) / 2
 
 
-def progress(n_cycles, p):
-    """Share of the settled drift reached after n_cycles, 1 - exp(-N / N_settle)."""
+def progress(n_cycles: float, p: DriftParams) -> float:
+    """Share of the settled drift `p` reached after `n_cycles`, 1 - exp(-N / N_settle)."""
     return -math.expm1(-n_cycles / p.cycles_to_settle)
 
 
-def strain_scale(n_cycles, p):
-    """Factor on the hysteresis model's strain, exactly 1.0 with the effect off."""
+def strain_scale(n_cycles: float, p: DriftParams) -> float:
+    """Factor on the hysteresis model's strain after `n_cycles` of drift `p`, exactly 1.0 with the
+    effect off."""
     if p.amplitude_change == 0:
         return 1.0
     return 1.0 + p.amplitude_change * progress(n_cycles, p)
 
 
-def temperature_shift(n_cycles, p):
-    """Shift [K] of the transformation temperatures (the model sees T - shift); 0.0 when off."""
+def temperature_shift(n_cycles: float, p: DriftParams) -> float:
+    """Shift [K] of the transformation temperatures after `n_cycles` of drift `p` (the model sees
+    T - shift); 0.0 when off."""
     if p.shift == 0:
         return 0.0
     return p.shift * progress(n_cycles, p)

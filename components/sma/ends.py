@@ -26,31 +26,41 @@ edge (exp(-4) = 1.8 %) the wire counts as core.
 >>> [(round(w, 3), round(g, 3)) for w, g in zones(1.0, 58.42e-3, 127e-6, 18.0, 100.0)]
 [(0.041, 0.213), (0.082, 0.617), (0.205, 0.918)]
 """
+from __future__ import annotations
+
 import math
+from collections.abc import Sequence
 
 EDGES = (0.0, 0.5, 1.5, 4.0)  # zone edges from a clamp, in fin lengths L_f
 
 
-def fin_length(diameter, conductivity, h):
-    """L_f = sqrt(k d / (4 h)) [m]: the e-folding length of the excess temperature from a clamp."""
+def fin_length(diameter: float, conductivity: float, h: float) -> float:
+    """L_f = sqrt(k d / (4 h)) [m]: the e-folding length of the excess temperature from a clamp,
+    for a wire of `diameter` [m] and thermal `conductivity` k [W/(m K)] in air of convection
+    coefficient `h` [W/(m^2 K)]."""
     return math.sqrt(conductivity * diameter / (4 * h))
 
 
-def fin_conductance(diameter, conductivity, h):
-    """G_f = sqrt(k A h pi d) [W/K]: what one long wire end conducts per kelvin at its root."""
+def fin_conductance(diameter: float, conductivity: float, h: float) -> float:
+    """G_f = sqrt(k A h pi d) [W/K]: what one long wire end conducts per kelvin at its root
+    (`diameter`, `conductivity`, `h` as in `fin_length`)."""
     area = math.pi * diameter ** 2 / 4
     return math.sqrt(conductivity * area * h * math.pi * diameter)
 
 
-def end_cooling(contact, diameter, conductivity, h):
-    """beta = G_c / (G_c + G_f) of a clamp of contact conductance `contact` [W/K]."""
+def end_cooling(contact: float, diameter: float, conductivity: float, h: float) -> float:
+    """beta = G_c / (G_c + G_f) of a clamp of contact conductance `contact` [W/K] (`diameter`,
+    `conductivity`, `h` as in `fin_length`)."""
     g_f = fin_conductance(diameter, conductivity, h)
     return contact / (contact + g_f)
 
 
-def zones(beta, length, diameter, conductivity, h):
-    """[(share of the length, excess factor)] of the cold end zones, both ends together; the core
-    (factor 1) has the rest of the length. Empty when `beta` is 0 (a uniform wire)."""
+def zones(beta: float, length: float, diameter: float, conductivity: float,
+          h: float) -> list[tuple[float, float]]:
+    """[(share of the length, excess factor)] of the cold end zones, both ends together, of a
+    wire of `length` [m] (`diameter`, `conductivity`, `h` as in `fin_length`) with end cooling
+    `beta`; the core (factor 1) has the rest of the length. Empty when `beta` is 0 (a uniform
+    wire)."""
     if beta == 0:
         return []
     if not 0 <= beta <= 1:
@@ -66,6 +76,8 @@ def zones(beta, length, diameter, conductivity, h):
     return out
 
 
-def zone_temperatures(T_core, T_amb, table):
-    """Each zone's temperature [C] for the core at `T_core` and the ambient `T_amb` (`zones`)."""
+def zone_temperatures(T_core: float, T_amb: float,
+                      table: Sequence[tuple[float, float]]) -> list[float]:
+    """Each zone's temperature [C] for the core at `T_core` and the ambient `T_amb`, the zones
+    those of `table` (`zones`)."""
     return [T_amb + g * (T_core - T_amb) for _, g in table]

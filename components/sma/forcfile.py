@@ -13,8 +13,12 @@ stress on the 21-point grid of §preisach. Stress in Pa, temperatures a (peak) a
 reversal) in degrees C, F the dimensionless strain increment of the first-order reversal curve.
 Rows may come in any order; the temperature grid (uniform) and the stresses are read from the rows.
 """
+from __future__ import annotations
+
 import csv
 import math
+from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 
@@ -32,14 +36,16 @@ _PREAMBLE = ("# musclesim FORC data set: F(a, b; stress) = strain increment of t
 class TableError(ValueError):
     """Bad table entries; `entries` lists their (stress, a, b) positions in the table."""
 
-    def __init__(self, message, entries):
+    def __init__(self, message: str, entries: list[tuple[int, int, int]]) -> None:
         super().__init__(message)
         self.entries = entries
 
 
-def write(path, temps, stresses, table, comments=()):
-    """Write the lower triangle (a >= b) of table[s, i, j] = F(temps[i], temps[j]; stresses[s]);
-    `comments` (lines of text) follow the standard preamble as '#' lines."""
+def write(path: str | Path, temps: Sequence[float], stresses: Sequence[float], table: np.ndarray,
+          comments: Sequence[str] = ()) -> None:
+    """Write to `path` the lower triangle (a >= b) of `table`[s, i, j] = F(`temps`[i],
+    `temps`[j]; `stresses`[s]); `comments` (lines of text) follow the standard preamble as '#'
+    lines."""
     with open(path, "w", newline="", encoding="utf-8") as fh:
         fh.write("\n".join([*_PREAMBLE, *(f"# {c}" for c in comments)]) + "\n")
         w = csv.writer(fh, lineterminator="\n")
@@ -51,8 +57,9 @@ def write(path, temps, stresses, table, comments=()):
                                 repr(float(table[s, i, j]))])
 
 
-def read(path):
-    """Read a FORC data file.
+def read(path: str | Path) -> tuple[np.ndarray, np.ndarray, np.ndarray,
+                                    dict[tuple[int, int, int], int]]:
+    """Read the FORC data file `path`.
 
     Returns
     -------
@@ -70,7 +77,7 @@ def read(path):
     stresses = sorted({r[1] for r in rows})
     temps = sorted({r[2] for r in rows} | {r[3] for r in rows})
     table = np.full((len(stresses), len(temps), len(temps)), np.nan)
-    lines = {}
+    lines: dict[tuple[int, int, int], int] = {}
     s_of, t_of = {v: k for k, v in enumerate(stresses)}, {v: k for k, v in enumerate(temps)}
     for line, sigma, a, b, value in rows:
         if b > a:

@@ -1,11 +1,14 @@
 """Inverse of the modified Preisach model (§preisach-inverse): strain and stress in, temperature
 out."""
+from __future__ import annotations
+
 import copy
 import math
 
 import numpy as np
 
 from .preisach import MemoryParams, StressInput, clamp, push_extremum
+from .surface import Hypersurface
 
 N_DENSE = 201  # points per axis of the densified surfaces and of the inverse bases
 #                (§preisach-inverse)
@@ -31,7 +34,7 @@ class InverseBases:
     a' = dense[i]; ``b_fmax[s * n + i]``. Immutable: ``copy.deepcopy`` returns it unchanged.
     """
 
-    def __init__(self, surface, n=N_DENSE):
+    def __init__(self, surface: Hypersurface, n: int = N_DENSE) -> None:
         if not (isinstance(n, int) and n >= 2):
             raise ValueError(f"n must be an integer >= 2 (got {n!r})")
         self.n = n
@@ -98,7 +101,8 @@ class PreisachInverse(StressInput):
         Built from `surface` when not given (share one between inverses of the same surface).
     """
 
-    def __init__(self, surface, params=None, bases=None):
+    def __init__(self, surface: Hypersurface, params: MemoryParams | None = None,
+                 bases: InverseBases | None = None) -> None:
         self.params = params or MemoryParams()
         self.params.check()
         self.surface = surface
@@ -111,22 +115,24 @@ class PreisachInverse(StressInput):
         self._init_stress(surface, self._n * self._n)
         self.reset(0.0, surface.s_lo)
 
-    def reset(self, eps_r, sigma, t=None):
-        """Start from the all-off state at b0, then take eps_r [-], sigma [Pa]; return T_out [C]."""
+    def reset(self, eps_r: float, sigma: float, t: float | None = None) -> float:
+        """Start from the all-off state at b0, then take `eps_r` [-], `sigma` [Pa] (at time `t`
+        [s], used only in warnings); return T_out [C]."""
         self.clear(sigma, t)
         return self.step(eps_r, sigma, t)
 
-    def clear(self, sigma, t=None):
-        """The all-off memory at b0 under stress sigma [Pa], before any reference: `reset`
+    def clear(self, sigma: float, t: float | None = None) -> None:
+        """The all-off memory at b0 under stress `sigma` [Pa] (at time `t` [s]), before any
+        reference: `reset`
         without its first step (clear, then step the first sample, is reset bit for bit)."""
         self._set_stress(sigma, t)
         self._all_off()
         self._eps = 0.0  # the reference the all-off memory produces
 
-    def peek(self, eps_r, sigma, t=None):
-        """The T_out [C] `step` would return for eps_r [-], sigma [Pa], leaving the memory
-        unchanged: what an output at a communication point needs before the sample is committed
-        (the FMU's direct feedthrough). Out-of-range warnings count as given.
+    def peek(self, eps_r: float, sigma: float, t: float | None = None) -> float:
+        """The T_out [C] `step` would return for `eps_r` [-], `sigma` [Pa] at `t` [s], leaving the
+        memory unchanged: what an output at a communication point needs before the sample is
+        committed (the FMU's direct feedthrough). Out-of-range warnings count as given.
 
         Examples
         --------
@@ -140,9 +146,10 @@ class PreisachInverse(StressInput):
         trial.extrema, trial.prefix, trial.stresses = self.extrema[:], self.prefix[:], self.stresses[:]
         return trial.step(eps_r, sigma, t)
 
-    def step(self, eps_r, sigma, t=None):
-        """Take the reference strain eps_r [-] and stress sigma [Pa] (at time t [s], used only in
-        warnings); return the temperature T_out [C] that makes the forward model produce eps_r."""
+    def step(self, eps_r: float, sigma: float, t: float | None = None) -> float:
+        """Take the reference strain `eps_r` [-] and stress `sigma` [Pa] (at time `t` [s], used
+        only in warnings); return the temperature T_out [C] that makes the forward model produce
+        eps_r."""
         if not 0.0 <= eps_r <= self._eps_hi:
             eps_r = clamp(self._warned, "reference strain", eps_r, 0.0, self._eps_hi, "", t)
         if sigma != self._sigma:

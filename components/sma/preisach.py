@@ -1,6 +1,10 @@
 """Modified Preisach forward model of §preisach: temperature in, strain out, stress a correction."""
+from __future__ import annotations
+
 import sys
 from bisect import bisect_right
+from collections.abc import Callable, Sequence
+from typing import Any
 from dataclasses import dataclass
 
 from musclesim.components.checks import require
@@ -18,7 +22,7 @@ class MemoryParams:
     tol: float = 0.01  # C, reversals smaller than this make no stack entry (real-time noise guard)
     max_extrema: int = 64  # stack bound incl. b0; beyond it the least important pair is forgotten
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, non_negative=("tol",))
         if not (isinstance(self.max_extrema, int) and self.max_extrema >= 4):
@@ -104,7 +108,7 @@ class PreisachModel(StressInput):
     [1800.0, 1000.0, 1200.0, 1150.0, 2112.5]
     """
 
-    def __init__(self, surface, params=None):
+    def __init__(self, surface: Hypersurface, params: MemoryParams | None = None) -> None:
         self.params = params or MemoryParams()
         self.params.check()
         self.surface = surface
@@ -114,16 +118,16 @@ class PreisachModel(StressInput):
         self._init_stress(surface, self._nc * self._nc)
         self.reset(surface.t_lo, surface.s_lo)
 
-    def reset(self, T, sigma, t=None):
-        """Start from the all-off state at b0 (fully martensitic), then take input T [C], sigma
-        [Pa]; return the strain."""
+    def reset(self, T: float, sigma: float, t: float | None = None) -> float:
+        """Start from the all-off state at b0 (fully martensitic), then take input `T` [C],
+        `sigma` [Pa] (at time `t` [s], used only in warnings); return the strain."""
         self._set_stress(sigma, t)
         self._all_off()
         return self.step(T, sigma, t)
 
-    def step(self, T, sigma, t=None):
-        """Take temperature T [C] and stress sigma [Pa] (at time t [s], used only in warnings);
-        return the strain [-]."""
+    def step(self, T: float, sigma: float, t: float | None = None) -> float:
+        """Take temperature `T` [C] and stress `sigma` [Pa] (at time `t` [s], used only in
+        warnings); return the strain [-]."""
         if not self._t_lo <= T <= self._t_hi:
             T = clamp(self._warned, "temperature", T, self._t_lo, self._t_hi, "C", t)
         if sigma != self._sigma:
@@ -171,8 +175,9 @@ class PreisachModel(StressInput):
         c0, c1, c2, c3, d0, d1, d2, d3 = self.surface.cells[self._k_base + i * nc + j]
         return c0 + c1 * u + (c2 + c3 * u) * v + self._w * (d0 + d1 * u + (d2 + d3 * u) * v)
 
-    def peek(self, T, sigma, t=None):
-        """The strain `step` would return for T [C], sigma [Pa], leaving the memory unchanged:
+    def peek(self, T: float, sigma: float, t: float | None = None) -> float:
+        """The strain `step` would return for `T` [C], `sigma` [Pa] at `t` [s], leaving the memory
+        unchanged:
         what an implicit coupling (the latent heat of ``thermal.step_coupled``) asks of the model
         while it searches the end of a step. Out-of-range warnings count as given.
 
@@ -199,7 +204,7 @@ class PreisachModel(StressInput):
         trial.extrema, trial.prefix, trial.stresses = self.extrema[:], self.prefix[:], self.stresses[:]
         return trial.step(T, sigma, t)
 
-    def direct_strain(self):
+    def direct_strain(self) -> float:
         """The strain of the current state summed term by term over the stack (O(stack))."""
         return stack_strain(self.surface, self.extrema, self.stresses, self.X, self.X_sigma)
 
@@ -214,8 +219,9 @@ class PreisachModel(StressInput):
         return 0.0
 
 
-def push_extremum(model, term):
-    """Record model.X (stress model.X_sigma, frozen term `term`), bound the stack, turn round."""
+def push_extremum(model: PreisachModel, term: float) -> None:
+    """Record `model`.X (stress model.X_sigma, frozen term `term`), bound the stack, turn
+    round."""
     E, P, S = model.extrema, model.prefix, model.stresses
     E.append(model.X)
     P.append(P[-1] + term)
@@ -225,8 +231,10 @@ def push_extremum(model, term):
     model.rising = not model.rising
 
 
-def forget_least_pair(surface, extrema, prefix, stresses):
-    """Drop the two consecutive stack entries whose loss changes the strain least.
+def forget_least_pair(surface: Hypersurface, extrema: list[float], prefix: list[float],
+                      stresses: list[float]) -> None:
+    """Drop the two consecutive entries of the stack (`extrema`, their `prefix` sums and
+    `stresses` on `surface`) whose loss changes the strain least.
 
     Neither b0 nor the newest entry is dropped. Dropping entries p, p+1 joins p-1 to p+2 with
     the new term +-F(E[p+2], E[p-1]) at the stress of E[p+2]; the strain changes by the
@@ -242,14 +250,16 @@ def forget_least_pair(surface, extrema, prefix, stresses):
         change = P[q] - P[p - 1] - term
         if best is None or abs(change) < abs(best[1]):
             best = (p, change)
+    assert best is not None  # the stack holds a pair to drop whenever this is called
     p, change = best
     del E[p:p + 2], P[p:p + 2], S[p:p + 2]
     for q in range(p, len(P)):
         P[q] -= change
 
 
-def stress_grid(surface):
-    """(lo, hi, levels, 1 / level spacings, last interval) for inline stress interpolation.
+def stress_grid(surface: Hypersurface) -> tuple[float, float, list[float], list[float], int]:
+    """(lo, hi, levels, 1 / level spacings, last interval) of `surface` for inline stress
+    interpolation.
 
     A single level ignores stress: its range is every finite value and its weight is 0.
     """
@@ -260,7 +270,8 @@ def stress_grid(surface):
     return levels[0], levels[-1], levels, inv, len(levels) - 2
 
 
-def stack_strain(surface, extrema, stresses, T, sigma):
+def stack_strain(surface: Hypersurface, extrema: Sequence[float], stresses: Sequence[float],
+                 T: float, sigma: float) -> float:
     """Strain of an extrema stack summed term by term (the O(stack) form of §preisach).
 
     Parameters
@@ -285,8 +296,10 @@ def stack_strain(surface, extrema, stresses, T, sigma):
     return eps - surface.F(extrema[-1], T, sigma)
 
 
-def strain_rising(F, maxima, minima):
-    """§preisach, temperature rising (T = M_n, the last maximum), at one stress:
+def strain_rising(F: Callable[[float, float], float], maxima: Sequence[float],
+                  minima: Sequence[float]) -> float:
+    """§preisach, temperature rising (T = M_n, the last of `maxima`, with `minima` m_0..), at
+    one stress (`F` (a, b) its FORC increment):
 
     eps = sum_{k=1}^{n-1} [F(M_k, m_{k-1}) - F(M_k, m_k)] + F(M_n, m_{n-1})
 
@@ -301,13 +314,15 @@ def strain_rising(F, maxima, minima):
     if len(minima) != n:
         raise ValueError(f"rising needs as many minima as maxima (m_0..m_n-1), got "
                          f"{len(minima)} and {n}")
-    M = [None, *maxima]
+    M: list[Any] = [None, *maxima]
     return sum(F(M[k], minima[k - 1]) - F(M[k], minima[k]) for k in range(1, n)) + \
         F(M[n], minima[n - 1])
 
 
-def strain_falling(F, maxima, minima):
-    """§preisach, temperature falling (T = m_n, the last minimum), at one stress:
+def strain_falling(F: Callable[[float, float], float], maxima: Sequence[float],
+                   minima: Sequence[float]) -> float:
+    """§preisach, temperature falling (T = m_n, the last of `minima`, with `maxima` M_1..), at
+    one stress (`F` (a, b) its FORC increment):
 
     eps = sum_{k=1}^{n} [F(M_k, m_{k-1}) - F(M_k, m_k)]
 
@@ -322,5 +337,5 @@ def strain_falling(F, maxima, minima):
     if len(minima) != n + 1:
         raise ValueError(f"falling needs one more minimum than maxima (m_0..m_n), got "
                          f"{len(minima)} and {n}")
-    M = [None, *maxima]
+    M: list[Any] = [None, *maxima]
     return sum(F(M[k], minima[k - 1]) - F(M[k], minima[k]) for k in range(1, n + 1))

@@ -1,6 +1,9 @@
 """Reference strain profiles SP I-IV and loading profiles LP I-VI of §reference-profiles: signal
 generators."""
+from __future__ import annotations
+
 import math
+from collections.abc import Callable
 
 import numpy as np
 
@@ -19,7 +22,8 @@ class Profile:
     ``(function, arguments)``, which copying and pickling repeat (an FMU's saved state holds it).
     """
 
-    def __init__(self, name, fn, lo, hi, duration, made=None):
+    def __init__(self, name: str, fn: Callable[[np.ndarray], np.ndarray], lo: float, hi: float,
+                 duration: float, made: tuple[Callable[..., Profile], tuple] | None = None) -> None:
         self.name, self.lo, self.hi, self.duration = name, lo, hi, duration
         self._fn, self.made = fn, made
 
@@ -34,8 +38,9 @@ class Profile:
         return f"Profile({self.name!r}, [{self.lo:g}, {self.hi:g}], {self.duration:g} s)"
 
 
-def strain_profile(name, lo=0.0, hi=EPS_MAX, duration=DURATION, seed=0):
-    """Reference strain profile SP I-IV of §reference-profiles within [lo, hi].
+def strain_profile(name: str, lo: float = 0.0, hi: float = EPS_MAX, duration: float = DURATION,
+                   seed: int = 0) -> Profile:
+    """Reference strain profile `name` (SP I-IV of §reference-profiles) within [`lo`, `hi`].
 
     SP I: sinusoid at 1/17 Hz over the whole range, starting at lo. SP II: sinusoid at 1/17 Hz
     about the middle, its amplitude decaying from the full range with time constant duration / 4
@@ -61,8 +66,10 @@ def strain_profile(name, lo=0.0, hi=EPS_MAX, duration=DURATION, seed=0):
                    (strain_profile, (name, lo, hi, duration, seed)))
 
 
-def loading_profile(name, lo=SIGMA_LO, hi=SIGMA_HI, duration=DURATION, seed=0):
-    """Loading (stress) profile LP I-VI of §reference-profiles within [lo, hi] [Pa].
+def loading_profile(name: str, lo: float = SIGMA_LO, hi: float = SIGMA_HI,
+                    duration: float = DURATION, seed: int = 0) -> Profile:
+    """Loading (stress) profile `name` (LP I-VI of §reference-profiles) within [`lo`, `hi`]
+    [Pa].
 
     LP I and LP II: sinusoids at 1/17 Hz and 1/47 Hz over the range, starting at the middle.
     LP III: linear increase lo -> hi over `duration`; LP IV: linear decrease hi -> lo (held after).
@@ -87,8 +94,10 @@ def loading_profile(name, lo=SIGMA_LO, hi=SIGMA_HI, duration=DURATION, seed=0):
                    (loading_profile, (name, lo, hi, duration, seed)))
 
 
-def random_peaks(lo, hi, duration, seed, start=None, segment=(4.0, 12.0)):
-    """A seeded signal through alternating random peaks and troughs, joined by half cosines.
+def random_peaks(lo: float, hi: float, duration: float, seed: int, start: float | None = None,
+                 segment: tuple[float, float] = (4.0, 12.0)) -> Callable[[np.ndarray], np.ndarray]:
+    """A signal through alternating random peaks and troughs within [`lo`, `hi`], joined by half
+    cosines, over `duration` [s], its generator seeded with `seed`.
 
     Peaks are drawn from the upper 60 % of [lo, hi], troughs from the lower 60 %, each at least
     10 % of the range from the previous extreme; each swing lasts a uniform random time in
@@ -96,17 +105,17 @@ def random_peaks(lo, hi, duration, seed, start=None, segment=(4.0, 12.0)):
     """
     rng = np.random.default_rng(seed)
     span = hi - lo
-    times, values = [0.0], [lo if start is None else start]
+    knots, levels = [0.0], [lo if start is None else start]
     up = True
-    while times[-1] <= duration:
+    while knots[-1] <= duration:
         while True:
             frac = rng.uniform(0.4, 1.0) if up else rng.uniform(0.0, 0.6)
-            if abs(lo + frac * span - values[-1]) >= 0.1 * span:
+            if abs(lo + frac * span - levels[-1]) >= 0.1 * span:
                 break
-        times.append(times[-1] + rng.uniform(*segment))
-        values.append(lo + frac * span)
+        knots.append(knots[-1] + rng.uniform(*segment))
+        levels.append(lo + frac * span)
         up = not up
-    times, values = np.array(times), np.array(values)
+    times, values = np.array(knots), np.array(levels)
 
     def fn(t):
         i = np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2)

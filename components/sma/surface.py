@@ -1,7 +1,11 @@
 """The Preisach hypersurface of §preisach: FORC increments F(a, b; stress) on a grid."""
+from __future__ import annotations
+
 import bisect
 import math
 import warnings
+from collections.abc import Callable, Sequence
+from pathlib import Path
 
 import numpy as np
 
@@ -54,7 +58,7 @@ class Hypersurface:
     (10.0, 5.0)
     """
 
-    def __init__(self, temps, stresses, F):
+    def __init__(self, temps, stresses, F):  # array-likes, made read-only arrays here
         temps = np.array(temps, dtype=float)
         stresses = np.array(stresses, dtype=float)
         table = np.array(F, dtype=float)
@@ -73,8 +77,11 @@ class Hypersurface:
         self._warned = set()
 
     @classmethod
-    def from_function(cls, f, temps=GRID_TEMPS, stresses=STRESSES):
-        """Tabulate f(a, b, sigma) [strain] on the grid (defaults: §preisach) and validate it."""
+    def from_function(cls, f: Callable[[float, float, float], float],
+                      temps: Sequence[float] = GRID_TEMPS,
+                      stresses: Sequence[float] = STRESSES) -> Hypersurface:
+        """Tabulate `f` (a, b, sigma) [strain] on the grid `temps` [C] x `stresses` [Pa]
+        (defaults: §preisach) and validate it."""
         temps = [float(t) for t in temps]
         table = np.zeros((len(stresses), len(temps), len(temps)))
         for s, sigma in enumerate(stresses):
@@ -84,8 +91,8 @@ class Hypersurface:
         return cls(temps, stresses, table)
 
     @classmethod
-    def load(cls, path):
-        """Read a FORC data file (format: `musclesim.components.sma.forcfile`).
+    def load(cls, path: str | Path) -> Hypersurface:
+        """Read the FORC data file `path` (format: `musclesim.components.sma.forcfile`).
 
         Raises ValueError naming the file and the line of a malformed or non-monotonic entry.
         """
@@ -99,20 +106,22 @@ class Hypersurface:
         except ValueError as exc:
             raise ValueError(f"{path}: {exc}") from None
 
-    def save(self, path):
-        """Write the surface as a FORC data file (format: `musclesim.components.sma.forcfile`)."""
+    def save(self, path: str | Path) -> None:
+        """Write the surface as the FORC data file `path` (format:
+        `musclesim.components.sma.forcfile`)."""
         forcfile.write(path, self.temps, self.stresses, self.table)
 
-    def at_stress(self, sigma):
-        """The single constant-stress surface at sigma [Pa]: a model on it ignores stress (the
+    def at_stress(self, sigma: float) -> Hypersurface:
+        """The single constant-stress surface at `sigma` [Pa]: a model on it ignores stress (the
         comparison case of §position-control)."""
         k, w = self.stress_weights(self.clamp_stress(sigma))
         upper = min(k + 1, len(self.stresses) - 1)
         G = (1 - w) * self.table[k] + w * self.table[upper]
         return Hypersurface(self.temps, [float(sigma)], G[None])
 
-    def F(self, a, b, sigma, t=None):
-        """FORC increment F(a, b; sigma) [strain]; 0 for a <= b; out-of-range inputs clamped.
+    def F(self, a: float, b: float, sigma: float, t: float | None = None) -> float:
+        """FORC increment F(`a`, `b`; `sigma`) [strain]; 0 for a <= b; out-of-range inputs
+        clamped.
 
         `t` [s], if given, only dates the out-of-range warning.
         """
@@ -123,8 +132,9 @@ class Hypersurface:
         k, w = self.stress_weights(self.clamp_stress(sigma, t))
         return self.eval(a, b, k, w)
 
-    def eval(self, a, b, k, w):
-        """F at in-range a >= b, stress interval k, weight w (see `stress_weights`); no checks."""
+    def eval(self, a: float, b: float, k: int, w: float) -> float:
+        """F at in-range `a` >= `b` [C], stress interval `k`, weight `w` (see `stress_weights`);
+        no checks."""
         nc = self.n_cells
         x = (a - self.t_lo) * self.inv_h
         y = (b - self.t_lo) * self.inv_h
@@ -133,20 +143,23 @@ class Hypersurface:
         c0, c1, c2, c3, d0, d1, d2, d3 = self.cells[(k * nc + i) * nc + j]
         return c0 + c1 * u + (c2 + c3 * u) * v + w * (d0 + d1 * u + (d2 + d3 * u) * v)
 
-    def stress_weights(self, sigma):
-        """(k, w): in-range sigma lies between levels k and k+1 with weight w on level k+1."""
+    def stress_weights(self, sigma: float) -> tuple[int, float]:
+        """(k, w): in-range `sigma` [Pa] lies between levels k and k+1 with weight w on level
+        k+1."""
         levels = self._levels
         if len(levels) == 1:
             return 0, 0.0
         k = min(max(bisect.bisect_right(levels, sigma) - 1, 0), len(levels) - 2)
         return k, (sigma - levels[k]) / (levels[k + 1] - levels[k])
 
-    def clamp_temperature(self, T, t=None):
-        """T [C] clamped to the grid, with the one-time warning of the out-of-range policy."""
+    def clamp_temperature(self, T: float, t: float | None = None) -> float:
+        """`T` [C] clamped to the grid, with the one-time warning of the out-of-range policy
+        (dated `t` [s])."""
         return self._clamp("temperature", T, self.t_lo, self.t_hi, "C", t)
 
-    def clamp_stress(self, sigma, t=None):
-        """sigma [Pa] clamped to the stress levels (any value when there is one level)."""
+    def clamp_stress(self, sigma: float, t: float | None = None) -> float:
+        """`sigma` [Pa] clamped to the stress levels (any value when there is one level), its
+        warning dated `t` [s]."""
         if len(self._levels) == 1:
             return self._clamp("stress", sigma, -math.inf, math.inf, "Pa", t)
         return self._clamp("stress", sigma, self.s_lo, self.s_hi, "Pa", t)
@@ -161,8 +174,10 @@ class Hypersurface:
         return self
 
 
-def clamp(warned, name, value, lo, hi, unit, t=None):
-    """Clamp value to [lo, hi], warning once per name (recorded in the set `warned`).
+def clamp(warned: set[str], name: str, value: float, lo: float, hi: float, unit: str,
+          t: float | None = None) -> float:
+    """Clamp `value` to [`lo`, `hi`] (in `unit`), warning once per `name` (recorded in the set
+    `warned`).
 
     Raises ValueError for NaN. `t` [s], if given, dates the warning.
 

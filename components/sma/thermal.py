@@ -11,8 +11,11 @@ core unchanged and cools its ends (`ends`). Temperatures in degrees C.
 The update is exponential (Rosenbrock-Euler): exact in one step when h is constant and the inputs
 are held, sub-stepped with h(T), stable at any step.
 """
+from __future__ import annotations
+
 import math
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, fields
 from typing import NamedTuple
 
 from scipy.optimize import brentq
@@ -60,13 +63,22 @@ class ThermalParams:
                                 source="§named-effects, §convection", effect=(0.0, 0.5))
     h_dT_ref: float = 50.0  # K, excess temperature at which h holds (§convection)
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("length", "diameter", "density", "specific_heat",
                                 "rho_martensite", "rho_austenite", "max_substep", "h_dT_ref"),
                 non_negative=("h", "latent_heat", "h_exponent"))
         if self.drive not in DRIVES:
             raise ValueError(f"drive must be one of {DRIVES} (got {self.drive!r})")
+
+
+def params_of(values: object, drive: str, skip: tuple[str, ...] = ()) -> ThermalParams:
+    """The `ThermalParams` of the declared parameters' values, read as attributes of `values` (an
+    FMU slave that declared them with ``parameters_of(ThermalParams)``), but not those in `skip`
+    (their defaults hold), with the electrical input `drive` ("voltage" or "current")."""
+    return ThermalParams(drive=drive, **{f.name: getattr(values, f.name)
+                                         for f in fields(ThermalParams)
+                                         if "unit" in f.metadata and f.name not in skip})
 
 
 class ThermalInputs(NamedTuple):
@@ -84,28 +96,30 @@ AMBIENT = Calibration(-8.0, 8.0, False, "the bench's room air; stated in the dat
                       "[conditions] when measured")
 
 
-def cross_section(p):
-    """Cross-section area pi d^2 / 4 [m^2]."""
+def cross_section(p: ThermalParams) -> float:
+    """Cross-section area pi d^2 / 4 [m^2] of the wire `p`."""
     return math.pi * p.diameter ** 2 / 4
 
 
-def lateral_surface(p):
-    """Lateral surface A_s = pi d L [m^2] (§sma-wire)."""
+def lateral_surface(p: ThermalParams) -> float:
+    """Lateral surface A_s = pi d L [m^2] of the wire `p` (§sma-wire)."""
     return math.pi * p.diameter * p.length
 
 
-def heat_capacity(p):
-    """Heat capacity m c_p of the wire [J/K]."""
+def heat_capacity(p: ThermalParams) -> float:
+    """Heat capacity m c_p [J/K] of the wire `p`."""
     return p.density * cross_section(p) * p.length * p.specific_heat
 
 
-def time_constant(p):
-    """Free-cooling time constant m c_p / (h A_s) = rho c d / 4h [s] (§convection)."""
+def time_constant(p: ThermalParams) -> float:
+    """Free-cooling time constant m c_p / (h A_s) = rho c d / 4h [s] of the wire `p`
+    (§convection)."""
     return heat_capacity(p) / (p.h * lateral_surface(p))
 
 
-def resistance(xi, p):
-    """Electrical resistance R(xi) = L (xi rho_M + (1 - xi) rho_A) / A [Ohm] (§thermal-model).
+def resistance(xi: float, p: ThermalParams) -> float:
+    """Electrical resistance R(xi) = L (xi rho_M + (1 - xi) rho_A) / A [Ohm] of the wire `p` at
+    martensite fraction `xi` (§thermal-model).
 
     Examples
     --------
@@ -117,26 +131,30 @@ def resistance(xi, p):
     return rho * p.length / cross_section(p)
 
 
-def joule_power(u, xi, p):
-    """Joule heating [W]: V^2 / R under voltage drive, R I^2 under current drive."""
+def joule_power(u: float, xi: float, p: ThermalParams) -> float:
+    """Joule heating [W] of the input `u` on the wire `p` at martensite fraction `xi`: V^2 / R
+    under voltage drive, R I^2 under current drive."""
     r = resistance(xi, p)
     return u * u / r if p.drive == "voltage" else r * u * u
 
 
-def convection_coefficient(T, T_amb, p):
-    """h(T) [W/(m^2 K)]: h, or h (|T - T_amb| / dT_ref)^n with the effect on."""
+def convection_coefficient(T: float, T_amb: float, p: ThermalParams) -> float:
+    """h(T) [W/(m^2 K)] of the wire `p` at `T` in air at `T_amb` [C]: h, or h (|T - T_amb| /
+    dT_ref)^n with the effect on."""
     if p.h_exponent == 0:
         return p.h
     return p.h * (abs(T - T_amb) / p.h_dT_ref) ** p.h_exponent
 
 
-def martensite_fraction(eps, eps_max):
-    """xi = 1 - eps / eps_max clipped to [0, 1]: a hysteron switched on is austenite (§preisach)."""
+def martensite_fraction(eps: float, eps_max: float) -> float:
+    """xi = 1 - `eps` / `eps_max` clipped to [0, 1]: a hysteron switched on is austenite
+    (§preisach)."""
     return min(1.0, max(0.0, 1.0 - eps / eps_max))
 
 
-def derivative(T, inputs, p):
-    """dT/dt [K/s] of the lumped balance at wire temperature T [C] (module equation)."""
+def derivative(T: float, inputs: ThermalInputs, p: ThermalParams) -> float:
+    """dT/dt [K/s] of the lumped balance of the wire `p` at temperature `T` [C] with `inputs`
+    (module equation)."""
     h = convection_coefficient(T, inputs.T_amb, p)
     heat = (joule_power(inputs.u, inputs.xi, p)
             + p.density * cross_section(p) * p.length * p.latent_heat * inputs.xi_rate
@@ -144,13 +162,13 @@ def derivative(T, inputs, p):
     return heat / heat_capacity(p)
 
 
-def _phi(x):
+def _phi(x: float) -> float:
     """(1 - exp(-x)) / x, with its limit 1 at x = 0."""
     return -math.expm1(-x) / x if x > 1e-12 else 1.0
 
 
-def step(T, inputs, dt, p):
-    """Wire temperature [C] after dt [s] with the inputs held.
+def step(T: float, inputs: ThermalInputs, dt: float, p: ThermalParams) -> float:
+    """Temperature [C] of the wire `p` after `dt` [s] from `T` [C] with `inputs` held.
 
     Update T += dt_s f(T) phi(dt_s k / (m c_p)), phi(x) = (1 - e^-x) / x, k = (1 + n) h(T) A_s
     the loss's derivative in T. With h constant (n = 0) one such update is the exact
@@ -174,12 +192,14 @@ def step(T, inputs, dt, p):
     return T
 
 
-def step_coupled(T, inputs, dt, p, xi_at):
-    """Step with the latent heat coupled implicitly to the hysteresis: return (T_new, xi_new).
+def step_coupled(T: float, inputs: ThermalInputs, dt: float, p: ThermalParams,
+                 xi_at: Callable[[float], float]) -> tuple[float, float]:
+    """Step the wire `p` from `T` [C] over `dt` [s] with `inputs` held, the latent heat coupled
+    implicitly to the hysteresis: return (T_new, xi_new).
 
     Solves T_new = step(T, inputs with xi_rate = (xi_new - xi) / dt, dt) with xi_new =
-    xi_at(T_new) clipped to [0, 1]. ``xi_at(T)`` is the martensite fraction the hysteresis model
-    would reach at T from its present memory (without committing it). Along a branch xi falls as
+    xi_at(T_new) clipped to [0, 1]. `xi_at` (of T) is the martensite fraction the hysteresis
+    model would reach at T from its present memory (without committing it). Along a branch xi falls as
     T rises, so the root is unique. An explicit xi_rate from the previous step would oscillate
     wherever L |dxi/dT| > c_p, i.e. on steep branches. Without latent heat this is `step`
     followed by one xi_at call.

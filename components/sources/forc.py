@@ -16,6 +16,8 @@ The period P must let the closed loop follow the cooling half: the wire cools by
 than free cooling. `min_period` gives the bound: about 16 s for the 100 K run with T_low 10 K above
 the ambient air.
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
 
@@ -44,7 +46,7 @@ class ForcParams:
     t_start: float = declare(0.0, "s", "Start of the first run, T_low held before (assumption: "
                              "at once)")
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         if not self.T_low < self.T_high:
             raise ValueError(f"T_low must be below T_high (got {self.T_low!r}, {self.T_high!r})")
@@ -58,18 +60,18 @@ class ForcParams:
             raise ValueError(f"t_start must be finite (got {self.t_start!r})")
 
     @property
-    def n_runs(self):
+    def n_runs(self) -> int:
         """Number of runs: one per grid peak, T_low (a flat run) to T_high."""
         return int(round((self.T_high - self.T_low) / self.T_step)) + 1
 
     @property
-    def duration(self):
+    def duration(self) -> float:
         """End of the last run [s], counted from t = 0."""
         return self.t_start + self.n_runs * self.period
 
 
-def peak(j, p):
-    """Peak temperature a_j [K] of run j.
+def peak(j: float, p: ForcParams) -> float:
+    """Peak temperature a_j [K] of run `j` of the experiments `p`.
 
     Examples
     --------
@@ -80,8 +82,9 @@ def peak(j, p):
     return p.T_low + j * p.T_step
 
 
-def value(t, p):
-    """(T_ref [K], run index, phase flag) at time t [s] (module equation).
+def value(t: float, p: ForcParams) -> tuple[float, float, float]:
+    """(T_ref [K], run index, phase flag) of the experiments `p` at time `t` [s] (module
+    equation).
 
     Examples
     --------
@@ -101,8 +104,9 @@ def value(t, p):
     return T, float(j), HEATING if x < 0.5 else COOLING
 
 
-def min_period(amplitude, T_low_above_ambient, tau):
-    """Shortest period [s] whose falling half never outruns free cooling (heating power 0).
+def min_period(amplitude: float, T_low_above_ambient: float, tau: float) -> float:
+    """Shortest period [s] whose falling half of `amplitude` [K] never outruns free cooling
+    (heating power 0, time constant `tau` [s], `T_low_above_ambient` [K]).
 
     With x = the phase left to the end of the run, the reference falls at A pi sin(x) / P and is
     then at A (1 - cos x) / 2 above T_low; free cooling from there manages (D + A (1 - cos x) / 2)

@@ -13,6 +13,8 @@ is taken on it: a master samples at t0 + k h, and f t + phase / 2 pi rounds eith
 edge that falls on a sample, so that otherwise a pulse of 25 steps could take 26 (the bending
 actuator's wire B, half a period behind wire A).
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
 
@@ -38,7 +40,7 @@ class SignalParams:
     duty: float = declare(0.5, "1", "Square wave: share of each period at offset + amplitude "
                           "(0..1 exclusive; a pulse train of this duty)")
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         if self.kind not in range(len(KINDS)):
             raise ValueError(f"kind must be one of 0..{len(KINDS) - 1} ({', '.join(KINDS)}), "
@@ -49,7 +51,7 @@ class SignalParams:
                              f"at offset + amplitude; got {self.duty!r})")
 
 
-def unit_wave(kind, cycles, duty=0.5):
+def unit_wave(kind: str, cycles: float, duty: float = 0.5) -> float:
     """The unit wave of `kind` after `cycles` periods (a float); `duty`: a square wave's high share.
 
     Examples
@@ -72,8 +74,8 @@ def unit_wave(kind, cycles, duty=0.5):
     return 4 * frac - 1 if frac < 0.5 else 3 - 4 * frac  # triangle
 
 
-def value(t, p):
-    """y(t) of the module equation."""
+def value(t: float, p: SignalParams) -> float:
+    """y(`t`) of the signal `p` (module equation)."""
     kind = KINDS[int(p.kind)]
     if kind == "constant" or t < p.t_start:
         return p.offset

@@ -1,6 +1,9 @@
 """FMU slaves of the sources: thin adapters over musclesim.components.sources.signals and .forc,
 and the reference profiles of §reference-profiles (musclesim.components.sma.profiles)."""
+from __future__ import annotations
+
 import math
+from collections.abc import Callable
 
 from musclesim.components.sma import profiles
 from musclesim.components.sources import forc, signals
@@ -12,15 +15,15 @@ class SignalSource(Slave):
 
     description = "Signal source: constant, sine, square or triangle wave around an offset, or a ramp"
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         self.parameters_of(signals.SignalParams)
         self.output("y", "1", "Signal")
 
-    def setup(self):
+    def setup(self) -> None:
         self.p = self.core_params(signals.SignalParams)
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         self.y = signals.value(self.time, self.p)
 
 
@@ -32,7 +35,7 @@ class ForcReference(Slave):
                    "T_low + j T_step along a raised cosine and cools back; outputs run index and "
                    "phase")
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         self.parameters_of(forc.ForcParams)
         self.output("T_ref", "K", "Reference temperature")
@@ -41,10 +44,10 @@ class ForcReference(Slave):
         self.output("phase", "1", "+1 heating half, -1 cooling half, 0 outside the runs",
                     type="Integer")
 
-    def setup(self):
+    def setup(self) -> None:
         self.p = self.core_params(forc.ForcParams)
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         self.T_ref, self.run, self.phase = forc.value(self.time, self.p)
 
 
@@ -55,10 +58,11 @@ class _ProfileSlave(Slave):
     """A reference profile of §reference-profiles (components/sma/profiles.py) as an output
     signal."""
 
-    names = ()  # profile names, indexed from 1 by the `profile` parameter
-    make = None  # profiles.strain_profile or profiles.loading_profile
+    names: tuple[str, ...] = ()  # profile names, indexed from 1 by the `profile` parameter
+    # profiles.strain_profile or profiles.loading_profile
+    make: Callable[..., profiles.Profile] | None = None
 
-    def __init__(self, lo, hi, unit, **kwargs):
+    def __init__(self, lo: float, hi: float, unit: str, **kwargs: object) -> None:
         super().__init__(**kwargs)
         self.parameter("profile", 1.0, "1", "Profile number: " + ", ".join(
             f"{i} = {n}" for i, n in enumerate(self.names, 1)), source="§reference-profiles",
@@ -73,7 +77,7 @@ class _ProfileSlave(Slave):
         self.parameter("seed", 0.0, "1", "Seed of the random peaks and troughs",
                        source="§reference-profiles", type="Integer")
 
-    def setup(self):
+    def setup(self) -> None:
         k = self.profile
         if k != int(k) or not 1 <= k <= len(self.names):
             raise ValueError(f"profile must be one of 1..{len(self.names)} "
@@ -82,8 +86,9 @@ class _ProfileSlave(Slave):
             raise ValueError(f"lo <= hi, duration > 0 and seed >= 0 are needed (got lo = "
                              f"{self.lo!r}, hi = {self.hi!r}, duration = {self.duration!r}, "
                              f"seed = {self.seed!r})")
-        self.fn = type(self).make(self.names[int(k) - 1], self.lo, self.hi, self.duration,
-                                  int(self.seed))
+        make = type(self).make
+        assert make is not None  # each profile slave names its generator
+        self.fn = make(self.names[int(k) - 1], self.lo, self.hi, self.duration, int(self.seed))
 
 
 class StrainProfile(_ProfileSlave):
@@ -95,11 +100,11 @@ class StrainProfile(_ProfileSlave):
     names = profiles.STRAIN_PROFILES
     make = staticmethod(profiles.strain_profile)
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(0.0, profiles.EPS_MAX, "1", **kwargs)
         self.output("eps_ref", "1", "Reference strain (contraction / length)")
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         self.eps_ref = self.fn(self.time)
 
 
@@ -111,13 +116,13 @@ class LoadingProfile(_ProfileSlave):
     names = profiles.LOADING_PROFILES
     make = staticmethod(profiles.loading_profile)
 
-    def __init__(self, **kwargs):
+    def __init__(self, **kwargs: object) -> None:
         super().__init__(profiles.SIGMA_LO, profiles.SIGMA_HI, "Pa", **kwargs)
         self.parameter("area", AREA_127UM, "m2", "Wire cross-section the force reference is for "
                        "(127 um diameter)", source="§sma-wire")
         self.output("sigma_ref", "Pa", "Reference stress")
         self.output("f_ref", "N", "Reference tension sigma_ref x area")
 
-    def evaluate(self):
+    def evaluate(self) -> None:
         self.sigma_ref = self.fn(self.time)
         self.f_ref = self.sigma_ref * self.area

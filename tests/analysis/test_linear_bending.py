@@ -9,7 +9,7 @@ import pytest
 from musclesim import cli
 from musclesim.analysis import linear_bending
 from musclesim.components.bending import actuator, beam
-from musclesim.components.sma.wire import ReferenceWire, load_params
+from musclesim.components.sma.reference_wire import ReferenceWire, load_params
 
 
 def hand_resonance(thickness, tip_mass, modulus_a=28e9):

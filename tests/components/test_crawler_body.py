@@ -1,11 +1,11 @@
-"""Crawler body plant (§two-mass): matrices, zero-order hold, momentum and gravity invariants."""
+"""Crawler body plant (components/crawler/body.py, §two-mass): matrices, zero-order hold,
+momentum and gravity invariants."""
 import math
 
 import control as ct
 import numpy as np
 import pytest
 
-from musclesim.components import fixedorder
 from musclesim.components.crawler import body
 
 UNEQUAL = body.BodyParams(m1=0.3, m2=0.2, k=150.0, c=0.9)
@@ -55,28 +55,6 @@ def test_zoh_of_equal_masses_is_the_hand_solution(h):
     np.testing.assert_allclose(Bd[:, 0], f_a_column, rtol=0, atol=1e-14 * np.abs(Bd[:, 0]).max())
 
 
-def _in_pairs(t):
-    """Terms summed as fixedorder does: an even count's halves in pairs, then left to right."""
-    if len(t) % 2 == 0:
-        t = [t[k] + t[k + len(t) // 2] for k in range(len(t) // 2)]
-    return float(sum(t[1:], t[0]))
-
-
-def test_fixed_order_products_sum_in_their_stated_order():
-    """The 4x4 product written out sums as the general loop does, bit for bit, in the order the
-    docstring states; the series gives scipy's expm to rounding (a reference through LAPACK)."""
-    from scipy.linalg import expm
-
-    rng = np.random.default_rng(3)
-    for n in (2, 3, 4, 5, 6):
-        a, b = rng.standard_normal((n, n)), rng.standard_normal((n, n))
-        by_hand = [[_in_pairs([a[i, j] * b[j, l] for j in range(n)]) for l in range(n)]
-                   for i in range(n)]
-        assert fixedorder.matmul(a.tolist(), b.tolist()) == by_hand
-        np.testing.assert_allclose(fixedorder.exp_and_integral(a.tolist(), 0.7)[0],
-                                   expm(0.7 * a), rtol=1e-13, atol=1e-13)
-
-
 @pytest.mark.parametrize("p", [body.BodyParams(), body.BodyParams(k_slope=0.02, c_ground=0.4)])
 def test_mirrored_blocks_step_to_the_mirror_image_bit_for_bit(p):
     """Equal masses: swapping the blocks (x1 <-> -x2, v1 <-> -v2, f1 <-> -f2, f_a kept) steps to
@@ -90,21 +68,6 @@ def test_mirrored_blocks_step_to_the_mirror_image_bit_for_bit(p):
             step = body.step_state(x, (f_a, f1, f2), Ad, Bd)
             mirrored = body.step_state(-x[[2, 3, 0, 1]], (f_a, -f2, -f1), Ad, Bd)
             assert np.array_equal(mirrored, -step[[2, 3, 0, 1]])
-
-
-def test_fixed_order_least_squares_is_numpys_lstsq():
-    """Householder QR with exactly rounded sums gives numpy's lstsq (LAPACK) to rounding, on a fit
-    as ill-conditioned as the pressure loops' (a nearly constant column beside the ones)."""
-    rng = np.random.default_rng(4)
-    p = 12e3 + np.cumsum(rng.standard_normal(2001))
-    X = np.column_stack([p[:-1], rng.choice([-0.5, 0.5], 2000), np.ones(2000)])
-    y = X @ [0.999, 30.0, 12.0] + 0.1 * rng.standard_normal(2000)
-    expected = np.linalg.lstsq(X, y, rcond=None)[0]
-    np.testing.assert_allclose(fixedorder.least_squares(X.T, y), expected, rtol=1e-10)
-    assert fixedorder.least_squares([[1.0, 1.0, 1.0], [0.0, 1.0, 2.0]], [1.0, 3.0, 5.0]) \
-        == [1.0, 2.0]
-    with pytest.raises(ValueError, match="not independent"):
-        fixedorder.least_squares([[1.0, 2.0], [2.0, 4.0]], [1.0, 2.0])
 
 
 def test_actuator_alone_cannot_move_centre_of_mass():

@@ -110,3 +110,37 @@ def test_wire_calibration_parameters_are_exact_at_nominal_and_act_when_set(fmu_d
                                         [f"wire.{name}={default!r}"]))
     assert not np.allclose(nominal, _run(fmu_dir, "sma-temperature-tracking",
                                          [f"wire.{name}={value!r}"]), rtol=1e-6, atol=1e-9)
+
+
+def test_importing_the_library_creates_no_slave():
+    """The catalogues are read from the components' declarations when first asked for: importing
+    the library imports no slave module (creating 25 slaves at import was its cost)."""
+    import subprocess
+    import sys
+
+    code = ("import sys, musclesim.diagnosis.effects as e\n"
+            "assert not [m for m in sys.modules if m.endswith('.slaves')], sys.modules\n"
+            "e.calibration_of('CrawlerBody')\n"
+            "print(sorted(m for m in sys.modules if m.endswith('.slaves')))\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "['musclesim.components.crawler.slaves']"
+
+
+def test_the_crawler_stiffness_reaches_the_calibration_from_its_one_declaration():
+    """The crawler body's `k` is declared once, on its core's dataclass field; the calibration
+    catalogue carries that declaration's bounds and section, per component as in the whole."""
+    import dataclasses
+
+    from musclesim.components.crawler.body import BodyParams
+
+    field = {f.name: f for f in dataclasses.fields(BodyParams)}["k"]
+    declared = field.metadata["calibrate"]
+    k = {c.name: c for c in effects.calibration_of("CrawlerBody")}["k"]
+    assert (k.lower, k.upper, k.relative, k.why) == (declared.lower, declared.upper,
+                                                    declared.relative, declared.why)
+    assert k.reference == field.metadata["source"]
+    for component in CATALOGUE:
+        assert effects.calibration_of(component) == [
+            c for c in effects.CALIBRATION if c.component == component]
+    with pytest.raises(AttributeError, match="no attribute 'CALIBRATIONS'"):
+        effects.CALIBRATIONS

@@ -12,7 +12,7 @@ from musclesim.hysteresis import validation
 from musclesim.hysteresis import identify as ident
 from musclesim.cosim import Master, Signal, load_scenario, signal_units, write_results
 from musclesim.components.sma import datasets, forcfile
-from musclesim.components.sma.wire import ReferenceWire
+from musclesim.components.sma.reference_wire import ReferenceWire
 from musclesim.components.sources import forc
 from musclesim.errors import UserError
 

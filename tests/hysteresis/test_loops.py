@@ -4,7 +4,7 @@ import json
 import pytest
 
 from musclesim.components.sma.preisach import Hypersurface
-from musclesim.components.sma.wire import DEFAULT_PARAMS, ReferenceWire
+from musclesim.components.sma.reference_wire import DEFAULT_PARAMS, ReferenceWire
 from musclesim.errors import UserError
 from musclesim.hysteresis.loops import loops, loops_main, parse_band
 

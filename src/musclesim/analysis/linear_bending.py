@@ -24,7 +24,7 @@ from scipy.optimize import brentq
 
 from musclesim.components.bending import actuator, beam
 from musclesim.components.sma import thermal
-from musclesim.components.sma.wire import ReferenceWire
+from musclesim.components.sma.reference_wire import ReferenceWire
 
 BENDING_DESIGN = {
     "T_amb": 20.0,  # C, room temperature

@@ -10,7 +10,7 @@ import control as ct
 from musclesim.analysis.design import design_pi, pi_margins
 from musclesim.components.control.pid import SCHEDULE_K
 from musclesim.components.sma import thermal
-from musclesim.components.sma.wire import ReferenceWire
+from musclesim.components.sma.reference_wire import ReferenceWire
 
 SMA_DESIGN = {
     "T_amb": 20.0,  # C, room temperature of the bench

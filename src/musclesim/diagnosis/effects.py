@@ -12,8 +12,9 @@ this library names them.
 convection, material data, the hysteresis's temperature shift and strain scale, ...), with bounds
 and their model reference section: the diagnosis calibrates them before it tests any effect, and an
 effect is fitted together with them, so that "raise h" cannot pose as "latent heat". The
-components declare them (``declare(..., calibrate=Calibration(...))``); `CALIBRATION` collects
-them, in catalogue order.
+components declare them (``declare(..., calibrate=Calibration(...))``); `calibration_of` reads one
+component's from its declarations when first asked, and `CALIBRATION` collects every component's,
+in catalogue order, when first read: importing this library creates no slave.
 
 The rest of the per-component knowledge the diagnosis uses is declared here too, so that its
 generic code names no component: which measured variables define regimes by their name
@@ -21,7 +22,11 @@ generic code names no component: which measured variables define regimes by thei
 and which measured ports stay coupled when every measured signal is replayed (`COUPLED_PORTS`;
 `musclesim.diagnosis.problem`).
 """
+from __future__ import annotations
+
+from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cache
 
 from musclesim.components import CATALOGUE, declarations
 
@@ -38,7 +43,7 @@ class Parameter:
 
 # Operating regimes an effect's gain should concentrate in; musclesim.diagnosis.regimes computes
 # them from the measured signals (temperatures [K], strains, loads [N], positions [m], indicators).
-REGIMES = {
+REGIMES: dict[str, str] = {
     "all": "every sample",
     "changing": "the temperature changes faster than its median rate",
     "heating": "the temperature rises",
@@ -65,7 +70,7 @@ STRAIN_VARIABLES = ("strain",)  # SmaWire's strain: "transformation" where it ch
 FORCE_VARIABLES = ("f_a",)
 # {component: its friction indicators}: "switching" is the 0.5 s after one of these changes, when
 # the data set replays them as inputs (§ideal-actuation's ideal actuation; not its force f_a)
-SWITCHING_INDICATORS = {"FrictionSwitchingInputs": ("u1", "u2")}
+SWITCHING_INDICATORS: dict[str, tuple[str, ...]] = {"FrictionSwitchingInputs": ("u1", "u2")}
 # Prefixes of physical port variables (half of a two-way mechanical coupling, such as the crawler
 # body's flange position into its central actuator): a measured port stays coupled in the model
 # with every measured signal replayed, since the element it drives would differentiate the
@@ -84,19 +89,19 @@ class Effect:
 
     name: str
     component: str
-    names: tuple  # its parameters, each declared by the component with its bounds
+    names: tuple[str, ...]  # its parameters, each declared by the component with its bounds
     regime: str
     reference: str
     description: str
     per_instance: bool = False
 
     @property
-    def parameters(self):
+    def parameters(self) -> tuple[Parameter, ...]:
         """Its `Parameter`s: off at the component's declared default, the declared bounds."""
         declared = declarations(self.component)
         return tuple(Parameter(n, declared[n].default, *declared[n].effect) for n in self.names)
 
-    def overrides(self, instance, values):
+    def overrides(self, instance: str, values: Sequence[float]) -> list[str]:
         """``--set`` strings that put this effect at `values` (one per parameter) on `instance`."""
         return [f"{instance}.{p.name}={v!r}" for p, v in zip(self.parameters, values)]
 
@@ -220,35 +225,49 @@ class Calibrated:
     why: str
     period: float = 0.0
 
-    def bounds(self, nominal):
+    def bounds(self, nominal: float) -> tuple[float, float]:
         """Absolute (lower, upper) around the scenario's `nominal` value (a relative pair on a
         negative value, such as a vacuum's gauge pressure, comes out in increasing order)."""
         if self.relative:
-            return tuple(sorted((self.lower * nominal, self.upper * nominal)))
+            lo, hi = sorted((self.lower * nominal, self.upper * nominal))
+            return lo, hi
         return nominal + self.lower, nominal + self.upper
 
 
 # Every component's calibration parameters, as the components declare them (§convection gives h,
 # the specific heat and the resistivities within about +-30 %; §ideal-actuation the crawler's k
 # and c; the sensors' gains). A sensor's offset is not one where an effect owns it (the
-# thermocouple's bias): calibration must not absorb an effect.
-CALIBRATION = tuple(
-    Calibrated(component, d.name, c.lower, c.upper, c.relative, d.source, c.why, c.period)
-    for component in CATALOGUE for d in declarations(component).values()
-    if (c := d.calibrate) is not None)
+# thermocouple's bias): calibration must not absorb an effect. Read from one component's
+# declarations when it is first asked for (a slave of that component is created then, once), not
+# at import: `CALIBRATION`, every component's, is built when first read (module `__getattr__`).
+@cache
+def _calibration_of(component: str) -> tuple[Calibrated, ...]:
+    """The `Calibrated` parameters `component` declares, in its declaration order."""
+    return tuple(Calibrated(component, d.name, c.lower, c.upper, c.relative, d.source, c.why,
+                            c.period)
+                 for d in declarations(component).values() if (c := d.calibrate) is not None)
 
 
-def calibration_of(component):
-    """The calibration parameters (`Calibrated`) of one component, in library order."""
-    return [c for c in CALIBRATION if c.component == component]
+def __getattr__(name: str) -> tuple[Calibrated, ...]:
+    """`CALIBRATION`: every component's calibration parameters, in catalogue order, built when
+    first read (`name` is the module attribute asked for)."""
+    if name == "CALIBRATION":
+        return tuple(c for component in CATALOGUE for c in _calibration_of(component))
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
-def by_component(component):
-    """The effects of one component (e.g. ``"SmaWire"``), in library order."""
+def calibration_of(component: str) -> list[Calibrated]:
+    """The calibration parameters (`Calibrated`) of one component (a key of
+    `musclesim.components.CATALOGUE`), in library order."""
+    return list(_calibration_of(component))
+
+
+def by_component(component: str) -> list[Effect]:
+    """The effects of one `component` (e.g. ``"SmaWire"``), in library order."""
     return [e for e in EFFECTS if e.component == component]
 
 
-def find(name):
+def find(name: str) -> Effect:
     """The effect called `name`; raise KeyError listing the known names otherwise."""
     for effect in EFFECTS:
         if effect.name == name:

@@ -16,7 +16,7 @@ from typing import Any, Sequence
 import numpy as np
 
 from musclesim.components.sma.preisach import Hypersurface, PreisachModel, RangeWarning
-from musclesim.components.sma.wire import DEFAULT_PARAMS, ReferenceWire
+from musclesim.components.sma.reference_wire import DEFAULT_PARAMS, ReferenceWire
 from musclesim.cosim import save_figure
 from musclesim.errors import UserError
 

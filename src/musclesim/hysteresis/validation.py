@@ -27,7 +27,7 @@ def surface_error(surface: Hypersurface, wire: ReferenceWire | None = None) -> d
     Returns a dict: ``max_abs`` [strain], ``max_rel`` (of the wire's maximum strain at that
     stress), ``at`` (stress Pa, a C, b C), ``per_stress`` {stress: max_abs}.
     """
-    from musclesim.components.sma.wire import ReferenceWire
+    from musclesim.components.sma.reference_wire import ReferenceWire
 
     wire = wire or ReferenceWire()
     temps = surface.temps
@@ -193,7 +193,7 @@ def report(surface: Hypersurface) -> dict[str, Any]:
     identified grid and stresses (a perfect identification): the part of the error that comes
     from the model's grid (bilinear in 5 C cells, linear in stress), not from the identification.
     """
-    from musclesim.components.sma.wire import ReferenceWire
+    from musclesim.components.sma.reference_wire import ReferenceWire
 
     exact = ReferenceWire().hypersurface(surface.temps, surface.stresses)
     return {"surface_error": surface_error(surface),

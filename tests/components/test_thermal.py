@@ -1,6 +1,6 @@
-"""The lumped thermal model of the SMA wire against hand solutions (§thermal-model, §sma-material),
-and its effects: off they change nothing bit for bit, on they move the temperature the way the
-physics says."""
+"""The lumped thermal model of the SMA wire (components/sma/thermal.py) against hand solutions
+(§thermal-model, §sma-material), and its effects: off they change nothing bit for bit, on they
+move the temperature the way the physics says."""
 import math
 
 import numpy as np
@@ -8,10 +8,11 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.special import expit
 
-from musclesim.components.sma import drift, ends
-from musclesim.components.sma.thermal import (
-    ThermalInputs, ThermalParams, derivative, heat_capacity, joule_power, lateral_surface,
-    martensite_fraction, resistance, step, step_coupled, time_constant)
+from musclesim.components.sma import drift
+from musclesim.components.sma.thermal import (ThermalInputs, ThermalParams, derivative,
+                                              heat_capacity, joule_power, lateral_surface,
+                                              martensite_fraction, resistance, step, step_coupled,
+                                              time_constant)
 
 NOMINAL = ThermalParams()
 CURRENT = ThermalParams(drive="current")
@@ -137,7 +138,6 @@ def test_latent_heat_slows_heating_and_cooling_through_the_transformation():
     assert T["latent"] > T["base"] + 5  # exothermic martensite formation holds the wire warm
 
 
-
 @pytest.mark.parametrize("h_exponent", [0.0, 0.12], ids=["one exact update", "sub-stepped"])
 def test_coupled_step_ends_where_its_own_fraction_change_takes_it(h_exponent):
     # the root's defining property: T_new is the step with xi_rate = (xi_at(T_new) - xi) / dt,
@@ -149,28 +149,6 @@ def test_coupled_step_ends_where_its_own_fraction_change_takes_it(h_exponent):
         assert xi_new == pytest.approx(_xi_sharp(T_new), abs=1e-12) and xi_new != xi
         rate = (xi_new - xi) / 0.02
         assert T_new == pytest.approx(step(T, inputs._replace(xi_rate=rate), 0.02, p), abs=1e-8)
-
-def test_cold_ends_follow_the_fin_profile():
-    # 127 um in still air, k = 18 W/(m K): L_f = sqrt(k d / 4h) = 2.39 mm, G_f = 9.54e-5 W/K
-    d, k, h, length = 127e-6, 18.0, 100.0, 58.42e-3
-    assert ends.fin_length(d, k, h) == pytest.approx(math.sqrt(18 * 127e-6 / 400), rel=1e-12)
-    g_f = ends.fin_conductance(d, k, h)
-    assert g_f == pytest.approx(k * (math.pi * d ** 2 / 4) / ends.fin_length(d, k, h), rel=1e-12)
-    assert ends.end_cooling(g_f, d, k, h) == pytest.approx(0.5)  # contact = fin: half the excess
-    table = ends.zones(0.8, length, d, k, h)
-    # both ends' zones cover 2 x 4 L_f; each zone's factor is 1 - beta times exp(-x)'s mean there
-    assert sum(w for w, _ in table) == pytest.approx(8 * ends.fin_length(d, k, h) / length)
-    assert table[0][1] == pytest.approx(1 - 0.8 * (1 - math.exp(-0.5)) / 0.5)
-    assert [g for _, g in table] == sorted(g for _, g in table)  # warmer away from the clamps
-    # the excess lost in the zones is beta times the integral of exp(-x / L_f) over 4 L_f, per end
-    lost = sum(w * (1 - g) for w, g in table) * length
-    assert lost == pytest.approx(2 * 0.8 * ends.fin_length(d, k, h) * (1 - math.exp(-4)))
-    assert ends.zone_temperatures(80.0, 20.0, table) == pytest.approx([20 + 60 * g for _, g in table])
-    assert ends.zones(0.0, length, d, k, h) == []
-    with pytest.raises(ValueError, match="too short"):
-        ends.zones(0.5, 10e-3, d, k, h)
-    with pytest.raises(ValueError, match="end_cooling"):
-        ends.zones(1.5, length, d, k, h)
 
 
 def test_convection_growing_with_excess_temperature():
@@ -200,18 +178,6 @@ def test_martensite_fraction_from_strain():
     assert martensite_fraction(0.0, 0.04) == 1.0
     assert martensite_fraction(0.01, 0.04) == 0.75
     assert martensite_fraction(0.041, 0.04) == 0.0
-
-
-def test_drift_settles_after_about_13_tests_of_20_cycles():
-    d = drift.DriftParams(amplitude_change=-0.1, shift=4.0)
-    n = 0.0
-    for _ in range(13 * 20):
-        n = drift.count_cycles(drift.count_cycles(n, 1.0, 0.0), 0.0, 1.0)
-    assert n == 260
-    assert drift.progress(n, d) == pytest.approx(0.95, abs=0.01)
-    assert drift.strain_scale(n, d) == pytest.approx(1 - 0.095, abs=0.002)
-    assert drift.temperature_shift(n, d) == pytest.approx(3.8, abs=0.05)
-    assert drift.strain_scale(0.0, d) == 1.0 and drift.temperature_shift(0.0, d) == 0.0
 
 
 @pytest.mark.parametrize("params, name", [

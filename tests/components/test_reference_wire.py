@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from musclesim.components.sma import wire
+from musclesim.components.sma import reference_wire as wire
 from musclesim.components.sma.preisach import Hypersurface
 from musclesim.hysteresis.loops import loops
 

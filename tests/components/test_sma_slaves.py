@@ -17,7 +17,7 @@ from musclesim.components.sma.surface import Hypersurface
 from musclesim.components.sma.thermal import (ThermalInputs, ThermalParams, cross_section,
                                               joule_power, martensite_fraction,
                                               resistance, step)
-from musclesim.components.sma.wire import ReferenceWire
+from musclesim.components.sma.reference_wire import ReferenceWire
 
 from conftest import in_process
 

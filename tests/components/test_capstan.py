@@ -1,21 +1,17 @@
-"""The capstan multiplier (§capstan-multiplier): capstan tensions by hand, the straight wire it must
-reduce to, segments in series, and the bang-bang relay of §multiplier-experiments on a hand-made
-trace."""
+"""The capstan multiplier's core (components/multiplier/capstan.py, §capstan-multiplier): tensions
+by hand, equivalences with the straight wire, voltage sharing, effects, parameter errors."""
 import math
 
 import numpy as np
 import pytest
 
-from musclesim.components.control import relay
-from musclesim.components.control.slaves import BangBang
 from musclesim.components.multiplier import capstan
 from musclesim.components.multiplier.slaves import CapstanMultiplier
 from musclesim.components.sma.slaves import SmaWire
-from musclesim.components.sma.thermal import ThermalParams, cross_section
+from musclesim.components.sma.thermal import ThermalParams
 
 from conftest import in_process
 
-AREA = cross_section(ThermalParams())
 DT = 1e-3
 OUTPUTS = ("T", "strain", "flange_s", "stress", "R", "P")
 
@@ -41,8 +37,6 @@ def heat_cool(volts, on=0.6, total=3.0, dt=DT):
     return np.where(np.arange(n) < round(on / dt), volts, 0.0)
 
 
-# --- capstan equation -------------------------------------------------------------------------
-
 def test_tension_steps_by_exp_mu_theta_at_each_contact_by_hand():
     # §capstan-multiplier: mu_f 0.0237 on PTFE, about pi per tube: 1.0773 per contact (1.060-1.085)
     p = capstan.CapstanParams()
@@ -55,38 +49,6 @@ def test_tension_steps_by_exp_mu_theta_at_each_contact_by_hand():
     p = capstan.CapstanParams(wraps=(math.pi / 2, 2 * math.pi), mu_f=0.1)
     assert capstan.tension_ratios(p) == pytest.approx(
         [math.exp(0.1 * 2.5 * math.pi), math.exp(0.1 * 2 * math.pi), 1.0], rel=1e-15)
-
-
-def test_each_segment_sees_its_own_capstan_stress(fmu_dir):
-    f = 1.47  # N, the 150 g weight: 116 MPa at the load end
-    slave = in_process(CapstanMultiplier, "mult")
-    r = run(slave, heat_cool(6.0, total=0.5), np.full(500, f),
-            names=("segment[1]_stress", "segment[2]_stress", "segment[3]_stress",
-                   "segment[4]_stress", "segment[1]_strain", "segment[3]_strain", "stress"))
-    e = math.exp(0.0237 * math.pi)
-    assert r["segment[3]_stress"][-1] == pytest.approx(f / AREA, rel=1e-15)
-    assert r["segment[2]_stress"][-1] == pytest.approx(f * e / AREA, rel=1e-15)
-    assert r["segment[1]_stress"][-1] == pytest.approx(f * e * e / AREA, rel=1e-15)
-    assert r["segment[4]_stress"][-1] == 0.0  # unused
-    assert r["stress"][-1] == f / AREA
-    # a higher stress saturates at a larger strain (the reference wire's eps_max grows with it)
-    assert r["segment[1]_strain"][-1] > r["segment[3]_strain"][-1] > 0.03
-
-
-# --- reduces to the straight wire -------------------------------------------------------------
-
-@pytest.mark.parametrize("drive", [0.0, 1.0], ids=["voltage", "current"])
-@pytest.mark.parametrize("hysteresis", [0.0, 1.0], ids=["reference-wire", "forc-data-set-1"])
-def test_one_segment_without_friction_is_the_straight_wire_bit_for_bit(drive, hysteresis):
-    length = 0.214
-    u = heat_cool(0.5 if drive else 6.0)
-    f = np.linspace(1.3, 1.8, len(u))  # 103-142 MPa: clamped at both data sets' ends, interpolated
-    params = {"length": length, "drive_current": drive, "hysteresis": hysteresis, "T_init": 303.15}
-    wire = run(in_process(SmaWire, "wire", **params), u, f)
-    mult = run(in_process(CapstanMultiplier, "mult", n_segments=1.0, mu_f=0.0, **params), u, f)
-    for name in OUTPUTS:
-        assert np.array_equal(wire[name], mult[name]), name
-    assert wire["strain"].max() > 0.03  # the run transformed the wire
 
 
 def test_three_segments_without_friction_move_three_times_a_third():
@@ -172,36 +134,3 @@ def test_bad_parameters_are_named(params, message):
 def test_unequal_segments_add_up():
     p = capstan.CapstanParams(segment_lengths=(0.05, 0.0, 0.1))
     assert capstan.segment_lengths(p) == pytest.approx([0.05, 0.064, 0.1])
-
-
-# --- bang-bang relay (§multiplier-experiments)
-# -------------------------------------------------------------
-
-def test_relay_switching_sequence_on_a_hand_made_trace():
-    C = 273.15
-    # cold start (on), heat through 90 C (off), cool through 75 C (on), a wobble between the
-    # thresholds changes nothing, exactly at a threshold switches
-    trace = [20, 60, 89.9, 90, 95, 80, 76, 75.1, 75, 80, 89, 85, 90.5, 74]
-    expected = [1, 1, 1, 0, 0, 0, 0, 0, 1, 1, 1, 1, 0, 1]
-    p = relay.RelayParams()
-    assert [int(s) for s in relay.sequence([C + y for y in trace], p)] == expected
-    slave = in_process(BangBang, "relay", u_on=7.0)
-    slave.T = C + trace[0]
-    slave.enter_initialization_mode()
-    slave.exit_initialization_mode()
-    seen = []
-    for k, y in enumerate(trace):
-        slave.T = C + y
-        slave.set_real([], [])
-        slave.get_real([])
-        seen.append((slave.on, slave.y))
-        slave.do_step(k * DT, DT)
-    assert seen == [(float(s), 7.0 * s) for s in expected]
-
-
-def test_relay_starts_from_its_measurement():
-    p = relay.RelayParams(initially_on=0.0)
-    assert relay.initial_state(p.y_on - 1, p) and not relay.initial_state(p.y_off, p)
-    assert not relay.initial_state((p.y_on + p.y_off) / 2, p)
-    with pytest.raises(ValueError, match="y_on .* must lie below y_off"):
-        relay.RelayParams(y_on=400.0).check()

@@ -1,12 +1,11 @@
-"""Soft pneumatic actuator (§crawler-hardware, §gait, §valves) against hand solutions: the ISO 6358
-valve law, choked filling at constant volume, PWM-averaged flow, valve delays, polytropic
-compression, contact build-up, effects off = nominal exactly; the SoftActuator and PressureSensor
-FMUs."""
+"""Soft pneumatic actuator (components/pneumatic/actuator.py; §crawler-hardware, §gait, §valves)
+against hand solutions: the ISO 6358 valve law, choked filling at constant volume, PWM-averaged
+flow, valve delays, polytropic compression, contact build-up, effects off = nominal exactly."""
 import math
 
 import numpy as np
 import pytest
-from fmpy import simulate_fmu
+
 from hypothesis import given, settings, strategies as st
 from scipy.integrate import solve_ivp
 
@@ -28,8 +27,6 @@ def run(params, duties, h=1e-3, elongations=None):
         u.append(act.contact)
     return np.array(p), np.array(u), np.array(m)
 
-
-# ---- the valve (ISO 6358) ------------------------------------------------------------------------
 
 def test_choked_flow_is_c_p_up_rho_0():
     # r = 100/500 = 0.2 <= b: 5e-10 m3/(s Pa) x 500 kPa x 1.185 kg/m3
@@ -56,8 +53,6 @@ def test_flow_is_continuous_at_b_zero_at_1_and_falls_with_r():
     assert pa.signed_flow(150e3, 200e3, C, B) == -mass_flow(200e3, 150e3, C, B)
     assert mass_flow(100e3, 200e3, C, B) == 0.0  # never against the pressure difference
 
-
-# ---- the chamber ---------------------------------------------------------------------------------
 
 def test_zero_duty_no_flow_constant_pressure():
     for params in (ActuatorParams(), ActuatorParams(C_leak=1e-10, t_open_delay=0.003)):
@@ -236,33 +231,3 @@ def test_a_step_without_flow_or_motion_is_the_sub_steps_to_the_bit(central, t_co
 def test_bad_parameters_are_named(field, value):
     with pytest.raises(ValueError, match=field):
         ActuatorParams(**{field: value}).check()
-
-
-# ---- the FMUs ------------------------------------------------------------------------------------
-
-def test_soft_actuator_fmu_fills_and_empties_within_its_sources(fmu_dir):
-    fmu = str(fmu_dir / "SoftActuator.fmu")
-    r = simulate_fmu(fmu, stop_time=1.0, output_interval=1e-3, start_values={"duty": 1.0})
-    assert np.all(np.diff(r["p"]) >= 0) and r["p"].max() <= 40e3 and r["p"][-1] > 39e3
-    np.testing.assert_allclose(r["f_a"], 9.62e-4 * r["p"], rtol=1e-15)
-    assert np.all(r["m_flow"] >= 0) and r["m_flow"][1] > 0
-    r = simulate_fmu(fmu, stop_time=0.5, output_interval=1e-3, start_values={"duty": -1.0})
-    assert np.all(np.diff(r["p"]) <= 0) and r["p"].min() >= -20e3 and r["p"][-1] < -10e3
-    clamped = simulate_fmu(fmu, stop_time=0.1, output_interval=1e-3, start_values={"duty": 2.0})
-    full = simulate_fmu(fmu, stop_time=0.1, output_interval=1e-3, start_values={"duty": 1.0})
-    assert np.array_equal(clamped["p"], full["p"])
-
-
-def test_soft_actuator_fmu_extremal_contact(fmu_dir):
-    r = simulate_fmu(str(fmu_dir / "SoftActuator.fmu"), stop_time=0.6, output_interval=1e-3,
-                     start_values={"duty": 1.0, "central": 0.0, "V0": 1.41e-5})
-    assert r["u"][0] == 0.0 and r["u"][-1] == 1.0
-
-
-def test_pressure_sensor_fmu_passes_the_reading(fmu_dir):
-    r = simulate_fmu(str(fmu_dir / "PressureSensor.fmu"), stop_time=0.05, output_interval=1e-3,
-                     start_values={"p": 12e3}, output=["p_meas"])
-    assert np.all(r["p_meas"] == 12e3)
-    r = simulate_fmu(str(fmu_dir / "PressureSensor.fmu"), stop_time=0.05, output_interval=1e-3,
-                     start_values={"p": 12e3, "bias": 150.0, "quantum": 100.0}, output=["p_meas"])
-    assert np.all(r["p_meas"] == 12.2e3)

@@ -1,16 +1,13 @@
-"""The quadruped (§quadruped) at the level of its cores: four bending-actuator legs pulsed by the
-leg sequencer move the body only when the feet's friction depends on direction, and the way the
-hooks point; the sequencer's pulses; the FMUs against their cores. About 0.5 s of wall time per
-simulated second."""
+"""The quadruped's body and feet (components/quadruped/body.py, §quadruped): isotropic feet go
+nowhere, anisotropic feet forward, the hooks set the direction, and the direction-dependent
+coefficients feed the crawler's friction."""
 import math
 
 import pytest
 
 from musclesim.components.bending import actuator, beam
 from musclesim.components.quadruped import body, sequencer
-from musclesim.components.sma.wire import load_params
-
-from test_bending import fmu_run
+from musclesim.components.sma.reference_wire import load_params
 
 DT = 5e-4  # s, the scenario's communication step
 ISOTROPIC = {"mu_s_forward": 0.5, "mu_k_forward": 0.375, "mu_s_backward": 0.5,
@@ -78,42 +75,3 @@ def test_direction_dependent_coefficients_feed_the_crawler_friction():
     q = body.Quadruped(p)
     q.step(h, [5 * p.mu_s_forward * N / p.leg_stiffness] * 4, [0.0] * 4)
     assert all(f == pytest.approx(-p.mu_k_forward * N) for f in q.forces)
-
-
-def test_sequencer_pulses_each_wire_at_its_phase():
-    p = sequencer.SequencerParams()
-    t = [k * 1e-4 for k in range(2500)]  # one 0.25 s period
-    on = [[sum(sequencer.voltages(tk, p)[leg][w] > 0 for tk in t) * 1e-4 for w in (0, 1)]
-          for leg in range(4)]
-    for leg in range(4):
-        assert on[leg] == [pytest.approx(0.0125, abs=2e-4)] * 2  # 12.5 ms per wire (§quadruped)
-    first = [[next(tk for tk in t if sequencer.voltages(tk, p)[leg][w] > 0 or tk == t[-1])
-              for w in (0, 1)] for leg in range(4)]
-    assert first[0] == [0.0, pytest.approx(0.125)]  # wire B half a period after wire A
-    assert first[1][0] == pytest.approx(0.125) and first[3][0] == 0.0  # trot
-    with pytest.raises(ValueError, match="duty"):
-        sequencer.SequencerParams(duty=1.0).check()
-
-
-def test_fmus_are_the_cores_stepped_by_hand(fmu_dir, tmp_path):
-    """QuadrupedBody and LegSequencer through FMI give their cores' values bit for bit."""
-    dt, n = 5e-4, 400
-    s = [[1e-4 * math.sin(2 * math.pi * 4 * k * dt + i) for i in range(4)] for k in range(n)]
-    v = [[4e-4 * math.pi * math.cos(2 * math.pi * 4 * k * dt + i) for i in range(4)]
-         for k in range(n)]
-    inputs = [{**{f"leg{i + 1}.s": s[k][i] for i in range(4)},
-               **{f"leg{i + 1}.v": v[k][i] for i in range(4)}} for k in range(n)]
-    rows = fmu_run(fmu_dir, tmp_path, "QuadrupedBody", inputs, ["x", "foot1.s", "foot2.f"], dt)
-    q = body.Quadruped(body.QuadrupedParams())
-    expected = [(q.x, q.feet_x[0], q.forces[1])]
-    for k in range(n):
-        q.step(dt, s[k], v[k])
-        expected.append((q.x, q.feet_x[0], q.forces[1]))
-    assert [tuple(r) for r in rows] == expected
-    assert len({r[0] for r in rows}) > n / 2  # the body moved
-
-    names = [f"leg{i}.u{w}" for i in range(1, 5) for w in "AB"]
-    rows = fmu_run(fmu_dir, tmp_path / "seq", "LegSequencer", [{}] * n, names, dt)
-    p = sequencer.SequencerParams()
-    assert [list(r) for r in rows] == [[u for leg in sequencer.voltages(k * dt, p) for u in leg]
-                                       for k in range(n + 1)]

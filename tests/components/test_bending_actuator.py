@@ -1,19 +1,14 @@
-"""The bending actuator (§bending-actuator): the beam pair against Euler-Bernoulli by hand, the
-whole actuator settling at the static balance worked out by hand, its first mode ringing at the
-resonance, the wires' sides and slack, the 50 um wire's data (§sma-material), and the FMU: its core
-stepped by hand, and its errors."""
+"""The bending actuator's core (components/bending/actuator.py, §bending-actuator): the whole
+actuator settling at the static balance worked out by hand, its first mode ringing at the
+resonance, the wires' sides and slack, the 50 um wire's data (§sma-material)."""
 import math
 
 import pytest
-from fmpy import extract, read_model_description
-from fmpy.fmi2 import FMU2Slave
 
 from musclesim.components.bending import actuator, beam
 from musclesim.components.bending.slaves import BendingActuator
 from musclesim.components.sma import thermal
-from musclesim.components.sma.wire import load_params
-
-from conftest import in_process
+from musclesim.components.sma.reference_wire import load_params
 
 AREA = math.pi * 25e-6 ** 2  # m2, the 50 um wire
 
@@ -23,20 +18,6 @@ def make(beam_p=None, layout=None):
     surface = actuator.hysteresis_surface(load_params(), layout.pretension / AREA)
     return actuator.BendingActuator(beam_p or beam.BeamParams(), layout,
                                     actuator.wire_thermal(layout.length), surface)
-
-
-def test_beam_pair_under_an_end_moment_matches_the_cantilever_by_hand():
-    """Cantilever of length L, end moment M: tip deflection M L^2 / 2EI, tip slope M L / EI; the
-    rigid cap and foot above carry the slope on (w = w_L + slope (z - L))."""
-    p = beam.BeamParams(length=0.01, n_beams=2, width=1e-3, thickness=0.2e-3, modulus=120e9)
-    EI = 2 * 120e9 * 1e-3 * (0.2e-3) ** 3 / 12  # 1.6e-4 N m^2
-    M = 1e-3  # N m
-    theta = M / beam.rotational_stiffness(p)
-    assert theta == pytest.approx(M * 0.01 / EI, rel=1e-12)
-    assert beam.deflection(theta, 0.01, p) == pytest.approx(M * 0.01 ** 2 / (2 * EI), rel=1e-12)
-    assert beam.deflection(theta, 0.017, p) == pytest.approx(
-        M * 0.01 ** 2 / (2 * EI) + M * 0.01 / EI * 0.007, rel=1e-12)
-    assert beam.deflection(theta, 0.005, p) == pytest.approx(M * 0.005 ** 2 / (2 * EI), rel=1e-12)
 
 
 def test_heated_wire_settles_at_the_static_balance_by_hand():
@@ -82,15 +63,6 @@ def test_first_mode_rings_at_its_resonance_with_its_damping():
     assert decrement == pytest.approx(2 * math.pi * zeta / math.sqrt(1 - zeta ** 2), rel=1e-2)
 
 
-def test_oscillator_step_is_exact_in_every_damping_regime():
-    for c in (0.0, 0.5, 4.0, 10.0):  # undamped, under-, critically, over-damped (K = J = 4)
-        x, v = 1.0, 0.0
-        for _ in range(100):
-            x, v = beam.oscillator_step(x, v, 0.25, 4.0, c, 4.0, 0.01)
-        big = beam.oscillator_step(1.0, 0.0, 0.25, 4.0, c, 4.0, 1.0)
-        assert (x, v) == pytest.approx(big, rel=1e-9, abs=1e-12)
-
-
 def test_wires_mirror_each_other_and_slack_wires_pull_nothing():
     a, b = make(), make()
     tips = []
@@ -119,50 +91,3 @@ def test_fifty_micron_wire_has_the_data_sheet_values():
     s50 = actuator.hysteresis_surface(load_params(), 0.35 / AREA)
     s127 = actuator.hysteresis_surface(load_params(), 2.2 / (math.pi * 63.5e-6 ** 2))
     assert s50.F(130.0, 30.0, 0.0) == pytest.approx(s127.F(130.0, 30.0, 0.0), rel=0.02)
-
-
-def test_fmu_refuses_bad_parameters_by_name():
-    for name, value in (("thickness", -1e-4), ("pretension", -0.1), ("T_init", 0.0)):
-        slave = in_process(BendingActuator, "act", **{name: value})
-        with pytest.raises(ValueError, match=name):
-            slave.setup()
-
-
-def fmu_run(fmu_dir, tmp_path, name, inputs, outputs, dt, params=None):
-    """Step the built FMU `name` through FMI with inputs[k] (a dict) held over step k; return the
-    outputs at t_0 .. t_n as a list of rows."""
-    md = read_model_description(str(fmu_dir / f"{name}.fmu"))
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    slave = FMU2Slave(guid=md.guid, unzipDirectory=extract(fmu_dir / f"{name}.fmu", tmp_path),
-                      modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
-    slave.instantiate()
-    slave.setupExperiment(startTime=0.0)
-    for key, value in (params or {}).items():
-        slave.setReal([vr[key]], [value])
-    slave.enterInitializationMode()
-    slave.exitInitializationMode()
-    outs = [vr[o] for o in outputs]
-    rows = [slave.getReal(outs)]
-    for k, u in enumerate(inputs):
-        slave.setReal([vr[i] for i in u], list(u.values()))
-        slave.doStep(k * dt, dt)
-        rows.append(slave.getReal(outs))
-    slave.terminate()
-    slave.freeInstance()
-    return rows
-
-
-def test_fmu_is_the_core_stepped_by_hand(fmu_dir, tmp_path):
-    """The FMU adds nothing: the study's alternating pulses give the core's values bit for bit."""
-    dt, n = 5e-4, 1200  # 0.6 s: each wire pulsed, cooling, pulsed again
-    u = [(5.0 if k % 500 < 25 else 0.0, 5.0 if (k - 250) % 500 < 25 else 0.0) for k in range(n)]
-    rows = fmu_run(fmu_dir, tmp_path, "BendingActuator",
-                   [{"wireA.u": a, "wireB.u": b, "T_amb": 293.15} for a, b in u],
-                   ["tip.s", "wireA.T", "wireB.f"], dt)
-    core = make()
-    expected = [(core.deflection(0.017), core.T[0] + 273.15, core.tension[1])]
-    for k in range(n):
-        core.step(dt, u[k], 20.0, k * dt)
-        expected.append((core.deflection(0.017), core.T[0] + 273.15, core.tension[1]))
-    assert [tuple(r) for r in rows] == expected
-    assert max(r[0] for r in rows) > 1e-5 and min(r[0] for r in rows) < -1e-5

@@ -8,8 +8,11 @@ Gaussian. The strain amplitude grows with stress as martensite detwins. The dens
 outside the Preisach triangle T_low <= b <= a <= T_high (§preisach), so the wire saturates there.
 Temperatures in degrees C, stresses in Pa, strains as contraction / length (§sma-wire).
 """
+from __future__ import annotations
+
 import math
 import tomllib
+from collections.abc import Sequence
 from dataclasses import dataclass, fields
 from pathlib import Path
 
@@ -19,6 +22,7 @@ from scipy.special import expit, ndtr
 from musclesim.components.checks import require
 from .surface import Hypersurface
 
+FloatArray = float | np.ndarray  # a value, or values that broadcast together
 DEFAULT_PARAMS = Path(__file__).parent / "params" / "flexinol-127um-90C.toml"
 
 # Gauss-Legendre on [-1, 1] with 48 nodes (the positive half; the rule is symmetric) for the width
@@ -63,7 +67,7 @@ class WireParams:
     diffuse_fraction: float  # share of the diffuse population (§forc-identification)
     diffuse_sd: float  # K, spread of the diffuse population (§forc-identification)
 
-    def check(self):
+    def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
         require(self, positive=("eps_sat", "sigma_det", "cc_slope", "width_mean", "width_sd",
                                 "sharp_scale", "diffuse_sd"))
@@ -73,8 +77,8 @@ class WireParams:
             raise ValueError(f"T_low must be below T_high (got {self.T_low!r}, {self.T_high!r})")
 
 
-def load_params(path=DEFAULT_PARAMS):
-    """Read the [hysteresis] table of a wire parameter file into a checked WireParams.
+def load_params(path: str | Path = DEFAULT_PARAMS) -> WireParams:
+    """Read the [hysteresis] table of the wire parameter file `path` into a checked WireParams.
 
     Raises
     ------
@@ -119,14 +123,16 @@ def _libm(fn, x):
     return np.array([fn(v) for v in values.tolist()], dtype=float)[index].reshape(x.shape)
 
 
-def max_strain(sigma, p):
-    """Strain of the fully transformed wire, eps_sat (1 - exp(-sigma / sigma_det))
+def max_strain(sigma: FloatArray, p: WireParams) -> np.ndarray:
+    """Strain of the fully transformed wire `p` at stress `sigma` [Pa], eps_sat (1 - exp(-sigma /
+    sigma_det))
     (§forc-identification)."""
     return p.eps_sat * -_libm(math.expm1, -np.asarray(sigma, dtype=float) / p.sigma_det)
 
 
-def centre(sigma, p):
-    """Median hysteron centre [C] at stress sigma: moves up 1 / cc_slope K per Pa
+def centre(sigma: FloatArray, p: WireParams) -> np.ndarray:
+    """Median hysteron centre [C] of the wire `p` at stress `sigma` [Pa]: moves up 1 / cc_slope K
+    per Pa
     (§sma-material)."""
     return p.centre_ref + (np.asarray(sigma, dtype=float) - p.sigma_ref) / p.cc_slope
 
@@ -191,7 +197,7 @@ def _as_arrays(a, b, sigma):
     return a, b, sigma
 
 
-def forc_increment(a, b, sigma, p):
+def forc_increment(a: FloatArray, b: FloatArray, sigma: FloatArray, p: WireParams) -> np.ndarray:
     """FORC increment F(a, b; sigma): strain of all hysterons in {b <= b_h <= a_h <= a} (§preisach).
 
     Parameters
@@ -222,8 +228,9 @@ def forc_increment(a, b, sigma, p):
     return (max_strain(sigma, p) * _plane_mass(a, b, c0, p) / total)[()]
 
 
-def density(a, b, sigma, p):
-    """Hysteron density mu(a, b; sigma) [1/K^2]: zero outside the triangle, integrates to F.
+def density(a: FloatArray, b: FloatArray, sigma: FloatArray, p: WireParams) -> np.ndarray:
+    """Hysteron density mu(`a`, `b`; `sigma`) [1/K^2] of the wire `p`: zero outside the
+    triangle, integrates to F.
 
     Examples
     --------
@@ -239,8 +246,9 @@ def density(a, b, sigma, p):
     return np.where(inside, mu, 0.0)[()]
 
 
-def outside_mass(sigma, p):
-    """Share of the untruncated density that falls outside the Preisach triangle at sigma."""
+def outside_mass(sigma: FloatArray, p: WireParams) -> np.ndarray:
+    """Share of the untruncated density of the wire `p` that falls outside the Preisach triangle
+    at stress `sigma` [Pa]."""
     return (1.0 - _total_mass(np.asarray(sigma, dtype=float), p))[()]
 
 
@@ -260,22 +268,22 @@ class ReferenceWire:
     (0.04, 0.0204)
     """
 
-    def __init__(self, params=None):
+    def __init__(self, params: WireParams | str | Path | None = None) -> None:
         if not isinstance(params, WireParams):
             params = load_params(params or DEFAULT_PARAMS)
         self.params = params
 
-    def F(self, a, b, sigma):
-        """FORC increment F(a, b; sigma) [-] (see `forc_increment`)."""
+    def F(self, a: FloatArray, b: FloatArray, sigma: FloatArray) -> np.ndarray:
+        """FORC increment F(`a`, `b`; `sigma`) [-] (see `forc_increment`)."""
         return forc_increment(a, b, sigma, self.params)
 
-    def grid(self, step):
+    def grid(self, step: float) -> np.ndarray:
         """Temperatures [C] every `step` over the saturation range T_low..T_high."""
         p = self.params
         return np.linspace(p.T_low, p.T_high, int(round((p.T_high - p.T_low) / step)) + 1)
 
-    def hypersurface(self, temps, stresses):
-        """The wire tabulated as a `Hypersurface` on temps [C] x stresses [Pa]: what
+    def hypersurface(self, temps: Sequence[float], stresses: Sequence[float]) -> Hypersurface:
+        """The wire tabulated as a `Hypersurface` on `temps` [C] x `stresses` [Pa]: what
         ``Hypersurface.from_function(self.F, temps, stresses)`` gives (up to round-off), vectorised
         over the Preisach triangle (a 1 C grid takes ~25 ms per stress instead of seconds).
 
@@ -285,17 +293,17 @@ class ReferenceWire:
         >>> round(h.F(130.0, 30.0, 105e6), 4), round(h.F(85.0, 60.0, 155e6), 4)
         (0.0376, 0.0204)
         """
-        temps = np.asarray(temps, dtype=float)
-        i, j = np.tril_indices(len(temps))
-        table = np.zeros((len(stresses), len(temps), len(temps)))
+        grid = np.asarray(temps, dtype=float)
+        i, j = np.tril_indices(len(grid))
+        table = np.zeros((len(stresses), len(grid), len(grid)))
         for s, sigma in enumerate(stresses):
-            table[s, i, j] = self.F(temps[i], temps[j], float(sigma))
-        return Hypersurface(temps, stresses, table)
+            table[s, i, j] = self.F(grid[i], grid[j], float(sigma))
+        return Hypersurface(grid, stresses, table)
 
-    def mu(self, a, b, sigma):
-        """Hysteron density mu(a, b; sigma) [1/K^2] (see `density`)."""
+    def mu(self, a: FloatArray, b: FloatArray, sigma: FloatArray) -> np.ndarray:
+        """Hysteron density mu(`a`, `b`; `sigma`) [1/K^2] (see `density`)."""
         return density(a, b, sigma, self.params)
 
-    def eps_max(self, sigma):
-        """Maximum strain F(T_high, T_low; sigma) [-]."""
+    def eps_max(self, sigma: FloatArray) -> np.ndarray:
+        """Maximum strain F(T_high, T_low; `sigma`) [-]."""
         return max_strain(sigma, self.params)
