@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from musclesim.components.sma import datasets
-from musclesim.components.sma.wire import ReferenceWire
+from musclesim.components.sma.reference_wire import ReferenceWire
 from musclesim.hysteresis import validation
 
 

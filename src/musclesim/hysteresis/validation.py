@@ -15,7 +15,7 @@ import numpy as np
 
 if TYPE_CHECKING:
     from musclesim.components.sma.surface import Hypersurface
-    from musclesim.components.sma.wire import ReferenceWire
+    from musclesim.components.sma.reference_wire import ReferenceWire
 
 Profiles = dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]  # name: (t, T, sigma)
 
