@@ -13,6 +13,10 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # arrays work as well as sequences; nothing here calls numpy
+    import numpy as np
 
 Matrix = Sequence[Sequence[float]]  # rows of floats (numpy arrays work as well)
 
@@ -156,7 +160,8 @@ def _dot(a, b):
     return math.fsum([p * q for p, q in zip(a, b)])
 
 
-def least_squares(columns: Sequence[Sequence[float]], y: Sequence[float]) -> list[float]:
+def least_squares(columns: Sequence[Sequence[float] | np.ndarray],
+                  y: Sequence[float] | np.ndarray) -> list[float]:
     """The coefficients c minimising |sum_j c_j `columns`[j] - `y`| (columns of one length, at least
     as long as there are columns, independent), by Householder QR: what numpy's lstsq gives to
     rounding, in a fixed order of operations.

@@ -25,7 +25,8 @@ class _PIDBase(Slave):
         self.output("e", "1", "Control error u_s - u_m", depends=["u_s", "u_m"])
 
     def setup(self) -> None:
-        self.p = pid.PIDParams(*self.gains(), self.Tf, self.u_min, self.u_max)
+        Kp, Ki, Kd = self.gains()
+        self.p = pid.PIDParams(Kp, Ki, Kd, self.Tf, self.u_min, self.u_max)
         self.p.check()
         self.state = pid.PIDState()
         self.dt = 0.0

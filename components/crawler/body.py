@@ -97,7 +97,7 @@ def discretise(p: BodyParams, Ts: float, f_a: float = 0.0) -> tuple[np.ndarray, 
     return np.array(Ad), np.array(Bd)
 
 
-def nonfriction_forces(x: Sequence[float], f_a: float, p: BodyParams) -> tuple[float, float]:
+def nonfriction_forces(x: Sequence[float] | np.ndarray, f_a: float, p: BodyParams) -> tuple[float, float]:
     """Net non-friction force along the surface on each block of the body `p` in state `x` under
     actuator force `f_a` (spring, damper, actuator, gravity, and the ground's viscous drag when
     that effect is on)."""
@@ -113,7 +113,7 @@ def normal_forces(p: BodyParams) -> tuple[float, float]:
     return p.m1 * G * math.cos(p.theta), p.m2 * G * math.cos(p.theta)
 
 
-def centre_of_mass(x: Sequence[float], p: BodyParams) -> float:
+def centre_of_mass(x: Sequence[float] | np.ndarray, p: BodyParams) -> float:
     """Position of the centre of mass (m1 x1 + m2 x2) / (m1 + m2) of the body `p` in state `x`."""
     return (p.m1 * x[0] + p.m2 * x[2]) / (p.m1 + p.m2)
 

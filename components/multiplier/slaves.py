@@ -41,7 +41,7 @@ class CapstanMultiplier(Slave):
         # the straight wire's material and convection, declared with their calibrations once in
         # its core; the multiplier's length is the fold's and it has none of the wire's effects
         self.parameters_of(thermal.ThermalParams, skip=("length", "latent_heat", "h_exponent"),
-                           diameter={"source": "§capstan-multiplier"})
+                           overrides={"diameter": {"source": "§capstan-multiplier"}})
         self.parameter("T_init", 293.15, "K", "Initial temperature of every segment (assumption: "
                        "room temperature); the wire starts fully martensitic and heated to it",
                        source="§preisach")

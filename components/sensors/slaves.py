@@ -20,6 +20,8 @@ class _ScalarSensor(Slave):
     """
 
     signal = measured = unit = element = signal_description = ""
+    held: float  # the lag's state: the reading is held + weight * the signal
+    weight: float
     start = origin = 0.0
     roles: dict[str, dict[str, object]] = {}
 
@@ -30,7 +32,7 @@ class _ScalarSensor(Slave):
                                       f"{self.element} (0 = none)"},
                "gain": {"description": f"Reading gain about {self.origin:g} {u} (1 = exact)"},
                **{name: {"unit": u} for name in ("bias", "noise_std", "quantum")}}
-        self.parameters_of(sensor.SensorParams, **{
+        self.parameters_of(sensor.SensorParams, overrides={
             name: {**own.get(name, {}), **self.roles.get(name, {})} for name in own | self.roles})
         self.input(self.signal, self.start, u, self.signal_description)
         self.output(self.measured, u, f"Measured {self.signal_description[0].lower()}"

@@ -41,7 +41,8 @@ class TableError(ValueError):
         self.entries = entries
 
 
-def write(path: str | Path, temps: Sequence[float], stresses: Sequence[float], table: np.ndarray,
+def write(path: str | Path, temps: Sequence[float] | np.ndarray,
+          stresses: Sequence[float] | np.ndarray, table: np.ndarray,
           comments: Sequence[str] = ()) -> None:
     """Write to `path` the lower triangle (a >= b) of `table`[s, i, j] = F(`temps`[i],
     `temps`[j]; `stresses`[s]); `comments` (lines of text) follow the standard preamble as '#'

@@ -37,7 +37,12 @@ class StressInput:
     weight, ``_k_base = _k * stride`` the offset of the interval in the caller's tables. The stack
     lives in ``extrema`` (from b0), ``prefix`` (completed terms summed) and ``stresses`` (at which
     each extremum was recorded); ``X`` is the running extremum, ``rising`` its direction.
+    The model that shares it sets its surface, its memory's numerics and the grid's lower end.
     """
+
+    surface: Hypersurface
+    params: MemoryParams
+    _t_lo: float
 
     def _clear_memory(self):
         """The all-off memory at b0 under the current stress."""
@@ -219,7 +224,7 @@ class PreisachModel(StressInput):
         return 0.0
 
 
-def push_extremum(model: PreisachModel, term: float) -> None:
+def push_extremum(model: StressInput, term: float) -> None:
     """Record `model`.X (stress model.X_sigma, frozen term `term`), bound the stack, turn
     round."""
     E, P, S = model.extrema, model.prefix, model.stresses

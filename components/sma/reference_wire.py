@@ -282,7 +282,8 @@ class ReferenceWire:
         p = self.params
         return np.linspace(p.T_low, p.T_high, int(round((p.T_high - p.T_low) / step)) + 1)
 
-    def hypersurface(self, temps: Sequence[float], stresses: Sequence[float]) -> Hypersurface:
+    def hypersurface(self, temps: Sequence[float] | np.ndarray,
+                     stresses: Sequence[float] | np.ndarray) -> Hypersurface:
         """The wire tabulated as a `Hypersurface` on `temps` [C] x `stresses` [Pa]: what
         ``Hypersurface.from_function(self.F, temps, stresses)`` gives (up to round-off), vectorised
         over the Preisach triangle (a 1 C grid takes ~25 ms per stress instead of seconds).

@@ -273,7 +273,7 @@ def _cell_coefficients(table):
     c = np.stack([f00, f10 - f00, f01 - f00, f11 - f10 - f01 + f00], axis=-1)
     c[:, np.triu_indices(n - 1, 1)[0], np.triu_indices(n - 1, 1)[1]] = 0.0
     levels = [c[0], c[0]] if S == 1 else list(c)
-    cells = []
+    cells: list[tuple[float, ...]] = []
     for k in range(len(levels) - 1):
         coeff = np.concatenate([levels[k], levels[k + 1] - levels[k]], axis=-1)
         cells.extend(map(tuple, coeff.reshape(-1, 8).tolist()))

@@ -23,7 +23,8 @@ class Core:
 class Component(Slave):
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.parameters_of(Core, skip=("m",), k={"default": 150.0, "source": "§ideal-actuation"})
+        self.parameters_of(Core, skip=("m",),
+                           overrides={"k": {"default": 150.0, "source": "§ideal-actuation"}})
         self.input("x", 0.0, "m", "Position", calibrate=Calibration(-1.0, 1.0, False, "offset"))
 
 
@@ -44,7 +45,7 @@ def test_an_override_of_a_field_the_core_does_not_declare_is_refused():
     class Wrong(Slave):
         def __init__(self, **kwargs):
             super().__init__(**kwargs)
-            self.parameters_of(Core, mass={"default": 1.0})
+            self.parameters_of(Core, overrides={"mass": {"default": 1.0}})
 
     with pytest.raises(ValueError, match="Core declares no mass"):
         Wrong(instance_name="w")

@@ -185,7 +185,7 @@ class Fmpy3Slave(FmpySlave):
                  "Integer": ("fmi3GetInt32", "fmi3SetInt32", ctypes.c_int32),
                  "Boolean": ("fmi3GetBoolean", "fmi3SetBoolean", ctypes.c_bool)}
 
-    def __init__(self, md: Any, unzipped: str, name: str,  # type: ignore[override]
+    def __init__(self, md: Any, unzipped: str, name: str,
                  log: list[tuple[int, str]]) -> None:
         """Instantiate the FMU of model description `md` extracted in `unzipped` as instance
         `name`, its log messages appended to `log`."""

@@ -25,7 +25,7 @@ from fmpy.fmi1 import FMICallException
 
 ERROR = 3  # fmi2Error
 
-_CLASSES: dict[str, type] = {}  # content of the resources' script -> slave class
+_CLASSES: dict[bytes, type] = {}  # content of the resources' script -> slave class
 
 
 def slave_class(unzipped, model_identifier):
@@ -36,6 +36,7 @@ def slave_class(unzipped, model_identifier):
     key = script.read_bytes()
     if key not in _CLASSES:
         spec = importlib.util.spec_from_file_location(f"{script.stem}_direct", script)
+        assert spec is not None and spec.loader is not None  # a .py file always has both
         module = importlib.util.module_from_spec(spec)
         spec.loader.exec_module(module)
         _CLASSES[key] = getattr(module, model_identifier)

@@ -98,8 +98,12 @@ class Effect:
     @property
     def parameters(self) -> tuple[Parameter, ...]:
         """Its `Parameter`s: off at the component's declared default, the declared bounds."""
-        declared = declarations(self.component)
-        return tuple(Parameter(n, declared[n].default, *declared[n].effect) for n in self.names)
+        declared, out = declarations(self.component), []
+        for name in self.names:
+            d = declared[name]
+            assert d.effect is not None  # an effect's parameter is declared with its bounds
+            out.append(Parameter(name, d.default, *d.effect))
+        return tuple(out)
 
     def overrides(self, instance: str, values: Sequence[float]) -> list[str]:
         """``--set`` strings that put this effect at `values` (one per parameter) on `instance`."""

@@ -6,13 +6,13 @@ Each function appends the problems it finds to a list (see `musclesim.diagnosis.
 """
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
 from musclesim.components import renamed
-from musclesim.cosim import (Instance, Master, Scenario, Signal, load_scenario, metric_unit,
+from musclesim.cosim import (Master, Scenario, Signal, load_scenario, metric_unit,
                              read_fmu, with_values)
 from musclesim.diagnosis.measured import DATA, MANIFEST, DataSet
 from musclesim.errors import UserError
@@ -49,7 +49,7 @@ def check_units(ds: DataSet, fmu_dir: str | Path, problems: list[str]) -> None:
         try:
             s = _scenario(ds, e.name, e.scenario_path, e.stop_time) \
                 if e.scenario_path is not None else None
-            old_names(ds, s.instances.values() if s else (), problems)
+            old_names(ds, {n: i.component for n, i in s.instances.items()} if s else {}, problems)
             for inst in (s.instances.values() if s else ()):
                 fmu = Path(fmu_dir) / f"{inst.component}.fmu"
                 if not fmu.is_file():
@@ -73,13 +73,13 @@ def check_units(ds: DataSet, fmu_dir: str | Path, problems: list[str]) -> None:
             ds.condition_units[ref] = unit
 
 
-def old_names(ds: DataSet, instances: Iterable[Instance], problems: list[str]) -> None:
+def old_names(ds: DataSet, components: Mapping[str, str], problems: list[str]) -> None:
     """A format-1 data set `ds`'s columns that use a port name format 2 changed in one of a
-    scenario's `instances` (the name may now be another variable's: the PID's y), appended to
-    `problems`; each is said once, however many experiments' scenarios have the instance."""
+    scenario's instances (`components`: instance name -> its component; the name may now be
+    another variable's: the PID's y), appended to `problems`; each is said once, however many
+    experiments' scenarios have the instance."""
     if ds.format >= 2:
         return
-    components = {i.name: i.component for i in instances}
     for column in ds.columns:
         component = components.get(column.instance)
         now = renamed(component, column.variable) if component is not None else None
@@ -132,7 +132,7 @@ def check_model(ds: DataSet, fmu_dir: str | Path, problems: list[str]) -> None:
                 problems.append(f"{MANIFEST}: [conditions] {str(name)!r}: scenario {ref!r} has "
                                 f"no instance {name.instance!r} (instances: "
                                 f"{', '.join(m.instances)})")
-        old_names(ds, m.instances.values(), problems)
+        old_names(ds, {n: i.component for n, i in m.instances.items()}, problems)
         _check_columns(ds, m, ref, problems)
         for name in ds.conditions:
             inst = m.instances.get(name.instance)

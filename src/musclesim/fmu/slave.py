@@ -33,7 +33,7 @@ import math
 import operator
 import pickle
 import warnings
-from typing import Any, Callable, Sequence, TypeVar
+from typing import Any, Callable, Mapping, Sequence, TypeVar
 from xml.etree.ElementTree import Element, SubElement
 
 from pythonfmu import (Boolean, Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Variability, Integer,
@@ -149,12 +149,13 @@ class Slave(Fmi2Slave):
                       Fmi2Variability.fixed, Fmi2Initial.exact, None, **role)
 
     def parameters_of(self, cls: type, skip: Sequence[str] = (),
-                      **overrides: dict[str, Any]) -> None:
+                      overrides: Mapping[str, Mapping[str, Any]] | None = None) -> None:
         """Declare as parameters the fields of the core's dataclass `cls` made with `declare`, in
         their order, but not those in `skip`. A core shared by several components (the sensors')
-        has per-component units, defaults or roles: `**overrides`, ``overrides[name]``, is a dict
+        has per-component units, defaults or roles: `overrides`, ``overrides[name]``, is a dict
         replacing any of the field's declared default, unit, description, source, type, effect
         or calibrate (ValueError for a name `cls` does not declare)."""
+        overrides = dict(overrides or {})
         for f in dataclasses.fields(cls):
             if "unit" in f.metadata and f.name not in skip:
                 m = {**f.metadata, "default": f.default, **overrides.pop(f.name, {})}

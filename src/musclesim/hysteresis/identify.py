@@ -155,6 +155,7 @@ def read_record(csv_path: str | Path, columns: dict[str, Signal] = COLUMNS) -> R
     if problems or table is None:
         raise UserError("; ".join(problems))
     header, time, data = table
+    assert time is not None and data is not None  # read_time_series said a problem otherwise
     cols = {"time": time}
     for key in COLUMNS:
         name = str(columns[key])  # the results.csv header
