@@ -100,7 +100,7 @@ def lag_cases(fmus, tmp_path_factory, cluster_map):
     out = {}
     for name, extra in (("lag", {"thermocouple.tau": 0.3}), ("none", {})):
         ds = record(tmp_path_factory.mktemp(name) / "ds", {**OFFSETS, **extra}, fmus)
-        out[name] = diagnose(ds, fmus, cluster_map)
+        out[name] = diagnose(ds, fmus, cluster_map).to_json()
     return out
 
 
@@ -166,7 +166,7 @@ def test_a_sensor_offset_and_an_ambient_offset_are_told_apart(fmus, tmp_path):
     the hysteresis, the thermocouple does not; at rest the wire is at the stated ambient."""
     bench = {"bench": STRESS_BENCH, "inputs": ("wire.u", "wire.flange.f"), "stop": 40.0}
     sensor = diagnose(record(tmp_path / "bias", {**ON_OFF, "thermocouple.bias": -3.0}, fmus,
-                             stated={"wire.T_amb": 293.15}, **bench), fmus)
+                             stated={"wire.T_amb": 293.15}, **bench), fmus).to_json()
     assert sensor["verdict"] == "thermocouple bias"
     best = sensor["effects"][0]
     # calibration keeps part of it along the h-resistivity ridge: the bias fitted with it is
@@ -175,7 +175,7 @@ def test_a_sensor_offset_and_an_ambient_offset_are_told_apart(fmus, tmp_path):
     assert best["judged"]["signals"] == ["thermocouple.T_meas"]
     assert "placed in the sensor" in sensor["consistency"]
     ambient = diagnose(record(tmp_path / "ambient", {**ON_OFF, "wire.T_amb": 297.15}, fmus,
-                              **bench), fmus)
+                              **bench), fmus).to_json()
     assert ambient["verdict"] in ("recalibration", "none")
     assert ambient["calibration"]["parameters"]["wire.T_amb"]["value"] == pytest.approx(
         297.15, abs=0.3)

@@ -170,11 +170,14 @@ def test_rank_puts_counting_effects_first_with_margins():
     cands = [candidate("thermocouple bias", "thermocouple"),
              candidate("thermocouple lag", "thermocouple"),
              candidate("thermocouple bias", "thermocouple")]
-    entries, counting = rank(unit, [base] * 3, cands, fits, {})
+    scored = rank(unit, [base] * 3, cands, fits, {})
+    entries = [t.entry for t in scored]
     assert [e["heldout_gap_after"] for e in entries] == pytest.approx([0.01, 0.05, 0.15],
                                                                       abs=0.002)
     assert [e["counts"] for e in entries] == [True, True, False]  # 0.15 shrinks too little
-    assert [t[0] for t in counting] == entries[:2]
+    # each entry with its own candidate and fit
+    assert all(t.candidate is cands[i] and t.fit is fits[i]
+               for t, i in zip(scored, (1, 2, 0), strict=True))
     assert entries[-1]["margin"] is None
 
 

@@ -16,7 +16,7 @@ from scipy import optimize
 from musclesim.batch import serial_map
 from musclesim.cosim import reuse_fmus
 
-from musclesim.diagnosis.simulate import Failed, residuals, simulate
+from musclesim.diagnosis.simulate import Failed, Simulated, residuals, simulate
 from musclesim.diagnosis.stats import (HELD_OUT, TRAIN, gap, part_rows, part_segments,
                                        part_vector)
 from musclesim.diagnosis.thresholds import (MAX_ITERATIONS, PASSES, PERIOD_POINTS, STEPS,
@@ -88,7 +88,9 @@ class FitResult:
 
 def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency=None,
         pmap=None):
-    """Fit `free` on the training part; return a dict with values, intervals and residuals.
+    """Fit the `Free` parameters `free` of `unit` (its FMUs in `fmu_dir`) on the training
+    part, the other values `fixed`; return the `FitResult`: the values with their 95 %
+    intervals, the residuals there, the gaps, the Jacobian and the latencies held.
 
     A coarse scan of the first `scan` parameters (default all; `_axis` points each, or
     `PERIOD_POINTS` even ones over a periodic parameter's period; one parameter at a time, then
@@ -148,7 +150,7 @@ class Fit:
 
     def simulated(self, points, whole=()):
         """Run, mapped together, the training part of each of `points` not run yet and the whole
-        runs of the values `whole` (returned)."""
+        runs of the values `whole` (returned, a `Simulated` each)."""
         new = {}
         for k, z in ((self.key(z), z) for z in points):
             if k not in self.cache:
@@ -163,14 +165,14 @@ class Fit:
         `free_choice`."""
         self.simulated([z])
         sims = self.cache[self.key(z)]
-        return None if sims is None else residuals(self.job.unit, sims,
-                                                   align=None if free_choice else self.align)
+        return None if sims.failed else residuals(self.job.unit, sims.runs,
+                                                  align=None if free_choice else self.align)
 
     def latencies(self, z):
         """The sensor latencies that fit best at `z`."""
         chosen = {}
         if self.run(z, True) is not None:
-            residuals(self.job.unit, self.cache[self.key(z)], chosen)
+            residuals(self.job.unit, self.cache[self.key(z)].runs, chosen)
         return chosen
 
     def train_vector(self, z):
@@ -292,7 +294,7 @@ class Fit:
             J = self.differenced(z)
         if J is not None:
             interval = _interval(self.train_vector(z), J, z, self.lo, self.span)
-        res = None if sims is None else residuals(self.job.unit, sims)
+        res = None if sims.failed else residuals(self.job.unit, sims.runs)
         held = self.run(z) if self.align else None  # the Jacobian's residuals
         train = part_segments(self.job.unit, held if held is not None else res, TRAIN) \
             if res is not None else None
@@ -392,15 +394,15 @@ def fit_task(job):
 
 
 def simulation_task(args):
-    """One run of a fit, as a task: (unit, values, fmu_dir, part) -> `simulate`'s runs, None
-    when the values fail (FMUs reused as `reuse_fmus` allows: a worker of
-    `musclesim.batch.dask_client` keeps them for its life)."""
+    """One run of a fit, as a task: `args` (unit, values, fmu_dir, part) -> a `Simulated`,
+    `simulate`'s runs or the message of the failure that stopped them (FMUs reused as
+    `reuse_fmus` allows: a worker of `musclesim.batch.dask_client` keeps them for its life)."""
     unit, values, fmu_dir, part = args
     with reuse_fmus():
         try:
-            return simulate(unit, values, fmu_dir, part=part)
-        except Failed:
-            return None
+            return Simulated(simulate(unit, values, fmu_dir, part=part))
+        except Failed as exc:
+            return Simulated(None, str(exc))
 
 
 def _train_size(unit):

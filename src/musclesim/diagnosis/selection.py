@@ -23,7 +23,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from musclesim.diagnosis.effects import by_component, calibration_of
-from musclesim.diagnosis.fitting import (Free, FitJob, fit_all)
+from musclesim.diagnosis.fitting import Free, FitJob, FitResult, fit_all
 from musclesim.diagnosis.problem import affected, downstream
 from musclesim.diagnosis.stats import (HELD_OUT, TRAIN, before_after, bootstrap, gap, interval95,
                                        part_rows,
@@ -271,18 +271,28 @@ def score(unit, base, cand, f, masks, calib=()):
     return entry
 
 
+@dataclass(frozen=True)
+class Scored:
+    """A candidate's report `entry` (`score`) with the `candidate` and its `fit`."""
+
+    entry: dict
+    candidate: Candidate
+    fit: FitResult
+
+
 def rank(unit, bases, cands, fits, masks, calib=()):
-    """Score and rank the candidates, each against its baseline in `bases` (counting ones first,
-    then by pooled held-out gap after), each entry's ``margin`` to the next: (entries,
-    [(entry, candidate, fit) that count])."""
-    scored = sorted(((score(unit, b, c, f, masks, calib), c, f)
+    """Score and rank the candidates `cands` fitted as `fits` in `unit`, each against its
+    baseline in `bases` (counting ones first, then by pooled held-out gap after), each entry's
+    ``margin`` to the next, with the regime `masks` and the calibration parameters `calib`
+    (`score`): a `Scored` each, ranked."""
+    scored = sorted((Scored(score(unit, b, c, f, masks, calib), c, f)
                      for b, c, f in zip(bases, cands, fits)),
-                    key=lambda t: (not t[0]["counts"], t[0]["heldout_gap_after"]))
-    entries = [e for e, _, _ in scored]
+                    key=lambda t: (not t.entry["counts"], t.entry["heldout_gap_after"]))
+    entries = [t.entry for t in scored]
     for a, b in zip(entries, entries[1:] + [None]):
         a["margin"] = None if b is None else (b["heldout_gap_after"] - a["heldout_gap_after"]) \
             / a["heldout_gap_before"]
-    return entries, [t for t in scored if t[0]["counts"]]
+    return scored
 
 
 def explained(after, before, floor):

@@ -13,7 +13,7 @@ every instance reads the others' outputs of the same communication point, the sa
 whole run (tests/diagnosis/test_simulate_restart.py).
 """
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -27,6 +27,21 @@ RESTARTS = 16  # upstream runs a unit keeps for downstream restarts (a few signa
 
 class Failed(Exception):
     """A simulation of candidate values failed (reported, not raised to the user)."""
+
+
+@dataclass(frozen=True)
+class Simulated:
+    """A simulation task's outcome (`musclesim.diagnosis.fitting.simulation_task`): the `runs`
+    `simulate` gives ([{column: array}] per run), or, when a run failed, None and the
+    failure's message (`error`): a failure is a value that says why, not a None."""
+
+    runs: list | None
+    error: str | None = None
+
+    @property
+    def failed(self) -> bool:
+        """Whether the simulation failed (`error` says why)."""
+        return self.runs is None
 
 
 def with_values(s, values):

@@ -204,9 +204,24 @@ def _breaks(problem, free):
             "from the effect")
 
 
+@dataclass(frozen=True)
+class Judgement:
+    """What the weighing concludes: the report's `evidence` section, the `verdict`, its
+    `explanation`, whether the gap left is unstructured (`complete`) and the candidate named
+    or, undecided, the most probable (`chosen`)."""
+
+    evidence: dict
+    verdict: str
+    explanation: str
+    complete: bool
+    chosen: Weighed
+
+
 def section(unit, weighed, symmetric, disc, nominal_gap, floor, explained):
-    """The report's ``evidence`` section and the verdict: (section, verdict, explanation,
-    complete, the candidate named or most probable)."""
+    """The report's ``evidence`` section and the verdict as a `Judgement`, from the candidates
+    `weighed` in fit `unit` (most probable first), the `symmetric` effects (`symmetries`), the
+    discrepancies `disc`, the held-out gap of the nominal values `nominal_gap` and the noise
+    `floor`; `explained(after, before, floor)` says whether a gap left is unstructured."""
     names = [w.name for w in weighed]
     probs = [w.probability for w in weighed]
     credible = ev.credible_set(names, probs)
@@ -253,4 +268,4 @@ def section(unit, weighed, symmetric, disc, nominal_gap, floor, explained):
     complete = explained(chosen.fit.heldout_gap, nominal_gap, floor)
     out = {"candidates": rows, "set": credible, "symmetries": symmetric,
            "discrepancy": discrepancy, "level": NAME_LEVEL}
-    return out, verdict, text, complete, chosen
+    return Judgement(out, verdict, text, complete, chosen)
