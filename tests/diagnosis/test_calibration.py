@@ -15,7 +15,7 @@ from musclesim.diagnosis import dataset, diagnose
 from musclesim.diagnosis import write_data_set
 from musclesim.diagnosis.fitting import FitJob, Free, fit, fit_all
 from musclesim.diagnosis.problem import Problem
-from musclesim.diagnosis.selection import calibration, scanned
+from musclesim.diagnosis.parameters import calibration, scanned
 from musclesim.diagnosis.simulate import simulate
 
 from conftest import SCENARIOS

@@ -2,16 +2,18 @@
 
 The data path is a measured data set (``load_dataset``: data.csv + manifest.toml, checked against
 its scenario; ``write_data_set`` writes one) -> ``diagnose`` (where the model misses, which
-unmodelled effect of ``EFFECTS`` explains it, how far the held-out gap shrinks) ->
-``write_report`` (report.json, report.md, plots). ``diagnose`` returns a `Report`, frozen
-sections composed (module sections), whose ``to_json()`` is report.json's document. ``calibrate`` fits the open values a
-scalar-only set names to its training metrics and predicts the held-out ones (module openvalues).
+unmodelled effect of ``EFFECTS`` explains it, how far the held-out gap shrinks), giving a
+``Report`` (frozen sections; ``Report.to_json()`` is report.json's document) ->
+``write_report`` (report.json, report.md, plots). ``calibrate`` fits the open values a
+scalar-only set names to its training metrics and predicts the held-out ones (module
+openvalues).
 
 Modules: dataset (measured data sets), effects (the effect library and the per-component
 knowledge the diagnosis uses), thresholds (every threshold, documented), problem (the units
-simulated against the data), simulate, stats, regimes, fitting, selection (the stages' work),
-evidence and weigh (the candidates' evidence, probabilities and the verdict), stages (what the
-stages hand each other), which (section 4), sections (the `Report` object), pipeline
+simulated against the data), simulate, stats, regimes, fitting, parameters (the calibration
+parameters), candidates, judging, aliasing, scoring and consistency (the candidates and their
+fits described), evidence and weigh (the candidates' evidence, probabilities and the verdict),
+stages (what the stages hand each other), which (section 4), sections (the `Report`), pipeline
 (`diagnose`), report (the files).
 
 The stages' building blocks are public too, for the blind benchmark above this layer
@@ -33,7 +35,7 @@ from musclesim.diagnosis.pipeline import diagnose
 from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.report import write as write_report
 from musclesim.diagnosis.sections import Report
-from musclesim.diagnosis.selection import calibration
+from musclesim.diagnosis.parameters import calibration
 from musclesim.diagnosis.simulate import Failed, Simulated, residuals, with_values
 from musclesim.diagnosis.simulate import simulate as simulate_unit
 from musclesim.diagnosis.stats import HELD_OUT, TRAIN, Part, gap

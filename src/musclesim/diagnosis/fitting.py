@@ -250,7 +250,7 @@ class Fit:
         still falling at its last accepted step (its steps shrank to nothing under an updated
         Jacobian, or its evaluations ran out), goes on from fresh differences; columns given as
         `known` are not fresh in any pass, so such a fit takes no second pass for that (its
-        refinement, `selection.refine`, has none)."""
+        refinement, `candidates.refine`, has none)."""
         J, latency = None, self.job.latency
         for _ in range(PASSES):
             self.align.clear()

@@ -11,13 +11,13 @@ the Jacobian at the fit. The held-out experiments are never fitted: their metric
 the fitted values, are the model's predictions.
 """
 import math
-from pathlib import Path
 
 import numpy as np
 
 from musclesim.batch import serial_map
-from musclesim.cosim import read_fmu, reuse_fmus
+from musclesim.cosim import reuse_fmus
 from musclesim.diagnosis.fitting import FitJob, Free, box_intervals, fit_all, values_of
+from musclesim.diagnosis.parameters import nominal
 from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.simulate import Failed, simulate
 from musclesim.diagnosis.stats import TRAIN, part_segments
@@ -42,27 +42,18 @@ def open_values(problem):
                 raise UserError(f"data set {problem.ds.path}: [[calibrate]] names {inst}.{name}, "
                                 "but no scenario of the data set has an instance "
                                 f"{inst!r}")
-        starts = [_nominal(problem, *p) for p in pairs]  # each target must exist
+        starts = []
+        for inst, name in pairs:  # each target must exist
+            try:
+                starts.append(nominal(problem, inst, name))
+            except KeyError as exc:
+                raise UserError(f"data set {problem.ds.path}: [[calibrate]] names "
+                                f"{inst}.{name}, but {exc.args[0]}") from None
         name = pairs[0][1]
         start = min(max(starts[0], ov.lower), ov.upper)
         out.append(Free(tuple(i for i, n in pairs if n == name), name, ov.lower, ov.upper,
                         start, also=tuple(p for p in pairs if p[1] != name)))
     return out
-
-
-def _nominal(problem, inst, name):
-    for s in problem.scenarios.values():
-        if inst in s.instances:
-            if name in s.instances[inst].parameters:
-                return float(s.instances[inst].parameters[name])
-            component = s.instances[inst].component
-            break
-    md = read_fmu(Path(problem.fmu_dir) / f"{component}.fmu")
-    for v in md.modelVariables:
-        if v.name == name and v.start is not None:
-            return float(v.start)
-    raise UserError(f"data set {problem.ds.path}: [[calibrate]] names {inst}.{name}, but "
-                    f"{component} has no parameter {name!r}")
 
 
 def intervals(fit, free, unit):

@@ -29,8 +29,8 @@ The steps, on a measured data set (`musclesim.diagnosis.dataset`), each printed 
    their evidence under a model of the mismatch calibration leaves (`weigh`, `evidence`):
    posterior probabilities, the credible set, the symmetries calibration makes with an effect
    and what would break them, a held-out predictive check each. Each effect's fit is also
-   described against calibration on the signals it can change (`selection.judge`). Signals that
-   share an upstream state place the gap in a sensor or in the plant (`selection.cross_signal`).
+   described against calibration on the signals it can change (`judging.judge`). Signals that
+   share an upstream state place the gap in a sensor or in the plant (`consistency.cross_signal`).
 5. How far it shrinks: held-out gap per signal nominal, calibrated and with the named (or most
    probable) effect (calibration refitted with it), with block-bootstrap intervals, in the model
    with every measured signal replayed (`Problem.replayed`).
@@ -52,8 +52,9 @@ per worker, and the tasks name the workers' copies: the workers need none of thi
 This module runs the stages, each returning its frozen section of the `Report`
 (`musclesim.diagnosis.sections`); the work is in the package's other modules: the thresholds
 named above in `musclesim.diagnosis.thresholds`, the units in `.problem`, simulation and residuals
-in `.simulate`, statistics in `.stats`, regimes in `.regimes`, fits in `.fitting`, candidates and
-their descriptions in `.selection`, section 4 in `.which`, the evidence in `.evidence` and the
+in `.simulate`, statistics in `.stats`, regimes in `.regimes`, fits in `.fitting`, the
+calibration parameters in `.parameters`, candidates in `.candidates`, their descriptions in
+`.judging`, `.aliasing`, `.scoring` and `.consistency`, section 4 in `.which`, the evidence in `.evidence` and the
 weighing and verdict in `.weigh`.
 """
 from __future__ import annotations
@@ -69,7 +70,8 @@ from musclesim.diagnosis.problem import Problem, Unit, affected
 from musclesim.diagnosis.regimes import regime_table, regimes
 from musclesim.diagnosis.sections import (CalibrationSection, GapSection, IsolationSection,
                                           Report, ShrinkageSection, VerdictSection)
-from musclesim.diagnosis.selection import NO_GAP, calibration, calibration_table, scanned
+from musclesim.diagnosis.judging import NO_GAP
+from musclesim.diagnosis.parameters import calibration, calibration_table, scanned
 from musclesim.diagnosis.simulate import residuals, signal_gap, simulate
 from musclesim.diagnosis.stages import Calibration, FitUnit, Isolation, Nominal, Residuals
 from musclesim.diagnosis.stats import HELD_OUT, before_after, deviates, gap, noise_floor

@@ -3,7 +3,7 @@ described, weighed by evidence, and the verdict (`which_effect`, giving a `Which
 
 Every candidate effect of the suspects is fitted together with the fit unit's calibration
 parameters (`musclesim.diagnosis.fitting`), each fit described against calibration alone
-(`musclesim.diagnosis.selection.rank`), and the candidates weighed by their evidence
+(`musclesim.diagnosis.scoring.rank`), and the candidates weighed by their evidence
 (`musclesim.diagnosis.weigh`): probabilities, the credible set, symmetries, the verdict.
 """
 from __future__ import annotations
@@ -16,8 +16,10 @@ import numpy as np
 from musclesim.diagnosis.fitting import FitJob, FitResult, fit_all, known_columns, values_of
 from musclesim.diagnosis.problem import Problem, Unit
 from musclesim.diagnosis.sections import (EvidenceSection, FitUnitSection, VerdictSection)
-from musclesim.diagnosis.selection import (Candidate, candidates, cross_signal, explained,
-                                           rank, refine)
+from musclesim.diagnosis.candidates import Candidate, candidates, refine
+from musclesim.diagnosis.consistency import cross_signal
+from musclesim.diagnosis.judging import explained
+from musclesim.diagnosis.scoring import rank
 from musclesim.diagnosis.stages import Calibration, FitUnit
 from musclesim.diagnosis.stats import HELD_OUT, TRAIN, gap, noise_floor, part_segments
 from musclesim.diagnosis.weigh import (CALIBRATION_ONLY, Weighed, profile_jobs, symmetries,

@@ -1,0 +1,91 @@
+"""The calibration parameters of a unit: the nominal values a real bench has differently
+(`effects.CALIBRATION`), as `Free` parameters (`calibration`), how many of them a calibration
+scans (`scanned`), the report's table of their fitted values (`calibration_table`), and the one
+place a parameter's nominal value is read (`nominal`).
+"""
+from pathlib import Path
+
+import numpy as np
+
+from musclesim.cosim import read_fmu
+from musclesim.diagnosis.effects import calibration_of
+from musclesim.diagnosis.fitting import Free
+from musclesim.diagnosis.problem import affected
+from musclesim.diagnosis.stats import TRAIN, part_rows
+from musclesim.diagnosis.thresholds import MIN_VALUES_PER_PARAMETER
+
+__all__ = ["nominal", "components_of", "calibration", "scanned", "calibration_table"]
+
+
+def nominal(problem, inst, name):
+    """The nominal value of parameter `name` of instance `inst` in `problem`: the value the
+    first of its scenarios holding `inst` gives, else its FMU's start value.
+
+    Raises
+    ------
+    KeyError
+        If the instance's component has no parameter `name` with a start value (its message:
+        "<component> has no parameter '<name>'").
+    """
+    for s in problem.scenarios.values():
+        if inst in s.instances:
+            if name in s.instances[inst].parameters:
+                return float(s.instances[inst].parameters[name])
+            component = s.instances[inst].component
+            break
+    var = problem.vars.get(inst, {}).get(name)
+    if var is None:  # an instance only a later experiment's scenario has
+        md = read_fmu(Path(problem.fmu_dir) / f"{component}.fmu")
+        var = next((v for v in md.modelVariables if v.name == name), None)
+    if var is None or var.start is None:
+        raise KeyError(f"{component} has no parameter {name!r}")
+    return float(var.start)
+
+
+def components_of(unit, instances):
+    """{component: [its instances]} of `instances` (sorted) that are in `unit`."""
+    out = {}
+    for inst in sorted(instances):
+        if inst in unit.components:
+            out.setdefault(unit.components[inst], []).append(inst)
+    return out
+
+
+def calibration(problem, unit, instances=None):
+    """The calibration parameters (`Free`, absolute bounds) of the components of `instances`
+    (default: all of `unit`'s) that act on an observed signal, one per component and parameter
+    for all its instances together, the periodic ones first.
+    A value the data set states as a bench condition (``[conditions]``) is fixed, not
+    calibrated, and so is an input the scenario connects or the data set replays. Nothing is
+    calibrated when the training part holds fewer than MIN_VALUES_PER_PARAMETER values per
+    parameter (scalar metrics)."""
+    rows = sum(int(np.count_nonzero(m)) for m in part_rows(unit, TRAIN)) * len(unit.observed)
+    s = unit.runs[0].scenario
+    taken = set(problem.ds.conditions) | {dst for _, dst in s.connections}
+    taken |= set().union(*(run.inputs for run in unit.runs))
+    out = []
+    acting = [i for i in instances or unit.instances if affected(unit, (i,))]
+    for comp, insts in components_of(unit, acting).items():
+        for c in calibration_of(comp):
+            free = tuple(i for i in insts if f"{i}.{c.name}" not in taken)
+            if free:
+                value = nominal(problem, free[0], c.name)
+                out.append(Free(free, c.name, *c.bounds(value), value, c.period))
+    out.sort(key=lambda f: not f.period)  # the periodic first: `fit` scans them (`scanned`)
+    # a handful of metrics cannot pin several nominal values: too few training values, none
+    return out if rows >= MIN_VALUES_PER_PARAMETER * len(out) else []
+
+
+def scanned(free):
+    """How many of the calibration parameters `free` (`calibration`'s, the periodic first) a
+    calibration from the nominal values scans: the periodic ones, whose nominal value may lie
+    in any of their cost's wells."""
+    return sum(1 for f in free if f.period)
+
+
+def calibration_table(free, f):
+    """The report's calibrated values: {instance(s).parameter: value, 95 % interval, nominal,
+    bounds} of `free` fitted as `f`."""
+    return {f"{','.join(fr.instances)}.{fr.name}": {
+        "value": x, "interval": list(iv), "nominal": fr.start, "lower": fr.lower,
+        "upper": fr.upper} for fr, x, iv in zip(free, f.x, f.interval)}
