@@ -10,7 +10,7 @@ it). `simulate` keeps the outputs that the other instances passed them in its la
 runs (`Unit.restarts`) and, when a run's values upstream are those of a kept run, simulates only
 the instances downstream, those outputs replayed into them: under the Jacobi algorithm, where
 every instance reads the others' outputs of the same communication point, the same bits as the
-whole run (tests/diagnosis/test_simulate_restart.py).
+whole run (tests/diagnosis/test_simulate.py).
 """
 import math
 from dataclasses import dataclass, replace

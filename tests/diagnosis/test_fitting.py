@@ -1,0 +1,79 @@
+"""Fitting free parameters on hand-made data (no FMU): a straight line's slope and offset found
+by `fit` with intervals that hold them, a failed run a value that says why, the values of shared
+parameters, known Jacobian columns, intervals in the box."""
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from musclesim.diagnosis import fitting
+from musclesim.diagnosis.fitting import (Free, box_intervals, fit, known_columns,
+                                         simulation_task, values_of)
+from musclesim.diagnosis.simulate import Failed, Simulated
+
+T = np.linspace(0.0, 1.0, 201)
+
+
+def line_unit(noise=0.0):
+    """A unit of one run observing ``y.out`` = 2 t + 1 (plus `noise`), the first half training,
+    the second held out."""
+    rng = np.random.default_rng(0)
+    part = (T > 0.5).astype(np.int8)
+    measured = {"y.out": 2 * T + 1 + noise * rng.standard_normal(T.size)}
+    run = SimpleNamespace(part=part, time=T, measured=measured)
+    return SimpleNamespace(runs=[run], observed=("y.out",), alignable=(), scale={"y.out": 3.0},
+                           noise={"y.out": 0.01})
+
+
+def line(unit, values, fmu_dir, part=None):
+    """`simulate` of the line model a t + b; NaN past the training part with ``part``."""
+    y = values[("y", "a")] * T + values[("y", "b")]
+    if part is not None:
+        y = np.where(unit.runs[0].part == part, y, np.nan)
+    return [{"y.out": y}]
+
+
+def test_fit_finds_a_lines_slope_and_offset_with_intervals(monkeypatch):
+    monkeypatch.setattr(fitting, "simulate", line)
+    free = [Free(("y",), "a", 0.0, 5.0, 1.0), Free(("y",), "b", 0.0, 3.0, 2.0)]
+    result = fit(line_unit(noise=0.01), free, "fmus")
+    assert result.x == pytest.approx([2.0, 1.0], abs=0.02) and result.applicable
+    assert all(lo < x < hi for x, (lo, hi) in zip(result.x, result.interval))
+    assert result.heldout_gap < 0.01 and result.jac.shape == (101, 2)
+    assert set(result.train) == {"y.out"} and result.latency == {}
+
+
+def test_a_failed_simulation_is_a_value_that_says_why(monkeypatch):
+    def failing(unit, values, fmu_dir, part=None):
+        raise Failed("the wire's temperature left its table")
+
+    monkeypatch.setattr(fitting, "simulate", failing)
+    out = simulation_task((line_unit(), {}, "fmus", None))
+    assert out == Simulated(None, "the wire's temperature left its table") and out.failed
+    monkeypatch.setattr(fitting, "simulate", line)
+    ok = simulation_task((line_unit(), {("y", "a"): 2.0, ("y", "b"): 1.0}, "fmus", None))
+    assert not ok.failed and ok.error is None
+    assert np.array_equal(ok.runs[0]["y.out"], 2 * T + 1)
+
+
+def test_values_of_shared_parameters_and_their_companions():
+    free = [Free(("w1", "w2"), "h", 50.0, 150.0, 100.0, also=(("cap", "h_air"),)),
+            Free(("tc",), "tau", 0.0, 2.0, 0.0)]
+    assert values_of(free, [120.0, 0.3]) == {("w1", "h"): 120.0, ("w2", "h"): 120.0,
+                                             ("cap", "h_air"): 120.0, ("tc", "tau"): 0.3}
+
+
+def test_known_columns_follow_the_effects_parameters():
+    jac = np.arange(6.0).reshape(3, 2)
+    known = known_columns(jac, 1)
+    assert sorted(known) == [1, 2] and np.array_equal(known[2], jac[:, 1])
+    assert known_columns(None, 1) is None
+
+
+def test_box_intervals_are_196_sigma_clipped_to_the_box():
+    J = np.eye(2) * np.array([[100.0], [0.5]])  # the first pinned, the second hardly
+    (a0, a1), (b0, b1) = box_intervals(J, np.array([0.5, 0.5]), [0.0, 10.0], [2.0, 4.0])
+    assert (a0, a1) == pytest.approx((1.0 - 2 * 1.96 / 100, 1.0 + 2 * 1.96 / 100))
+    assert (b0, b1) == (10.0, 14.0)  # 1.96 / 0.5 of the box each way: the whole box
+    (c0, c1), _ = box_intervals(np.zeros((2, 2)), np.array([0.5, 0.5]), [0.0, 0.0], [1.0, 1.0])
+    assert (c0, c1) == (0.0, 1.0)  # singular: its bounds
