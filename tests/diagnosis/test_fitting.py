@@ -6,6 +6,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from musclesim.cosim import ParamRef
 from musclesim.diagnosis import fitting
 from musclesim.diagnosis.fitting import (Free, box_intervals, fit, known_columns,
                                          simulation_task, values_of)
@@ -27,7 +28,7 @@ def line_unit(noise=0.0):
 
 def line(unit, values, fmu_dir, part=None):
     """`simulate` of the line model a t + b; NaN past the training part with ``part``."""
-    y = values[("y", "a")] * T + values[("y", "b")]
+    y = values[ParamRef("y", "a")] * T + values[ParamRef("y", "b")]
     if part is not None:
         y = np.where(unit.runs[0].part == part, y, np.nan)
     return [{"y.out": y}]
@@ -51,16 +52,19 @@ def test_a_failed_simulation_is_a_value_that_says_why(monkeypatch):
     out = simulation_task((line_unit(), {}, "fmus", None))
     assert out == Simulated(None, "the wire's temperature left its table") and out.failed
     monkeypatch.setattr(fitting, "simulate", line)
-    ok = simulation_task((line_unit(), {("y", "a"): 2.0, ("y", "b"): 1.0}, "fmus", None))
+    values = {ParamRef("y", "a"): 2.0, ParamRef("y", "b"): 1.0}
+    ok = simulation_task((line_unit(), values, "fmus", None))
     assert not ok.failed and ok.error is None
     assert np.array_equal(ok.runs[0]["y.out"], 2 * T + 1)
 
 
 def test_values_of_shared_parameters_and_their_companions():
-    free = [Free(("w1", "w2"), "h", 50.0, 150.0, 100.0, also=(("cap", "h_air"),)),
+    free = [Free(("w1", "w2"), "h", 50.0, 150.0, 100.0, also=(ParamRef("cap", "h_air"),)),
             Free(("tc",), "tau", 0.0, 2.0, 0.0)]
-    assert values_of(free, [120.0, 0.3]) == {("w1", "h"): 120.0, ("w2", "h"): 120.0,
-                                             ("cap", "h_air"): 120.0, ("tc", "tau"): 0.3}
+    assert values_of(free, [120.0, 0.3]) == {
+        ParamRef("w1", "h"): 120.0, ParamRef("w2", "h"): 120.0, ParamRef("cap", "h_air"): 120.0,
+        ParamRef("tc", "tau"): 0.3}
+    assert free[0].key == "w1,w2.h" and free[1].refs == (ParamRef("tc", "tau"),)
 
 
 def test_known_columns_follow_the_effects_parameters():

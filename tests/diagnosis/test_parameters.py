@@ -6,7 +6,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from musclesim.cosim import Instance, Scenario
+from musclesim.cosim import Instance, ParamRef, Scenario
 from musclesim.diagnosis.fitting import FitResult, Free
 from musclesim.diagnosis.parameters import calibration, calibration_table, nominal, scanned
 from musclesim.diagnosis.thresholds import MIN_VALUES_PER_PARAMETER
@@ -29,7 +29,8 @@ def problem_unit(gains, rows=40, conditions=(), start="1.0"):
     unit = SimpleNamespace(runs=[run], observed=OBSERVED, instances=("tc1", "tc2"),
                            components={"tc1": "Thermocouple", "tc2": "Thermocouple"})
     var = SimpleNamespace(start=start)
-    problem = SimpleNamespace(ds=SimpleNamespace(conditions=dict.fromkeys(conditions),
+    stated = dict.fromkeys(conditions, 1.0)  # the data set's stated values
+    problem = SimpleNamespace(ds=SimpleNamespace(values=lambda experiment=None: stated,
                                                  path="set"),
                               scenarios={"first": s}, fmu_dir="fmus",
                               vars={"tc1": {"gain": var}, "tc2": {"gain": var}})
@@ -38,11 +39,11 @@ def problem_unit(gains, rows=40, conditions=(), start="1.0"):
 
 def test_the_nominal_value_is_the_scenarios_else_the_fmus_start():
     problem, _ = problem_unit({"tc1": 1.002})
-    assert nominal(problem, "tc1", "gain") == 1.002
-    assert nominal(problem, "tc2", "gain") == 1.0  # the FMU's start, a string in FMPy
+    assert nominal(problem, ParamRef("tc1", "gain")) == 1.002
+    assert nominal(problem, ParamRef("tc2", "gain")) == 1.0  # the FMU's start, a string in FMPy
     problem.vars["tc2"]["gain"] = SimpleNamespace(start=None)
     with pytest.raises(KeyError, match="Thermocouple has no parameter 'gain'"):
-        nominal(problem, "tc2", "gain")
+        nominal(problem, ParamRef("tc2", "gain"))
 
 
 def test_one_free_parameter_per_component_and_name_for_all_its_instances():
@@ -55,10 +56,10 @@ def test_one_free_parameter_per_component_and_name_for_all_its_instances():
 
 
 def test_a_stated_value_is_fixed_and_too_few_values_calibrate_nothing():
-    problem, unit = problem_unit({}, conditions=["tc2.gain"])
+    problem, unit = problem_unit({}, conditions=[ParamRef("tc2", "gain")])
     free, = calibration(problem, unit)
     assert free.instances == ("tc1",)
-    problem, unit = problem_unit({}, conditions=["tc1.gain", "tc2.gain"])
+    problem, unit = problem_unit({}, conditions=[ParamRef("tc1", "gain"), ParamRef("tc2", "gain")])
     assert calibration(problem, unit) == []
     # two observed channels: a parameter needs MIN_VALUES_PER_PARAMETER training values
     enough = MIN_VALUES_PER_PARAMETER // 2

@@ -18,7 +18,8 @@ stages (what the stages hand each other), which (section 4), sections (the `Repo
 
 The stages' building blocks are public too, for the blind benchmark above this layer
 (`musclesim.benchmark`), which records cases, fits its oracle and scores the diagnosis with them:
-``Problem`` (the units simulated against data), ``simulate_unit``, ``with_values``,
+``Problem`` (the units simulated against data), ``simulate_unit`` (parameter values applied by
+`musclesim.cosim.with_values`),
 ``residuals`` and ``Failed`` (runs), ``gap`` (the normalised RMS gap of a ``Part``, ``TRAIN`` or
 ``HELD_OUT``), ``fit``, ``Free`` and ``values_of`` (bounded least squares of free parameters),
 ``calibration`` (the calibration parameters of a unit) and ``find_effect``.
@@ -36,7 +37,7 @@ from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.report import write as write_report
 from musclesim.diagnosis.sections import Report
 from musclesim.diagnosis.parameters import calibration
-from musclesim.diagnosis.simulate import Failed, Simulated, residuals, with_values
+from musclesim.diagnosis.simulate import Failed, Simulated, residuals
 from musclesim.diagnosis.simulate import simulate as simulate_unit
 from musclesim.diagnosis.stats import HELD_OUT, TRAIN, Part, gap
 from musclesim.diagnosis.weigh import CALIBRATION_ONLY
@@ -44,6 +45,6 @@ from musclesim.diagnosis.weigh import CALIBRATION_ONLY
 __all__ = ["load_dataset", "DataSet", "write_data_set", "diagnose", "Report", "write_report",
            "calibrate",
            "calibration_markdown", "EFFECTS",
-           "REGIMES", "Effect", "find_effect", "Problem", "simulate_unit", "with_values",
+           "REGIMES", "Effect", "find_effect", "Problem", "simulate_unit",
            "residuals", "Failed", "Simulated", "gap", "fit", "Free", "values_of", "calibration", "Part",
            "TRAIN", "HELD_OUT", "CALIBRATION_ONLY"]

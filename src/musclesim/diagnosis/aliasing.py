@@ -58,4 +58,4 @@ def aliasing_in(f, k, calib):
               < fr.upper - 1e-3 * (fr.upper - fr.lower)]
     jac = f.jac
     return aliasing(None if jac is None else jac[:, list(range(k)) + [k + i for i in inside]],
-                    k, [f"{','.join(calib[i].instances)}.{calib[i].name}" for i in inside])
+                    k, [calib[i].key for i in inside])

@@ -2,6 +2,7 @@
 (`Candidate`, `candidates`), and the refit of the best of their fits (`refine`)."""
 from dataclasses import dataclass, replace
 
+from musclesim.cosim import ParamRef
 from musclesim.diagnosis.fitting import Free, FitJob, fit_all
 from musclesim.diagnosis.effects import by_component
 from musclesim.diagnosis.parameters import components_of, nominal
@@ -31,7 +32,7 @@ def candidates(problem, unit, suspects):
         for e in by_component(comp):
             groups = [(i,) for i in insts] if e.per_instance else [tuple(insts)]
             for g in groups:
-                free = [Free(g, p.name, p.lower, p.upper, nominal(problem, g[0], p.name))
+                free = [Free(g, p.name, p.lower, p.upper, nominal(problem, ParamRef(g[0], p.name)))
                         for p in e.parameters]
                 out.append(Candidate(e, g, free))
     return out

@@ -6,7 +6,10 @@ best point; it is scored on the held-out part by the caller. `fit_all` runs seve
 ``pmap``: each as one task (`fit_task`), or, on a map that runs its tasks elsewhere side by side
 (Dask's), each steered from a thread here with every simulation a task.
 """
+from __future__ import annotations
+
 import math
+from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
@@ -14,7 +17,7 @@ import numpy as np
 from scipy import optimize
 
 from musclesim.batch import serial_map
-from musclesim.cosim import reuse_fmus
+from musclesim.cosim import ParamRef, reuse_fmus
 
 from musclesim.diagnosis.simulate import Failed, Simulated, residuals, simulate
 from musclesim.diagnosis.stats import (HELD_OUT, TRAIN, gap, part_rows, part_segments,
@@ -25,23 +28,39 @@ from musclesim.diagnosis.thresholds import (MAX_ITERATIONS, PASSES, PERIOD_POINT
 
 @dataclass(frozen=True)
 class Free:
-    """A free parameter: on `instances`, `name` between `lower` and `upper` (absolute values)."""
+    """A free parameter: on `instances`, `name` between `lower` and `upper` (absolute values),
+    from its nominal value `start`; periodic with `period` > 0 (a phase, scanned over a whole
+    period); the further parameters `also` take the same value.
 
-    instances: tuple
+    >>> f = Free(("w1", "w2"), "h", 50.0, 150.0, 100.0, also=(ParamRef("cap", "h_air"),))
+    >>> f.key, [str(r) for r in f.refs]
+    ('w1,w2.h', ['w1.h', 'w2.h', 'cap.h_air'])
+    """
+
+    instances: tuple[str, ...]
     name: str
     lower: float
     upper: float
     start: float  # its nominal value
     period: float = 0.0  # > 0: periodic (a phase), scanned over a whole period
-    also: tuple = ()  # further (instance, parameter) pairs that take the same value
+    also: tuple[ParamRef, ...] = ()  # further parameters that take the same value
+
+    @property
+    def refs(self) -> tuple[ParamRef, ...]:
+        """Every parameter that takes this value: `name` of each instance, then `also`."""
+        return tuple(ParamRef(inst, self.name) for inst in self.instances) + tuple(self.also)
+
+    @property
+    def key(self) -> str:
+        """Its key in report.json, ``"inst1,inst2.name"`` (printed here only)."""
+        return f"{','.join(self.instances)}.{self.name}"
 
 
-def values_of(free, x):
-    """``{(instance, parameter): value}`` of the `Free` parameters `free` at values `x`."""
-    out = {}
+def values_of(free: Sequence[Free], x: Sequence[float]) -> dict[ParamRef, float]:
+    """``{ParamRef: value}`` of the `Free` parameters `free` at values `x`."""
+    out: dict[ParamRef, float] = {}
     for f, v in zip(free, x):
-        out.update({(inst, f.name): v for inst in f.instances})
-        out.update({pair: v for pair in f.also})
+        out.update(dict.fromkeys(f.refs, v))
     return out
 
 

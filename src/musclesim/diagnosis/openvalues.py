@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from musclesim.batch import serial_map
-from musclesim.cosim import reuse_fmus
+from musclesim.cosim import ParamRef, reuse_fmus
 from musclesim.diagnosis.fitting import FitJob, Free, box_intervals, fit_all, values_of
 from musclesim.diagnosis.parameters import nominal
 from musclesim.diagnosis.problem import Problem
@@ -36,23 +36,25 @@ def open_values(problem):
     """
     out = []
     for ov in problem.ds.calibrate:
-        pairs = [tuple(t.split(".", 1)) for t in ov.targets]
-        for inst, name in pairs:
-            if not any(inst in s.instances for s in problem.scenarios.values()):
-                raise UserError(f"data set {problem.ds.path}: [[calibrate]] names {inst}.{name}, "
+        # the manifest's "instance.parameter" strings, parsed at this edge unless the data set
+        # parsed them already
+        refs = [t if isinstance(t, ParamRef) else ParamRef.parse(t) for t in ov.targets]
+        for ref in refs:
+            if not any(ref.instance in s.instances for s in problem.scenarios.values()):
+                raise UserError(f"data set {problem.ds.path}: [[calibrate]] names {ref}, "
                                 "but no scenario of the data set has an instance "
-                                f"{inst!r}")
+                                f"{ref.instance!r}")
         starts = []
-        for inst, name in pairs:  # each target must exist
+        for ref in refs:  # each target must exist
             try:
-                starts.append(nominal(problem, inst, name))
+                starts.append(nominal(problem, ref))
             except KeyError as exc:
                 raise UserError(f"data set {problem.ds.path}: [[calibrate]] names "
-                                f"{inst}.{name}, but {exc.args[0]}") from None
-        name = pairs[0][1]
+                                f"{ref}, but {exc.args[0]}") from None
+        name = refs[0].name
         start = min(max(starts[0], ov.lower), ov.upper)
-        out.append(Free(tuple(i for i, n in pairs if n == name), name, ov.lower, ov.upper,
-                        start, also=tuple(p for p in pairs if p[1] != name)))
+        out.append(Free(tuple(r.instance for r in refs if r.name == name), name, ov.lower,
+                        ov.upper, start, also=tuple(r for r in refs if r.name != name)))
     return out
 
 
@@ -115,7 +117,7 @@ def calibrate(ds, fmu_dir="fmus", pmap=None, progress=None):
         fitted = _runs(unit, values_of(free, fit.x), fmu_dir)
     spans = intervals(fit, free, unit) if fit.jac is not None and fit.residuals is not None \
         else [(f.lower, f.upper) for f in free]
-    values = [{"set": [f"{i}.{f.name}" for i in f.instances] + [f"{i}.{n}" for i, n in f.also],
+    values = [{"set": [str(r) for r in f.refs],
                "value": x, "interval95": list(iv), "bounds": [f.lower, f.upper],
                "nominal": f.start, "why": ov.why}
               for f, x, iv, ov in zip(free, fit.x, spans, ds.calibrate)]

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
-from musclesim.cosim import read_fmu
+from musclesim.cosim import ParamRef, read_fmu
 from musclesim.diagnosis.effects import calibration_of
 from musclesim.diagnosis.fitting import Free
 from musclesim.diagnosis.problem import affected
@@ -17,9 +17,9 @@ from musclesim.diagnosis.thresholds import MIN_VALUES_PER_PARAMETER
 __all__ = ["nominal", "components_of", "calibration", "scanned", "calibration_table"]
 
 
-def nominal(problem, inst, name):
-    """The nominal value of parameter `name` of instance `inst` in `problem`: the value the
-    first of its scenarios holding `inst` gives, else its FMU's start value.
+def nominal(problem, ref):
+    """The nominal value of parameter `ref` (a `ParamRef`) in `problem`: the value the first of
+    its scenarios holding the instance gives, else its FMU's start value.
 
     Raises
     ------
@@ -27,6 +27,7 @@ def nominal(problem, inst, name):
         If the instance's component has no parameter `name` with a start value (its message:
         "<component> has no parameter '<name>'").
     """
+    inst, name = ref.instance, ref.name
     for s in problem.scenarios.values():
         if inst in s.instances:
             if name in s.instances[inst].parameters:
@@ -61,15 +62,17 @@ def calibration(problem, unit, instances=None):
     parameter (scalar metrics)."""
     rows = sum(int(np.count_nonzero(m)) for m in part_rows(unit, TRAIN)) * len(unit.observed)
     s = unit.runs[0].scenario
-    taken = set(problem.ds.conditions) | {dst for _, dst in s.connections}
-    taken |= set().union(*(run.inputs for run in unit.runs))
+    # the stated values, and the inputs connected or replayed (a Signal names an input as a
+    # ParamRef names a parameter: the same instance and variable)
+    taken = set(problem.ds.values()) | {ParamRef(dst.instance, dst.variable) for dst in set(
+        dst for _, dst in s.connections).union(*(run.inputs for run in unit.runs))}
     out = []
     acting = [i for i in instances or unit.instances if affected(unit, (i,))]
     for comp, insts in components_of(unit, acting).items():
         for c in calibration_of(comp):
-            free = tuple(i for i in insts if f"{i}.{c.name}" not in taken)
+            free = tuple(i for i in insts if ParamRef(i, c.name) not in taken)
             if free:
-                value = nominal(problem, free[0], c.name)
+                value = nominal(problem, ParamRef(free[0], c.name))
                 out.append(Free(free, c.name, *c.bounds(value), value, c.period))
     out.sort(key=lambda f: not f.period)  # the periodic first: `fit` scans them (`scanned`)
     # a handful of metrics cannot pin several nominal values: too few training values, none
@@ -86,6 +89,6 @@ def scanned(free):
 def calibration_table(free, f):
     """The report's calibrated values: {instance(s).parameter: value, 95 % interval, nominal,
     bounds} of `free` fitted as `f`."""
-    return {f"{','.join(fr.instances)}.{fr.name}": {
+    return {fr.key: {
         "value": x, "interval": list(iv), "nominal": fr.start, "lower": fr.lower,
         "upper": fr.upper} for fr, x, iv in zip(free, f.x, f.interval)}

@@ -25,7 +25,7 @@ def score(unit, base, cand, f, masks, calib=()):
              "parameters": {fr.name: {"value": x, "interval": list(iv), "lower": fr.lower,
                                       "upper": fr.upper, "off": fr.start}
                             for fr, x, iv in zip(cand.free, f.x[:k], f.interval[:k])},
-             "calibration": {f"{','.join(fr.instances)}.{fr.name}": x
+             "calibration": {fr.key: x
                              for fr, x in zip(calib, f.x[k:])},
              "applicable": f.applicable, "heldout_gap_before": base["heldout_gap"],
              "baseline": "its own fit with the effect off" if base.get("effect_off")

@@ -17,7 +17,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from musclesim.cosim import Graph, Master, compute_metrics, split_signal
+from musclesim.cosim import Graph, Master, compute_metrics, split_signal, with_values
 from musclesim.diagnosis.stats import HELD_OUT, TRAIN, advance, gap, lag
 from musclesim.diagnosis.thresholds import MAX_ALIGN
 
@@ -44,19 +44,9 @@ class Simulated:
         return self.runs is None
 
 
-def with_values(s, values):
-    """Scenario `s` with ``{(instance, parameter): value}`` applied (instances not in `s`
-    skipped)."""
-    instances = dict(s.instances)
-    for (inst, par), v in values.items():
-        if inst in instances:
-            old = instances[inst]
-            instances[inst] = replace(old, parameters={**old.parameters, par: float(v)})
-    return replace(s, instances=instances)
-
-
 def simulate(unit, values, fmu_dir, part=None):
-    """Model values of every run of `unit` with parameter `values`: [{column: array}] per run.
+    """Model values of every run of `unit` with parameter `values` ({ParamRef: value}, applied
+    by `musclesim.cosim.with_values`), the FMUs in `fmu_dir`: [{column: array}] per run.
 
     ``part=TRAIN`` simulates only what the training part needs, as a fit's every step does: each
     run up to its last training row (the model is causal, so those rows are the same to the
@@ -107,7 +97,7 @@ def _downstream(s, values):
     if s.algorithm != "jacobi":
         return None
     graph = Graph(s)
-    fitted = {inst for inst, _ in values if inst in s.instances}
+    fitted = {ref.instance for ref in values if ref.instance in s.instances}
     kept = graph.downstream({x for x in fitted if graph.downstream({x}) & fitted == {x}})
     if not kept or kept == set(s.instances):
         return None
@@ -125,7 +115,7 @@ def _run(unit, which, s, inputs, values, fmu_dir):
         return res.time, {c: res[c] for c in s.record}
     graph, kept, cut = split
     key = (which, frozenset(kept),
-           tuple(sorted((k, v) for k, v in values.items() if k[0] not in kept)))
+           tuple(sorted((k, v) for k, v in values.items() if k.instance not in kept)))
     if key not in unit.restarts:
         # the cut links' sources are read at every exchange anyway: recording them changes nothing
         record = tuple(dict.fromkeys((*s.record, *(k.src for k in cut))))

@@ -179,7 +179,7 @@ def symmetries(weighed, profiles, disc, problem, scale=PROFILE_SCALE):
         calib = w.free[w.k:]
         partners = [calib[i] for i in np.argsort(-carried, kind="stable")[:2] if carried[i] > 0]
         out.append({"candidates": [w.name, CALIBRATION_ONLY], "chi2": chi2, "test": test,
-                    "with": [f"{','.join(f.instances)}.{f.name}" for f in partners],
+                    "with": [f.key for f in partners],
                     "breaks_with": sorted((_breaks(problem, f) for f in partners),
                                           key=lambda b: not b.startswith("state "))
                     or ["an experiment in which the effect acts and the calibration cannot"]})
@@ -195,9 +195,9 @@ def _breaks(problem, free):
     """What separates an effect from calibration parameter `free`: stating it, when the data
     set can (an input nothing in the scenario feeds, such as a room's temperature), else
     measuring it apart or an experiment that moves it alone."""
-    inst = free.instances[0]
-    var = problem.vars.get(inst, {}).get(free.name)
-    name = f"{inst}.{free.name}"
+    ref = free.refs[0]
+    var = problem.vars.get(ref.instance, {}).get(ref.name)
+    name = str(ref)
     if var is not None and var.causality == "input":
         return f"state {name} in the data set's [conditions] (measure it on the bench)"
     return (f"measure {name} apart, or record an experiment in which it acts differently "
@@ -233,7 +233,7 @@ def section(unit, weighed, symmetric, disc, nominal_gap, floor, explained):
             "log_evidence": w.evidence.log_evidence,
             "log_likelihood": w.evidence.log_likelihood, "occam": w.evidence.occam,
             "predictive": w.predictive,
-            "parameters": {f"{','.join(f.instances)}.{f.name}": {
+            "parameters": {f.key: {
                 "value": x, "interval": list(iv), "lower": f.lower, "upper": f.upper}
                 for f, x, iv in zip(w.free, w.fit.x, w.fit.interval)},
             "heldout_gap": {c: gap(unit, w.fit.residuals, HELD_OUT, [c]) for c in unit.observed}

@@ -32,7 +32,7 @@ __all__ = ["Which", "which_effect"]
 @dataclass(frozen=True)
 class Which:
     """What section 4 found: the `values` of the candidate named (or, undecided, the most
-    probable) {(instance, parameter): value}, calibration refitted with it (empty: calibration
+    probable) {ParamRef: value}, calibration refitted with it (empty: calibration
     alone), the `evidence` section and the `verdict`."""
 
     values: dict[Any, float]
@@ -52,7 +52,7 @@ def which_effect(problem: Problem, fitting: FitUnit, masks: dict[str, list[np.nd
     unit, cal = fitting.unit, fitting.calibration
     fmu_dir = problem.fmu_dir
     calib, jac = cal.free, cal.jac
-    x_cal = [cal.values[(fr.instances[0], fr.name)] for fr in calib]
+    x_cal = [cal.values[fr.refs[0]] for fr in calib]
     base = {"residuals": cal.residuals, "heldout_gap": gap(unit, cal.residuals, HELD_OUT)}
     cands = candidates(problem, unit, fitting.suspects)
     say(f"fitting {len(cands)} candidate effect(s), each with {len(calib)} calibration "
