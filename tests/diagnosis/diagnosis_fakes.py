@@ -6,6 +6,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from musclesim.cosim import Instance, Scenario, Signal
 from musclesim.diagnosis import effects
 from musclesim.diagnosis.candidates import Candidate
 from musclesim.diagnosis.fitting import FitResult, Free
@@ -13,15 +14,16 @@ from musclesim.diagnosis.stats import HELD_OUT, gap
 
 FLOOR = 0.01
 N = 400
-TC, STRAIN = "thermocouple.T_meas", "wire.strain"
+TC, STRAIN = Signal("thermocouple", "T_meas"), Signal("wire", "strain")
 
 
 def fake_unit(observed=(TC, STRAIN)):
     """One run: the first half trains, the second is held out; the wire feeds the
     thermocouple."""
     part = np.r_[np.zeros(N // 2, np.int8), np.ones(N // 2, np.int8)]
-    scenario = SimpleNamespace(instances={"wire": None, "thermocouple": None},
-                               connections=(("wire.T", "thermocouple.T"),))
+    scenario = Scenario("bench", None, {"wire": Instance("wire", "SmaWire"),
+                                        "thermocouple": Instance("thermocouple", "Thermocouple")},
+                        ((Signal("wire", "T"), Signal("thermocouple", "T")),), 0.02, 8.0)
     return SimpleNamespace(observed=observed, noise={c: FLOOR / 3 for c in observed},
                            instances=("thermocouple", "wire"),
                            runs=[SimpleNamespace(part=part, time=0.02 * np.arange(N),

@@ -39,14 +39,19 @@ def cross_signal(unit, entries, selected):
     unsure = "" if e["counts"] else " (it does not count, so nothing is placed)"
     if others:
         agree = [c for c in others if ps[c]["after"] <= DEVIATES * unit.noise[c]]
-        tail = (f"with it (the calibration refitted) {', '.join(others)} agree with the model of "
+        tail = (f"with it (the calibration refitted) {_names(others)} agree with the model of "
                 f"{source} within the noise ({change(others)}): the gap is placed in the sensor, "
                 f"not in {source}" if len(agree) == len(others) else
-                f"{', '.join(c for c in others if c not in agree)} still deviate "
+                f"{_names(c for c in others if c not in agree)} still deviate "
                 f"({change(others)}): {source} differs from its model too")
-        return (f"{', '.join(shared[source])} all depend on the state of {source}. {what} "
-                f"{e['label']} can change only {', '.join(j['signals'])} "
+        return (f"{_names(shared[source])} all depend on the state of {source}. {what} "
+                f"{e['label']} can change only {_names(j['signals'])} "
                 f"({change(j['signals'])}); {tail}{unsure}.")
-    return (f"{', '.join(shared[source])} all depend on the state of {source}; {what.lower()} "
+    return (f"{_names(shared[source])} all depend on the state of {source}; {what.lower()} "
             f"{e['label']} acts on it and changes them together ({change(j['signals'])}): the gap "
             f"is placed in {source}, where the signals agree, not in one sensor{unsure}.")
+
+
+def _names(signals):
+    """`signals` printed, comma-separated."""
+    return ", ".join(map(str, signals))

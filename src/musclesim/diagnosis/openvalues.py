@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from musclesim.batch import serial_map
-from musclesim.cosim import ParamRef, reuse_fmus
+from musclesim.cosim import reuse_fmus
 from musclesim.diagnosis.fitting import FitJob, Free, box_intervals, fit_all, values_of
 from musclesim.diagnosis.parameters import nominal
 from musclesim.diagnosis.problem import Problem
@@ -36,9 +36,7 @@ def open_values(problem):
     """
     out = []
     for ov in problem.ds.calibrate:
-        # the manifest's "instance.parameter" strings, parsed at this edge unless the data set
-        # parsed them already
-        refs = [t if isinstance(t, ParamRef) else ParamRef.parse(t) for t in ov.targets]
+        refs = list(ov.targets)  # ParamRefs, parsed by the data set from its manifest
         for ref in refs:
             if not any(ref.instance in s.instances for s in problem.scenarios.values()):
                 raise UserError(f"data set {problem.ds.path}: [[calibrate]] names {ref}, "

@@ -64,7 +64,7 @@ from typing import Any, Callable
 from threadpoolctl import threadpool_limits
 
 from musclesim.batch import serial_map
-from musclesim.cosim import reuse_fmus, split_signal
+from musclesim.cosim import reuse_fmus
 from musclesim.diagnosis.fitting import FitJob, fit_all, simulation_task, values_of
 from musclesim.diagnosis.problem import Problem, Unit, affected
 from musclesim.diagnosis.regimes import regime_table, regimes
@@ -166,7 +166,7 @@ def _same(unit, whole):
         return False
     acting = {i for i in whole.instances if affected(whole, (i,))}
     return acting == set(unit.instances) and all(
-        {k for k in a.inputs if split_signal(k)[0] in acting} == set(b.inputs)
+        {k for k in a.inputs if k.instance in acting} == set(b.inputs)
         for a, b in zip(whole.runs, unit.runs))
 
 

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from musclesim.cosim import Graph, Master, read_fmu, split_signal
+from musclesim.cosim import Master, read_fmu
 from musclesim.diagnosis.effects import COUPLED_PORTS, by_component, calibration_of
 from musclesim.diagnosis.stats import HELD_OUT, TRAIN, noise_estimate
 from musclesim.diagnosis.thresholds import METRIC_FLOOR, NOISE_FLOOR
@@ -42,7 +42,7 @@ class Run:
         if not self.sources:
             return s, self.inputs
         keep = set(s.instances) - set(self.sources)
-        return Graph(s).restrict(keep, self.fed, s.record), {**self.inputs, **self.fed}
+        return s.graph.restrict(keep, self.fed, s.record), {**self.inputs, **self.fed}
 
 
 @dataclass
@@ -91,9 +91,9 @@ def _sources(s, observed):
     its output after its step)."""
     if s.algorithm != "jacobi":
         return set()
-    return Graph(s).fed_within(
+    return s.graph.fed_within(
         n for n, i in s.instances.items() if not by_component(i.component)
-        and not calibration_of(i.component) and not any(split_signal(c)[0] == n for c in observed))
+        and not calibration_of(i.component) and not any(c.instance == n for c in observed))
 
 
 def _replays(s, keep, columns, input_columns, cut_all=False):
@@ -107,7 +107,7 @@ def _replays(s, keep, columns, input_columns, cut_all=False):
     quantisation.
     """
     out = {}
-    for k in Graph(s).links:
+    for k in s.graph.links:
         if k.target not in keep:
             continue
         if k.dst in columns:
@@ -115,7 +115,7 @@ def _replays(s, keep, columns, input_columns, cut_all=False):
         elif k.src in columns and (k.source not in keep or (
                 cut_all and not k.output.startswith(COUPLED_PORTS))):
             out[k.dst] = k.src
-    out.update({c: c for c in input_columns if split_signal(c)[0] in keep})
+    out.update({c: c for c in input_columns if c.instance in keep})
     return out
 
 
@@ -136,14 +136,14 @@ class Problem:
         self.components = {n: i.component for n, i in first.instances.items()}
         self.units_of = {}
         for col in ds.columns:
-            inst, var = split_signal(col)
-            v = self.vars.get(inst, {}).get(var)
+            v = self.vars.get(col.instance, {}).get(col.variable)
             if v is None:
-                raise UserError(f"data set {ds.path}: column {col!r} is not a variable of scenario "
+                raise UserError(f"data set {ds.path}: column {str(col)!r} is not a variable of "
+                                f"scenario "
                                 f"{first.name!r} (instances: {', '.join(self.vars)})")
             self.units_of[col] = v.unit or "1"
-        self.input_columns = {c for c in ds.columns if self.vars[split_signal(c)[0]][
-            split_signal(c)[1]].causality == "input"}
+        self.input_columns = {c for c in ds.columns
+                              if self.vars[c.instance][c.variable].causality == "input"}
         for e in ds.experiments.values():
             self.units_of.update({m: mm.unit for m, mm in e.metrics.items()})
         self.scalar_only = ds.scalar_only
@@ -163,16 +163,16 @@ class Problem:
             s = self.scenarios[ename]
             if instances is None:
                 # everything the observed columns depend on, minus what is replayed
-                keep = Graph(s).upstream({split_signal(c)[0] for c in ds.outputs}, replayed_cols)
+                keep = s.graph.upstream({c.instance for c in ds.outputs}, replayed_cols)
             else:
                 keep = set(instances)
             replay = _replays(s, keep, replayed_cols, self.input_columns & replayed_cols,
                               cut_all=cut_all)
-            obs = tuple(c for c in ds.outputs if split_signal(c)[0] in keep and c not in replay)
+            obs = tuple(c for c in ds.outputs if c.instance in keep and c not in replay)
             observed = obs if observed is None else observed
             t, cols = ds.experiment(ename)
             t0 = t[0]
-            red = _span_scenario(Graph(s).restrict(keep, replay, obs), t[-1] - t0)
+            red = _span_scenario(s.graph.restrict(keep, replay, obs), t[-1] - t0)
             grid = t0 + np.arange(red.n_steps + 1) * red.step
             inputs = {dst: np.interp(grid, t, cols[col]) for dst, col in replay.items()}
             part = self._parts(ename, t)
@@ -198,14 +198,14 @@ class Problem:
         (`_sources`) in scenario `s` with replayed `inputs`, from one run of those that feed
         another instance and the sources upstream of them, alone (once for every unit that has
         the same)."""
-        graph = Graph(s)
+        graph = s.graph
         feeds = [k for k in graph.links if k.source in sources and k.target not in sources]
         if not feeds:
             return {}
         # and the sources upstream of them (not one that feeds nothing)
         needed = graph.upstream({k.source for k in feeds})
         alone = graph.restrict(needed, record=dict.fromkeys(k.src for k in feeds))
-        replayed = {k: v for k, v in inputs.items() if split_signal(k)[0] in needed}
+        replayed = {k: v for k, v in inputs.items() if k.instance in needed}
         key = (repr(alone), tuple((k, v.tobytes()) for k, v in sorted(replayed.items())))
         if key not in self._recorded:  # every unit of the experiment has the same sources
             res = Master(alone, self.fmu_dir, replayed).run()
@@ -264,13 +264,13 @@ class Problem:
         if self.scalar_only:
             return []
         ds = self.ds
-        graph = Graph(next(iter(self.scenarios.values())))
+        graph = next(iter(self.scenarios.values())).graph
         measured = set(ds.columns)
         subjects = {}
         for inst in graph.instances:
             subjects.setdefault(frozenset(graph.upstream({inst}, measured)), []).append(inst)
         out = sorted((k for k in subjects if any(
-            split_signal(c)[0] in k and c not in graph.inputs_of(k) for c in ds.outputs)),
+            c.instance in k and c not in graph.inputs_of(k) for c in ds.outputs)),
             key=lambda k: (len(k), sorted(k)))
         return [replace(self.unit(" + ".join(sorted(k)), sorted(k)), subjects=tuple(subjects[k]))
                 for k in out]
@@ -279,7 +279,7 @@ class Problem:
 def downstream(unit, instances):
     """`instances` and every instance they feed within `unit` (connections replayed from data
     cut)."""
-    return Graph(unit.runs[0].scenario).downstream(instances)
+    return unit.runs[0].scenario.graph.downstream(instances)
 
 
 def affected(unit, instances):
@@ -289,4 +289,4 @@ def affected(unit, instances):
     if unit.runs[0].time is None:
         return tuple(unit.observed)
     reach = downstream(unit, instances)
-    return tuple(c for c in unit.observed if split_signal(c)[0] in reach)
+    return tuple(c for c in unit.observed if c.instance in reach)

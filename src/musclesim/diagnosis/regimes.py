@@ -21,7 +21,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from musclesim.cosim import split_signal
 from musclesim.diagnosis.effects import (FORCE_VARIABLES, REGIMES, STRAIN_VARIABLES,
                                          SWITCHING_INDICATORS)
 from musclesim.diagnosis.stats import smooth_rate, worst_windows
@@ -50,14 +49,14 @@ def regime_signals(outputs, inputs, units, components):
     `units` ({column: unit}) and the scenario's `components` ({instance: component})."""
     columns = list(outputs) + list(inputs)
     force = _first(columns, units, ("N", "Pa")) or next(
-        (c for c in columns if split_signal(c)[1] in FORCE_VARIABLES), None)
+        (c for c in columns if c.variable in FORCE_VARIABLES), None)
     return Signals(
         temperature=_first(columns, units, ("K",)), force=force,
-        strain=next((c for c in columns if split_signal(c)[1] in STRAIN_VARIABLES), None),
+        strain=next((c for c in columns if c.variable in STRAIN_VARIABLES), None),
         pressure=_first(columns, units, ("Pa",)),
         positions=tuple(c for c in columns if units[c] == "m"),
-        indicators=tuple(c for c in inputs if split_signal(c)[1] in SWITCHING_INDICATORS.get(
-            components.get(split_signal(c)[0]), ())))
+        indicators=tuple(c for c in inputs if c.variable in SWITCHING_INDICATORS.get(
+            components.get(c.instance), ())))
 
 
 def run_masks(t, cols, signals):

@@ -110,7 +110,7 @@ def _md_where(report):
         L += ["Isolation units (each re-simulated with the measured signals feeding it replayed):",
               "", "| unit | observed | held-out gap | noise floor | deviates |",
               "|---|---|---|---|---|"]
-        L += [f"| {' + '.join(u['instances'])} | {', '.join(u['observed'])} | "
+        L += [f"| {' + '.join(u['instances'])} | {_names(u['observed'])} | "
               f"{_num(u['heldout_gap'])} | {_num(u['noise_floor'])} | {u['deviates']} |"
               for u in iso.units]
         L += ["", "| instance | component | isolated gap | located | exonerated |",
@@ -157,14 +157,14 @@ def _md_which(report):
         j = e.get("judged") or {}
         sig = e["signature"]
         mark = " *" if e.get("baseline", "calibration") != "calibration" else ""
-        L.append(f"| {i} | {e['label']}{mark} | {vals} | {', '.join(j.get('signals', []))} | "
+        L.append(f"| {i} | {e['label']}{mark} | {vals} | {_names(j.get('signals', []))} | "
                  f"{_num(j.get('before'))} -> {_num(j.get('after'))} | "
                  f"{_num(j.get('gain'), '.2f')} {_iv(j.get('interval'), '.2f')} | "
                  f"{_num(e['heldout_gap_before'])} -> {_num(e['heldout_gap_after'])} | "
                  f"{sig['regime']}: {_num(sig['gain_ratio'], '.2f')} | {_alias(e)} | "
                  f"{e['counts']} |")
     L += ["", "Per signal, held-out gap calibrated -> with the effect:", "",
-          "| effect | " + " | ".join(fu.observed) + " |",
+          "| effect | " + " | ".join(map(str, fu.observed)) + " |",
           "|---|" + "---|" * len(fu.observed)]
     for e in ev.effects:
         ps = e.get("per_signal", {})
@@ -190,7 +190,7 @@ def _md_evidence(ev, signals):
          "check is the RMS of the standardised held-out innovations (about 1: described; above "
          "3: not).", "",
          "| candidate | probability | log evidence | predictive check | held-out gap "
-         + " | ".join(signals) + " |",
+         + " | ".join(map(str, signals)) + " |",
          "|---|---|---|---|" + "---|" * len(signals)]
     for c in ev["candidates"]:
         gaps = " | ".join(_num(c["heldout_gap"].get(s)) for s in signals)
@@ -208,6 +208,11 @@ def _md_evidence(ev, signals):
                   f"cannot make of it: {sym['chi2']:.2g} noise variances); to tell them apart, "
                   + "; or ".join(sym["breaks_with"]) + "."]
     return L
+
+
+def _names(signals):
+    """`signals` printed, comma-separated."""
+    return ", ".join(map(str, signals))
 
 
 def _alias(entry):

@@ -10,17 +10,38 @@ musclesim/schemas/report.schema.json), keys in the order report.json has always 
 `musclesim.diagnosis.report` writes it and report.md from the object.
 
 The tables inside a section (one entry per signal, per unit, per effect, per candidate) stay
-the JSON objects report.json holds: they are read by name in report.md and the benchmark.
+the JSON objects report.json holds, read by name in report.md and the benchmark; their signals
+are `Signal` objects, printed (``str``) in one place, `Report.to_json` (`plain`): report.json is
+where an address has its string form.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["GapSection", "CalibrationSection", "IsolationSection", "FitUnitSection",
+from musclesim.cosim import ParamRef, Signal
+
+__all__ = ["plain", "GapSection", "CalibrationSection", "IsolationSection", "FitUnitSection",
            "EvidenceSection", "VerdictSection", "ShrinkageSection", "Report"]
 
-Table = dict[str, Any]  # a JSON object of report.json, as written
+Table = dict[Any, Any]  # a JSON object of report.json, its signals (keys and items) typed
+Column = Signal | str  # an observed signal, or a scalar-only data set's metric
+
+
+def plain(value: Any) -> Any:
+    """`value` with every address in it (a `Signal` or `ParamRef`, a key or an item of its
+    dicts and lists) printed as report.json holds it, ``"instance.name"``.
+
+    >>> plain({Signal("tc", "T_meas"): {"signals": [Signal("tc", "T_meas")], "gap": 0.1}})
+    {'tc.T_meas': {'signals': ['tc.T_meas'], 'gap': 0.1}}
+    """
+    if isinstance(value, (Signal, ParamRef)):
+        return str(value)
+    if isinstance(value, dict):
+        return {plain(k): plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [plain(v) for v in value]
+    return value
 
 
 @dataclass(frozen=True)
@@ -29,7 +50,7 @@ class GapSection:
     signal (or metric) its NRMSE, bias, lag, noise (`signals`), the pooled held-out gap, the
     noise floor and whether it deviates beyond it."""
 
-    signals: dict[str, Table]
+    signals: dict[Column, Table]
     heldout_gap: float
     noise_floor: float
     deviates: bool
@@ -47,10 +68,10 @@ class CalibrationSection:
     Only `parameters` (empty) when there was no gap to calibrate for."""
 
     parameters: dict[str, Table]
-    latency: dict[str, int] | None = None
+    latency: dict[Signal, int] | None = None
     heldout_gap_before: float | None = None
     heldout_gap_after: float | None = None
-    signals: dict[str, Table] | None = None
+    signals: dict[Column, Table] | None = None
 
     @property
     def ran(self) -> bool:
@@ -82,8 +103,8 @@ class FitUnitSection:
     sensor `latency` held ({signal: samples})."""
 
     instances: list[str]
-    observed: list[str]
-    latency: dict[str, int]
+    observed: list[Column]
+    latency: dict[Signal, int]
 
     def to_json(self) -> Table:
         """The report's ``fit_unit``."""
@@ -121,8 +142,8 @@ class ShrinkageSection:
     """Section 5: per signal (and ``all``) the held-out gap nominal, calibrated and with the
     selected effects (`signals`), and the sensor latencies found (`aligned_samples`)."""
 
-    signals: dict[str, Table]
-    aligned_samples: dict[str, int]
+    signals: dict[Column, Table]
+    aligned_samples: dict[Signal, int]
 
 
 @dataclass(frozen=True)
@@ -149,7 +170,8 @@ class Report:
         return self.evidence.effects if self.evidence is not None else []
 
     def to_json(self) -> Table:
-        """report.json's document, its keys in the order report.json has always had them."""
+        """report.json's document (addresses printed, `plain`), its keys in the order
+        report.json has always had them."""
         v = self.verdict
         out: Table = {"data_set": self.data_set, "scenario": self.scenario,
                       "scalar_only": self.scalar_only,
@@ -174,4 +196,4 @@ class Report:
                            complete=v.complete, noise_floor=v.noise_floor)
         out.update(shrinkage=self.shrinkage.signals,
                    aligned_samples=self.shrinkage.aligned_samples)
-        return out
+        return plain(out)

@@ -17,7 +17,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from musclesim.cosim import Graph, Master, compute_metrics, split_signal, with_values
+from musclesim.cosim import Master, compute_metrics, with_values
 from musclesim.diagnosis.stats import HELD_OUT, TRAIN, advance, gap, lag
 from musclesim.diagnosis.thresholds import MAX_ALIGN
 
@@ -96,7 +96,7 @@ def _downstream(s, values):
     (a reader stepped after its source takes the source's output after its step)."""
     if s.algorithm != "jacobi":
         return None
-    graph = Graph(s)
+    graph = s.graph
     fitted = {ref.instance for ref in values if ref.instance in s.instances}
     kept = graph.downstream({x for x in fitted if graph.downstream({x}) & fitted == {x}})
     if not kept or kept == set(s.instances):
@@ -121,14 +121,14 @@ def _run(unit, which, s, inputs, values, fmu_dir):
         record = tuple(dict.fromkeys((*s.record, *(k.src for k in cut))))
         res = _ran(replace(s, record=record), fmu_dir, inputs)
         unit.restarts[key] = ({k.dst: res[k.src] for k in cut},
-                              {c: res[c] for c in s.record if split_signal(c)[0] not in kept})
+                              {c: res[c] for c in s.record if c.instance not in kept})
         while len(unit.restarts) > RESTARTS:
             del unit.restarts[next(iter(unit.restarts))]
         return res.time, {c: res[c] for c in s.record}
     fed, upstream = unit.restarts[key]
-    alone = graph.restrict(kept, fed, [c for c in s.record if split_signal(c)[0] in kept])
+    alone = graph.restrict(kept, fed, [c for c in s.record if c.instance in kept])
     res = _ran(alone, fmu_dir, {**{k: v for k, v in inputs.items()
-                                   if split_signal(k)[0] in kept}, **fed})
+                                   if k.instance in kept}, **fed})
     return res.time, {**upstream, **{c: res[c] for c in alone.record}}
 
 
