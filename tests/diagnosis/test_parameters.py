@@ -6,12 +6,12 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from musclesim.cosim import Instance, ParamRef, Scenario
+from musclesim.cosim import Instance, ParamRef, Scenario, Signal
 from musclesim.diagnosis.fitting import FitResult, Free
 from musclesim.diagnosis.parameters import calibration, calibration_table, nominal, scanned
 from musclesim.diagnosis.thresholds import MIN_VALUES_PER_PARAMETER
 
-OBSERVED = ("tc1.T_meas", "tc2.T_meas")
+OBSERVED = (Signal("tc1", "T_meas"), Signal("tc2", "T_meas"))
 
 
 def scenario(gains):
