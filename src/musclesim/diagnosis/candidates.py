@@ -1,10 +1,12 @@
 """The candidate effects: every effect of the located components placed on their instances
 (`Candidate`, `candidates`), and the refit of the best of their fits (`refine`)."""
+from __future__ import annotations
+
 from dataclasses import dataclass, replace
 
 from musclesim.cosim import ParamRef
 from musclesim.diagnosis.fitting import Free, FitJob, fit_all
-from musclesim.diagnosis.effects import by_component
+from musclesim.diagnosis.effects import Effect, by_component
 from musclesim.diagnosis.parameters import components_of, nominal
 from musclesim.diagnosis.thresholds import REFINED
 
@@ -15,12 +17,12 @@ __all__ = ["Candidate", "candidates", "refine"]
 class Candidate:
     """An effect placed on instances of its component, with its free parameters."""
 
-    effect: object  # effects.Effect
-    instances: tuple
-    free: list
+    effect: Effect
+    instances: tuple[str, ...]
+    free: list[Free]
 
     @property
-    def label(self):
+    def label(self) -> str:
         """The effect's name, with the instance for a per-instance effect."""
         return self.effect.name + (f" ({self.instances[0]})" if self.effect.per_instance else "")
 

@@ -36,6 +36,8 @@ order) and Jacobians whose rows follow the same segments.
 >>> round(float(phi[0]), 2), round(float(sigma), 1)
 (0.9, 1.0)
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
 
@@ -141,7 +143,7 @@ class Evidence:
     log_likelihood: float
     occam: float  # the log of the Gaussian's mass in the box: the Occam factor
     z: np.ndarray
-    information: np.ndarray = None
+    information: np.ndarray | None = None
 
 
 def evidence(segments, jac, z, discrepancies):

@@ -9,21 +9,25 @@ best point; it is scored on the held-out part by the caller. `fit_all` runs seve
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from scipy import optimize
 
 from musclesim.batch import serial_map
-from musclesim.cosim import ParamRef, reuse_fmus
+from musclesim.cosim import ParamRef, Signal, reuse_fmus
 
 from musclesim.diagnosis.simulate import Failed, Simulated, residuals, simulate
-from musclesim.diagnosis.stats import (HELD_OUT, TRAIN, gap, part_rows, part_segments,
+from musclesim.diagnosis.stats import (HELD_OUT, TRAIN, Part, gap, part_rows, part_segments,
                                        part_vector)
 from musclesim.diagnosis.thresholds import (MAX_ITERATIONS, PASSES, PERIOD_POINTS, STEPS,
                                            TOLERANCE)
+
+if TYPE_CHECKING:
+    from musclesim.diagnosis.problem import Unit
 
 
 @dataclass(frozen=True)
@@ -72,14 +76,14 @@ class FitJob:
     has the training residuals at the fitted values and nothing that needs more runs (no
     held-out residuals, no intervals): a profile, where only the cost there counts."""
 
-    unit: object
-    free: list
-    fmu_dir: object  # a path, or what the map's tasks carry in its place (`pmap.ship_fmus`)
-    fixed: dict = None
-    x0: list = None
-    scan: int = None
-    known: dict = None
-    latency: dict = None
+    unit: Unit
+    free: list[Free]
+    fmu_dir: Any  # a path, or what the map's tasks carry in its place (`pmap.ship_fmus`)
+    fixed: dict[ParamRef, float] | None = None
+    x0: list[float] | None = None
+    scan: int | None = None
+    known: dict[int, np.ndarray] | None = None
+    latency: dict[Signal, int] | None = None
     train_only: bool = False
 
 
@@ -92,21 +96,23 @@ class FitResult:
     `train`, the training residuals there with those latencies held ({column: [array per
     run]}, `stats.part_segments`; the Jacobian's rows follow them), None when the run failed."""
 
-    x: list
-    interval: list
-    residuals: object
+    x: list[float]
+    interval: list[tuple[float, float]]
+    residuals: dict[Any, list[np.ndarray]] | None
     train_gap: float
     heldout_gap: float
     applicable: bool
     evaluations: int
-    jac: object
-    latency: dict
-    z: object = None
-    train: dict = None
+    jac: np.ndarray | None
+    latency: dict[Signal, int]
+    z: np.ndarray | None = None
+    train: dict[Any, list[np.ndarray]] | None = None
 
 
-def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency=None,
-        pmap=None):
+def fit(unit: Unit, free: list[Free], fmu_dir: Any, fixed: dict[ParamRef, float] | None = None,
+        x0: list[float] | None = None, scan: int | None = None,
+        known: dict[int, np.ndarray] | None = None, latency: dict[Signal, int] | None = None,
+        pmap: Callable[..., list] | None = None) -> FitResult:
     """Fit the `Free` parameters `free` of `unit` (its FMUs in `fmu_dir`) on the training
     part, the other values `fixed`; return the `FitResult`: the values with their 95 %
     intervals, the residuals there, the gaps, the Jacobian and the latencies held.
@@ -323,7 +329,7 @@ class Fit:
                          applicable, len(self.cache) + 1, J, chosen, z, train)
 
 
-def known_columns(jac, k):
+def known_columns(jac: np.ndarray | None, k: int) -> dict[int, np.ndarray] | None:
     """A calibration's Jacobian `jac` as `fit`'s ``known`` for a fit whose first `k` parameters
     are effects' and the rest that calibration's (None: nothing known)."""
     return None if jac is None else {k + i: jac[:, i] for i in range(jac.shape[1])}
@@ -384,7 +390,7 @@ def _period_axis(z0, width):
     return sorted(p - width * math.floor(p / width) if not 0 <= p <= 1 else p for p in points)
 
 
-def fit_all(jobs, pmap):
+def fit_all(jobs: Iterable[FitJob], pmap: Callable[..., list]) -> list[FitResult]:
     """The `FitResult` of every `FitJob` of `jobs`, in order.
 
     A `pmap` that runs its tasks elsewhere and may be called from several threads at once
@@ -405,14 +411,14 @@ def fit_all(jobs, pmap):
         pool.shutdown(wait=False, cancel_futures=True)
 
 
-def fit_task(job):
+def fit_task(job: FitJob) -> FitResult:
     """One fit, as a task: `FitJob` -> `FitResult`, its FMUs read and unpacked once for all its
     runs."""
     with reuse_fmus():
         return Fit(job).result()
 
 
-def simulation_task(args):
+def simulation_task(args: tuple[Unit, dict[ParamRef, float], Any, Part | None]) -> Simulated:
     """One run of a fit, as a task: `args` (unit, values, fmu_dir, part) -> a `Simulated`,
     `simulate`'s runs or the message of the failure that stopped them (FMUs reused as
     `reuse_fmus` allows: a worker of `musclesim.batch.dask_client` keeps them for its life)."""

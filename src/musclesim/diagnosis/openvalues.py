@@ -10,7 +10,11 @@ metric's stated uncertainty, and their 95 % intervals follow from those uncertai
 the Jacobian at the fit. The held-out experiments are never fitted: their metrics, simulated at
 the fitted values, are the model's predictions.
 """
+from __future__ import annotations
+
 import math
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -22,6 +26,9 @@ from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.simulate import Failed, simulate
 from musclesim.diagnosis.stats import TRAIN, part_segments
 from musclesim.errors import UserError
+
+if TYPE_CHECKING:
+    from musclesim.diagnosis.dataset import DataSet
 
 
 def open_values(problem):
@@ -88,10 +95,12 @@ def metric_table(problem, unit, runs):
     return table
 
 
-def calibrate(ds, fmu_dir="fmus", pmap=None, progress=None):
-    """Fit the open values of scalar-only data set `ds` on its training part; return the
-    report: the values with their intervals and, per metric, the nominal and the fitted
-    model against the measurement (the held-out ones predictions).
+def calibrate(ds: DataSet, fmu_dir: Any = "fmus", pmap: Callable[..., list] | None = None,
+              progress: Callable[[str], None] | None = None) -> dict[str, Any]:
+    """Fit the open values of scalar-only data set `ds` (its FMUs in `fmu_dir`, the fit's runs
+    mapped by `pmap`, `progress` told what runs) on its training part; return the report: the
+    values with their intervals and, per metric, the nominal and the fitted model against the
+    measurement (the held-out ones predictions).
 
     Raises
     ------
@@ -133,8 +142,8 @@ def _runs(unit, values, fmu_dir):
         return None
 
 
-def markdown(report):
-    """The calibration report as a readable page."""
+def markdown(report: dict[str, Any]) -> str:
+    """The calibration `report` (`calibrate`'s) as a readable page."""
     lines = [f"# Calibration of {report['data_set']}", "",
              f"Trained on {', '.join(report['parts']['train'])}; held out (predicted): "
              f"{', '.join(report['parts']['held_out']) or 'none'}.", "",

@@ -3,21 +3,25 @@
 scans (`scanned`), the report's table of their fitted values (`calibration_table`), and the one
 place a parameter's nominal value is read (`nominal`).
 """
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from musclesim.cosim import ParamRef, read_fmu
 from musclesim.diagnosis.effects import calibration_of
-from musclesim.diagnosis.fitting import Free
-from musclesim.diagnosis.problem import affected
+from musclesim.diagnosis.fitting import FitResult, Free
+from musclesim.diagnosis.problem import Problem, Unit, affected
 from musclesim.diagnosis.stats import TRAIN, part_rows
 from musclesim.diagnosis.thresholds import MIN_VALUES_PER_PARAMETER
 
 __all__ = ["nominal", "components_of", "calibration", "scanned", "calibration_table"]
 
 
-def nominal(problem, ref):
+def nominal(problem: Problem, ref: ParamRef) -> float:
     """The nominal value of parameter `ref` (a `ParamRef`) in `problem`: the value the first of
     its scenarios holding the instance gives, else its FMU's start value.
 
@@ -43,16 +47,17 @@ def nominal(problem, ref):
     return float(var.start)
 
 
-def components_of(unit, instances):
+def components_of(unit: Unit, instances: Iterable[str]) -> dict[str, list[str]]:
     """{component: [its instances]} of `instances` (sorted) that are in `unit`."""
-    out = {}
+    out: dict[str, list[str]] = {}
     for inst in sorted(instances):
         if inst in unit.components:
             out.setdefault(unit.components[inst], []).append(inst)
     return out
 
 
-def calibration(problem, unit, instances=None):
+def calibration(problem: Problem, unit: Unit,
+                instances: Iterable[str] | None = None) -> list[Free]:
     """The calibration parameters (`Free`, absolute bounds) of the components of `instances`
     (default: all of `unit`'s) that act on an observed signal, one per component and parameter
     for all its instances together, the periodic ones first.
@@ -73,20 +78,21 @@ def calibration(problem, unit, instances=None):
             free = tuple(i for i in insts if ParamRef(i, c.name) not in taken)
             if free:
                 value = nominal(problem, ParamRef(free[0], c.name))
-                out.append(Free(free, c.name, *c.bounds(value), value, c.period))
+                lower, upper = c.bounds(value)
+                out.append(Free(free, c.name, lower, upper, value, c.period))
     out.sort(key=lambda f: not f.period)  # the periodic first: `fit` scans them (`scanned`)
     # a handful of metrics cannot pin several nominal values: too few training values, none
     return out if rows >= MIN_VALUES_PER_PARAMETER * len(out) else []
 
 
-def scanned(free):
+def scanned(free: Sequence[Free]) -> int:
     """How many of the calibration parameters `free` (`calibration`'s, the periodic first) a
     calibration from the nominal values scans: the periodic ones, whose nominal value may lie
     in any of their cost's wells."""
     return sum(1 for f in free if f.period)
 
 
-def calibration_table(free, f):
+def calibration_table(free: Sequence[Free], f: FitResult) -> dict[str, dict[str, Any]]:
     """The report's calibrated values: {instance(s).parameter: value, 95 % interval, nominal,
     bounds} of `free` fitted as `f`."""
     return {fr.key: {

@@ -64,7 +64,7 @@ from typing import Any, Callable
 from threadpoolctl import threadpool_limits
 
 from musclesim.batch import serial_map
-from musclesim.cosim import reuse_fmus
+from musclesim.cosim import Signal, reuse_fmus
 from musclesim.diagnosis.fitting import FitJob, fit_all, simulation_task, values_of
 from musclesim.diagnosis.problem import Problem, Unit, affected
 from musclesim.diagnosis.regimes import regime_table, regimes
@@ -208,7 +208,7 @@ def _calibrate(problem, cut, units, pmap):
         f = cals[0].fit if i in same else next(fits) if free else None
         nominal_gap = gap(u, nominal, HELD_OUT)
         if f is None or f.residuals is None:
-            latency: dict[str, int] = {}
+            latency: dict[Signal, int] = {}
             residuals(u, simulate(u, {}, problem.fmu_dir), latency)
             cals.append(Calibration([], {}, nominal, None, {}, None, latency, nominal_gap))
         else:
@@ -284,7 +284,7 @@ def _shrinkage(problem, calibrated, values, traces, pmap):
     for key, v in (("calibrated", calibrated), ("after", {**calibrated, **values})):
         run = got[wanted.index(v)] if v else None
         runs[key] = runs["calibrated"] if run is None or run.failed else run.runs
-    shifts: dict[str, int] = {}
+    shifts: dict[Signal, int] = {}
     before_res, cal_res = residuals(unit, nominal), residuals(unit, runs["calibrated"])
     after_res = residuals(unit, runs["after"], shifts)
     shrinkage = {c: {**before_after(unit, before_res, after_res, [c]),

@@ -9,17 +9,24 @@ replayed is declared in `musclesim.diagnosis.effects` (`COUPLED_PORTS`). Instanc
 nothing fitted can change (a constant load, a reference) are simulated once and replayed in every
 run of a fit (`Run.stepped`): the SMA tracking bench's runs take about a quarter less time.
 """
+from __future__ import annotations
+
 import math
+from collections.abc import Iterable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from musclesim.cosim import Master, read_fmu
+from musclesim.cosim import Master, Scenario, Signal, read_fmu
 from musclesim.diagnosis.effects import COUPLED_PORTS, by_component, calibration_of
 from musclesim.diagnosis.stats import HELD_OUT, TRAIN, noise_estimate
 from musclesim.diagnosis.thresholds import METRIC_FLOOR, NOISE_FLOOR
 from musclesim.errors import UserError
+
+if TYPE_CHECKING:
+    from musclesim.diagnosis.dataset import DataSet
 
 
 @dataclass
@@ -27,16 +34,19 @@ class Run:
     """One experiment of the data set: a scenario to run and the data to compare it with."""
 
     experiment: str
-    scenario: object  # musclesim.cosim.Scenario, reduced to the unit and the span
-    inputs: dict  # replayed input -> values per communication point
-    time: np.ndarray = None  # data times relative to t0, the span's start (time series)
-    measured: dict = field(default_factory=dict)  # observed column (or metric) -> values
-    part: np.ndarray = None  # per data row (per run if scalar-only): its `stats.Part`
+    scenario: Scenario  # reduced to the unit and the span
+    inputs: dict[Signal, np.ndarray]  # replayed input -> values per communication point
+    time: np.ndarray | None = None  # data times relative to t0, the span's start (time series)
+    # observed column (or metric) -> values
+    measured: dict[Signal | str, np.ndarray] = field(default_factory=dict)
+    # per data row (per run if scalar-only): its `stats.Part`
+    part: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int8))
     t0: float = 0.0
-    sources: tuple = ()  # instances of `scenario` simulated once, not in every run (`_sources`)
-    fed: dict = field(default_factory=dict)  # input they feed -> its values, as `inputs`
+    # instances of `scenario` simulated once, not in every run (`_sources`)
+    sources: tuple[str, ...] = ()
+    fed: dict[Signal, np.ndarray] = field(default_factory=dict)  # input they feed -> values
 
-    def stepped(self, s):
+    def stepped(self, s: Scenario) -> tuple[Scenario, dict[Signal, np.ndarray]]:
         """(scenario, replayed inputs) the master runs for `s` (`scenario`, values applied):
         without the `sources`, their outputs replayed as recorded (`fed`)."""
         if not self.sources:
@@ -51,19 +61,21 @@ class Unit:
     produce, how they are run."""
 
     name: str
-    instances: tuple
-    observed: tuple
-    runs: list
-    scale: dict  # observed column -> normalising range
-    noise: dict  # observed column -> noise std, normalised
-    components: dict  # instance -> component
-    alignable: tuple = ()  # columns compared allowing up to MAX_ALIGN samples of latency
-    subjects: tuple = ()  # isolation units: the instances whose own closure this unit is
+    instances: tuple[str, ...]
+    observed: tuple[Signal | str, ...]  # signals, or a scalar-only data set's metrics
+    runs: list[Run]
+    scale: dict[Signal | str, float]  # observed column -> normalising range
+    noise: dict[Signal | str, float]  # observed column -> noise std, normalised
+    components: dict[str, str]  # instance -> component
+    # columns compared allowing up to MAX_ALIGN samples of latency
+    alignable: tuple[Signal | str, ...] = ()
+    subjects: tuple[str, ...] = ()  # isolation units: the instances whose own closure it is
     # upstream outputs of recent runs, for restarting downstream (`simulate.simulate`); a copy
     # (dataclasses.replace) and one sent to a worker (pickled) start empty
-    restarts: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+    restarts: dict[Any, Any] = field(default_factory=dict, init=False, repr=False,
+                                     compare=False)
 
-    def __getstate__(self):
+    def __getstate__(self) -> dict[str, Any]:
         return {**self.__dict__, "restarts": {}}
 
 
@@ -122,7 +134,7 @@ def _replays(s, keep, columns, input_columns, cut_all=False):
 class Problem:
     """A data set prepared for diagnosis: the full model, the isolation units, the regimes."""
 
-    def __init__(self, ds, fmu_dir="fmus"):
+    def __init__(self, ds: DataSet, fmu_dir: Any = "fmus") -> None:
         self.ds, self.fmu_dir = ds, fmu_dir
         missing = {e.scenario for e in ds.experiments.values()
                    if e.scenario_path is None and ds.scenarios is None}
@@ -148,17 +160,21 @@ class Problem:
             self.units_of.update({m: mm.unit for m, mm in e.metrics.items()})
         self.scalar_only = ds.scalar_only
         self.part_names = ds.parts()
-        self._recorded = {}  # the runs of `_source_outputs`, one per experiment and sources
+        # the runs of `_source_outputs`, one per experiment and sources
+        self._recorded: dict[Any, Any] = {}
 
     # -- units --------------------------------------------------------------------------------
-    def unit(self, name, instances=None, cut_all=False):
-        """The `Unit` of `instances` (None: the whole model with the data set's inputs replayed);
+    def unit(self, name: str, instances: Iterable[str] | None = None,
+             cut_all: bool = False) -> Unit:
+        """The `Unit` named `name` of `instances` (None: the whole model with the data set's
+        inputs replayed);
         `cut_all` replays every measured signal, even between two of `instances`."""
         ds = self.ds
         if self.scalar_only:
             return self._metric_unit()
         replayed_cols = set(ds.inputs) if instances is None else set(ds.columns)
-        runs, observed = [], None
+        runs: list[Run] = []
+        observed: tuple[Signal | str, ...] | None = None
         for ename, e in ds.experiments.items():
             s = self.scenarios[ename]
             if instances is None:
@@ -179,6 +195,7 @@ class Problem:
             sources = _sources(red, obs)
             runs.append(Run(ename, red, inputs, t - t0, {c: cols[c] for c in obs}, part, t0,
                             tuple(sorted(sources)), self._source_outputs(red, sources, inputs)))
+        assert observed is not None  # a data set has an experiment
         scale, noise = {}, {}
         for c in observed:
             y = np.concatenate([r.measured[c] for r in runs])
@@ -244,7 +261,7 @@ class Problem:
         return Unit("model", tuple(first.instances), names, runs, scale, noise,
                     dict(self.components))
 
-    def replayed(self):
+    def replayed(self) -> Unit:
         """The model with every measured signal replayed where it feeds one (loops cut open at
         the measurements; measured physical ports stay coupled, `_replays`): the model in which
         section 4 compares before and after, so that a closed loop's oscillation phase does not
@@ -259,14 +276,14 @@ class Problem:
         return unit if len(acting) == len(unit.instances) else self.unit(name, acting,
                                                                           cut_all=True)
 
-    def isolation_units(self):
+    def isolation_units(self) -> list[Unit]:
         """One unit per distinct isolation closure that observes something, smallest first."""
         if self.scalar_only:
             return []
         ds = self.ds
         graph = next(iter(self.scenarios.values())).graph
         measured = set(ds.columns)
-        subjects = {}
+        subjects: dict[frozenset[str], list[str]] = {}
         for inst in graph.instances:
             subjects.setdefault(frozenset(graph.upstream({inst}, measured)), []).append(inst)
         out = sorted((k for k in subjects if any(
@@ -276,17 +293,17 @@ class Problem:
                 for k in out]
 
 
-def downstream(unit, instances):
+def downstream(unit: Unit, instances: Iterable[str]) -> set[str]:
     """`instances` and every instance they feed within `unit` (connections replayed from data
     cut)."""
     return unit.runs[0].scenario.graph.downstream(instances)
 
 
-def affected(unit, instances):
+def affected(unit: Unit, instances: Iterable[str]) -> tuple[Signal | str, ...]:
     """The observed columns of `unit` that `instances` can change: their own outputs and those of
     every instance they feed (`downstream`). A sensor's effect changes its channel; the wire's,
     everything downstream of it. Every metric of a scalar-only unit."""
     if unit.runs[0].time is None:
         return tuple(unit.observed)
     reach = downstream(unit, instances)
-    return tuple(c for c in unit.observed if c.instance in reach)
+    return tuple(c for c in unit.observed if isinstance(c, Signal) and c.instance in reach)

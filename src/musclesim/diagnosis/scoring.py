@@ -1,7 +1,10 @@
 """Each candidate's fit described for the report (``effects``): its values, the pooled and
 per-signal held-out gaps, the judgement on the signals it can change and the aliasing by the
 calibration (`score`), and the candidates ranked (`rank`, a `Scored` each)."""
+from __future__ import annotations
+
 from dataclasses import dataclass
+from typing import Any
 
 from musclesim.diagnosis.aliasing import aliasing_in
 from musclesim.diagnosis.candidates import Candidate
@@ -51,7 +54,7 @@ def score(unit, base, cand, f, masks, calib=()):
 class Scored:
     """A candidate's report `entry` (`score`) with the `candidate` and its `fit`."""
 
-    entry: dict
+    entry: dict[str, Any]
     candidate: Candidate
     fit: FitResult
 

@@ -12,14 +12,21 @@ the instances downstream, those outputs replayed into them: under the Jacobi alg
 every instance reads the others' outputs of the same communication point, the same bits as the
 whole run (tests/diagnosis/test_simulate.py).
 """
+from __future__ import annotations
+
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from musclesim.cosim import Master, compute_metrics, with_values
-from musclesim.diagnosis.stats import HELD_OUT, TRAIN, advance, gap, lag
+from musclesim.cosim import Master, ParamRef, compute_metrics, with_values
+from musclesim.diagnosis.stats import HELD_OUT, TRAIN, Part, advance, gap, lag
 from musclesim.diagnosis.thresholds import MAX_ALIGN
+
+if TYPE_CHECKING:
+    from musclesim.diagnosis.problem import Unit
 
 
 RESTARTS = 16  # upstream runs a unit keeps for downstream restarts (a few signals each)
@@ -35,7 +42,7 @@ class Simulated:
     `simulate` gives ([{column: array}] per run), or, when a run failed, None and the
     failure's message (`error`): a failure is a value that says why, not a None."""
 
-    runs: list | None
+    runs: list[dict[Any, np.ndarray]] | None
     error: str | None = None
 
     @property
@@ -44,7 +51,8 @@ class Simulated:
         return self.runs is None
 
 
-def simulate(unit, values, fmu_dir, part=None):
+def simulate(unit: Unit, values: Mapping[ParamRef, float], fmu_dir: Any,
+             part: Part | None = None) -> list[dict[Any, np.ndarray]]:
     """Model values of every run of `unit` with parameter `values` ({ParamRef: value}, applied
     by `musclesim.cosim.with_values`), the FMUs in `fmu_dir`: [{column: array}] per run.
 
@@ -132,8 +140,11 @@ def _run(unit, which, s, inputs, values, fmu_dir):
     return res.time, {**upstream, **{c: res[c] for c in alone.record}}
 
 
-def residuals(unit, sims, shifts=None, align=None):
-    """Normalised residuals (model - measured) / range: ``{column: [array per run]}``.
+def residuals(unit: Unit, sims: list[dict[Any, np.ndarray]],
+              shifts: dict[Any, int] | None = None,
+              align: dict[Any, int] | None = None) -> dict[Any, list[np.ndarray]]:
+    """Normalised residuals (model `sims` - measured) / range of `unit`: ``{column: [array per
+    run]}``.
 
     An alignable column (a sensor channel nothing simulated in the unit reads) is compared
     shifted back by the whole number of samples, 0..MAX_ALIGN, that fits the training part
@@ -151,6 +162,7 @@ def residuals(unit, sims, shifts=None, align=None):
                        for r, run in zip(res, unit.runs))
             if best is None or cost < best[0]:
                 best = (cost, d, res)
+        assert best is not None  # one shift at least
         out[c] = best[2]
         if shifts is not None and c in unit.alignable:
             shifts[c] = best[1]

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
+    from musclesim.cosim import Signal
     from musclesim.diagnosis.fitting import FitResult, Free
     from musclesim.diagnosis.problem import Unit
 
@@ -42,7 +43,7 @@ class Calibration:
     jac: np.ndarray | None
     table: dict[str, dict[str, Any]]
     fit: FitResult | None
-    latency: dict[str, int]
+    latency: dict[Signal, int]
     nominal_gap: float
 
 

@@ -11,13 +11,16 @@ break the symmetry. The verdict names the most probable candidate when its proba
 NAME_LEVEL (``recalibration`` for calibration only), else the credible set (``A or B``);
 ``unexplained`` when no candidate passes the predictive check.
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
 from musclesim.diagnosis import evidence as ev
-from musclesim.diagnosis.fitting import FitJob, values_of
+from musclesim.diagnosis.fitting import FitJob, FitResult, Free, values_of
 from musclesim.diagnosis.stats import HELD_OUT, gap, part_segments
 from musclesim.diagnosis.thresholds import (NAME_LEVEL, PREDICTIVE_MAX, PROFILE_SCALE,
                                            SYMMETRY_CHI2)
@@ -31,12 +34,12 @@ class Weighed:
     effect's first, `k` of them, then the calibration's), and what the weighing found."""
 
     name: str
-    fit: object
-    free: list
+    fit: FitResult
+    free: list[Free]
     k: int
-    evidence: object = None
+    evidence: ev.Evidence | None = None
     probability: float = 0.0
-    predictive: float = None  # RMS of the standardised held-out innovations
+    predictive: float | None = None  # RMS of the standardised held-out innovations
     prior: float = 0.0
 
 
@@ -210,7 +213,7 @@ class Judgement:
     `explanation`, whether the gap left is unstructured (`complete`) and the candidate named
     or, undecided, the most probable (`chosen`)."""
 
-    evidence: dict
+    evidence: dict[str, Any]
     verdict: str
     explanation: str
     complete: bool
