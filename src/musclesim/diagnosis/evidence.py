@@ -72,12 +72,13 @@ def ar_order(segments, max_order=MAX_AR_ORDER):
     n = sum(max(len(s) - max_order, 0) for s in segments)
     if n <= max_order + 1:
         return 0
-    best = None
+    best: tuple[float, int] | None = None
     for p in range(max_order + 1):
         _, sigma = ar_fit([s[max_order - p:] for s in segments if len(s) > max_order], p)
         bic = n * math.log(max(sigma, 1e-300) ** 2) + p * math.log(n)
         if best is None or bic < best[0]:
             best = (bic, p)
+    assert best is not None  # order 0 at least
     return best[1]
 
 

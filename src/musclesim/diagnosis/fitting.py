@@ -176,7 +176,7 @@ class Fit:
     def simulated(self, points, whole=()):
         """Run, mapped together, the training part of each of `points` not run yet and the whole
         runs of the values `whole` (returned, a `Simulated` each)."""
-        new = {}
+        new: dict[tuple[float, ...], np.ndarray] = {}
         for k, z in ((self.key(z), z) for z in points):
             if k not in self.cache:
                 new.setdefault(k, self.lo + self.span * np.clip(z, 0, 1))
@@ -195,7 +195,7 @@ class Fit:
 
     def latencies(self, z):
         """The sensor latencies that fit best at `z`."""
-        chosen = {}
+        chosen: dict[Signal, int] = {}
         if self.run(z, True) is not None:
             residuals(self.job.unit, self.cache[self.key(z)].runs, chosen)
         return chosen

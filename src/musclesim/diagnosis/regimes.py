@@ -107,7 +107,7 @@ def regimes(problem, unit):
     if problem.scalar_only:
         return {"all": [np.ones(1, bool) for _ in unit.runs]}
     signals = regime_signals(ds.outputs, ds.inputs, problem.units_of, problem.components)
-    out = {k: [] for k in REGIMES}
+    out: dict[str, list[np.ndarray]] = {k: [] for k in REGIMES}
     for run in unit.runs:
         _, cols = ds.experiment(run.experiment)
         for key, mask in run_masks(run.time, cols, signals).items():

@@ -126,7 +126,7 @@ def profile_jobs(unit, singles, calibration, disc, fmu_dir, scale=PROFILE_SCALE)
         u = ev.symmetry(w.evidence.information, w.k)[1]
         known = {i: w.fit.jac[:, w.k + i] for i in range(len(w.free) - w.k)}
         room = {sign: _room(z0, sign * u, scale) for sign in (1, -1)}
-        signs = [s for s in room if room[s] >= scale] or [max(room, key=room.get)]
+        signs = [s for s in room if room[s] >= scale] or [max(room, key=lambda s: room[s])]
         for sign in signs:
             if room[sign] < scale / 4:  # pinned in a corner: nothing to extrapolate from
                 continue
@@ -160,7 +160,7 @@ def symmetries(weighed, profiles, disc, problem, scale=PROFILE_SCALE):
     tells the effect from a recalibration. Returns [{"candidates", "chi2", "test", "with",
     "breaks_with"}]: the calibration parameters that moved most (in the data's metric) and what
     would separate them, a condition the data set can state first."""
-    best = {}
+    best: dict[str, tuple[float, FitResult]] = {}
     for w, length, prof in profiles:
         if prof.train is not None:
             chi2 = abs(_quadratic(prof.train, disc) - _quadratic(w.fit.train, disc)) * (
