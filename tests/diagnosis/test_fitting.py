@@ -1,6 +1,6 @@
 """Fitting free parameters on hand-made data (no FMU): a straight line's slope and offset found
 by `fit` with intervals that hold them, a failed run a value that says why, the values of shared
-parameters, known Jacobian columns, intervals in the box."""
+parameters, known Jacobian columns, and intervals (test_box)."""
 from types import SimpleNamespace
 
 import numpy as np
@@ -8,7 +8,7 @@ import pytest
 
 from musclesim.cosim import ParamRef
 from musclesim.diagnosis import fitting
-from musclesim.diagnosis.fitting import (Free, box_intervals, fit, known_columns,
+from musclesim.diagnosis.fitting import (Free, fit, known_columns,
                                          simulation_task, values_of)
 from musclesim.diagnosis.simulate import Failed, Simulated
 
@@ -72,12 +72,3 @@ def test_known_columns_follow_the_effects_parameters():
     known = known_columns(jac, 1)
     assert sorted(known) == [1, 2] and np.array_equal(known[2], jac[:, 1])
     assert known_columns(None, 1) is None
-
-
-def test_box_intervals_are_196_sigma_clipped_to_the_box():
-    J = np.eye(2) * np.array([[100.0], [0.5]])  # the first pinned, the second hardly
-    (a0, a1), (b0, b1) = box_intervals(J, np.array([0.5, 0.5]), [0.0, 10.0], [2.0, 4.0])
-    assert (a0, a1) == pytest.approx((1.0 - 2 * 1.96 / 100, 1.0 + 2 * 1.96 / 100))
-    assert (b0, b1) == (10.0, 14.0)  # 1.96 / 0.5 of the box each way: the whole box
-    (c0, c1), _ = box_intervals(np.zeros((2, 2)), np.array([0.5, 0.5]), [0.0, 0.0], [1.0, 1.0])
-    assert (c0, c1) == (0.0, 1.0)  # singular: its bounds

@@ -20,10 +20,11 @@ from scipy import optimize
 from musclesim.batch import serial_map
 from musclesim.cosim import ParamRef, Signal, reuse_fmus
 
+from musclesim.diagnosis.box import axis, period_axis, residual_intervals, scan, step
 from musclesim.diagnosis.simulate import Failed, Simulated, residuals, simulate
 from musclesim.diagnosis.stats import (HELD_OUT, TRAIN, Part, gap, part_rows, part_segments,
                                        part_vector)
-from musclesim.diagnosis.thresholds import (MAX_ITERATIONS, PASSES, PERIOD_POINTS, STEPS,
+from musclesim.diagnosis.thresholds import (MAX_ITERATIONS, PASSES, STEPS,
                                            TOLERANCE)
 
 if TYPE_CHECKING:
@@ -117,7 +118,7 @@ def fit(unit: Unit, free: list[Free], fmu_dir: Any, fixed: dict[ParamRef, float]
     part, the other values `fixed`; return the `FitResult`: the values with their 95 %
     intervals, the residuals there, the gaps, the Jacobian and the latencies held.
 
-    A coarse scan of the first `scan` parameters (default all; `_axis` points each, or
+    A coarse scan of the first `scan` parameters (default all; `box.axis` points each, or
     `PERIOD_POINTS` even ones over a periodic parameter's period; one parameter at a time, then
     the best of each together), the others held at `x0` (default their nominal values), picks
     the start of a bounded trust-region least-squares fit of all of them in box coordinates
@@ -216,7 +217,7 @@ class Fit:
     # -- the Jacobian -------------------------------------------------------------------------
     def differences(self, z):
         """[(column, step, point)] of the Jacobian's unknown columns at `z`."""
-        return [(i, _step(z[i]), z + np.eye(len(z))[i] * _step(z[i])) for i in range(len(z))
+        return [(i, step(z[i]), z + np.eye(len(z))[i] * step(z[i])) for i in range(len(z))
                 if i not in (self.known or {})]
 
     def jac(self, z):
@@ -259,14 +260,14 @@ class Fit:
     def start(self):
         """(the point least squares starts from, applicable) after the scan."""
         job, free = self.job, self.free
-        scan = len(free) if job.scan is None else job.scan
+        count = len(free) if job.scan is None else job.scan
         base = np.clip((np.array(job.x0 if job.x0 is not None else [f.start for f in free])
                         - self.lo) / self.span, 0, 1)
-        if not scan:
+        if not count:
             return base, True
-        axes = [_axis(base[i]) if not free[i].period else
-                _period_axis(base[i], free[i].period / self.span[i]) for i in range(scan)]
-        return _scan(base, axes, self.cost, self.simulated)
+        axes = [axis(base[i]) if not free[i].period else
+                period_axis(base[i], free[i].period / self.span[i]) for i in range(count)]
+        return scan(base, axes, self.cost, self.simulated)
 
     def least_squares(self, z):
         """(point, Jacobian) after the passes of least squares from `z` with the sensor
@@ -318,7 +319,7 @@ class Fit:
         if refresh:
             J = self.differenced(z)
         if J is not None:
-            interval = _interval(self.train_vector(z), J, z, self.lo, self.span)
+            interval = residual_intervals(self.train_vector(z), J, z, self.lo, self.span)
         res = None if sims.failed else residuals(self.job.unit, sims.runs)
         held = self.run(z) if self.align else None  # the Jacobian's residuals
         train = part_segments(self.job.unit, held if held is not None else res, TRAIN) \
@@ -333,61 +334,6 @@ def known_columns(jac: np.ndarray | None, k: int) -> dict[int, np.ndarray] | Non
     """A calibration's Jacobian `jac` as `fit`'s ``known`` for a fit whose first `k` parameters
     are effects' and the rest that calibration's (None: nothing known)."""
     return None if jac is None else {k + i: jac[:, i] for i in range(jac.shape[1])}
-
-
-def _step(z):
-    """Forward-difference step in box coordinates, toward the box's inside."""
-    return 1e-3 if z <= 0.5 else -1e-3
-
-
-def _scan(base, axes, cost, simulated):
-    """(start, applicable) from a scan of the first coordinates around `base`, one for each of
-    `axes` (its points): each along its axis alone, then the best of each together.
-    ``applicable``: the cost changes at all. `simulated(points)` runs the points of the axes
-    together first."""
-    scan = len(axes)
-    axes = [[p for p in pts if p != base[i]] for i, pts in enumerate(axes)]
-    simulated([base] + [_moved(base, i, p) for i, pts in enumerate(axes) for p in pts])
-    c0 = cost(base)
-    best, costs = base.copy(), [c0]
-    for i, pts in enumerate(axes):
-        cs = [cost(_moved(base, i, p)) for p in pts]
-        costs += cs
-        if cs and min(cs) < c0:
-            best[i] = pts[int(np.argmin(cs))]
-    candidates = [(c0, base)]
-    if scan > 1 and not np.array_equal(best, base):
-        candidates.append((cost(best), best))
-    for i in range(scan):  # each axis's best alone
-        if best[i] != base[i]:
-            z = _moved(base, i, best[i])
-            candidates.append((cost(z), z))
-    return min(candidates, key=lambda t: t[0])[1], len({round(v, 12) for v in costs}) > 1
-
-
-def _moved(z, i, value):
-    """`z` with coordinate `i` at `value` (a copy)."""
-    out = z.copy()
-    out[i] = value
-    return out
-
-
-def _axis(z0):
-    """Scan points of one parameter in box coordinates: from its start `z0` (an effect's off
-    value) toward each bound at 1/8, 1/2 and all of the way: effects are mostly small next to
-    their bounds, so the points crowd near off, where a narrow optimum (a 0.2 s lag in [0, 2] s)
-    would fall between even steps."""
-    fractions = (0.125, 0.5, 1.0)
-    points = {z0} | {z0 + f * (1 - z0) for f in fractions} | {z0 - f * z0 for f in fractions}
-    return sorted(points)
-
-
-def _period_axis(z0, width):
-    """Scan points of a periodic parameter in box coordinates: `PERIOD_POINTS` evenly over one
-    period (`width` in box coordinates) from its start `z0`, each moved by whole periods into
-    the box [0, 1] where it falls outside."""
-    points = (z0 + k * width / PERIOD_POINTS for k in range(PERIOD_POINTS))
-    return sorted(p - width * math.floor(p / width) if not 0 <= p <= 1 else p for p in points)
 
 
 def fit_all(jobs: Iterable[FitJob], pmap: Callable[..., list]) -> list[FitResult]:
@@ -434,24 +380,3 @@ def _train_size(unit):
     return sum(int(np.count_nonzero(m)) for m in part_rows(unit, TRAIN)) * len(unit.observed)
 
 
-def _interval(r, J, z, lo, span):
-    """95 % intervals of the values at box coordinates `z` from the residuals `r` and Jacobian
-    `J` there, the residuals' autocorrelation widening them."""
-    m, n = J.shape
-    rho = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if m > 2 and np.std(r) > 0 else 0.0
-    inflate = (1 + max(rho, 0)) / max(1 - max(rho, 0), 1e-3)
-    return box_intervals(J, z, lo, span, float(r @ r) / max(m - n, 1) * inflate)
-
-
-def box_intervals(J, z, lo, span, variance=1.0):
-    """95 % intervals of values at box coordinates `z` (a value is ``lo + span * z``) from the
-    Jacobian `J` of residuals of `variance` there (1: residuals already weighed by their standard
-    deviations): covariance ``variance (J^T J)^-1``, clipped to the box; a value the residuals do
-    not pin (a singular matrix) spans its bounds."""
-    try:
-        cov = variance * np.linalg.inv(J.T @ J)
-        half = 1.96 * np.sqrt(np.clip(np.diag(cov), 0, None))
-    except np.linalg.LinAlgError:
-        half = np.full(J.shape[1], np.inf)
-    return [(float(l + w * max(c - h, 0)), float(l + w * min(c + h, 1)))
-            for c, h, l, w in zip(z, half, lo, span)]

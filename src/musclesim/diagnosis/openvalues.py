@@ -20,7 +20,8 @@ import numpy as np
 
 from musclesim.batch import serial_map
 from musclesim.cosim import reuse_fmus
-from musclesim.diagnosis.fitting import FitJob, Free, box_intervals, fit_all, values_of
+from musclesim.diagnosis.box import box_intervals
+from musclesim.diagnosis.fitting import FitJob, Free, fit_all, values_of
 from musclesim.diagnosis.parameters import nominal
 from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.simulate import Failed, simulate
@@ -66,7 +67,7 @@ def open_values(problem):
 def intervals(fit, free, unit):
     """95 % intervals of the fitted values from the training metrics' stated uncertainties
     (`unit.noise`, normalised like the residuals) through the fit's Jacobian (box
-    coordinates, `fitting.box_intervals`): covariance (J^T W J)^-1 with W the inverse
+    coordinates, `box.box_intervals`): covariance (J^T W J)^-1 with W the inverse
     variances."""
     segments = part_segments(unit, fit.residuals, TRAIN)
     sigma = np.concatenate([np.full(sum(len(a) for a in segments[c]), unit.noise[c])

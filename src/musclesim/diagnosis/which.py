@@ -74,15 +74,8 @@ def which_effect(problem: Problem, fitting: FitUnit, masks: dict[str, list[np.nd
     if top.k and len(effects) > 1 and not explained(top.fit.heldout_gap, cal.nominal_gap,
                                                     floor):
         say("a pair: the two most probable effects together")
-        w1, w2 = effects[0], effects[1]
-        c1, c2 = single[w1], single[w2]
-        pair_fit, = fit_all([FitJob(
-            unit, c2.free + c1.free + calib, fmu_dir, x0=[f.start for f in c2.free] + w1.fit.x,
-            scan=len(c2.free), known=known_columns(jac, len(c2.free) + len(c1.free)),
-            latency=cal.latency)], pmap)
-        if pair_fit.residuals is not None:
-            pair = Weighed(f"{w1.name} + {w2.name}", pair_fit, c2.free + c1.free + calib,
-                           len(c2.free) + len(c1.free))
+        pair = _pair(fitting, (effects[0], effects[1]), single, fmu_dir, pmap)
+        if pair is not None:
             weighed, disc = weigh(unit, calibration_only, singles, [pair], disc)
     profiles = profile_jobs(unit, singles, calibration_only, disc, fmu_dir)
     say(f"symmetries: {len(profiles)} profile fit(s), each effect moved and the calibration "
@@ -103,6 +96,24 @@ def which_effect(problem: Problem, fitting: FitUnit, masks: dict[str, list[np.nd
         [chosen.name] if chosen.k and judgement.verdict == chosen.name else [],
         [s["candidates"][0] for s in symmetric])
     return Which(values_of(chosen.free, chosen.fit.x) if chosen.k else {}, evidence, verdict)
+
+
+def _pair(fitting: FitUnit, best: tuple[Weighed, Weighed], single: dict[Weighed, Candidate],
+          fmu_dir: Any, pmap: Callable[..., list]) -> Weighed | None:
+    """The two most probable effects `best` (their candidates in `single`) fitted together in
+    `fitting`'s unit with its calibration, the second's parameters scanned from their off values
+    and the rest from the first's fit; None when its run fails."""
+    unit, cal = fitting.unit, fitting.calibration
+    w1, w2 = best
+    c1, c2 = single[w1], single[w2]
+    pair_fit, = fit_all([FitJob(
+        unit, c2.free + c1.free + cal.free, fmu_dir, x0=[f.start for f in c2.free] + w1.fit.x,
+        scan=len(c2.free), known=known_columns(cal.jac, len(c2.free) + len(c1.free)),
+        latency=cal.latency)], pmap)
+    if pair_fit.residuals is None:
+        return None
+    return Weighed(f"{w1.name} + {w2.name}", pair_fit, c2.free + c1.free + cal.free,
+                   len(c2.free) + len(c1.free))
 
 
 def _unfitted(unit: Unit, cal: Calibration) -> FitResult:
