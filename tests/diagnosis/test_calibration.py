@@ -86,7 +86,7 @@ def test_a_fit_step_simulates_the_training_part_exactly(fmus, tmp_path):
     ds = record(tmp_path / "ds", OFFSETS, fmus, stop=10.0)
     with reuse_fmus():
         unit = Problem(ds, fmus).unit("model")
-        values = {("wire", "h"): 110.0}
+        values = {ParamRef("wire", "h"): 110.0}
         full, train = simulate(unit, values, fmus)[0], simulate(unit, values, fmus, part=0)[0]
     rows = unit.runs[0].part == 0
     assert rows[:int(rows.sum())].all() and not rows.all()  # a prefix, as the split says
