@@ -58,8 +58,8 @@ def components_of(unit: Unit, instances: Iterable[str]) -> dict[str, list[str]]:
 
 def calibration(problem: Problem, unit: Unit,
                 instances: Iterable[str] | None = None) -> list[Free]:
-    """The calibration parameters (`Free`, absolute bounds) of the components of `instances`
-    (default: all of `unit`'s) that act on an observed signal, one per component and parameter
+    """The calibration parameters (`Free`, absolute bounds) in `problem` of the components of
+    `instances` (default: all of `unit`'s) that act on an observed signal, one per component and parameter
     for all its instances together, the periodic ones first.
     A value the data set states as a bench condition (``[conditions]``) is fixed, not
     calibrated, and so is an input the scenario connects or the data set replays. Nothing is

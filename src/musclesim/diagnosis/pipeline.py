@@ -85,8 +85,8 @@ def diagnose(ds: Any, fmu_dir: Any = "fmus", pmap: Callable[..., list] | None = 
     """Diagnose measured data set `ds` (a `musclesim.diagnosis.DataSet`) with the FMUs in
     `fmu_dir`; return the `Report` (``Report.to_json()`` is report.json's document).
 
-    `pmap(fn, items)` maps the fits (default: one after the other); `progress(text)` is told
-    what runs; a dict given as `traces` receives the runs of `Problem.replayed`, nominal,
+    `pmap` maps the fits, ``pmap(fn, items)`` (default: one after the other); `progress`
+    is told what runs, ``progress(text)``; a dict given as `traces` receives the runs of `Problem.replayed`, nominal,
     calibrated and with the selected effects, for plots.
     """
     # BLAS on one thread, as beside a Dask cluster (batch.dask_client): a product's reduction

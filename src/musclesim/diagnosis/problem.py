@@ -132,7 +132,8 @@ def _replays(s, keep, columns, input_columns, cut_all=False):
 
 
 class Problem:
-    """A data set prepared for diagnosis: the full model, the isolation units, the regimes."""
+    """Data set `ds` prepared for diagnosis with the FMUs in `fmu_dir`: the full model, the
+    isolation units, the regimes."""
 
     def __init__(self, ds: DataSet, fmu_dir: Any = "fmus") -> None:
         self.ds, self.fmu_dir = ds, fmu_dir

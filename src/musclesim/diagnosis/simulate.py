@@ -56,7 +56,7 @@ def simulate(unit: Unit, values: Mapping[ParamRef, float], fmu_dir: Any,
     """Model values of every run of `unit` with parameter `values` ({ParamRef: value}, applied
     by `musclesim.cosim.with_values`), the FMUs in `fmu_dir`: [{column: array}] per run.
 
-    ``part=TRAIN`` simulates only what the training part needs, as a fit's every step does: each
+    With `part` ``TRAIN`` it simulates only what the training part needs, as a fit's every step does: each
     run up to its last training row (the model is causal, so those rows are the same to the
     bit), the rows after it NaN; a run without training rows is not run.
     Raises `Failed` when a run fails (the effect's values are then not viable).
