@@ -52,3 +52,11 @@ def test_a_report_without_gap_says_what_did_not_run(tmp_path):
     assert "Selected: nothing." in md
     assert [p.name for p in write(tmp_path, small())] == ["report.json", "report.md"]
     assert schema_errors("report", json.loads((tmp_path / "report.json").read_text())) == []
+
+
+@pytest.mark.parametrize("name", ["sma-independent-thermocouple-lag",
+                                  "sma-independent-thermocouple-bias"])
+def test_report_md_of_a_worked_example_is_the_one_the_docs_show(name):
+    folder = ROOT / "docs" / "examples" / name
+    report = report_of(json.loads((folder / "report.json").read_text()))
+    assert markdown(report, ["signals.png", "effects.png"]) == (folder / "report.md").read_text()
