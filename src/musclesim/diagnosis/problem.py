@@ -147,7 +147,7 @@ class Problem:
         first = next(iter(self.scenarios.values()))
         self.vars = _variables(first, fmu_dir)
         self.components = {n: i.component for n, i in first.instances.items()}
-        self.units_of = {}
+        self.units_of: dict[Signal | str, str] = {}  # a column's or a metric's unit
         for col in ds.columns:
             v = self.vars.get(col.instance, {}).get(col.variable)
             if v is None:
@@ -248,16 +248,17 @@ class Problem:
         names = tuple(dict.fromkeys(m for e in ds.experiments.values() for m in e.metrics))
         for ename, e in ds.experiments.items():
             # a metric an experiment lacks is an empty comparison
-            measured = {m: np.array([e.metrics[m].value if m in e.metrics else math.nan])
-                        for m in names}
+            measured: dict[Signal | str, np.ndarray] = {
+                m: np.array([e.metrics[m].value if m in e.metrics else math.nan]) for m in names}
             runs.append(Run(ename, self.scenarios[ename], {}, measured=measured,
                             part=np.array([HELD_OUT if ename in held else TRAIN],
                                           dtype=np.int8)))
-        scale = {m: float(np.nanmax([abs(r.measured[m][0]) for r in runs])) or 1.0
-                 for m in names}
+        scale: dict[Signal | str, float] = {
+            m: float(np.nanmax([abs(r.measured[m][0]) for r in runs])) or 1.0 for m in names}
         unc = {m: max((mm.uncertainty or 0.0) for e in ds.experiments.values()
                       for k, mm in e.metrics.items() if k == m) for m in names}
-        noise = {m: unc[m] / scale[m] if unc[m] > 0 else METRIC_FLOOR for m in names}
+        noise: dict[Signal | str, float] = {
+            m: unc[m] / scale[m] if unc[m] > 0 else METRIC_FLOOR for m in names}
         first = next(iter(self.scenarios.values()))
         return Unit("model", tuple(first.instances), names, runs, scale, noise,
                     dict(self.components))

@@ -76,7 +76,7 @@ def simulate(unit: Unit, values: Mapping[ParamRef, float], fmu_dir: Any,
                 inputs = {k: v[:s.n_steps + 1] for k, v in inputs.items()}
         if run.time is None:  # scalar-only: the scenario's metrics
             res = _ran(s, fmu_dir, inputs)
-            metrics = compute_metrics(res, s.metrics)
+            metrics: dict[Any, float] = compute_metrics(res, s.metrics)  # by metric name
             # a metric of another experiment's scenario: no comparison here (NaN, as measured)
             out.append({m: np.array([metrics.get(m, math.nan)]) for m in unit.observed})
         else:
