@@ -18,16 +18,18 @@ __all__ = ["step", "scan", "moved", "axis", "period_axis", "residual_intervals",
            "box_intervals"]
 
 
-def step(z):
+def step(z: float) -> float:
     """Forward-difference step in box coordinates, toward the box's inside."""
     return 1e-3 if z <= 0.5 else -1e-3
 
 
-def scan(base, axes, cost, simulated):
-    """(start, applicable) from a scan of the first coordinates around `base`, one for each of
-    `axes` (its points): each along its axis alone, then the best of each together.
-    ``applicable``: the cost changes at all. `simulated(points)` runs the points of the axes
-    together first."""
+def scan(base: np.ndarray, axes: Sequence[Sequence[float]],
+         cost: Callable[[np.ndarray], float],
+         simulated: Callable[[list[np.ndarray]], object]) -> tuple[np.ndarray, bool]:
+    """(start, applicable) from a scan, by `cost`, of the first coordinates around `base`, one
+    for each of `axes` (its points): each along its axis alone, then the best of each together.
+    ``applicable``: the cost changes at all. `simulated` runs the points of the axes together
+    first (``simulated(points)``)."""
     count = len(axes)
     axes = [[p for p in pts if p != base[i]] for i, pts in enumerate(axes)]
     simulated([base] + [moved(base, i, p) for i, pts in enumerate(axes) for p in pts])
@@ -48,14 +50,14 @@ def scan(base, axes, cost, simulated):
     return min(candidates, key=lambda t: t[0])[1], len({round(v, 12) for v in costs}) > 1
 
 
-def moved(z, i, value):
+def moved(z: np.ndarray, i: int, value: float) -> np.ndarray:
     """`z` with coordinate `i` at `value` (a copy)."""
     out = z.copy()
     out[i] = value
     return out
 
 
-def axis(z0):
+def axis(z0: float) -> list[float]:
     """Scan points of one parameter in box coordinates: from its start `z0` (an effect's off
     value) toward each bound at 1/8, 1/2 and all of the way: effects are mostly small next to
     their bounds, so the points crowd near off, where a narrow optimum (a 0.2 s lag in [0, 2] s)
@@ -65,7 +67,7 @@ def axis(z0):
     return sorted(points)
 
 
-def period_axis(z0, width):
+def period_axis(z0: float, width: float) -> list[float]:
     """Scan points of a periodic parameter in box coordinates: `PERIOD_POINTS` evenly over one
     period (`width` in box coordinates) from its start `z0`, each moved by whole periods into
     the box [0, 1] where it falls outside."""
@@ -73,7 +75,8 @@ def period_axis(z0, width):
     return sorted(p - width * math.floor(p / width) if not 0 <= p <= 1 else p for p in points)
 
 
-def residual_intervals(r, J, z, lo, span):
+def residual_intervals(r: np.ndarray, J: np.ndarray, z: np.ndarray, lo: np.ndarray,
+                       span: np.ndarray) -> list[tuple[float, float]]:
     """95 % intervals of the values at box coordinates `z` from the residuals `r` and Jacobian
     `J` there, the residuals' autocorrelation widening them."""
     m, n = J.shape
@@ -82,7 +85,9 @@ def residual_intervals(r, J, z, lo, span):
     return box_intervals(J, z, lo, span, float(r @ r) / max(m - n, 1) * inflate)
 
 
-def box_intervals(J, z, lo, span, variance=1.0):
+def box_intervals(J: np.ndarray, z: np.ndarray, lo: Sequence[float] | np.ndarray,
+                  span: Sequence[float] | np.ndarray,
+                  variance: float = 1.0) -> list[tuple[float, float]]:
     """95 % intervals of values at box coordinates `z` (a value is ``lo + span * z``) from the
     Jacobian `J` of residuals of `variance` there (1: residuals already weighed by their standard
     deviations): covariance ``variance (J^T J)^-1``, clipped to the box; a value the residuals do
