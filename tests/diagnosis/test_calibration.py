@@ -10,18 +10,19 @@ import numpy as np
 import pytest
 
 from musclesim.batch import serial_map
-from musclesim.cosim import Master, load_scenario, reuse_fmus
+from musclesim.cosim import Master, ParamRef, Signal, load_scenario, reuse_fmus
 from musclesim.diagnosis import dataset, diagnose
 from musclesim.diagnosis import write_data_set
 from musclesim.diagnosis.fitting import FitJob, Free, fit, fit_all
 from musclesim.diagnosis.problem import Problem
-from musclesim.diagnosis.selection import calibration, scanned
+from musclesim.diagnosis.parameters import calibration, scanned
 from musclesim.diagnosis.simulate import simulate
 
 from conftest import SCENARIOS
 
 BENCH = SCENARIOS / "sma-bench-tracking.toml"
-OBSERVED = ["thermocouple.T_meas", "wire.strain"]
+TC, STRAIN = Signal("thermocouple", "T_meas"), Signal("wire", "strain")
+OBSERVED = [TC, STRAIN]
 # the bench's nominal values differ from the model's as a real one's would
 OFFSETS = {"wire.h": 115.0, "wire.hysteresis_shift": 2.0, "wire.strain_scale": 0.96}
 
@@ -29,16 +30,17 @@ OFFSETS = {"wire.h": 115.0, "wire.hysteresis_shift": 2.0, "wire.strain_scale": 0
 def record(path, overrides, fmus, stated=None, seed=1, stop=30.0, bench=BENCH,
            inputs=("pid.y",)):
     """Run `bench` with `overrides` and write its data set (`inputs` replayed, thermocouple and
-    strain observed, with noise and quantisation)."""
+    strain observed, with noise and quantisation; the values `stated` as its conditions)."""
+    inputs = [Signal.parse(c) for c in inputs]
     s = load_scenario(bench, [f"{k}={v!r}" for k, v in overrides.items()], stop_time=stop)
     res = Master(s, fmus).run()
     assert res.error is None, res.error
     rng = np.random.default_rng(seed)
     cols = {c: res[c] for c in inputs}
-    cols["thermocouple.T_meas"] = np.round((res["thermocouple.T_meas"] + 0.08 * rng.standard_normal(
-        res.time.size)) / 0.05) * 0.05
-    cols["wire.strain"] = res["wire.strain"] + 2e-5 * rng.standard_normal(res.time.size)
-    write_data_set(path, res.time, cols, list(inputs), OBSERVED, str(bench), "test bench", stated)
+    cols[TC] = np.round((res[TC] + 0.08 * rng.standard_normal(res.time.size)) / 0.05) * 0.05
+    cols[STRAIN] = res[STRAIN] + 2e-5 * rng.standard_normal(res.time.size)
+    write_data_set(path, res.time, cols, inputs, OBSERVED, str(bench), "test bench",
+                   stated and {ParamRef.parse(k): v for k, v in stated.items()})
     return dataset.load(path)
 
 
@@ -84,7 +86,7 @@ def test_a_fit_step_simulates_the_training_part_exactly(fmus, tmp_path):
     ds = record(tmp_path / "ds", OFFSETS, fmus, stop=10.0)
     with reuse_fmus():
         unit = Problem(ds, fmus).unit("model")
-        values = {("wire", "h"): 110.0}
+        values = {ParamRef("wire", "h"): 110.0}
         full, train = simulate(unit, values, fmus)[0], simulate(unit, values, fmus, part=0)[0]
     rows = unit.runs[0].part == 0
     assert rows[:int(rows.sum())].all() and not rows.all()  # a prefix, as the split says
@@ -100,7 +102,7 @@ def lag_cases(fmus, tmp_path_factory, cluster_map):
     out = {}
     for name, extra in (("lag", {"thermocouple.tau": 0.3}), ("none", {})):
         ds = record(tmp_path_factory.mktemp(name) / "ds", {**OFFSETS, **extra}, fmus)
-        out[name] = diagnose(ds, fmus, cluster_map)
+        out[name] = diagnose(ds, fmus, cluster_map).to_json()
     return out
 
 
@@ -166,7 +168,7 @@ def test_a_sensor_offset_and_an_ambient_offset_are_told_apart(fmus, tmp_path):
     the hysteresis, the thermocouple does not; at rest the wire is at the stated ambient."""
     bench = {"bench": STRESS_BENCH, "inputs": ("wire.u", "wire.flange.f"), "stop": 40.0}
     sensor = diagnose(record(tmp_path / "bias", {**ON_OFF, "thermocouple.bias": -3.0}, fmus,
-                             stated={"wire.T_amb": 293.15}, **bench), fmus)
+                             stated={"wire.T_amb": 293.15}, **bench), fmus).to_json()
     assert sensor["verdict"] == "thermocouple bias"
     best = sensor["effects"][0]
     # calibration keeps part of it along the h-resistivity ridge: the bias fitted with it is
@@ -175,7 +177,7 @@ def test_a_sensor_offset_and_an_ambient_offset_are_told_apart(fmus, tmp_path):
     assert best["judged"]["signals"] == ["thermocouple.T_meas"]
     assert "placed in the sensor" in sensor["consistency"]
     ambient = diagnose(record(tmp_path / "ambient", {**ON_OFF, "wire.T_amb": 297.15}, fmus,
-                              **bench), fmus)
+                              **bench), fmus).to_json()
     assert ambient["verdict"] in ("recalibration", "none")
     assert ambient["calibration"]["parameters"]["wire.T_amb"]["value"] == pytest.approx(
         297.15, abs=0.3)
@@ -208,11 +210,11 @@ def test_calibration_finds_a_pwm_carrier_phase_in_any_well(fmus, tmp_path):
     duty = np.clip(0.2 + 0.5 * np.sin(2 * np.pi * t / 0.37) + 0.15 * rng.standard_normal(t.size),
                    -1, 1)
     s = load_scenario(scenario, ["act.pwm_phase=0.6"])
-    res = Master(s, fmus, inputs={"act.duty": duty}).run()
+    act_duty, p_meas = Signal("act", "duty"), Signal("sensor", "p_meas")
+    res = Master(s, fmus, inputs={act_duty: duty}).run()
     assert res.error is None, res.error
-    cols = {"act.duty": duty, "sensor.p_meas": res["sensor.p_meas"] + 50 * rng.standard_normal(
-        t.size)}
-    write_data_set(tmp_path / "ds", res.time, cols, ["act.duty"], ["sensor.p_meas"],
+    cols = {act_duty: duty, p_meas: res[p_meas] + 50 * rng.standard_normal(t.size)}
+    write_data_set(tmp_path / "ds", res.time, cols, [act_duty], [p_meas],
                    str(scenario), "valve bench")
     with reuse_fmus():
         problem = Problem(dataset.load(tmp_path / "ds"), fmus)

@@ -6,6 +6,7 @@ from contextlib import nullcontext
 
 import pytest
 
+from musclesim.cosim import ParamRef
 from musclesim import batch
 from musclesim.cli import main
 from musclesim.cosim import Master, compute_metrics, load_scenario
@@ -18,10 +19,10 @@ from conftest import SCENARIOS
 
 def test_a_free_value_may_set_parameters_of_other_names_alike():
     free = [Free(("wire", "mult"), "hysteresis_shift", -5, 15, 0,
-                 also=(("other", "composition_shift"),)), Free(("tc",), "tau", 0, 1, 0)]
+                 also=(ParamRef("other", "composition_shift"),)), Free(("tc",), "tau", 0, 1, 0)]
     assert values_of(free, [4.0, 0.1]) == {
-        ("wire", "hysteresis_shift"): 4.0, ("mult", "hysteresis_shift"): 4.0,
-        ("other", "composition_shift"): 4.0, ("tc", "tau"): 0.1}
+        ParamRef("wire", "hysteresis_shift"): 4.0, ParamRef("mult", "hysteresis_shift"): 4.0,
+        ParamRef("other", "composition_shift"): 4.0, ParamRef("tc", "tau"): 0.1}
 
 
 @pytest.fixture(scope="module")

@@ -25,11 +25,11 @@ def lag_case(fmu_dir, tmp_path_factory, cluster_map):
     blind.make_case(case, out, fmu_dir, SCENARIOS)
     traces = {}
     report = diagnose(dataset.load(out / "cases" / "lag"), fmu_dir, cluster_map, traces=traces)
-    return report, traces, out
+    return report.to_json(), report, traces, out
 
 
 def test_the_lag_is_located_named_fitted_and_shrinks_the_held_out_gap(lag_case):
-    report, _, _ = lag_case
+    report, _, _, _ = lag_case
     assert report["verdict"] == "thermocouple lag"
     ev = report["evidence"]
     assert ev["set"] == ["thermocouple lag"] and ev["candidates"][0]["probability"] > NAME_LEVEL
@@ -66,7 +66,7 @@ def test_the_lag_is_located_named_fitted_and_shrinks_the_held_out_gap(lag_case):
 
 
 def test_report_json_keeps_its_documented_shape(lag_case, tmp_path):
-    report, traces, _ = lag_case
+    _, report, traces, _ = lag_case
     paths = write_report(tmp_path, report, traces)
     assert {p.name for p in paths} == {"report.json", "report.md", "signals.png", "effects.png"}
     saved = json.loads((tmp_path / "report.json").read_text())
@@ -90,7 +90,7 @@ def test_the_model_matching_its_data_has_no_gap(fmu_dir, tmp_path):
     case = {"case": "null", "kind": "none", "bench": "tracking", "effect": None, "values": {},
             "latency_samples": 0, "seed": 3}
     blind.make_case(case, tmp_path, fmu_dir, SCENARIOS)
-    report = diagnose(dataset.load(tmp_path / "cases" / "null"), fmu_dir)
+    report = diagnose(dataset.load(tmp_path / "cases" / "null"), fmu_dir).to_json()
     assert report["verdict"] == "none" and report["effects"] == report["stand_ins"] == []
     assert not report["gap"]["deviates"]
     assert schema_errors("report", json.loads(json.dumps(report, default=float))) == []
@@ -164,7 +164,7 @@ def test_scalar_only_data_are_diagnosed_from_metrics(fmu_dir, tmp_path):
         f'metrics.T_max = {{ value = {m["T_max"]!r}, unit = "K", uncertainty = 0.2 }}\n'
         f'metrics.strain_peak_to_peak = {{ value = {m["strain_peak_to_peak"]!r}, '
         f'uncertainty = 2e-4 }}\n' for n, m in measured.items()) + '[split]\nheld_out = ["high"]\n')
-    report = diagnose(dataset.load(d), fmu_dir)
+    report = diagnose(dataset.load(d), fmu_dir).to_json()
     assert report["scalar_only"] and report["units"] == []
     assert report["gap"]["signals"]["T_max"]["relative_error"][0] == pytest.approx(
         -3.0 / measured["low"]["T_max"], rel=0.05)

@@ -4,14 +4,14 @@ from dataclasses import replace
 
 import numpy as np
 
-from musclesim.cosim import load_scenario, reuse_fmus
+from musclesim.cosim import ParamRef, Signal, load_scenario, reuse_fmus
 from musclesim.diagnosis import dataset
 from musclesim.diagnosis.problem import Problem, _sources
 from musclesim.diagnosis.simulate import simulate
 
 from conftest import SCENARIOS
 
-OBSERVED = ("thermocouple.T_meas", "wire.strain")
+OBSERVED = (Signal("thermocouple", "T_meas"), Signal("wire", "strain"))
 
 
 def test_sources_are_the_instances_nothing_fitted_reaches():
@@ -21,7 +21,7 @@ def test_sources_are_the_instances_nothing_fitted_reaches():
     output after its step, not the one recorded at the communication point."""
     s = load_scenario(SCENARIOS / "sma-bench-tracking.toml")
     assert _sources(s, OBSERVED) == {"load", "reference"}
-    assert _sources(s, OBSERVED + ("load.y",)) == {"reference"}
+    assert _sources(s, OBSERVED + (Signal("load", "y"),)) == {"reference"}
     assert _sources(replace(s, algorithm="gauss-seidel"), OBSERVED) == set()
 
 
@@ -34,11 +34,11 @@ def test_a_source_replayed_gives_every_run_what_simulating_it_gives(fmu_dir):
     problem = Problem(ds, fmu_dir)
     units = [problem.unit("model"), problem.replayed(), *problem.isolation_units()]
     assert len(problem._recorded) == 1  # the load alone, once for all the units
-    values = {("wire", "h"): 110.0, ("thermocouple", "tau"): 0.2}
+    values = {ParamRef("wire", "h"): 110.0, ParamRef("thermocouple", "tau"): 0.2}
     with reuse_fmus():
         for unit in units:
             run = unit.runs[0]
-            assert run.sources == ("load",) and set(run.fed) == {"wire.flange.f"}
+            assert run.sources == ("load",) and set(run.fed) == {Signal("wire", "flange.f")}
             assert "load" in unit.instances  # still a member: only its simulation is saved
             simulated = replace(unit, runs=[replace(r, sources=(), fed={}) for r in unit.runs])
             for a, b in zip(simulate(unit, values, fmu_dir, part=0),

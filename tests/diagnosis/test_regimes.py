@@ -7,6 +7,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from musclesim.cosim import Signal
 from musclesim.diagnosis import effects
 from musclesim.diagnosis.regimes import (Signals, regime_signals, regime_table, regimes,
                                          run_masks)
@@ -55,24 +56,26 @@ def test_force_pressure_strain_and_positions():
 
 
 def test_regime_signals_read_units_and_the_libraries_declarations():
-    units = {"w.T": "K", "l.f": "N", "w.strain": "1", "b.s": "m", "c.s": "m", "i.u1": "1",
-             "i.u2": "1", "o.u1": "1", "i.f_a": "N"}
+    S = Signal.parse
+    outputs = [S(c) for c in ("w.T", "l.f", "w.strain", "b.s", "c.s")]
+    inputs = [S(c) for c in ("i.u1", "i.u2", "o.u1", "i.f_a")]
+    units = dict(zip(outputs + inputs, ("K", "N", "1", "m", "m", "1", "1", "1", "N")))
     components = {"w": "SmaWire", "l": "LoadCell", "b": "CrawlerBody", "c": "CrawlerBody",
                   "i": "FrictionSwitchingInputs", "o": "SomethingElse"}
-    s = regime_signals(["w.T", "l.f", "w.strain", "b.s", "c.s"], ["i.u1", "i.u2", "o.u1", "i.f_a"],
-                       units, components)
-    assert s == Signals(temperature="w.T", force="l.f", strain="w.strain", pressure=None,
-                        positions=("b.s", "c.s"), indicators=("i.u1", "i.u2"))
+    s = regime_signals(outputs, inputs, units, components)
+    assert s == Signals(temperature=S("w.T"), force=S("l.f"), strain=S("w.strain"), pressure=None,
+                        positions=(S("b.s"), S("c.s")), indicators=(S("i.u1"), S("i.u2")))
     # the declared actuation force stands in for a load when none is measured in N or Pa
-    s = regime_signals([], ["i.f_a"], {"i.f_a": "1"}, components)
-    assert s.force == "i.f_a" and s.indicators == ()
+    s = regime_signals([], [S("i.f_a")], {S("i.f_a"): "1"}, components)
+    assert s.force == S("i.f_a") and s.indicators == ()
     assert effects.SWITCHING_INDICATORS["FrictionSwitchingInputs"] == ("u1", "u2")
 
 
 def test_regimes_of_a_problem_keep_what_every_run_defines():
     temp = 300 + 20 * np.minimum(T, 10 - T)
-    ds = SimpleNamespace(outputs=("w.T",), inputs=(), experiment=lambda name: (T, {"w.T": temp}))
-    problem = SimpleNamespace(ds=ds, scalar_only=False, units_of={"w.T": "K"},
+    wire_T = Signal("w", "T")
+    ds = SimpleNamespace(outputs=(wire_T,), inputs=(), experiment=lambda name: (T, {wire_T: temp}))
+    problem = SimpleNamespace(ds=ds, scalar_only=False, units_of={wire_T: "K"},
                               components={"w": "SmaWire"})
     unit = SimpleNamespace(runs=[SimpleNamespace(time=T, experiment="a"),
                                  SimpleNamespace(time=T, experiment="b")])

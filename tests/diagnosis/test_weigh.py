@@ -6,6 +6,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
+from musclesim.cosim import ParamRef
 from musclesim.diagnosis import evidence as ev
 from musclesim.diagnosis.fitting import Free, FitResult
 from musclesim.diagnosis.thresholds import PROFILE_SCALE, SYMMETRY_CHI2
@@ -38,14 +39,14 @@ def test_the_effect_is_moved_a_tenth_of_its_box_each_way_it_has_room_for():
     # calibration alone fits as well as the effect
     cal = Weighed(CALIBRATION_ONLY, fit([0.5, 0.5], {"y": [r]}), FREE[1:], 0)
     jobs = profile_jobs("unit", [w], cal, DISC, "fmus")
-    assert sorted(round(j.fixed[("tc", "bias")], 9) for _, _, j in jobs) == [-2.0, 2.0]
+    assert sorted(round(j.fixed[ParamRef("tc", "bias")], 9) for _, _, j in jobs) == [-2.0, 2.0]
     assert all(length == PROFILE_SCALE and j.free == FREE[1:] and j.train_only
                and j.scan == 0 and j.x0 == w.fit.x[1:] for _, length, j in jobs)
     # the calibration's columns of the effect's Jacobian start each profile
     assert all(np.array_equal(j.known[1], w.fit.jac[:, 2]) for _, _, j in jobs)
     near_bound, _ = candidate("bias", 0.05)
     (_, length, job), = profile_jobs("unit", [near_bound], cal, DISC, "fmus")
-    assert length == PROFILE_SCALE and job.fixed[("tc", "bias")] == pytest.approx(-7.0)
+    assert length == PROFILE_SCALE and job.fixed[ParamRef("tc", "bias")] == pytest.approx(-7.0)
     assert profile_jobs("unit", [], cal, DISC, "fmus") == []
     # an effect that fits better than calibration alone by a noise variance or more is told
     # from a recalibration by its own fit: no profile

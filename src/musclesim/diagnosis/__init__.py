@@ -2,19 +2,24 @@
 
 The data path is a measured data set (``load_dataset``: data.csv + manifest.toml, checked against
 its scenario; ``write_data_set`` writes one) -> ``diagnose`` (where the model misses, which
-unmodelled effect of ``EFFECTS`` explains it, how far the held-out gap shrinks) ->
+unmodelled effect of ``EFFECTS`` explains it, how far the held-out gap shrinks), giving a
+``Report`` (frozen sections; ``Report.to_json()`` is report.json's document) ->
 ``write_report`` (report.json, report.md, plots). ``calibrate`` fits the open values a
-scalar-only set names to its training metrics and predicts the held-out ones (module openvalues).
+scalar-only set names to its training metrics and predicts the held-out ones (module
+openvalues).
 
 Modules: dataset (measured data sets), effects (the effect library and the per-component
 knowledge the diagnosis uses), thresholds (every threshold, documented), problem (the units
-simulated against the data), simulate, stats, regimes, fitting, selection (the stages' work),
-evidence and weigh (the candidates' evidence, probabilities and the verdict), pipeline
+simulated against the data), simulate, stats, regimes, fitting, parameters (the calibration
+parameters), candidates, judging, aliasing, scoring and consistency (the candidates and their
+fits described), evidence and weigh (the candidates' evidence, probabilities and the verdict),
+stages (what the stages hand each other), which (section 4), sections (the `Report`), pipeline
 (`diagnose`), report (the files).
 
 The stages' building blocks are public too, for the blind benchmark above this layer
 (`musclesim.benchmark`), which records cases, fits its oracle and scores the diagnosis with them:
-``Problem`` (the units simulated against data), ``simulate_unit``, ``with_values``,
+``Problem`` (the units simulated against data), ``simulate_unit`` (parameter values applied by
+`musclesim.cosim.with_values`),
 ``residuals`` and ``Failed`` (runs), ``gap`` (the normalised RMS gap of a ``Part``, ``TRAIN`` or
 ``HELD_OUT``), ``fit``, ``Free`` and ``values_of`` (bounded least squares of free parameters),
 ``calibration`` (the calibration parameters of a unit) and ``find_effect``.
@@ -30,14 +35,16 @@ from musclesim.diagnosis.fitting import Free, fit, values_of
 from musclesim.diagnosis.pipeline import diagnose
 from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.report import write as write_report
-from musclesim.diagnosis.selection import calibration
-from musclesim.diagnosis.simulate import Failed, residuals, with_values
+from musclesim.diagnosis.sections import Report
+from musclesim.diagnosis.parameters import calibration
+from musclesim.diagnosis.simulate import Failed, Simulated, residuals
 from musclesim.diagnosis.simulate import simulate as simulate_unit
 from musclesim.diagnosis.stats import HELD_OUT, TRAIN, Part, gap
 from musclesim.diagnosis.weigh import CALIBRATION_ONLY
 
-__all__ = ["load_dataset", "DataSet", "write_data_set", "diagnose", "write_report", "calibrate",
+__all__ = ["load_dataset", "DataSet", "write_data_set", "diagnose", "Report", "write_report",
+           "calibrate",
            "calibration_markdown", "EFFECTS",
-           "REGIMES", "Effect", "find_effect", "Problem", "simulate_unit", "with_values",
-           "residuals", "Failed", "gap", "fit", "Free", "values_of", "calibration", "Part",
+           "REGIMES", "Effect", "find_effect", "Problem", "simulate_unit",
+           "residuals", "Failed", "Simulated", "gap", "fit", "Free", "values_of", "calibration", "Part",
            "TRAIN", "HELD_OUT", "CALIBRATION_ONLY"]

@@ -36,6 +36,8 @@ order) and Jacobians whose rows follow the same segments.
 >>> round(float(phi[0]), 2), round(float(sigma), 1)
 (0.9, 1.0)
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
 
@@ -70,12 +72,13 @@ def ar_order(segments, max_order=MAX_AR_ORDER):
     n = sum(max(len(s) - max_order, 0) for s in segments)
     if n <= max_order + 1:
         return 0
-    best = None
+    best: tuple[float, int] | None = None
     for p in range(max_order + 1):
         _, sigma = ar_fit([s[max_order - p:] for s in segments if len(s) > max_order], p)
         bic = n * math.log(max(sigma, 1e-300) ** 2) + p * math.log(n)
         if best is None or bic < best[0]:
             best = (bic, p)
+    assert best is not None  # order 0 at least
     return best[1]
 
 
@@ -141,7 +144,7 @@ class Evidence:
     log_likelihood: float
     occam: float  # the log of the Gaussian's mass in the box: the Occam factor
     z: np.ndarray
-    information: np.ndarray = None
+    information: np.ndarray | None = None
 
 
 def evidence(segments, jac, z, discrepancies):

@@ -6,42 +6,66 @@ best point; it is scored on the held-out part by the caller. `fit_all` runs seve
 ``pmap``: each as one task (`fit_task`), or, on a map that runs its tasks elsewhere side by side
 (Dask's), each steered from a thread here with every simulation a task.
 """
+from __future__ import annotations
+
 import math
+from collections.abc import Callable, Iterable, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from scipy import optimize
 
 from musclesim.batch import serial_map
-from musclesim.cosim import reuse_fmus
+from musclesim.cosim import ParamRef, Signal, reuse_fmus
 
-from musclesim.diagnosis.simulate import Failed, residuals, simulate
-from musclesim.diagnosis.stats import (HELD_OUT, TRAIN, gap, part_rows, part_segments,
+from musclesim.diagnosis.box import axis, period_axis, residual_intervals, scan, step
+from musclesim.diagnosis.simulate import Failed, Simulated, residuals, simulate
+from musclesim.diagnosis.stats import (HELD_OUT, TRAIN, Part, gap, part_rows, part_segments,
                                        part_vector)
-from musclesim.diagnosis.thresholds import (MAX_ITERATIONS, PASSES, PERIOD_POINTS, STEPS,
+from musclesim.diagnosis.thresholds import (MAX_ITERATIONS, PASSES, STEPS,
                                            TOLERANCE)
+
+if TYPE_CHECKING:
+    from musclesim.diagnosis.problem import Unit
 
 
 @dataclass(frozen=True)
 class Free:
-    """A free parameter: on `instances`, `name` between `lower` and `upper` (absolute values)."""
+    """A free parameter: on `instances`, `name` between `lower` and `upper` (absolute values),
+    from its nominal value `start`; periodic with `period` > 0 (a phase, scanned over a whole
+    period); the further parameters `also` take the same value.
 
-    instances: tuple
+    >>> f = Free(("w1", "w2"), "h", 50.0, 150.0, 100.0, also=(ParamRef("cap", "h_air"),))
+    >>> f.key, [str(r) for r in f.refs]
+    ('w1,w2.h', ['w1.h', 'w2.h', 'cap.h_air'])
+    """
+
+    instances: tuple[str, ...]
     name: str
     lower: float
     upper: float
     start: float  # its nominal value
     period: float = 0.0  # > 0: periodic (a phase), scanned over a whole period
-    also: tuple = ()  # further (instance, parameter) pairs that take the same value
+    also: tuple[ParamRef, ...] = ()  # further parameters that take the same value
+
+    @property
+    def refs(self) -> tuple[ParamRef, ...]:
+        """Every parameter that takes this value: `name` of each instance, then `also`."""
+        return tuple(ParamRef(inst, self.name) for inst in self.instances) + tuple(self.also)
+
+    @property
+    def key(self) -> str:
+        """Its key in report.json, ``"inst1,inst2.name"`` (printed here only)."""
+        return f"{','.join(self.instances)}.{self.name}"
 
 
-def values_of(free, x):
-    """``{(instance, parameter): value}`` of the `Free` parameters `free` at values `x`."""
-    out = {}
+def values_of(free: Sequence[Free], x: Sequence[float]) -> dict[ParamRef, float]:
+    """``{ParamRef: value}`` of the `Free` parameters `free` at values `x`."""
+    out: dict[ParamRef, float] = {}
     for f, v in zip(free, x):
-        out.update({(inst, f.name): v for inst in f.instances})
-        out.update({pair: v for pair in f.also})
+        out.update(dict.fromkeys(f.refs, v))
     return out
 
 
@@ -53,14 +77,14 @@ class FitJob:
     has the training residuals at the fitted values and nothing that needs more runs (no
     held-out residuals, no intervals): a profile, where only the cost there counts."""
 
-    unit: object
-    free: list
-    fmu_dir: object  # a path, or what the map's tasks carry in its place (`pmap.ship_fmus`)
-    fixed: dict = None
-    x0: list = None
-    scan: int = None
-    known: dict = None
-    latency: dict = None
+    unit: Unit
+    free: list[Free]
+    fmu_dir: Any  # a path, or what the map's tasks carry in its place (`pmap.ship_fmus`)
+    fixed: dict[ParamRef, float] | None = None
+    x0: list[float] | None = None
+    scan: int | None = None
+    known: dict[int, np.ndarray] | None = None
+    latency: dict[Signal, int] | None = None
     train_only: bool = False
 
 
@@ -73,24 +97,28 @@ class FitResult:
     `train`, the training residuals there with those latencies held ({column: [array per
     run]}, `stats.part_segments`; the Jacobian's rows follow them), None when the run failed."""
 
-    x: list
-    interval: list
-    residuals: object
+    x: list[float]
+    interval: list[tuple[float, float]]
+    residuals: dict[Any, list[np.ndarray]] | None
     train_gap: float
     heldout_gap: float
     applicable: bool
     evaluations: int
-    jac: object
-    latency: dict
-    z: object = None
-    train: dict = None
+    jac: np.ndarray | None
+    latency: dict[Signal, int]
+    z: np.ndarray | None = None
+    train: dict[Any, list[np.ndarray]] | None = None
 
 
-def fit(unit, free, fmu_dir, fixed=None, x0=None, scan=None, known=None, latency=None,
-        pmap=None):
-    """Fit `free` on the training part; return a dict with values, intervals and residuals.
+def fit(unit: Unit, free: list[Free], fmu_dir: Any, fixed: dict[ParamRef, float] | None = None,
+        x0: list[float] | None = None, scan: int | None = None,
+        known: dict[int, np.ndarray] | None = None, latency: dict[Signal, int] | None = None,
+        pmap: Callable[..., list] | None = None) -> FitResult:
+    """Fit the `Free` parameters `free` of `unit` (its FMUs in `fmu_dir`) on the training
+    part, the other values `fixed`; return the `FitResult`: the values with their 95 %
+    intervals, the residuals there, the gaps, the Jacobian and the latencies held.
 
-    A coarse scan of the first `scan` parameters (default all; `_axis` points each, or
+    A coarse scan of the first `scan` parameters (default all; `box.axis` points each, or
     `PERIOD_POINTS` even ones over a periodic parameter's period; one parameter at a time, then
     the best of each together), the others held at `x0` (default their nominal values), picks
     the start of a bounded trust-region least-squares fit of all of them in box coordinates
@@ -148,8 +176,8 @@ class Fit:
 
     def simulated(self, points, whole=()):
         """Run, mapped together, the training part of each of `points` not run yet and the whole
-        runs of the values `whole` (returned)."""
-        new = {}
+        runs of the values `whole` (returned, a `Simulated` each)."""
+        new: dict[tuple[float, ...], np.ndarray] = {}
         for k, z in ((self.key(z), z) for z in points):
             if k not in self.cache:
                 new.setdefault(k, self.lo + self.span * np.clip(z, 0, 1))
@@ -163,14 +191,14 @@ class Fit:
         `free_choice`."""
         self.simulated([z])
         sims = self.cache[self.key(z)]
-        return None if sims is None else residuals(self.job.unit, sims,
-                                                   align=None if free_choice else self.align)
+        return None if sims.failed else residuals(self.job.unit, sims.runs,
+                                                  align=None if free_choice else self.align)
 
     def latencies(self, z):
         """The sensor latencies that fit best at `z`."""
-        chosen = {}
+        chosen: dict[Signal, int] = {}
         if self.run(z, True) is not None:
-            residuals(self.job.unit, self.cache[self.key(z)], chosen)
+            residuals(self.job.unit, self.cache[self.key(z)].runs, chosen)
         return chosen
 
     def train_vector(self, z):
@@ -189,7 +217,7 @@ class Fit:
     # -- the Jacobian -------------------------------------------------------------------------
     def differences(self, z):
         """[(column, step, point)] of the Jacobian's unknown columns at `z`."""
-        return [(i, _step(z[i]), z + np.eye(len(z))[i] * _step(z[i])) for i in range(len(z))
+        return [(i, step(z[i]), z + np.eye(len(z))[i] * step(z[i])) for i in range(len(z))
                 if i not in (self.known or {})]
 
     def jac(self, z):
@@ -232,14 +260,14 @@ class Fit:
     def start(self):
         """(the point least squares starts from, applicable) after the scan."""
         job, free = self.job, self.free
-        scan = len(free) if job.scan is None else job.scan
+        count = len(free) if job.scan is None else job.scan
         base = np.clip((np.array(job.x0 if job.x0 is not None else [f.start for f in free])
                         - self.lo) / self.span, 0, 1)
-        if not scan:
+        if not count:
             return base, True
-        axes = [_axis(base[i]) if not free[i].period else
-                _period_axis(base[i], free[i].period / self.span[i]) for i in range(scan)]
-        return _scan(base, axes, self.cost, self.simulated)
+        axes = [axis(base[i]) if not free[i].period else
+                period_axis(base[i], free[i].period / self.span[i]) for i in range(count)]
+        return scan(base, axes, self.cost, self.simulated)
 
     def least_squares(self, z):
         """(point, Jacobian) after the passes of least squares from `z` with the sensor
@@ -248,7 +276,7 @@ class Fit:
         still falling at its last accepted step (its steps shrank to nothing under an updated
         Jacobian, or its evaluations ran out), goes on from fresh differences; columns given as
         `known` are not fresh in any pass, so such a fit takes no second pass for that (its
-        refinement, `selection.refine`, has none)."""
+        refinement, `candidates.refine`, has none)."""
         J, latency = None, self.job.latency
         for _ in range(PASSES):
             self.align.clear()
@@ -291,8 +319,8 @@ class Fit:
         if refresh:
             J = self.differenced(z)
         if J is not None:
-            interval = _interval(self.train_vector(z), J, z, self.lo, self.span)
-        res = None if sims is None else residuals(self.job.unit, sims)
+            interval = residual_intervals(self.train_vector(z), J, z, self.lo, self.span)
+        res = None if sims.failed else residuals(self.job.unit, sims.runs)
         held = self.run(z) if self.align else None  # the Jacobian's residuals
         train = part_segments(self.job.unit, held if held is not None else res, TRAIN) \
             if res is not None else None
@@ -302,68 +330,13 @@ class Fit:
                          applicable, len(self.cache) + 1, J, chosen, z, train)
 
 
-def known_columns(jac, k):
+def known_columns(jac: np.ndarray | None, k: int) -> dict[int, np.ndarray] | None:
     """A calibration's Jacobian `jac` as `fit`'s ``known`` for a fit whose first `k` parameters
     are effects' and the rest that calibration's (None: nothing known)."""
     return None if jac is None else {k + i: jac[:, i] for i in range(jac.shape[1])}
 
 
-def _step(z):
-    """Forward-difference step in box coordinates, toward the box's inside."""
-    return 1e-3 if z <= 0.5 else -1e-3
-
-
-def _scan(base, axes, cost, simulated):
-    """(start, applicable) from a scan of the first coordinates around `base`, one for each of
-    `axes` (its points): each along its axis alone, then the best of each together.
-    ``applicable``: the cost changes at all. `simulated(points)` runs the points of the axes
-    together first."""
-    scan = len(axes)
-    axes = [[p for p in pts if p != base[i]] for i, pts in enumerate(axes)]
-    simulated([base] + [_moved(base, i, p) for i, pts in enumerate(axes) for p in pts])
-    c0 = cost(base)
-    best, costs = base.copy(), [c0]
-    for i, pts in enumerate(axes):
-        cs = [cost(_moved(base, i, p)) for p in pts]
-        costs += cs
-        if cs and min(cs) < c0:
-            best[i] = pts[int(np.argmin(cs))]
-    candidates = [(c0, base)]
-    if scan > 1 and not np.array_equal(best, base):
-        candidates.append((cost(best), best))
-    for i in range(scan):  # each axis's best alone
-        if best[i] != base[i]:
-            z = _moved(base, i, best[i])
-            candidates.append((cost(z), z))
-    return min(candidates, key=lambda t: t[0])[1], len({round(v, 12) for v in costs}) > 1
-
-
-def _moved(z, i, value):
-    """`z` with coordinate `i` at `value` (a copy)."""
-    out = z.copy()
-    out[i] = value
-    return out
-
-
-def _axis(z0):
-    """Scan points of one parameter in box coordinates: from its start `z0` (an effect's off
-    value) toward each bound at 1/8, 1/2 and all of the way: effects are mostly small next to
-    their bounds, so the points crowd near off, where a narrow optimum (a 0.2 s lag in [0, 2] s)
-    would fall between even steps."""
-    fractions = (0.125, 0.5, 1.0)
-    points = {z0} | {z0 + f * (1 - z0) for f in fractions} | {z0 - f * z0 for f in fractions}
-    return sorted(points)
-
-
-def _period_axis(z0, width):
-    """Scan points of a periodic parameter in box coordinates: `PERIOD_POINTS` evenly over one
-    period (`width` in box coordinates) from its start `z0`, each moved by whole periods into
-    the box [0, 1] where it falls outside."""
-    points = (z0 + k * width / PERIOD_POINTS for k in range(PERIOD_POINTS))
-    return sorted(p - width * math.floor(p / width) if not 0 <= p <= 1 else p for p in points)
-
-
-def fit_all(jobs, pmap):
+def fit_all(jobs: Iterable[FitJob], pmap: Callable[..., list]) -> list[FitResult]:
     """The `FitResult` of every `FitJob` of `jobs`, in order.
 
     A `pmap` that runs its tasks elsewhere and may be called from several threads at once
@@ -384,47 +357,26 @@ def fit_all(jobs, pmap):
         pool.shutdown(wait=False, cancel_futures=True)
 
 
-def fit_task(job):
+def fit_task(job: FitJob) -> FitResult:
     """One fit, as a task: `FitJob` -> `FitResult`, its FMUs read and unpacked once for all its
     runs."""
     with reuse_fmus():
         return Fit(job).result()
 
 
-def simulation_task(args):
-    """One run of a fit, as a task: (unit, values, fmu_dir, part) -> `simulate`'s runs, None
-    when the values fail (FMUs reused as `reuse_fmus` allows: a worker of
-    `musclesim.batch.dask_client` keeps them for its life)."""
+def simulation_task(args: tuple[Unit, dict[ParamRef, float], Any, Part | None]) -> Simulated:
+    """One run of a fit, as a task: `args` (unit, values, fmu_dir, part) -> a `Simulated`,
+    `simulate`'s runs or the message of the failure that stopped them (FMUs reused as
+    `reuse_fmus` allows: a worker of `musclesim.batch.dask_client` keeps them for its life)."""
     unit, values, fmu_dir, part = args
     with reuse_fmus():
         try:
-            return simulate(unit, values, fmu_dir, part=part)
-        except Failed:
-            return None
+            return Simulated(simulate(unit, values, fmu_dir, part=part))
+        except Failed as exc:
+            return Simulated(None, str(exc))
 
 
 def _train_size(unit):
     return sum(int(np.count_nonzero(m)) for m in part_rows(unit, TRAIN)) * len(unit.observed)
 
 
-def _interval(r, J, z, lo, span):
-    """95 % intervals of the values at box coordinates `z` from the residuals `r` and Jacobian
-    `J` there, the residuals' autocorrelation widening them."""
-    m, n = J.shape
-    rho = float(np.corrcoef(r[:-1], r[1:])[0, 1]) if m > 2 and np.std(r) > 0 else 0.0
-    inflate = (1 + max(rho, 0)) / max(1 - max(rho, 0), 1e-3)
-    return box_intervals(J, z, lo, span, float(r @ r) / max(m - n, 1) * inflate)
-
-
-def box_intervals(J, z, lo, span, variance=1.0):
-    """95 % intervals of values at box coordinates `z` (a value is ``lo + span * z``) from the
-    Jacobian `J` of residuals of `variance` there (1: residuals already weighed by their standard
-    deviations): covariance ``variance (J^T J)^-1``, clipped to the box; a value the residuals do
-    not pin (a singular matrix) spans its bounds."""
-    try:
-        cov = variance * np.linalg.inv(J.T @ J)
-        half = 1.96 * np.sqrt(np.clip(np.diag(cov), 0, None))
-    except np.linalg.LinAlgError:
-        half = np.full(J.shape[1], np.inf)
-    return [(float(l + w * max(c - h, 0)), float(l + w * min(c + h, 1)))
-            for c, h, l, w in zip(z, half, lo, span)]

@@ -10,18 +10,26 @@ metric's stated uncertainty, and their 95 % intervals follow from those uncertai
 the Jacobian at the fit. The held-out experiments are never fitted: their metrics, simulated at
 the fitted values, are the model's predictions.
 """
+from __future__ import annotations
+
 import math
-from pathlib import Path
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from musclesim.batch import serial_map
-from musclesim.cosim import read_fmu, reuse_fmus
-from musclesim.diagnosis.fitting import FitJob, Free, box_intervals, fit_all, values_of
+from musclesim.cosim import reuse_fmus
+from musclesim.diagnosis.box import box_intervals
+from musclesim.diagnosis.fitting import FitJob, Free, fit_all, values_of
+from musclesim.diagnosis.parameters import nominal
 from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.simulate import Failed, simulate
 from musclesim.diagnosis.stats import TRAIN, part_segments
 from musclesim.errors import UserError
+
+if TYPE_CHECKING:
+    from musclesim.diagnosis.dataset import DataSet
 
 
 def open_values(problem):
@@ -36,39 +44,30 @@ def open_values(problem):
     """
     out = []
     for ov in problem.ds.calibrate:
-        pairs = [tuple(t.split(".", 1)) for t in ov.targets]
-        for inst, name in pairs:
-            if not any(inst in s.instances for s in problem.scenarios.values()):
-                raise UserError(f"data set {problem.ds.path}: [[calibrate]] names {inst}.{name}, "
+        refs = list(ov.targets)  # ParamRefs, parsed by the data set from its manifest
+        for ref in refs:
+            if not any(ref.instance in s.instances for s in problem.scenarios.values()):
+                raise UserError(f"data set {problem.ds.path}: [[calibrate]] names {ref}, "
                                 "but no scenario of the data set has an instance "
-                                f"{inst!r}")
-        starts = [_nominal(problem, *p) for p in pairs]  # each target must exist
-        name = pairs[0][1]
+                                f"{ref.instance!r}")
+        starts = []
+        for ref in refs:  # each target must exist
+            try:
+                starts.append(nominal(problem, ref))
+            except KeyError as exc:
+                raise UserError(f"data set {problem.ds.path}: [[calibrate]] names "
+                                f"{ref}, but {exc.args[0]}") from None
+        name = refs[0].name
         start = min(max(starts[0], ov.lower), ov.upper)
-        out.append(Free(tuple(i for i, n in pairs if n == name), name, ov.lower, ov.upper,
-                        start, also=tuple(p for p in pairs if p[1] != name)))
+        out.append(Free(tuple(r.instance for r in refs if r.name == name), name, ov.lower,
+                        ov.upper, start, also=tuple(r for r in refs if r.name != name)))
     return out
-
-
-def _nominal(problem, inst, name):
-    for s in problem.scenarios.values():
-        if inst in s.instances:
-            if name in s.instances[inst].parameters:
-                return float(s.instances[inst].parameters[name])
-            component = s.instances[inst].component
-            break
-    md = read_fmu(Path(problem.fmu_dir) / f"{component}.fmu")
-    for v in md.modelVariables:
-        if v.name == name and v.start is not None:
-            return float(v.start)
-    raise UserError(f"data set {problem.ds.path}: [[calibrate]] names {inst}.{name}, but "
-                    f"{component} has no parameter {name!r}")
 
 
 def intervals(fit, free, unit):
     """95 % intervals of the fitted values from the training metrics' stated uncertainties
     (`unit.noise`, normalised like the residuals) through the fit's Jacobian (box
-    coordinates, `fitting.box_intervals`): covariance (J^T W J)^-1 with W the inverse
+    coordinates, `box.box_intervals`): covariance (J^T W J)^-1 with W the inverse
     variances."""
     segments = part_segments(unit, fit.residuals, TRAIN)
     sigma = np.concatenate([np.full(sum(len(a) for a in segments[c]), unit.noise[c])
@@ -97,10 +96,12 @@ def metric_table(problem, unit, runs):
     return table
 
 
-def calibrate(ds, fmu_dir="fmus", pmap=None, progress=None):
-    """Fit the open values of scalar-only data set `ds` on its training part; return the
-    report: the values with their intervals and, per metric, the nominal and the fitted
-    model against the measurement (the held-out ones predictions).
+def calibrate(ds: DataSet, fmu_dir: Any = "fmus", pmap: Callable[..., list] | None = None,
+              progress: Callable[[str], None] | None = None) -> dict[str, Any]:
+    """Fit the open values of scalar-only data set `ds` (its FMUs in `fmu_dir`, the fit's runs
+    mapped by `pmap`, `progress` told what runs) on its training part; return the report: the
+    values with their intervals and, per metric, the nominal and the fitted model against the
+    measurement (the held-out ones predictions).
 
     Raises
     ------
@@ -124,7 +125,7 @@ def calibrate(ds, fmu_dir="fmus", pmap=None, progress=None):
         fitted = _runs(unit, values_of(free, fit.x), fmu_dir)
     spans = intervals(fit, free, unit) if fit.jac is not None and fit.residuals is not None \
         else [(f.lower, f.upper) for f in free]
-    values = [{"set": [f"{i}.{f.name}" for i in f.instances] + [f"{i}.{n}" for i, n in f.also],
+    values = [{"set": [str(r) for r in f.refs],
                "value": x, "interval95": list(iv), "bounds": [f.lower, f.upper],
                "nominal": f.start, "why": ov.why}
               for f, x, iv, ov in zip(free, fit.x, spans, ds.calibrate)]
@@ -142,8 +143,8 @@ def _runs(unit, values, fmu_dir):
         return None
 
 
-def markdown(report):
-    """The calibration report as a readable page."""
+def markdown(report: dict[str, Any]) -> str:
+    """The calibration `report` (`calibrate`'s) as a readable page."""
     lines = [f"# Calibration of {report['data_set']}", "",
              f"Trained on {', '.join(report['parts']['train'])}; held out (predicted): "
              f"{', '.join(report['parts']['held_out']) or 'none'}.", "",

@@ -29,8 +29,8 @@ The steps, on a measured data set (`musclesim.diagnosis.dataset`), each printed 
    their evidence under a model of the mismatch calibration leaves (`weigh`, `evidence`):
    posterior probabilities, the credible set, the symmetries calibration makes with an effect
    and what would break them, a held-out predictive check each. Each effect's fit is also
-   described against calibration on the signals it can change (`selection.judge`). Signals that
-   share an upstream state place the gap in a sensor or in the plant (`selection.cross_signal`).
+   described against calibration on the signals it can change (`judging.judge`). Signals that
+   share an upstream state place the gap in a sensor or in the plant (`consistency.cross_signal`).
 5. How far it shrinks: held-out gap per signal nominal, calibrated and with the named (or most
    probable) effect (calibration refitted with it), with block-bootstrap intervals, in the model
    with every measured signal replayed (`Problem.replayed`).
@@ -49,84 +49,44 @@ that can (``pmap.ship_fmus``, Dask's) gets the FMUs the data set's scenarios use
 per worker, and the tasks name the workers' copies: the workers need none of this machine's files
 (the units and their data travel as objects).
 
-This module runs the stages; the work is in the package's other modules: the thresholds named
-above in `musclesim.diagnosis.thresholds`, the units in `.problem`, simulation and residuals in
-`.simulate`, statistics in `.stats`, regimes in `.regimes`, fits in `.fitting`, candidates
-and their descriptions in `.selection`, the evidence in `.evidence` and the weighing and verdict
-in `.weigh`.
+This module runs the stages, each returning its frozen section of the `Report`
+(`musclesim.diagnosis.sections`); the work is in the package's other modules: the thresholds
+named above in `musclesim.diagnosis.thresholds`, the units in `.problem`, simulation and residuals
+in `.simulate`, statistics in `.stats`, regimes in `.regimes`, fits in `.fitting`, the
+calibration parameters in `.parameters`, candidates in `.candidates`, their descriptions in
+`.judging`, `.aliasing`, `.scoring` and `.consistency`, section 4 in `.which`, the evidence in `.evidence` and the
+weighing and verdict in `.weigh`.
 """
-from dataclasses import dataclass
+from __future__ import annotations
 
-import numpy as np
+from typing import Any, Callable
+
 from threadpoolctl import threadpool_limits
 
 from musclesim.batch import serial_map
-from musclesim.cosim import reuse_fmus, split_signal
-from musclesim.diagnosis.fitting import (FitJob, FitResult, fit_all, known_columns,
-                                         simulation_task, values_of)
-from musclesim.diagnosis.problem import Problem, affected
+from musclesim.cosim import Signal, reuse_fmus
+from musclesim.diagnosis.fitting import FitJob, fit_all, simulation_task, values_of
+from musclesim.diagnosis.problem import Problem, Unit, affected
 from musclesim.diagnosis.regimes import regime_table, regimes
-from musclesim.diagnosis.selection import (NO_GAP, calibration, calibration_table, candidates,
-                                           cross_signal, explained, rank, refine, scanned)
-from musclesim.diagnosis.simulate import Failed, residuals, signal_gap, simulate
-from musclesim.diagnosis.stats import (HELD_OUT, TRAIN, before_after, deviates, gap, noise_floor,
-                                       part_segments)
-from musclesim.diagnosis.weigh import (CALIBRATION_ONLY, Weighed, profile_jobs, symmetries,
-                                      weigh, with_symmetries)
-from musclesim.diagnosis.weigh import section as weigh_section
+from musclesim.diagnosis.sections import (CalibrationSection, GapSection, IsolationSection,
+                                          Report, ShrinkageSection, VerdictSection)
+from musclesim.diagnosis.judging import NO_GAP
+from musclesim.diagnosis.parameters import calibration, calibration_table, scanned
+from musclesim.diagnosis.simulate import residuals, signal_gap, simulate
+from musclesim.diagnosis.stages import Calibration, FitUnit, Isolation, Nominal, Residuals
+from musclesim.diagnosis.stats import HELD_OUT, before_after, deviates, gap, noise_floor
+from musclesim.diagnosis.which import which_effect
 from musclesim.errors import UserError
 
 
-@dataclass
-class Nominal:
-    """An isolation unit's nominal run: its residuals, and whether it deviates."""
+def diagnose(ds: Any, fmu_dir: Any = "fmus", pmap: Callable[..., list] | None = None,
+             progress: Callable[[str], None] | None = None,
+             traces: dict[str, Any] | None = None) -> Report:
+    """Diagnose measured data set `ds` (a `musclesim.diagnosis.DataSet`) with the FMUs in
+    `fmu_dir`; return the `Report` (``Report.to_json()`` is report.json's document).
 
-    unit: object
-    residuals: dict
-    deviates: bool
-
-
-@dataclass
-class Calibration:
-    """A unit's calibration: its `Free` parameters and their fitted `values`, the residuals
-    there, the Jacobian (box coordinates) and the sensor latencies held, the report's table of
-    values, the `FitResult` (None: nothing calibrated) and the held-out gap of the nominal
-    values."""
-
-    free: list
-    values: dict
-    residuals: dict
-    jac: object
-    table: dict
-    fit: object
-    latency: dict
-    nominal_gap: float = None
-
-
-@dataclass
-class Isolation:
-    """An isolation unit, calibrated on its own: its held-out gap and noise floor, whether it
-    deviates, the nominal values' gap."""
-
-    unit: object
-    calibration: Calibration
-    gap: float
-    floor: float
-    deviates: bool
-    nominal_gap: float
-
-    def section(self):
-        """The report's entry of this unit (``units``)."""
-        return {"instances": list(self.unit.instances), "observed": list(self.unit.observed),
-                "heldout_gap_nominal": self.nominal_gap, "heldout_gap": self.gap,
-                "noise_floor": self.floor, "deviates": self.deviates}
-
-
-def diagnose(ds, fmu_dir="fmus", pmap=None, progress=None, traces=None):
-    """Diagnose measured data set `ds` (a `musclesim.diagnosis.DataSet`); return the report dict.
-
-    `pmap(fn, items)` maps the fits (default: one after the other); `progress(text)` is told
-    what runs; a dict given as `traces` receives the runs of `Problem.replayed`, nominal,
+    `pmap` maps the fits, ``pmap(fn, items)`` (default: one after the other); `progress`
+    is told what runs, ``progress(text)``; a dict given as `traces` receives the runs of `Problem.replayed`, nominal,
     calibrated and with the selected effects, for plots.
     """
     # BLAS on one thread, as beside a Dask cluster (batch.dask_client): a product's reduction
@@ -148,56 +108,55 @@ def _diagnose(ds, fmu_dir, pmap, say, traces):
     # a closed loop's phase would pull nominal values anywhere to match an oscillation
     cut = problem.replayed()
     sims, units, cut_sims = _nominal_runs(problem, whole, cut, pmap)
-    res_whole = residuals(whole, sims)
-    report = _gap_section(problem, whole, sims, res_whole)
-    if not report["gap"]["deviates"] and not any(u.deviates for u in units):
-        floor = report["gap"]["noise_floor"]
-        report.update(calibration={"parameters": {}}, effects=[], selected=[], stand_ins=[],
-                      verdict="none", explanation=NO_GAP, noise_floor=floor, complete=True)
-        report.update(_shrinkage(problem, ({}, cut_sims), {}, traces, pmap))
-        return report
+    gap_section = _gap_section(problem, whole, sims)
+    head = _head(problem)
+    if not gap_section.deviates and not any(u.deviates for u in units):
+        verdict = VerdictSection("none", NO_GAP, True, gap_section.noise_floor, [], [])
+        return Report(**head, gap=gap_section, calibration=CalibrationSection({}),
+                      isolation=None, evidence=None, verdict=verdict,
+                      shrinkage=_shrinkage(problem, ({}, cut_sims), {}, traces, pmap))
     res_cut = residuals(cut, cut_sims)
     say(f"2/5 calibrating the model and {len(units)} isolation unit(s) on the training part")
     cal, isolated = _calibrate(problem, (cut, res_cut), units, pmap)
-    report["calibration"] = _calibration_section(cut, res_cut, cal)
+    cal_section = _calibration_section(cut, res_cut, cal)
     say("3/5 isolating components (each unit calibrated)")
-    suspects, report["located"] = _locate(problem, isolated)
-    report["units"] = [i.section() for i in isolated]
+    suspects, located = _locate(problem, isolated)
     masks = regimes(problem, whole)
-    report["regimes"] = regime_table(cut, cal.residuals, masks)
-    values = {}
+    isolation = IsolationSection(located, [i.section() for i in isolated],
+                                 regime_table(cut, cal.residuals, masks))
+    values: dict = {}
+    evidence = None
     if not deviates(cut, cal.residuals) and not any(i.deviates for i in isolated):
         floor = noise_floor(cut)
-        report.update(effects=[], selected=[], stand_ins=[], verdict="recalibration",
-                      complete=True, noise_floor=floor, explanation=(
-                          f"calibration alone takes the held-out gap from "
-                          f"{report['calibration']['heldout_gap_before']:.3g} to "
-                          f"{report['calibration']['heldout_gap_after']:.3g}, within the noise "
-                          f"(floor {floor:.3g}): no unmodelled effect is needed"))
+        verdict = VerdictSection("recalibration", (
+            f"calibration alone takes the held-out gap from "
+            f"{cal_section.heldout_gap_before:.3g} to {cal_section.heldout_gap_after:.3g}, "
+            f"within the noise (floor {floor:.3g}): no unmodelled effect is needed"),
+            True, floor, [], [])
     else:
-        unit, unit_cal, suspects = _fit_unit((cut, cal), isolated, suspects)
-        report["fit_unit"] = {"instances": list(unit.instances), "observed": list(unit.observed),
-                              "latency": unit_cal.latency}
+        fitting = _fit_unit(cut, cal, isolated, suspects)
         say("4/5 which effect: candidates fitted with the calibration parameters")
-        values, section = _which_effect(problem, (unit, unit_cal, suspects, masks),
-                                        report["calibration"]["parameters"], pmap, say)
-        report.update(section)
+        which = which_effect(problem, fitting, masks, pmap, say)
+        values, evidence, verdict = which.values, which.evidence, which.verdict
     say("5/5 how far the gap shrinks")
-    report.update(_shrinkage(problem, (cal.values, cut_sims), values, traces, pmap))
-    return report
+    return Report(**head, gap=gap_section, calibration=cal_section, isolation=isolation,
+                  evidence=evidence, verdict=verdict,
+                  shrinkage=_shrinkage(problem, (cal.values, cut_sims), values, traces, pmap))
 
 
-def _gap_section(problem, whole, sims, res_whole):
-    """The report's head and section 1: the whole model's gap per signal and pooled."""
+def _head(problem: Problem) -> dict[str, Any]:
+    """The report's head: the data set, its scenario(s), scalar-only, its parts."""
     ds = problem.ds
-    return {
-        "data_set": str(ds.path), "scenario": ds.scenario or sorted(
-            {e.scenario for e in ds.experiments.values()}), "scalar_only": problem.scalar_only,
-        "parts": {"train": list(problem.part_names[0]), "held_out": list(problem.part_names[1])},
-        "gap": {"signals": signal_gap(problem, whole, sims),
-                "heldout_gap": gap(whole, res_whole, HELD_OUT), "noise_floor": noise_floor(whole),
-                "deviates": bool(deviates(whole, res_whole))},
-    }
+    return {"data_set": str(ds.path), "scenario": ds.scenario or sorted(
+        {e.scenario for e in ds.experiments.values()}), "scalar_only": problem.scalar_only,
+        "train": list(problem.part_names[0]), "held_out": list(problem.part_names[1])}
+
+
+def _gap_section(problem, whole, sims):
+    """Section 1: the whole model's gap per signal and pooled."""
+    res_whole = residuals(whole, sims)
+    return GapSection(signal_gap(problem, whole, sims), gap(whole, res_whole, HELD_OUT),
+                      noise_floor(whole), bool(deviates(whole, res_whole)))
 
 
 def _same(unit, whole):
@@ -207,30 +166,27 @@ def _same(unit, whole):
         return False
     acting = {i for i in whole.instances if affected(whole, (i,))}
     return acting == set(unit.instances) and all(
-        {k for k in a.inputs if split_signal(k)[0] in acting} == set(b.inputs)
+        {k for k in a.inputs if k.instance in acting} == set(b.inputs)
         for a, b in zip(whole.runs, unit.runs))
 
 
 def _nominal_runs(problem, whole, cut, pmap):
-    """The nominal runs, mapped together: of the whole model (its failure is the user's
-    error), every isolation unit (a `Nominal` each, one whose simulation fails left out) and
-    the model with every measured signal replayed `cut` (the whole model's again for scalar
-    metrics)."""
+    """The nominal runs, mapped together: of the whole model (its failure, with its message,
+    is the user's error), every isolation unit (a `Nominal` each, one whose simulation fails
+    left out) and the model with every measured signal replayed `cut` (the whole model's again
+    for scalar metrics)."""
     units = problem.isolation_units()
     extra = [] if problem.scalar_only else [cut]
     runs = pmap(simulation_task, [(u, {}, problem.fmu_dir, None) for u in [whole, *extra, *units]])
-    if runs[0] is None:  # run again here for the cause
-        try:
-            simulate(whole, {}, problem.fmu_dir)
-        except Failed as exc:
-            raise UserError(f"data set {problem.ds.path}: the nominal scenario fails: "
-                            f"{exc}") from None
+    if runs[0].failed:
+        raise UserError(f"data set {problem.ds.path}: the nominal scenario fails: "
+                        f"{runs[0].error}")
     nominal = []
     for u, r in zip(units, runs[1 + len(extra):]):
-        if r is not None:
-            res = residuals(u, r)
+        if not r.failed:
+            res = residuals(u, r.runs)
             nominal.append(Nominal(u, res, deviates(u, res)))
-    return runs[0], nominal, runs[1] if extra else runs[0]
+    return runs[0].runs, nominal, runs[1].runs if extra else runs[0].runs
 
 
 def _calibrate(problem, cut, units, pmap):
@@ -247,32 +203,30 @@ def _calibrate(problem, cut, units, pmap):
     same = [i for i, (u, _) in enumerate(jobs) if i and _same(u, cut)]
     fits = iter(fit_all([FitJob(u, free, problem.fmu_dir, scan=scanned(free))
                          for i, (u, free) in enumerate(jobs) if free and i not in same], pmap))
-    cals = []
+    cals: list[Calibration] = []
     for i, ((u, free), nominal) in enumerate(zip(jobs, [res_cut] + [n.residuals for n in units])):
         f = cals[0].fit if i in same else next(fits) if free else None
+        nominal_gap = gap(u, nominal, HELD_OUT)
         if f is None or f.residuals is None:
-            latency = {}
+            latency: dict[Signal, int] = {}
             residuals(u, simulate(u, {}, problem.fmu_dir), latency)
-            cal = Calibration([], {}, nominal, None, {}, None, latency)
+            cals.append(Calibration([], {}, nominal, None, {}, None, latency, nominal_gap))
         else:
-            cal = Calibration(free, values_of(free, f.x), f.residuals, f.jac,
-                              calibration_table(free, f), f, f.latency)
-        cal.nominal_gap = gap(u, nominal, HELD_OUT)
-        cals.append(cal)
+            cals.append(Calibration(free, values_of(free, f.x), f.residuals, f.jac,
+                                    calibration_table(free, f), f, f.latency, nominal_gap))
     isolated = [Isolation(n.unit, c, gap(n.unit, c.residuals, HELD_OUT), noise_floor(n.unit),
                           deviates(n.unit, c.residuals), c.nominal_gap)
                 for n, c in zip(units, cals[1:])]
     return cals[0], isolated
 
 
-def _calibration_section(cut, res_cut, cal):
-    """The report's ``calibration``: the calibrated values, the sensors' latencies, and the
-    held-out gap before and after, pooled and per signal, of the model with every measured
-    signal replayed (`cut`, its nominal residuals `res_cut`)."""
-    return {"parameters": cal.table, "latency": cal.latency,
-            "heldout_gap_before": gap(cut, res_cut, HELD_OUT),
-            "heldout_gap_after": gap(cut, cal.residuals, HELD_OUT),
-            "signals": {c: before_after(cut, res_cut, cal.residuals, [c]) for c in cut.observed}}
+def _calibration_section(cut: Unit, res_cut: Residuals, cal: Calibration) -> CalibrationSection:
+    """Section 2: the calibrated values, the sensors' latencies, and the held-out gap before and
+    after, pooled and per signal, of the model with every measured signal replayed (`cut`, its
+    nominal residuals `res_cut`, its calibration `cal`)."""
+    return CalibrationSection(
+        cal.table, cal.latency, gap(cut, res_cut, HELD_OUT), gap(cut, cal.residuals, HELD_OUT),
+        {c: before_after(cut, res_cut, cal.residuals, [c]) for c in cut.observed})
 
 
 def _locate(problem, isolated):
@@ -302,94 +256,25 @@ def _locate(problem, isolated):
     return suspects, table
 
 
-def _fit_unit(whole, isolated, suspects):
-    """(unit, its `Calibration`, suspects): the unit the candidates are fitted in, the smallest
-    deviating isolation unit holding every suspect, else the model with every measured signal
-    replayed (whose every instance is a suspect when none was located). `whole`: (that model,
-    its calibration)."""
-    whole, cal = whole
+def _fit_unit(whole: Unit, cal: Calibration, isolated: list[Isolation],
+              suspects: set[str]) -> FitUnit:
+    """The unit the candidates are fitted in: the smallest deviating isolation unit holding
+    every suspect, else the model with every measured signal replayed (`whole`, calibrated as
+    `cal`; whose every instance is a suspect when none was located), among `isolated`."""
     if not suspects:
-        return whole, cal, set(whole.instances)
+        return FitUnit(whole, cal, frozenset(whole.instances))
     holders = [u for u in isolated if u.deviates and suspects <= set(u.unit.instances)]
     if holders:
-        return holders[0].unit, holders[0].calibration, suspects
-    return whole, cal, suspects
-
-
-def _which_effect(problem, fitting, calibrated, pmap, say):
-    """Section 4: every candidate effect of the suspects fitted together with the fit unit's
-    calibration parameters (from its calibrated values), then weighed by evidence against
-    calibration alone (`weigh`): probabilities, the credible set, symmetries; the pair of the
-    two most probable effects when the most probable single leaves a structured gap. Each
-    effect's fit is also scored descriptively against calibration on the signals it can change
-    (``effects``). `fitting`: (unit, its `Calibration`, suspects, regime masks); `calibrated`:
-    the report's table of the model's calibrated values. Return the values of the candidate
-    named (or, undecided, the most probable) {(instance, parameter): value}, calibration
-    refitted with it, and the report's section."""
-    unit, cal, suspects, masks = fitting
-    fmu_dir = problem.fmu_dir
-    calib, jac = cal.free, cal.jac
-    x_cal = [cal.values[(fr.instances[0], fr.name)] for fr in calib]
-    base = {"residuals": cal.residuals, "heldout_gap": gap(unit, cal.residuals, HELD_OUT)}
-    cands = candidates(problem, unit, suspects)
-    say(f"fitting {len(cands)} candidate effect(s), each with {len(calib)} calibration "
-        "parameter(s)")
-    jobs = [FitJob(unit, c.free + calib, fmu_dir, x0=[fr.start for fr in c.free] + x_cal,
-                   scan=len(c.free), known=known_columns(jac, len(c.free)), latency=cal.latency)
-            for c in cands]
-    fits = refine(unit, cands, fit_all(jobs, pmap), calib, cal.latency, fmu_dir, pmap)
-    floor = noise_floor(unit)
-    entries, _ = rank(unit, [base] * len(cands), cands, fits, masks, calib)
-    calibration_only = Weighed(CALIBRATION_ONLY, cal.fit or _unfitted(unit, cal), calib, 0)
-    singles = [Weighed(c.label, f, c.free + calib, len(c.free)) for c, f in zip(cands, fits)
-               if f.applicable and f.residuals is not None]
-    weighed, disc = weigh(unit, calibration_only, singles)
-    effects = [w for w in weighed if w.k]
-    top = weighed[0]
-    if top.k and len(effects) > 1 and not explained(top.fit.heldout_gap, cal.nominal_gap,
-                                                    floor):
-        say("a pair: the two most probable effects together")
-        w1, w2 = effects[0], effects[1]
-        c1, c2 = (next(c for c in cands if c.label == w.name) for w in (w1, w2))
-        pair_fit, = fit_all([FitJob(
-            unit, c2.free + c1.free + calib, fmu_dir, x0=[f.start for f in c2.free] + w1.fit.x,
-            scan=len(c2.free), known=known_columns(jac, len(c2.free) + len(c1.free)),
-            latency=cal.latency)], pmap)
-        if pair_fit.residuals is not None:
-            pair = Weighed(f"{w1.name} + {w2.name}", pair_fit, c2.free + c1.free + calib,
-                           len(c2.free) + len(c1.free))
-            weighed, disc = weigh(unit, calibration_only, singles, [pair], disc)
-    profiles = profile_jobs(unit, singles, calibration_only, disc, fmu_dir)
-    say(f"symmetries: {len(profiles)} profile fit(s), each effect moved and the calibration "
-        "fitted again")
-    fitted = fit_all([job for _, _, job in profiles], pmap)
-    symmetric = symmetries(weighed, [(w, length, f) for (w, length, _), f
-                                     in zip(profiles, fitted)], disc, problem)
-    weighed = with_symmetries(weighed, symmetric)
-    section, name, explanation, complete, chosen = weigh_section(
-        unit, weighed, symmetric, disc, cal.nominal_gap, floor, explained)
-    out = {"effects": entries, "evidence": section,
-           "selected": [chosen.name] if chosen.k and name == chosen.name else [],
-           "consistency": cross_signal(unit, entries, [e for e in entries
-                                                       if e["label"] == chosen.name]),
-           "stand_ins": [s["candidates"][0] for s in symmetric], "verdict": name,
-           "explanation": explanation, "complete": complete, "noise_floor": floor}
-    return (values_of(chosen.free, chosen.fit.x) if chosen.k else {}), out
-
-
-def _unfitted(unit, cal):
-    """A `FitResult` of the nominal values where nothing was calibrated."""
-    res = cal.residuals
-    return FitResult([], [], res, gap(unit, res, TRAIN), gap(unit, res, HELD_OUT), True, 0, None,
-                     cal.latency, np.zeros(0), part_segments(unit, res, TRAIN))
+        return FitUnit(holders[0].unit, holders[0].calibration, frozenset(suspects))
+    return FitUnit(whole, cal, frozenset(suspects))
 
 
 def _shrinkage(problem, calibrated, values, traces, pmap):
-    """Section 5, the report's ``shrinkage``: the held-out gap per signal of the model with every
-    measured signal replayed (`Problem.replayed`), nominal (``before``), calibrated and with
-    the selected effects (``after``, calibration refitted with them), and the latencies found
-    there (``aligned_samples``); the traces for the plots. `calibrated`: (the calibrated values,
-    the nominal runs of that model)."""
+    """Section 5: the held-out gap per signal of the model with every measured signal replayed
+    (`Problem.replayed`), nominal (``before``), calibrated and with the selected effects'
+    `values` (``after``, calibration refitted with them), and the latencies found there
+    (``aligned_samples``); the traces for the plots. `calibrated`: (the calibrated values, the
+    nominal runs of that model). A failed run stands for the calibrated (else nominal) one."""
     unit = problem.replayed()
     calibrated, nominal = calibrated
     wanted = [v for v in (calibrated, {**calibrated, **values}) if v]
@@ -398,8 +283,8 @@ def _shrinkage(problem, calibrated, values, traces, pmap):
     runs = {"calibrated": nominal}
     for key, v in (("calibrated", calibrated), ("after", {**calibrated, **values})):
         run = got[wanted.index(v)] if v else None
-        runs[key] = runs["calibrated"] if run is None else run
-    shifts = {}
+        runs[key] = runs["calibrated"] if run is None or run.failed else run.runs
+    shifts: dict[Signal, int] = {}
     before_res, cal_res = residuals(unit, nominal), residuals(unit, runs["calibrated"])
     after_res = residuals(unit, runs["after"], shifts)
     shrinkage = {c: {**before_after(unit, before_res, after_res, [c]),
@@ -409,4 +294,4 @@ def _shrinkage(problem, calibrated, values, traces, pmap):
     if traces is not None:
         traces.update(unit=unit, nominal=nominal, calibrated=runs["calibrated"],
                       selected=runs["after"])
-    return {"shrinkage": shrinkage, "aligned_samples": shifts}
+    return ShrinkageSection(shrinkage, shifts)

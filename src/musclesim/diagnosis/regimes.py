@@ -8,7 +8,8 @@ pressure in Pa, positions in m) or, for the variables the effect library declare
 >>> import numpy as np
 >>> t = np.linspace(0.0, 10.0, 101)
 >>> T = 300 + 20 * np.minimum(t, 10 - t)  # 5 s heating to 400 K, 5 s cooling
->>> masks = run_masks(t, {"w.T": T}, Signals(temperature="w.T"))
+>>> w_T = Signal("w", "T")
+>>> masks = run_masks(t, {w_T: T}, Signals(temperature=w_T))
 >>> sorted(masks)  # no strain, load, pressure, position or indicator measured
 ['all', 'changing', 'cooling', 'heating', 'hot', 'late']
 >>> int(masks["heating"].sum()), int(masks["cooling"].sum()), int(masks["hot"].sum())
@@ -16,12 +17,14 @@ pressure in Pa, positions in m) or, for the variables the effect library declare
 
 The peak's sample (t = 5 s), whose smoothed rate is zero, is neither heating nor cooling.
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from musclesim.cosim import split_signal
+from musclesim.cosim import Signal
 from musclesim.diagnosis.effects import (FORCE_VARIABLES, REGIMES, STRAIN_VARIABLES,
                                          SWITCHING_INDICATORS)
 from musclesim.diagnosis.stats import smooth_rate, worst_windows
@@ -33,12 +36,12 @@ SWITCHING_WINDOW = 0.5  # s after a friction indicator changes (REGIMES["switchi
 class Signals:
     """The measured columns that define the regimes (None or empty: not measured)."""
 
-    temperature: str = None
-    force: str = None
-    strain: str = None
-    pressure: str = None
-    positions: tuple = ()
-    indicators: tuple = ()
+    temperature: Signal | None = None
+    force: Signal | None = None
+    strain: Signal | None = None
+    pressure: Signal | None = None
+    positions: tuple[Signal, ...] = ()
+    indicators: tuple[Signal, ...] = ()
 
 
 def _first(columns, units, want):
@@ -50,14 +53,14 @@ def regime_signals(outputs, inputs, units, components):
     `units` ({column: unit}) and the scenario's `components` ({instance: component})."""
     columns = list(outputs) + list(inputs)
     force = _first(columns, units, ("N", "Pa")) or next(
-        (c for c in columns if split_signal(c)[1] in FORCE_VARIABLES), None)
+        (c for c in columns if c.variable in FORCE_VARIABLES), None)
     return Signals(
         temperature=_first(columns, units, ("K",)), force=force,
-        strain=next((c for c in columns if split_signal(c)[1] in STRAIN_VARIABLES), None),
+        strain=next((c for c in columns if c.variable in STRAIN_VARIABLES), None),
         pressure=_first(columns, units, ("Pa",)),
         positions=tuple(c for c in columns if units[c] == "m"),
-        indicators=tuple(c for c in inputs if split_signal(c)[1] in SWITCHING_INDICATORS.get(
-            components.get(split_signal(c)[0]), ())))
+        indicators=tuple(c for c in inputs if c.variable in SWITCHING_INDICATORS.get(
+            components.get(c.instance), ())))
 
 
 def run_masks(t, cols, signals):
@@ -104,7 +107,7 @@ def regimes(problem, unit):
     if problem.scalar_only:
         return {"all": [np.ones(1, bool) for _ in unit.runs]}
     signals = regime_signals(ds.outputs, ds.inputs, problem.units_of, problem.components)
-    out = {k: [] for k in REGIMES}
+    out: dict[str, list[np.ndarray]] = {k: [] for k in REGIMES}
     for run in unit.runs:
         _, cols = ds.experiment(run.experiment)
         for key, mask in run_masks(run.time, cols, signals).items():

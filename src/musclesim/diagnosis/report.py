@@ -1,14 +1,20 @@
 """The diagnosis's files: report.json (its shape: the JSON Schema
 musclesim/schemas/report.schema.json, §report-format), report.md (the same, readable) and its plots
-signals.png and effects.png."""
+signals.png and effects.png, all from the `Report` object (`musclesim.diagnosis.sections`)."""
+from __future__ import annotations
+
 import json
 import math
 from pathlib import Path
+from typing import Any, Sequence
 
 import numpy as np
 
 from musclesim.cosim import replace_file, save_figure
+from musclesim.diagnosis.sections import Report
 from musclesim.diagnosis.stats import HELD_OUT
+
+__all__ = ["write", "markdown"]
 
 
 def _num(x, fmt=".3g"):
@@ -21,8 +27,9 @@ def _iv(pair, fmt=".3g"):
     return f"[{_num(pair[0], fmt)}, {_num(pair[1], fmt)}]" if pair else "-"
 
 
-def write(out, report, traces=None):
-    """Write report.json, report.md and (with `traces`) the plots into `out`; return the paths.
+def write(out: str | Path, report: Report, traces: dict[str, Any] | None = None) -> list[Path]:
+    """Write `report`'s report.json, report.md and (with `traces`, as `diagnose` fills them) the
+    plots into folder `out`; return the paths.
 
     The previous report.json goes first and the new one comes last, every file written under a
     temporary name and renamed in place: a folder holding report.json holds that report's files,
@@ -33,23 +40,23 @@ def write(out, report, traces=None):
     paths = [out / "report.json", out / "report.md"]
     paths[0].unlink(missing_ok=True)
     plots = []
-    if traces and traces.get("unit") is not None and not report.get("scalar_only"):
+    if traces and traces.get("unit") is not None and not report.scalar_only:
         plots.append(_plot_signals(out / "signals.png", report, traces))
-    if report.get("effects"):
+    if report.effects:
         plots.append(_plot_effects(out / "effects.png", report))
     replace_file(paths[1], markdown(report, [p.name for p in plots]))
-    replace_file(paths[0], json.dumps(report, indent=1, default=float) + "\n")
+    replace_file(paths[0], json.dumps(report.to_json(), indent=1, default=float) + "\n")
     return paths + plots
 
 
-def markdown(report, plots=()):
-    """The report as Markdown (with `plots`, file names of images in the same folder)."""
-    L = [f"# Diagnosis of {report['data_set']}", "",
-         f"Scenario: {report['scenario']}. Training part: {', '.join(report['parts']['train'])}; "
-         f"held out: {', '.join(report['parts']['held_out'])}.", "",
-         f"## Verdict: **{report['verdict']}**"
-         + ("" if report.get("complete", True) else " (incomplete)"), "",
-         report.get("explanation", "") + ".", ""]
+def markdown(report: Report, plots: Sequence[str] = ()) -> str:
+    """`report` as Markdown (with `plots`, file names of images in the same folder)."""
+    v = report.verdict
+    L = [f"# Diagnosis of {report.data_set}", "",
+         f"Scenario: {report.scenario}. Training part: {', '.join(report.train)}; "
+         f"held out: {', '.join(report.held_out)}.", "",
+         f"## Verdict: **{v.name}**" + ("" if v.complete else " (incomplete)"), "",
+         v.explanation + ".", ""]
     L += (_md_gap(report) + _md_calibration(report) + _md_where(report) + _md_which(report)
           + _md_shrinkage(report))
     L += [""] + [f"![{p}]({p})" for p in plots]
@@ -58,60 +65,61 @@ def markdown(report, plots=()):
 
 def _md_gap(report):
     """Section 1: the whole model's gap, per signal (or metric)."""
-    g = report["gap"]
+    g = report.gap
     L = ["## 1. The gap (whole model, inputs replayed)", "",
-         f"Pooled held-out gap {_num(g['heldout_gap'])} (normalised by each signal's range); "
-         f"noise floor {_num(g['noise_floor'])}; "
-         f"{'deviates' if g['deviates'] else 'within the noise'}.", ""]
-    if report.get("scalar_only"):
+         f"Pooled held-out gap {_num(g.heldout_gap)} (normalised by each signal's range); "
+         f"noise floor {_num(g.noise_floor)}; "
+         f"{'deviates' if g.deviates else 'within the noise'}.", ""]
+    if report.scalar_only:
         L += ["| metric | relative error per experiment |", "|---|---|"]
         L += [f"| {c} | {', '.join(_num(x) for x in e['relative_error'])} |"
-              for c, e in g["signals"].items()]
+              for c, e in g.signals.items()]
     else:
         L += ["| signal | NRMSE | held-out NRMSE | bias (data - model) | lag [s] | noise |",
               "|---|---|---|---|---|---|"]
         L += [f"| {c} | {_num(e['nrmse'])} | {_num(e['nrmse_heldout'])} | {_num(e['bias'])}"
               f"{'' if e['unit'] == '1' else ' ' + e['unit']} | {_num(e.get('lag'))} | "
               f"{_num(e['noise'])} |"
-              for c, e in g["signals"].items()]
+              for c, e in g.signals.items()]
     return L
 
 
 def _md_calibration(report):
     """Section 2: the calibrated nominal values with their intervals, the gap before and after."""
-    c = report.get("calibration") or {}
+    c = report.calibration
     L = ["", "## 2. Calibration (training part; everything below is judged against it)", ""]
-    if not c.get("parameters"):
+    if not c.parameters:
         return L + ["Nothing calibrated (no gap, or no calibration parameter in the model)."]
-    L += [f"Held-out gap {_num(c['heldout_gap_before'])} nominal, "
-          f"{_num(c['heldout_gap_after'])} calibrated.", "",
+    L += [f"Held-out gap {_num(c.heldout_gap_before)} nominal, "
+          f"{_num(c.heldout_gap_after)} calibrated.", "",
           "| parameter | nominal | calibrated [95 % interval] | bounds |", "|---|---|---|---|"]
     L += [f"| {k} | {_num(v['nominal'], '.4g')} | {_num(v['value'], '.4g')} "
           f"{_iv(v['interval'], '.4g')} | {_iv([v['lower'], v['upper']], '.4g')} |"
-          for k, v in c["parameters"].items()]
+          for k, v in c.parameters.items()]
     L += ["", "| signal | held-out gap nominal | calibrated |", "|---|---|---|"]
     L += [f"| {k} | {_num(v['before'])} | {_num(v['after'])} |"
-          for k, v in c.get("signals", {}).items()]
+          for k, v in (c.signals or {}).items()]
     return L
 
 
 def _md_where(report):
     """Section 3: the isolation units, the located instances, the regimes, the worst windows."""
     L = ["", "## 3. Where (calibrated)", ""]
-    if report.get("units"):
+    iso = report.isolation
+    if iso is not None and iso.units:
         L += ["Isolation units (each re-simulated with the measured signals feeding it replayed):",
               "", "| unit | observed | held-out gap | noise floor | deviates |",
               "|---|---|---|---|---|"]
-        L += [f"| {' + '.join(u['instances'])} | {', '.join(u['observed'])} | "
+        L += [f"| {' + '.join(u['instances'])} | {_names(u['observed'])} | "
               f"{_num(u['heldout_gap'])} | {_num(u['noise_floor'])} | {u['deviates']} |"
-              for u in report["units"]]
+              for u in iso.units]
         L += ["", "| instance | component | isolated gap | located | exonerated |",
               "|---|---|---|---|---|"]
         L += [f"| {r['instance']} | {r['component']} | {_num(r['isolated_gap'])} | "
-              f"{r['located']} | {r['exonerated']} |" for r in report["located"]]
+              f"{r['located']} | {r['exonerated']} |" for r in iso.located]
     else:
         L += ["No component can be isolated (scalar-only data or no measured internal signal)."]
-    reg = report.get("regimes", {})
+    reg = iso.regimes if iso is not None else {}
     if reg.get("by_regime"):
         L += ["", "Calibrated gap by regime:", "", "| regime | share of samples | gap |",
               "|---|---|---|"]
@@ -127,12 +135,13 @@ def _md_where(report):
 def _md_which(report):
     """Section 4: the candidates weighed by evidence, then each effect's fit described."""
     L = ["", "## 4. Which cause: the evidence", ""]
-    if not report.get("effects"):
+    ev = report.evidence
+    if ev is None or not ev.effects:
         return L + ["No candidate was fitted."]
-    fu = report.get("fit_unit", {})
-    L += _md_evidence(report.get("evidence"), fu)
+    fu = ev.fit_unit
+    L += _md_evidence(ev.evidence, fu.observed)
     L += ["", "### Each effect's fit", "",
-          f"Fitted in {' + '.join(fu.get('instances', []))} on the training part together with "
+          f"Fitted in {' + '.join(fu.instances)} on the training part together with "
           "the calibration parameters; described on the held-out part against calibration "
           "alone, on the signals each effect can change (the gain and its bootstrap interval, "
           "whether it gains most in the regime it predicts, how far the calibration makes its "
@@ -142,37 +151,37 @@ def _md_which(report):
           "-> with effect | gain [95 %] | pooled gap | regime gain ratio | collinearity with "
           "calibration | gains clearly |",
           "|---|---|---|---|---|---|---|---|---|---|"]
-    for i, e in enumerate(report["effects"], 1):
+    for i, e in enumerate(ev.effects, 1):
         vals = "; ".join(f"{n} = {_num(p['value'], '.4g')} {_iv(p['interval'], '.3g')}"
                          for n, p in e["parameters"].items())
         j = e.get("judged") or {}
         sig = e["signature"]
         mark = " *" if e.get("baseline", "calibration") != "calibration" else ""
-        L.append(f"| {i} | {e['label']}{mark} | {vals} | {', '.join(j.get('signals', []))} | "
+        L.append(f"| {i} | {e['label']}{mark} | {vals} | {_names(j.get('signals', []))} | "
                  f"{_num(j.get('before'))} -> {_num(j.get('after'))} | "
                  f"{_num(j.get('gain'), '.2f')} {_iv(j.get('interval'), '.2f')} | "
                  f"{_num(e['heldout_gap_before'])} -> {_num(e['heldout_gap_after'])} | "
                  f"{sig['regime']}: {_num(sig['gain_ratio'], '.2f')} | {_alias(e)} | "
                  f"{e['counts']} |")
     L += ["", "Per signal, held-out gap calibrated -> with the effect:", "",
-          "| effect | " + " | ".join(report["fit_unit"].get("observed", [])) + " |",
-          "|---|" + "---|" * len(report["fit_unit"].get("observed", []))]
-    for e in report["effects"]:
+          "| effect | " + " | ".join(map(str, fu.observed)) + " |",
+          "|---|" + "---|" * len(fu.observed)]
+    for e in ev.effects:
         ps = e.get("per_signal", {})
         L.append(f"| {e['label']} | " + " | ".join(
             f"{_num(ps[c]['before'])} -> {_num(ps[c]['after'])}" if c in ps else "-"
-            for c in report["fit_unit"].get("observed", [])) + " |")
-    if report.get("consistency"):
-        L += ["", "Cross-signal evidence: " + report["consistency"]]
+            for c in fu.observed) + " |")
+    if ev.consistency:
+        L += ["", "Cross-signal evidence: " + ev.consistency]
     return L
 
 
-def _md_evidence(ev, fit_unit):
-    """The evidence table: each candidate's probability, log evidence, predictive check and
-    held-out gaps, the credible set, why the others are out, the symmetries."""
+def _md_evidence(ev, signals):
+    """The evidence table of section `ev` (held-out gaps of the fit unit's observed
+    `signals`): each candidate's probability, log evidence, predictive check and held-out gaps,
+    the credible set, why the others are out, the symmetries."""
     if not ev:
         return []
-    signals = fit_unit.get("observed", [])
     L = ["Each candidate (calibration alone, each effect of the located components with the "
          "calibration parameters, a pair where the most probable leaves a structured gap) is "
          "weighed by its evidence on the training part: its marginal likelihood under a model of "
@@ -181,7 +190,7 @@ def _md_evidence(ev, fit_unit):
          "check is the RMS of the standardised held-out innovations (about 1: described; above "
          "3: not).", "",
          "| candidate | probability | log evidence | predictive check | held-out gap "
-         + " | ".join(signals) + " |",
+         + " | ".join(map(str, signals)) + " |",
          "|---|---|---|---|" + "---|" * len(signals)]
     for c in ev["candidates"]:
         gaps = " | ".join(_num(c["heldout_gap"].get(s)) for s in signals)
@@ -201,6 +210,11 @@ def _md_evidence(ev, fit_unit):
     return L
 
 
+def _names(signals):
+    """`signals` printed, comma-separated."""
+    return ", ".join(map(str, signals))
+
+
 def _alias(entry):
     a = entry.get("aliasing")
     return "-" if not a else f"{a['index']:.3g} ({', '.join(a['with'])})"
@@ -209,13 +223,13 @@ def _alias(entry):
 def _md_shrinkage(report):
     """Section 5: the held-out gap per signal nominal, calibrated, with the selected effects."""
     L = ["", "## 5. How far it shrinks (held-out part, every measured signal replayed)", "",
-         f"Selected: {', '.join(report.get('selected') or ['nothing'])}.", "",
+         f"Selected: {', '.join(report.verdict.selected or ['nothing'])}.", "",
          "| signal | nominal [95 %] | calibrated | with the selected effects [95 %] |",
          "|---|---|---|---|"]
     L += [f"| {c} | {_num(s['before'])} {_iv(s['interval_before'])} | "
           f"{_num(s.get('calibrated'))} | {_num(s['after'])} {_iv(s['interval_after'])} |"
-          for c, s in report.get("shrinkage", {}).items()]
-    shifted = {c: n for c, n in report.get("aligned_samples", {}).items() if n}
+          for c, s in report.shrinkage.signals.items()]
+    shifted = {c: n for c, n in report.shrinkage.aligned_samples.items() if n}
     if shifted:
         L += ["", "Sensor channels compared allowing for acquisition latency: " + ", ".join(
             f"{c} {n} sample(s) behind" for c, n in shifted.items()) + "."]
@@ -247,19 +261,19 @@ def _plot_signals(path, report, traces):
             if traces.get("calibrated") is not None:
                 ax.plot(t, traces["calibrated"][i][c], color="tab:orange", lw=0.8,
                         label="calibrated" if first else None)
-            if report.get("selected"):
+            if report.verdict.selected:
                 ax.plot(t, traces["selected"][i][c], color="tab:green", lw=0.8, ls="--",
-                        label=" + ".join(report["selected"]) if first else None)
+                        label=" + ".join(report.verdict.selected) if first else None)
             held = run.part == HELD_OUT
             if held.any():
                 ax.axvspan(t[held][0], t[held][-1], color="tab:blue", alpha=0.07,
                            label="held out" if first else None)
-        unit_name = report["gap"]["signals"].get(c, {}).get("unit", "")
+        unit_name = report.gap.signals.get(c, {}).get("unit", "")
         ax.set_ylabel(f"{c} [{unit_name}]", fontsize=8)
         ax.grid(alpha=0.3)
     axes[0, 0].legend(fontsize=7, loc="best")
     axes[-1, 0].set_xlabel("time [s]")
-    fig.suptitle(f"verdict: {report['verdict']}", fontsize=10)
+    fig.suptitle(f"verdict: {report.verdict.name}", fontsize=10)
     fig.tight_layout()
     save_figure(fig, path, dpi=100)
     plt.close(fig)
@@ -268,15 +282,15 @@ def _plot_signals(path, report, traces):
 
 def _plot_effects(path, report):
     plt = _plt()
-    es = report["effects"]
+    es = report.effects
     fig, ax = plt.subplots(figsize=(8, 0.45 * len(es) + 1.5))
     y = np.arange(len(es))[::-1]
     ax.barh(y, [e["heldout_gap_after"] for e in es],
             color=["tab:green" if e["counts"] else "0.6" for e in es])
-    ax.axvline(report["gap"]["heldout_gap"], color="tab:red", lw=1, label="nominal")
+    ax.axvline(report.gap.heldout_gap, color="tab:red", lw=1, label="nominal")
     ax.axvline(es[0]["heldout_gap_before"], color="tab:orange", lw=1, ls="--",
                label="calibrated")
-    ax.axvline(report.get("noise_floor", 0), color="0.3", lw=1, ls=":", label="noise floor")
+    ax.axvline(report.verdict.noise_floor, color="0.3", lw=1, ls=":", label="noise floor")
     ax.set_yticks(y, [e["label"] for e in es], fontsize=8)
     ax.set_xlabel("pooled held-out gap with the effect and calibration (green: counts)")
     ax.legend(fontsize=7)

@@ -10,16 +10,23 @@ it). `simulate` keeps the outputs that the other instances passed them in its la
 runs (`Unit.restarts`) and, when a run's values upstream are those of a kept run, simulates only
 the instances downstream, those outputs replayed into them: under the Jacobi algorithm, where
 every instance reads the others' outputs of the same communication point, the same bits as the
-whole run (tests/diagnosis/test_simulate_restart.py).
+whole run (tests/diagnosis/test_simulate.py).
 """
+from __future__ import annotations
+
 import math
-from dataclasses import replace
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from musclesim.cosim import Graph, Master, compute_metrics, split_signal
-from musclesim.diagnosis.stats import HELD_OUT, TRAIN, advance, gap, lag
+from musclesim.cosim import Master, ParamRef, compute_metrics, with_values
+from musclesim.diagnosis.stats import HELD_OUT, TRAIN, Part, advance, gap, lag
 from musclesim.diagnosis.thresholds import MAX_ALIGN
+
+if TYPE_CHECKING:
+    from musclesim.diagnosis.problem import Unit
 
 
 RESTARTS = 16  # upstream runs a unit keeps for downstream restarts (a few signals each)
@@ -29,21 +36,27 @@ class Failed(Exception):
     """A simulation of candidate values failed (reported, not raised to the user)."""
 
 
-def with_values(s, values):
-    """Scenario `s` with ``{(instance, parameter): value}`` applied (instances not in `s`
-    skipped)."""
-    instances = dict(s.instances)
-    for (inst, par), v in values.items():
-        if inst in instances:
-            old = instances[inst]
-            instances[inst] = replace(old, parameters={**old.parameters, par: float(v)})
-    return replace(s, instances=instances)
+@dataclass(frozen=True)
+class Simulated:
+    """A simulation task's outcome (`musclesim.diagnosis.fitting.simulation_task`): the `runs`
+    `simulate` gives ([{column: array}] per run), or, when a run failed, None and the
+    failure's message (`error`): a failure is a value that says why, not a None."""
+
+    runs: list[dict[Any, np.ndarray]] | None
+    error: str | None = None
+
+    @property
+    def failed(self) -> bool:
+        """Whether the simulation failed (`error` says why)."""
+        return self.runs is None
 
 
-def simulate(unit, values, fmu_dir, part=None):
-    """Model values of every run of `unit` with parameter `values`: [{column: array}] per run.
+def simulate(unit: Unit, values: Mapping[ParamRef, float], fmu_dir: Any,
+             part: Part | None = None) -> list[dict[Any, np.ndarray]]:
+    """Model values of every run of `unit` with parameter `values` ({ParamRef: value}, applied
+    by `musclesim.cosim.with_values`), the FMUs in `fmu_dir`: [{column: array}] per run.
 
-    ``part=TRAIN`` simulates only what the training part needs, as a fit's every step does: each
+    With `part` ``TRAIN`` it simulates only what the training part needs, as a fit's every step does: each
     run up to its last training row (the model is causal, so those rows are the same to the
     bit), the rows after it NaN; a run without training rows is not run.
     Raises `Failed` when a run fails (the effect's values are then not viable).
@@ -63,7 +76,7 @@ def simulate(unit, values, fmu_dir, part=None):
                 inputs = {k: v[:s.n_steps + 1] for k, v in inputs.items()}
         if run.time is None:  # scalar-only: the scenario's metrics
             res = _ran(s, fmu_dir, inputs)
-            metrics = compute_metrics(res, s.metrics)
+            metrics: dict[Any, float] = compute_metrics(res, s.metrics)  # by metric name
             # a metric of another experiment's scenario: no comparison here (NaN, as measured)
             out.append({m: np.array([metrics.get(m, math.nan)]) for m in unit.observed})
         else:
@@ -91,8 +104,8 @@ def _downstream(s, values):
     (a reader stepped after its source takes the source's output after its step)."""
     if s.algorithm != "jacobi":
         return None
-    graph = Graph(s)
-    fitted = {inst for inst, _ in values if inst in s.instances}
+    graph = s.graph
+    fitted = {ref.instance for ref in values if ref.instance in s.instances}
     kept = graph.downstream({x for x in fitted if graph.downstream({x}) & fitted == {x}})
     if not kept or kept == set(s.instances):
         return None
@@ -110,25 +123,28 @@ def _run(unit, which, s, inputs, values, fmu_dir):
         return res.time, {c: res[c] for c in s.record}
     graph, kept, cut = split
     key = (which, frozenset(kept),
-           tuple(sorted((k, v) for k, v in values.items() if k[0] not in kept)))
+           tuple(sorted((k, v) for k, v in values.items() if k.instance not in kept)))
     if key not in unit.restarts:
         # the cut links' sources are read at every exchange anyway: recording them changes nothing
         record = tuple(dict.fromkeys((*s.record, *(k.src for k in cut))))
         res = _ran(replace(s, record=record), fmu_dir, inputs)
         unit.restarts[key] = ({k.dst: res[k.src] for k in cut},
-                              {c: res[c] for c in s.record if split_signal(c)[0] not in kept})
+                              {c: res[c] for c in s.record if c.instance not in kept})
         while len(unit.restarts) > RESTARTS:
             del unit.restarts[next(iter(unit.restarts))]
         return res.time, {c: res[c] for c in s.record}
     fed, upstream = unit.restarts[key]
-    alone = graph.restrict(kept, fed, [c for c in s.record if split_signal(c)[0] in kept])
+    alone = graph.restrict(kept, fed, [c for c in s.record if c.instance in kept])
     res = _ran(alone, fmu_dir, {**{k: v for k, v in inputs.items()
-                                   if split_signal(k)[0] in kept}, **fed})
+                                   if k.instance in kept}, **fed})
     return res.time, {**upstream, **{c: res[c] for c in alone.record}}
 
 
-def residuals(unit, sims, shifts=None, align=None):
-    """Normalised residuals (model - measured) / range: ``{column: [array per run]}``.
+def residuals(unit: Unit, sims: list[dict[Any, np.ndarray]],
+              shifts: dict[Any, int] | None = None,
+              align: dict[Any, int] | None = None) -> dict[Any, list[np.ndarray]]:
+    """Normalised residuals (model `sims` - measured) / range of `unit`: ``{column: [array per
+    run]}``.
 
     An alignable column (a sensor channel nothing simulated in the unit reads) is compared
     shifted back by the whole number of samples, 0..MAX_ALIGN, that fits the training part
@@ -146,6 +162,7 @@ def residuals(unit, sims, shifts=None, align=None):
                        for r, run in zip(res, unit.runs))
             if best is None or cost < best[0]:
                 best = (cost, d, res)
+        assert best is not None  # one shift at least
         out[c] = best[2]
         if shifts is not None and c in unit.alignable:
             shifts[c] = best[1]

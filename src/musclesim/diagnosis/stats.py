@@ -13,8 +13,12 @@ are thin wrappers that read a unit's arrays: anything with ``observed`` (column 
 >>> interval95(np.arange(101.0))
 [2.5, 97.5]
 """
+from __future__ import annotations
+
 import math
+from collections.abc import Iterable
 from enum import IntEnum
+from typing import Any
 
 import numpy as np
 from scipy import signal
@@ -151,8 +155,10 @@ def part_segments(unit, res, part):
     return {c: [r[m][np.isfinite(r[m])] for r, m in zip(res[c], rows)] for c in unit.observed}
 
 
-def gap(unit, res, part, columns=None):
-    """Pooled gap of `part`: RMS of the normalised residuals (of `columns`, default all)."""
+def gap(unit: Any, res: dict[Any, list[np.ndarray]], part: Part,
+        columns: Iterable[Any] | None = None) -> float:
+    """Pooled gap of `part` of `unit`: RMS of the normalised residuals `res` (of `columns`,
+    default all)."""
     return rms(part_vector(unit, res, part, columns))
 
 

@@ -11,13 +11,16 @@ break the symmetry. The verdict names the most probable candidate when its proba
 NAME_LEVEL (``recalibration`` for calibration only), else the credible set (``A or B``);
 ``unexplained`` when no candidate passes the predictive check.
 """
+from __future__ import annotations
+
 import math
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
 
 from musclesim.diagnosis import evidence as ev
-from musclesim.diagnosis.fitting import FitJob, values_of
+from musclesim.diagnosis.fitting import FitJob, FitResult, Free, values_of
 from musclesim.diagnosis.stats import HELD_OUT, gap, part_segments
 from musclesim.diagnosis.thresholds import (NAME_LEVEL, PREDICTIVE_MAX, PROFILE_SCALE,
                                            SYMMETRY_CHI2)
@@ -31,12 +34,12 @@ class Weighed:
     effect's first, `k` of them, then the calibration's), and what the weighing found."""
 
     name: str
-    fit: object
-    free: list
+    fit: FitResult
+    free: list[Free]
     k: int
-    evidence: object = None
+    evidence: ev.Evidence | None = None
     probability: float = 0.0
-    predictive: float = None  # RMS of the standardised held-out innovations
+    predictive: float | None = None  # RMS of the standardised held-out innovations
     prior: float = 0.0
 
 
@@ -123,7 +126,7 @@ def profile_jobs(unit, singles, calibration, disc, fmu_dir, scale=PROFILE_SCALE)
         u = ev.symmetry(w.evidence.information, w.k)[1]
         known = {i: w.fit.jac[:, w.k + i] for i in range(len(w.free) - w.k)}
         room = {sign: _room(z0, sign * u, scale) for sign in (1, -1)}
-        signs = [s for s in room if room[s] >= scale] or [max(room, key=room.get)]
+        signs = [s for s in room if room[s] >= scale] or [max(room, key=lambda s: room[s])]
         for sign in signs:
             if room[sign] < scale / 4:  # pinned in a corner: nothing to extrapolate from
                 continue
@@ -157,7 +160,7 @@ def symmetries(weighed, profiles, disc, problem, scale=PROFILE_SCALE):
     tells the effect from a recalibration. Returns [{"candidates", "chi2", "test", "with",
     "breaks_with"}]: the calibration parameters that moved most (in the data's metric) and what
     would separate them, a condition the data set can state first."""
-    best = {}
+    best: dict[str, tuple[float, FitResult]] = {}
     for w, length, prof in profiles:
         if prof.train is not None:
             chi2 = abs(_quadratic(prof.train, disc) - _quadratic(w.fit.train, disc)) * (
@@ -179,7 +182,7 @@ def symmetries(weighed, profiles, disc, problem, scale=PROFILE_SCALE):
         calib = w.free[w.k:]
         partners = [calib[i] for i in np.argsort(-carried, kind="stable")[:2] if carried[i] > 0]
         out.append({"candidates": [w.name, CALIBRATION_ONLY], "chi2": chi2, "test": test,
-                    "with": [f"{','.join(f.instances)}.{f.name}" for f in partners],
+                    "with": [f.key for f in partners],
                     "breaks_with": sorted((_breaks(problem, f) for f in partners),
                                           key=lambda b: not b.startswith("state "))
                     or ["an experiment in which the effect acts and the calibration cannot"]})
@@ -195,18 +198,33 @@ def _breaks(problem, free):
     """What separates an effect from calibration parameter `free`: stating it, when the data
     set can (an input nothing in the scenario feeds, such as a room's temperature), else
     measuring it apart or an experiment that moves it alone."""
-    inst = free.instances[0]
-    var = problem.vars.get(inst, {}).get(free.name)
-    name = f"{inst}.{free.name}"
+    ref = free.refs[0]
+    var = problem.vars.get(ref.instance, {}).get(ref.name)
+    name = str(ref)
     if var is not None and var.causality == "input":
         return f"state {name} in the data set's [conditions] (measure it on the bench)"
     return (f"measure {name} apart, or record an experiment in which it acts differently "
             "from the effect")
 
 
+@dataclass(frozen=True)
+class Judgement:
+    """What the weighing concludes: the report's `evidence` section, the `verdict`, its
+    `explanation`, whether the gap left is unstructured (`complete`) and the candidate named
+    or, undecided, the most probable (`chosen`)."""
+
+    evidence: dict[str, Any]
+    verdict: str
+    explanation: str
+    complete: bool
+    chosen: Weighed
+
+
 def section(unit, weighed, symmetric, disc, nominal_gap, floor, explained):
-    """The report's ``evidence`` section and the verdict: (section, verdict, explanation,
-    complete, the candidate named or most probable)."""
+    """The report's ``evidence`` section and the verdict as a `Judgement`, from the candidates
+    `weighed` in fit `unit` (most probable first), the `symmetric` effects (`symmetries`), the
+    discrepancies `disc`, the held-out gap of the nominal values `nominal_gap` and the noise
+    `floor`; `explained(after, before, floor)` says whether a gap left is unstructured."""
     names = [w.name for w in weighed]
     probs = [w.probability for w in weighed]
     credible = ev.credible_set(names, probs)
@@ -218,7 +236,7 @@ def section(unit, weighed, symmetric, disc, nominal_gap, floor, explained):
             "log_evidence": w.evidence.log_evidence,
             "log_likelihood": w.evidence.log_likelihood, "occam": w.evidence.occam,
             "predictive": w.predictive,
-            "parameters": {f"{','.join(f.instances)}.{f.name}": {
+            "parameters": {f.key: {
                 "value": x, "interval": list(iv), "lower": f.lower, "upper": f.upper}
                 for f, x, iv in zip(w.free, w.fit.x, w.fit.interval)},
             "heldout_gap": {c: gap(unit, w.fit.residuals, HELD_OUT, [c]) for c in unit.observed}
@@ -253,4 +271,4 @@ def section(unit, weighed, symmetric, disc, nominal_gap, floor, explained):
     complete = explained(chosen.fit.heldout_gap, nominal_gap, floor)
     out = {"candidates": rows, "set": credible, "symmetries": symmetric,
            "discrepancy": discrepancy, "level": NAME_LEVEL}
-    return out, verdict, text, complete, chosen
+    return Judgement(out, verdict, text, complete, chosen)

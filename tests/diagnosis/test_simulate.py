@@ -7,6 +7,7 @@ from dataclasses import replace
 import numpy as np
 
 from musclesim.cosim import reuse_fmus
+from musclesim.cosim import ParamRef, Signal
 from musclesim.diagnosis import dataset
 from musclesim.diagnosis import simulate as sim
 from musclesim.diagnosis.problem import Problem
@@ -38,8 +39,8 @@ def test_a_sensors_values_rerun_the_sensor_alone_to_the_same_bits(fmu_dir, monke
         return master(s, *args, **kwargs)
 
     monkeypatch.setattr(sim, "Master", counting)
-    first = {("wire", "h"): 110.0, ("thermocouple", "tau"): 0.2}
-    second = {("wire", "h"): 110.0, ("thermocouple", "tau"): 0.5}
+    first = {ParamRef("wire", "h"): 110.0, ParamRef("thermocouple", "tau"): 0.2}
+    second = {ParamRef("wire", "h"): 110.0, ParamRef("thermocouple", "tau"): 0.5}
     with reuse_fmus():
         for part in (TRAIN, None):
             ran.clear()
@@ -51,9 +52,10 @@ def test_a_sensors_values_rerun_the_sensor_alone_to_the_same_bits(fmu_dir, monke
         assert unit.restarts and not pickle.loads(pickle.dumps(unit)).restarts  # nor a worker's
         # h changed: the kept run does not apply, the whole model runs again
         ran.clear()
-        moved = sim.simulate(unit, {**second, ("wire", "h"): 120.0}, fmu_dir)
+        moved = sim.simulate(unit, {**second, ParamRef("wire", "h"): 120.0}, fmu_dir)
         assert len(ran[0]) > 1
-        assert not np.array_equal(moved[0]["wire.strain"], restarted[0]["wire.strain"])
+        strain = Signal("wire", "strain")
+        assert not np.array_equal(moved[0][strain], restarted[0][strain])
 
 
 def test_no_restart_where_the_master_is_gauss_seidel_or_nothing_is_upstream(fmu_dir):
@@ -61,9 +63,10 @@ def test_no_restart_where_the_master_is_gauss_seidel_or_nothing_is_upstream(fmu_
     run = Problem(ds, fmu_dir).unit("model").runs[0]
     s, _ = run.stepped(run.scenario)  # the constant load replayed already (`Run.stepped`)
     assert set(s.instances) == {"wire", "thermocouple"}
-    values = {("wire", "h"): 110.0, ("thermocouple", "tau"): 0.2}
+    values = {ParamRef("wire", "h"): 110.0, ParamRef("thermocouple", "tau"): 0.2}
     _, kept, cut = sim._downstream(s, values)
-    assert kept == {"thermocouple"} and [k.dst for k in cut] == ["thermocouple.T"]
+    assert kept == {"thermocouple"} and [k.dst for k in cut] == [Signal("thermocouple", "T")]
     assert sim._downstream(replace(s, algorithm="gauss-seidel"), values) is None
-    assert sim._downstream(s, {("wire", "h"): 110.0}) is None  # the wire feeds the sensor
+    # the wire feeds the sensor
+    assert sim._downstream(s, {ParamRef("wire", "h"): 110.0}) is None
     assert sim._downstream(s, {}) is None
