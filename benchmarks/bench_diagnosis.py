@@ -26,11 +26,11 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def timed(ds, fmu_dir, pmap):
-    """(report, seconds in all, [(stage, seconds from the start)])."""
+    """(report.json's content, seconds in all, [(stage, seconds from the start)])."""
     t0, stages = time.perf_counter(), []
     report = diagnose(ds, fmu_dir, pmap, lambda text: stages.append(
         (text, time.perf_counter() - t0)))
-    return report, time.perf_counter() - t0, stages
+    return report.to_json(), time.perf_counter() - t0, stages
 
 
 def reference(ds, fmu_dir):
