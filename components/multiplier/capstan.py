@@ -172,6 +172,7 @@ class Segment:
     """One segment's state: temperature [C], hysteresis memory, martensite fraction, strain."""
 
     def __init__(self, params: thermal.ThermalParams, surface: Hypersurface) -> None:
+        """A segment of thermal `params` (this segment's length) on the hysteresis `surface`."""
         self.p = params  # ThermalParams with this segment's length
         # the straight wire's thermal submodel, without its effects: lumped, ends none
         self.thermal = submodels.Lumped()
@@ -212,6 +213,7 @@ class Multiplier:
     """
 
     def __init__(self, params: CapstanParams, surface: Hypersurface) -> None:
+        """The multiplier of `params` (checked here), its wire's segments on the `surface`."""
         params.check()
         self.params = params
         self.surface = surface

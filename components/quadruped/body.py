@@ -131,6 +131,7 @@ class Quadruped:
     """
 
     def __init__(self, p: QuadrupedParams) -> None:
+        """The quadruped of parameters `p` (checked here), at rest."""
         p.check()
         self.p = p
         self.N = normal_force(p)

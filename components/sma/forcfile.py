@@ -37,6 +37,7 @@ class TableError(ValueError):
     """Bad table entries; `entries` lists their (stress, a, b) positions in the table."""
 
     def __init__(self, message: str, entries: list[tuple[int, int, int]]) -> None:
+        """The error's `message` and the `entries` at fault."""
         super().__init__(message)
         self.entries = entries
 

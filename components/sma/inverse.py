@@ -35,6 +35,7 @@ class InverseBases:
     """
 
     def __init__(self, surface: Hypersurface, n: int = N_DENSE) -> None:
+        """The inverse tables of `surface`, densified to `n` x `n` temperatures."""
         if not (isinstance(n, int) and n >= 2):
             raise ValueError(f"n must be an integer >= 2 (got {n!r})")
         self.n = n

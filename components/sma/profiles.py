@@ -24,6 +24,8 @@ class Profile:
 
     def __init__(self, name: str, fn: Callable[[np.ndarray], np.ndarray], lo: float, hi: float,
                  duration: float, made: tuple[Callable[..., Profile], tuple] | None = None) -> None:
+        """Profile `name`: values `fn` of time in [`lo`, `hi`] over `duration` [s], `made` by that
+        call."""
         self.name, self.lo, self.hi, self.duration = name, lo, hi, duration
         self._fn, self.made = fn, made
 

@@ -8,6 +8,7 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import forcfile
 
@@ -58,7 +59,8 @@ class Hypersurface:
     (10.0, 5.0)
     """
 
-    def __init__(self, temps, stresses, F):  # array-likes, made read-only arrays here
+    def __init__(self, temps: ArrayLike, stresses: ArrayLike, F: ArrayLike) -> None:
+        # `temps`, `stresses` and `F` (see the class's Parameters) made read-only arrays here
         temps = np.array(temps, dtype=float)
         stresses = np.array(stresses, dtype=float)
         table = np.array(F, dtype=float)
@@ -74,7 +76,7 @@ class Hypersurface:
         self.inv_h = self.n_cells / (self.t_hi - self.t_lo)
         self.cells = _cell_coefficients(table)
         self._levels = [float(s) for s in stresses]
-        self._warned = set()
+        self._warned: set[str] = set()
 
     @classmethod
     def from_function(cls, f: Callable[[float, float, float], float],

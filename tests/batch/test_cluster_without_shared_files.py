@@ -217,7 +217,7 @@ def test_a_diagnosis_on_workers_that_see_none_of_the_clients_files(cluster, clie
     after = _tree(client_dir)
     assert {p: after[p] for p in before} == before
     assert all(p.is_relative_to(out) for p in set(after) - set(before))
-    here = diagnose(load_dataset(data, check_model=True, fmu_dir=fmus), fmus)  # in this process
+    here = diagnose(load_dataset(data, check_model=True, fmu_dir=fmus), fmus).to_json()  # here
     assert json.loads((out / "report.json").read_text()) == json.loads(json.dumps(here,
                                                                                   default=float))
     check_isolation(folders, client_dir)

@@ -36,7 +36,7 @@ def test_a_recorded_crawler_case_is_a_data_set_of_the_gait_model(fmu_dir, tmp_pa
     # section 4's model keeps the body's measured positions coupled to its actuator (video
     # replayed there would be differentiated): the true leakage closes the gap there
     replayed = Problem(recorded["leak"], fmu_dir).replayed()
-    assert not any("flange" in dst for dst in replayed.runs[0].inputs)
+    assert not any("flange" in dst.variable for dst in replayed.runs[0].inputs)
     gaps = scoring.oracle((case, recorded["leak"], {}, fmu_dir))
     assert gaps["oracle"] < 0.5 * gaps["before"]
 

@@ -5,6 +5,7 @@ import shutil
 import pytest
 
 from musclesim import cli
+from musclesim.cosim import Signal
 
 from conftest import SCENARIOS
 
@@ -201,7 +202,8 @@ def test_a_scenario_extends_another(fmu_dir, tmp_path, capsys):
     assert s.instances["body"].parameters == {"m1": 0.2, "m2": 0.2, "k": 200.0, "c": 1.3,
                                               "theta": 0.1}
     assert s.metrics["x1_final"].op == "max" and "mean_speed" in s.metrics
-    assert s.record[-2:] == ("friction2.flange.f", "body.flange_a.N")  # lists are added to
+    assert s.record[-2:] == (Signal("friction2", "flange.f"),  # lists are added to
+                             Signal("body", "flange_a.N"))
     (tmp_path / "base.toml").write_text('extends = "variant.toml"\n')
     code, _, err = run(capsys, "run", tmp_path / "variant.toml", "--out", tmp_path / "o",
                        "--fmus", fmu_dir)

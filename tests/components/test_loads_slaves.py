@@ -9,7 +9,7 @@ import pytest
 from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 
-from musclesim.cosim import host
+from musclesim.cosim import Signal, host
 from musclesim.components.loads import loads
 
 G = 9.80665
@@ -164,7 +164,7 @@ def test_dead_weight_inertia_in_the_wire_loop_is_stable(fmu_dir):
     s = scenario.load(SCENARIOS / "sma-dead-weight.toml", ["weight.inertia=1"], stop_time=2.0)
     res = master.Master(s, fmu_dir).run()
     assert res.error is None, res.error
-    f, mg = res["weight.flange.f"], 0.15 * G
+    f, mg = res[Signal("weight", "flange.f")], 0.15 * G
     assert 0.1 * mg < f.max() - f.min() < mg  # it shows, and it stays a load
     assert np.max(np.abs(np.diff(f))) < 0.03 * mg  # omega h = 0.02: smooth, no step-to-step swing
-    assert np.max(np.abs(res["weight.lift"] - 0.1 * res["wire.strain"])) > 1e-4
+    assert np.max(np.abs(res[Signal("weight", "lift")] - 0.1 * res[Signal("wire", "strain")])) > 1e-4

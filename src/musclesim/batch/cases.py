@@ -104,7 +104,7 @@ def finished(case_dir: str | Path) -> dict[str, Any] | None:
 
 def claim(out: str | Path, scenario_path: str | Path, **settings: Any) -> None:
     """Record in `out`/sweep.json what the cases come from (the scenario file `scenario_path` and
-    its hash, the FMUs' sources, `settings`), refusing a folder whose cases came from something
+    its hash, the FMUs' sources, `**settings`), refusing a folder whose cases came from something
     else.
 
     Raises

@@ -87,15 +87,16 @@ class Graph(Generic[W]):
 
     def edges(self, feedthrough: Callable[[str, str], object] | None = None
               ) -> set[tuple[str, str]]:
-        """{(source, target)} of every link, or of the links whose input `feedthrough(target,
-        input)` says an output of the target depends on at the same instant."""
+        """{(source, target)} of every link, or of the links whose input `feedthrough`, called as
+        ``feedthrough(target, input)``, says an output of the target depends on at the same
+        instant."""
         return {(k.source, k.target) for k in self.links
                 if feedthrough is None or feedthrough(k.target, k.input)}
 
     def order(self, edges: Collection[tuple[str, str]],
               pick_in_cycle: Callable[[list[str]], str]) -> list[str]:
         """The instances ordered so that each of the `edges`' source comes first; in a cycle,
-        `pick_in_cycle(remaining)` chooses the next one."""
+        `pick_in_cycle` (called with the instances remaining) chooses the next one."""
         incoming = {n: {a for a, b in edges if b == n and a != n} for n in self.instances}
         order: list[str] = []
         remaining = list(self.instances)

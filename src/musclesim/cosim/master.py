@@ -208,7 +208,7 @@ class Master:
     def run(self, on_rows: Rows | None = None) -> Results:
         """Run the scenario; return `Results` (with ``error`` set if an instance failed).
 
-        `on_rows(time, data)`, if given, receives the rows recorded since its last call about
+        `on_rows`, if given, called as ``on_rows(time, data)``, receives the rows recorded since its last call about
         every `FLUSH_SECONDS` of wall time and once at the end, so that a caller can write them
         as the run goes. A signal caught by `interrupt.interruptible` stops the run at its next
         step: `interrupt.Interrupted` is raised with the `Results` so far (rows handed over too).

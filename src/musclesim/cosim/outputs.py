@@ -62,7 +62,7 @@ def replace_file(path: str | Path, data: str | bytes) -> None:
 
 def save_figure(fig: Any, path: str | Path, **options: Any) -> None:
     """Save the matplotlib figure `fig` at `path` the way `replace_file` writes a file (``savefig``
-    `options`)."""
+    `**options`)."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.stem}.tmp{path.suffix}")  # the suffix names the format
