@@ -5,7 +5,7 @@ import pytest
 from fmpy import read_model_description
 
 from musclesim.components import CATALOGUE
-from musclesim.cosim import Master, load_scenario
+from musclesim.cosim import Master, load_scenario, with_values
 from musclesim.diagnosis import effects
 
 from conftest import SCENARIOS
@@ -54,9 +54,9 @@ def test_off_values_are_the_fmu_defaults(fmu_dir, effect):
         assert p.lower < p.upper
 
 
-def _run(fmu_dir, name, overrides):
+def _run(fmu_dir, name, overrides, values=None):
     s = load_scenario(SCENARIOS / f"{name}.toml", overrides, stop_time=2.0)
-    res = Master(s, fmu_dir).run()
+    res = Master(with_values(s, values or {}), fmu_dir).run()
     assert res.error is None, res.error
     return res.data
 
@@ -78,12 +78,12 @@ def test_off_is_nominal_exactly_and_on_changes_the_run(fmu_dir, effect):
     name, instance = WHERE[effect.component]
     context = CONTEXT.get(effect.name, [])
     nominal = _nominal(fmu_dir, name, context)
-    off = _run(fmu_dir, name, context + effect.overrides(instance, [p.off for p in effect.parameters]))
+    off = _run(fmu_dir, name, context, effect.values(instance, [p.off for p in effect.parameters]))
     assert np.array_equal(nominal, off)
     # on: the bound farthest from off, for every parameter
     far = [p.upper if abs(p.upper - p.off) >= abs(p.lower - p.off) else p.lower
            for p in effect.parameters]
-    on = _run(fmu_dir, name, context + effect.overrides(instance, far))
+    on = _run(fmu_dir, name, context, effect.values(instance, far))
     assert not np.allclose(nominal, on, rtol=1e-6, atol=1e-9)
 
 

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 from functools import cache
 
 from musclesim.components import CATALOGUE, declarations
+from musclesim.cosim import ParamRef
 
 
 @dataclass(frozen=True)
@@ -105,9 +106,10 @@ class Effect:
             out.append(Parameter(name, d.default, *d.effect))
         return tuple(out)
 
-    def overrides(self, instance: str, values: Sequence[float]) -> list[str]:
-        """``--set`` strings that put this effect at `values` (one per parameter) on `instance`."""
-        return [f"{instance}.{p.name}={v!r}" for p, v in zip(self.parameters, values)]
+    def values(self, instance: str, values: Sequence[float]) -> dict[ParamRef, float]:
+        """The parameter values (for `musclesim.cosim.with_values`) that put this effect at
+        `values` (one per parameter) on `instance`."""
+        return {ParamRef(instance, name): float(v) for name, v in zip(self.names, values)}
 
 
 EFFECTS = (
