@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from musclesim.cosim import Signal
+from musclesim.cosim import ParamRef, Signal
 
 
 def _signals(*names: str) -> list[Signal]:
@@ -175,5 +175,6 @@ def _draw(effect: str, rng: np.random.Generator) -> dict[str, float]:
     values = {}
     for inst, par, lo, hi in MAGNITUDES[effect]:
         v = float(sign * rng.uniform(lo, hi))
-        values.update({f"{i}.{par}": v for i in ((inst,) if isinstance(inst, str) else inst)})
+        values.update({str(ParamRef(i, par)): v  # key.json's form
+                       for i in ((inst,) if isinstance(inst, str) else inst)})
     return values

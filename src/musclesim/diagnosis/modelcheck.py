@@ -86,7 +86,7 @@ def old_names(ds: DataSet, components: Mapping[str, str], problems: list[str]) -
         if not now:
             continue
         problem = (f"{DATA}: column {str(column)!r}: {component}'s {column.variable} is "
-                   f"{column.instance}.{now} since format 2 (the Modelica Standard Library's "
+                   f"{Signal(column.instance, now)} since format 2 (the Modelica Standard Library's "
                    f"port names): rename the column and write format = 2 in {MANIFEST}")
         if problem not in problems:
             problems.append(problem)

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 if TYPE_CHECKING:
-    from musclesim.cosim import Signal
+    from musclesim.cosim import ParamRef, Signal
     from musclesim.diagnosis.fitting import FitResult, Free
     from musclesim.diagnosis.problem import Unit
 
@@ -38,7 +38,7 @@ class Calibration:
     the held-out gap of the nominal values (`nominal_gap`)."""
 
     free: list[Free]
-    values: dict[Any, float]
+    values: dict[ParamRef, float]
     residuals: Residuals
     jac: np.ndarray | None
     table: dict[str, dict[str, Any]]

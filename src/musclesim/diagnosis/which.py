@@ -13,6 +13,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from musclesim.cosim import ParamRef
 from musclesim.diagnosis.fitting import FitJob, FitResult, fit_all, known_columns, values_of
 from musclesim.diagnosis.problem import Problem, Unit
 from musclesim.diagnosis.sections import (EvidenceSection, FitUnitSection, VerdictSection)
@@ -35,7 +36,7 @@ class Which:
     probable) {ParamRef: value}, calibration refitted with it (empty: calibration
     alone), the `evidence` section and the `verdict`."""
 
-    values: dict[Any, float]
+    values: dict[ParamRef, float]
     evidence: EvidenceSection
     verdict: VerdictSection
 

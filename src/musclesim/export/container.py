@@ -31,7 +31,7 @@ from pathlib import Path
 from typing import Any
 from xml.etree import ElementTree as ET
 
-from musclesim.cosim import KINDS, Master, Scenario, Signal, check_archive, replace_zip
+from musclesim.cosim import KINDS, Master, ParamRef, Scenario, Signal, check_archive, replace_zip
 from musclesim.errors import UserError
 from musclesim.export.ssp import base_units, value_text
 
@@ -73,11 +73,11 @@ def _variables(scenario: Scenario, master: Master) -> list[Variable]:
         for par in spec.parameters:
             v = master.instances[name].vars[par]
             if v.causality == "parameter":
-                add(f"{name}.{par}", "parameter", name, v)
+                add(str(ParamRef(name, par)), "parameter", name, v)
     for name, inst in master.instances.items():
         for v in inst.md.modelVariables:
             if v.causality == "input" and Signal(name, v.name) not in targets:
-                add(f"{name}.{v.name}", "input", name, v)
+                add(str(Signal(name, v.name)), "input", name, v)
     for signal in master.columns:  # the recorded signals
         add(str(signal), "output", signal.instance,
             master.instances[signal.instance].vars[signal.variable])

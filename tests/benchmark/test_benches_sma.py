@@ -1,6 +1,6 @@
 """The independent SMA bench of the blind benchmark (musclesim.benchmark.benches.sma): its heat
 equation, hidden effects and independence from the library (its hysteresis:
-test_sma_kinetics.py; its cases: test_plan.py)."""
+test_benches_sma_kinetics.py; its cases: test_plan.py)."""
 import ast
 import math
 from dataclasses import replace
