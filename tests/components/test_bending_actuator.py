@@ -6,24 +6,16 @@ import math
 import pytest
 
 from musclesim.components.bending import actuator, beam
-from musclesim.components.bending.slaves import BendingActuator
 from musclesim.components.sma import thermal
 from musclesim.components.sma.reference_wire import load_params
+from component_runs import AREA, make_bending
 
-AREA = math.pi * 25e-6 ** 2  # m2, the 50 um wire
-
-
-def make(beam_p=None, layout=None):
-    layout = layout or actuator.WireLayout()
-    surface = actuator.hysteresis_surface(load_params(), layout.pretension / AREA)
-    return actuator.BendingActuator(beam_p or beam.BeamParams(), layout,
-                                    actuator.wire_thermal(layout.length), surface)
 
 
 def test_heated_wire_settles_at_the_static_balance_by_hand():
     """Wire A held warm (constant voltage) until still: the cap's rotation equals the balance of
     the beams (EI / L) and both wires' elastic tensions about their transformed lengths."""
-    core = make()
+    core = make_bending()
     for _ in range(6000):  # 3 s: the wire's temperature (tau 0.29 s) and the mode (0.1 s) settle
         core.step(5e-4, (1.5, 0.0), 20.0)  # ~68 C
     lay, p = core.layout, core.beam
@@ -44,7 +36,7 @@ def test_heated_wire_settles_at_the_static_balance_by_hand():
 
 
 def test_first_mode_rings_at_its_resonance_with_its_damping():
-    core = make()
+    core = make_bending()
     core.theta = 0.01  # released from a bent rest: free vibration of the first mode
     period = 1 / beam.natural_frequency(core.cold_stiffness(), core.beam)
     dt = period / 200
@@ -64,7 +56,7 @@ def test_first_mode_rings_at_its_resonance_with_its_damping():
 
 
 def test_wires_mirror_each_other_and_slack_wires_pull_nothing():
-    a, b = make(), make()
+    a, b = make_bending(), make_bending()
     tips = []
     for k in range(1000):  # pulses of 12.5 ms at 4 Hz on one wire for 0.5 s
         u = 5.0 if k % 500 < 25 else 0.0

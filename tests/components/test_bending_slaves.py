@@ -1,25 +1,15 @@
 """The BendingActuator FMU (components/bending/slaves.py): its core stepped by hand, and its
 errors."""
-import math
 
 import pytest
 from fmpy import extract, read_model_description
 from fmpy.fmi2 import FMU2Slave
 
-from musclesim.components.bending import actuator, beam
 from musclesim.components.bending.slaves import BendingActuator
-from musclesim.components.sma.reference_wire import load_params
 
 from conftest import in_process
+from component_runs import make_bending
 
-AREA = math.pi * 25e-6 ** 2  # m2, the 50 um wire
-
-
-def make(beam_p=None, layout=None):
-    layout = layout or actuator.WireLayout()
-    surface = actuator.hysteresis_surface(load_params(), layout.pretension / AREA)
-    return actuator.BendingActuator(beam_p or beam.BeamParams(), layout,
-                                    actuator.wire_thermal(layout.length), surface)
 
 
 def test_fmu_refuses_bad_parameters_by_name():
@@ -60,7 +50,7 @@ def test_fmu_is_the_core_stepped_by_hand(fmu_dir, tmp_path):
     rows = fmu_run(fmu_dir, tmp_path, "BendingActuator",
                    [{"wireA.u": a, "wireB.u": b, "T_amb": 293.15} for a, b in u],
                    ["tip.s", "wireA.T", "wireB.f"], dt)
-    core = make()
+    core = make_bending()
     expected = [(core.deflection(0.017), core.T[0] + 273.15, core.tension[1])]
     for k in range(n):
         core.step(dt, u[k], 20.0, k * dt)

@@ -11,30 +11,8 @@ from musclesim.components.sma.slaves import SmaWire
 from musclesim.components.sma.thermal import ThermalParams
 
 from conftest import in_process
+from component_runs import OUTPUTS, heat_cool, run_wire
 
-DT = 1e-3
-OUTPUTS = ("T", "strain", "flange_s", "stress", "R", "P")
-
-
-def run(slave, u, f, T_amb=293.15, dt=DT, names=OUTPUTS):
-    """Step an in-process slave with u[k], f[k] held over step k; {name: array at t_0..t_n}."""
-    slave.u, slave.flange_f, slave.T_amb = u[0], f[0], T_amb
-    slave.enter_initialization_mode()
-    slave.exit_initialization_mode()
-    slave.get_real([])
-    rows = [[getattr(slave, n) for n in names]]
-    for k in range(len(u)):
-        slave.u, slave.flange_f = u[k], f[k]
-        slave.set_real([], [])  # inputs changed: outputs are evaluated again
-        slave.get_real([])
-        slave.do_step(k * dt, dt)
-        rows.append([getattr(slave, n) for n in names])
-    return dict(zip(names, np.array(rows).T))
-
-
-def heat_cool(volts, on=0.6, total=3.0, dt=DT):
-    n = round(total / dt)
-    return np.where(np.arange(n) < round(on / dt), volts, 0.0)
 
 
 def test_tension_steps_by_exp_mu_theta_at_each_contact_by_hand():
@@ -55,8 +33,8 @@ def test_three_segments_without_friction_move_three_times_a_third():
     # current drive: every segment heats like the straight wire of its length, per unit length
     # the same; the end displacement is the sum of three equal contractions
     u, f = heat_cool(0.5), np.full(3000, 1.47)
-    straight = run(in_process(SmaWire, "wire", length=0.214 / 3, drive_current=1.0), u, f)
-    mult = run(in_process(CapstanMultiplier, "mult", mu_f=0.0, drive_current=1.0), u, f,
+    straight = run_wire(in_process(SmaWire, "wire", length=0.214 / 3, drive_current=1.0), u, f)
+    mult = run_wire(in_process(CapstanMultiplier, "mult", mu_f=0.0, drive_current=1.0), u, f,
                names=OUTPUTS + ("segment[1]_T", "segment[2]_strain"))
     np.testing.assert_allclose(mult["segment[1]_T"], straight["T"], rtol=1e-13)
     np.testing.assert_allclose(mult["segment[2]_strain"], straight["strain"], rtol=1e-12,
@@ -73,16 +51,16 @@ def test_series_segments_share_the_voltage_by_resistance():
 def test_capstan_friction_changes_the_displacement_not_the_heating():
     # friction raises the clamp-side stresses, which shifts their transformation (§preisach)
     u, f = heat_cool(6.0, on=0.25, total=1.0), np.full(1000, 1.47)
-    base = run(in_process(CapstanMultiplier, "m0", mu_f=0.0), u, f)
-    fric = run(in_process(CapstanMultiplier, "m1"), u, f)
+    base = run_wire(in_process(CapstanMultiplier, "m0", mu_f=0.0), u, f)
+    fric = run_wire(in_process(CapstanMultiplier, "m1"), u, f)
     assert not np.array_equal(base["flange_s"], fric["flange_s"])
     assert np.array_equal(base["T"][:2], fric["T"][:2])
 
 
 def test_composition_shift_makes_the_wire_transform_hotter():
     u, f = heat_cool(6.0, on=0.3, total=0.3), np.full(300, 1.47)
-    base = run(in_process(CapstanMultiplier, "m0"), u, f)
-    shifted = run(in_process(CapstanMultiplier, "m1", composition_shift=10.0), u, f)
+    base = run_wire(in_process(CapstanMultiplier, "m0"), u, f)
+    shifted = run_wire(in_process(CapstanMultiplier, "m1", composition_shift=10.0), u, f)
     assert np.array_equal(base["T"][:20], shifted["T"][:20])
     half = np.argmax(base["strain"] > 0.5 * base["strain"].max())
     assert shifted["strain"][half] < 0.5 * base["strain"].max()
@@ -104,7 +82,7 @@ def test_contact_heat_loss_cools_the_wire_and_its_steady_excess_by_hand():
     # two equal segments over one contact, a steady current that holds the wire austenitic
     # (fixed resistance): the excess temperature settles at P / (h A_s + G)
     G, u, f = 4e-3, np.full(6000, 0.4), np.full(6000, 1.47)
-    runs = {g: run(in_process(CapstanMultiplier, f"m{g}", drive_current=1.0, n_segments=2.0,
+    runs = {g: run_wire(in_process(CapstanMultiplier, f"m{g}", drive_current=1.0, n_segments=2.0,
                               contact_conductance=g), u, f, dt=2e-3) for g in (0.0, G)}
     t = ThermalParams(length=0.214)
     conductance = t.h * math.pi * t.diameter * t.length

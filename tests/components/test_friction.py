@@ -12,7 +12,7 @@ from musclesim.components.crawler.friction import (FrictionParams, accumulate_sl
                                                    high_scale)
 from musclesim.components.crawler.slaves import FrictionBlock
 
-from conftest import in_process
+from component_runs import set_reals, started
 
 HIGH = FrictionParams()
 V_S = HIGH.v_s
@@ -82,18 +82,6 @@ def test_slip_accumulates_only_while_high_and_sliding():
     assert accumulate_slip(0.5, 0.9 * V_S, 1.0, dt, V_S) == 0.5  # inside the stick band
 
 
-def _started(cls, **params):
-    """An in-process slave past initialization, and its value references by name."""
-    slave = in_process(cls, "slave", **params)
-    slave.enter_initialization_mode()
-    slave.exit_initialization_mode()
-    return slave, {v.name: v.value_reference for v in slave.vars.values()}
-
-
-def _set(slave, vr, values):
-    slave.set_real([vr[name] for name in values], list(values.values()))
-
-
 def test_bending_and_decay_scale_only_the_high_coefficients():
     p = FrictionParams(bending=2.0, mu_decay=0.1)
     theta, t = math.radians(7.5), 3.0
@@ -114,11 +102,11 @@ def test_effects_off_are_nominal_bit_for_bit(theta):
     for s, t in zip([0.0, 0.3, 1.0, 0.7], [0.0, 1.7, 59.999, 1e6]):
         scale = high_scale(theta, t, p)
         assert scale == 1.0 and coefficients(s, p, scale) == coefficients(s, p)
-    block, vr = _started(FrictionBlock)
+    block, vr = started(FrictionBlock)
     rng = np.random.default_rng(3)
     for k, (v, f_n, u) in enumerate(rng.uniform([-2e-3, -3.0, 0.0], [2e-3, 3.0, 1.0], (200, 3))):
         u = float(u > 0.5)
-        _set(block, vr, {"flange.v": v, "flange.f_n": f_n, "flange.N": 1.9, "u": u, "theta": theta})
+        set_reals(block, vr, {"flange.v": v, "flange.f_n": f_n, "flange.N": 1.9, "u": u, "theta": theta})
         mu_s, mu_k = coefficients(u, p)
         assert block.get_real([vr["flange.f"]])[0] == friction_force(v, f_n, 1.9, mu_s, mu_k, p.v_s)
         block.do_step(1e-3 * k, 1e-3)

@@ -2,68 +2,31 @@
 a dead weight ringing on its link at the spring-mass period and feeling its inertia under a
 sinusoidal lift, the coil's exact step response, the duty clamp, effects off = nominal exactly."""
 import math
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
-from fmpy import extract, read_model_description
-from fmpy.fmi2 import FMU2Slave
 
-from musclesim.cosim import Signal, host
+from musclesim.cosim import Signal
 from musclesim.components.loads import loads
+from component_runs import run_fmu
 
 G = 9.80665
 
 
-def run(fmu_dir, name, inputs, dt=1e-3, params=None, outputs=("flange.f",), log=None, init=None):
-    """Run FMU `name` with inputs {name: values per point t_0..t_n} (value k set at t_k, held
-    over step k; `init` {name: value} overrides the values set while initializing); returns
-    {output: array at t_0..t_n}, the FMU's log in `log`."""
-    path = fmu_dir / f"{name}.fmu"
-    md = read_model_description(str(path))
-    vr = {v.name: v.valueReference for v in md.modelVariables}
-    n = len(next(iter(inputs.values())))
-    slave = FMU2Slave(guid=md.guid, unzipDirectory=extract(path), instanceName=name,
-                      modelIdentifier=md.coSimulation.modelIdentifier)
-    key = id(slave)
-    host.LOG_SINKS[key] = {name: SimpleNamespace(log=log if log is not None else [])}
-    try:
-        slave.instantiate(callbacks=host.callbacks(key), loggingOn=True)
-        slave.setupExperiment(startTime=0.0)
-        for par, value in (params or {}).items():
-            slave.setReal([vr[par]], [value])
-        ins, outs = [vr[k] for k in inputs], [vr[k] for k in outputs]
-        slave.enterInitializationMode()
-        start = {k: v[0] for k, v in inputs.items()} | (init or {})
-        slave.setReal(ins, [float(v) for v in start.values()])
-        slave.exitInitializationMode()
-        rows = []
-        for k in range(n):
-            slave.setReal(ins, [float(v[k]) for v in inputs.values()])
-            rows.append(slave.getReal(outs))
-            if k < n - 1:
-                slave.doStep(k * dt, dt)
-        slave.terminate()
-        slave.freeInstance()
-    finally:
-        del host.LOG_SINKS[key]
-    return dict(zip(outputs, np.array(rows).T))
-
-
 def test_bias_spring_preload_and_slope(fmu_dir):
     s = np.array([0.0, 1e-3, -5e-4, 2.2e-3])
-    r = run(fmu_dir, "BiasSpring", {"flange.s": s}, params={"k": 490.0, "preload": 1.5})
+    r = run_fmu(fmu_dir, "BiasSpring", {"flange.s": s}, params={"k": 490.0, "preload": 1.5})
     assert r["flange.f"][0] == 1.5
     np.testing.assert_allclose(r["flange.f"], 1.5 + 490.0 * s, rtol=1e-15, atol=0)
-    default = run(fmu_dir, "BiasSpring", {"flange.s": s})["flange.f"]
+    default = run_fmu(fmu_dir, "BiasSpring", {"flange.s": s})["flange.f"]
     assert default[0] == loads.PRELOAD_125MPA
     np.testing.assert_allclose(np.diff(default) / np.diff(s), 490.0, rtol=1e-9)
 
 
 def test_dead_weight_off_is_m_g_exactly(fmu_dir):
     s = 1e-3 * np.sin(np.linspace(0, 20, 200))
-    nominal = run(fmu_dir, "DeadWeight", {"flange.s": s})["flange.f"]
-    off = run(fmu_dir, "DeadWeight", {"flange.s": s}, params={"inertia": 0.0})["flange.f"]
+    nominal = run_fmu(fmu_dir, "DeadWeight", {"flange.s": s})["flange.f"]
+    off = run_fmu(fmu_dir, "DeadWeight", {"flange.s": s}, params={"inertia": 0.0})["flange.f"]
     assert np.array_equal(nominal, off)
     assert np.all(nominal == loads.WeightParams().mass * G)
 
@@ -76,7 +39,7 @@ def test_dead_weight_rings_at_the_spring_mass_period(fmu_dir):
     m, r, k, zeta, A, h = 0.15, 0.8, 300.0, 0.05, 1e-3, 4e-4
     t = np.arange(5001) * h
     s = np.where(t > 0, A, 0.0)
-    res = run(fmu_dir, "DeadWeight", {"flange.s": s}, dt=h, outputs=("flange.f", "lift"),
+    res = run_fmu(fmu_dir, "DeadWeight", {"flange.s": s}, dt=h, outputs=("flange.f", "lift"),
               params={"mass": m, "inertia": r, "k_link": k, "zeta": zeta})
     np.testing.assert_allclose(res["flange.f"], m * G + k * (s - res["lift"]), rtol=0, atol=1e-12)
     y = res["lift"][2:] - A  # free from the second step on (the first extrapolates the jump)
@@ -89,7 +52,7 @@ def test_dead_weight_rings_at_the_spring_mass_period(fmu_dir):
     peaks = [y[(tt >= c) & (tt < c + period)].max() for c in crossings[:-1]]
     ratio = math.exp(-2 * math.pi * zeta / math.sqrt(1 - zeta ** 2))
     np.testing.assert_allclose(np.array(peaks[1:]) / peaks[:-1], ratio, rtol=2e-3)
-    half = run(fmu_dir, "DeadWeight", {"flange.s": s}, dt=h, outputs=("lift",),
+    half = run_fmu(fmu_dir, "DeadWeight", {"flange.s": s}, dt=h, outputs=("lift",),
                params={"mass": m, "inertia": r / 2, "k_link": k, "zeta": zeta})["lift"]
     np.testing.assert_allclose(half[2:] - A, y / 2, rtol=0, atol=1e-15)  # linear in the share
 
@@ -104,7 +67,7 @@ def test_dead_weight_under_a_sinusoidal_lift_feels_its_inertia(fmu_dir):
     d = 2 * zeta * math.sqrt(k * m)
     t = np.arange(15001) * h
     for r in (0.3, 1.0):
-        res = run(fmu_dir, "DeadWeight", {"flange.s": A * np.sin(w * t)}, dt=h,
+        res = run_fmu(fmu_dir, "DeadWeight", {"flange.s": A * np.sin(w * t)}, dt=h,
                   params={"mass": m, "inertia": r, "k_link": k, "zeta": zeta})
         settled = res["flange.f"][t > 4.0] - m * G  # the transient decays as exp(-4.5 t / s)
         hand = r * k * A * abs((-m * w ** 2 + 1j * d * w) / (k - m * w ** 2 + 1j * d * w))
@@ -115,7 +78,7 @@ def test_coil_current_step_is_exact(fmu_dir):
     V, R, L, k_f, m_cal, h = 12.0, 24.0, 0.05, 2.0, 0.1, 4e-4
     n = 200
     # settled at duty 0 while initializing, then 0.5 from t = 0 on
-    r = run(fmu_dir, "Electromagnet", {"duty": np.full(n + 1, 0.5), "flange.s": np.zeros(n + 1)},
+    r = run_fmu(fmu_dir, "Electromagnet", {"duty": np.full(n + 1, 0.5), "flange.s": np.zeros(n + 1)},
             dt=h, outputs=("flange.f", "i"), init={"duty": 0.0})
     t = np.arange(n + 1) * h
     i = V * 0.5 / R * (1 - np.exp(-t * R / L))
@@ -128,11 +91,11 @@ def test_coil_starts_settled_and_nonlinearity_off_is_nominal(fmu_dir):
     n = 50
     duty = 0.3 + 0.2 * np.sin(np.arange(n) / 5)
     ins = {"duty": duty, "flange.s": np.zeros(n)}
-    nominal = run(fmu_dir, "Electromagnet", ins, outputs=("flange.f", "i"))
-    off = run(fmu_dir, "Electromagnet", ins, params={"nonlinearity": 0.0}, outputs=("flange.f", "i"))
+    nominal = run_fmu(fmu_dir, "Electromagnet", ins, outputs=("flange.f", "i"))
+    off = run_fmu(fmu_dir, "Electromagnet", ins, params={"nonlinearity": 0.0}, outputs=("flange.f", "i"))
     assert all(np.array_equal(nominal[k], off[k]) for k in nominal)
     assert nominal["i"][0] == 12.0 * 0.3 / 24.0
-    on = run(fmu_dir, "Electromagnet", ins, params={"nonlinearity": 0.4}, outputs=("flange.f", "i"))
+    on = run_fmu(fmu_dir, "Electromagnet", ins, params={"nonlinearity": 0.4}, outputs=("flange.f", "i"))
     assert np.array_equal(on["i"], nominal["i"])
     i = on["i"]
     np.testing.assert_allclose(on["flange.f"], 0.1 * G + 2.0 * i * (1 + 0.4 * i), rtol=1e-15)
@@ -141,7 +104,7 @@ def test_coil_starts_settled_and_nonlinearity_off_is_nominal(fmu_dir):
 def test_duty_outside_0_1_is_clamped_with_one_warning(fmu_dir):
     log = []
     duty = np.array([0.5, 1.7, 2.0, -0.3, 0.5])
-    r = run(fmu_dir, "Electromagnet", {"duty": duty, "flange.s": np.zeros(5)}, log=log,
+    r = run_fmu(fmu_dir, "Electromagnet", {"duty": duty, "flange.s": np.zeros(5)}, log=log,
             outputs=("i",))
     clamped = np.clip(duty, 0, 1)
     p = loads.MagnetParams()

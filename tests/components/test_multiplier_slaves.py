@@ -10,37 +10,15 @@ from musclesim.components.sma.slaves import SmaWire
 from musclesim.components.sma.thermal import ThermalParams, cross_section
 
 from conftest import in_process
+from component_runs import OUTPUTS, heat_cool, run_wire
 
 AREA = cross_section(ThermalParams())
-DT = 1e-3
-OUTPUTS = ("T", "strain", "flange_s", "stress", "R", "P")
-
-
-def run(slave, u, f, T_amb=293.15, dt=DT, names=OUTPUTS):
-    """Step an in-process slave with u[k], f[k] held over step k; {name: array at t_0..t_n}."""
-    slave.u, slave.flange_f, slave.T_amb = u[0], f[0], T_amb
-    slave.enter_initialization_mode()
-    slave.exit_initialization_mode()
-    slave.get_real([])
-    rows = [[getattr(slave, n) for n in names]]
-    for k in range(len(u)):
-        slave.u, slave.flange_f = u[k], f[k]
-        slave.set_real([], [])  # inputs changed: outputs are evaluated again
-        slave.get_real([])
-        slave.do_step(k * dt, dt)
-        rows.append([getattr(slave, n) for n in names])
-    return dict(zip(names, np.array(rows).T))
-
-
-def heat_cool(volts, on=0.6, total=3.0, dt=DT):
-    n = round(total / dt)
-    return np.where(np.arange(n) < round(on / dt), volts, 0.0)
 
 
 def test_each_segment_sees_its_own_capstan_stress(fmu_dir):
     f = 1.47  # N, the 150 g weight: 116 MPa at the load end
     slave = in_process(CapstanMultiplier, "mult")
-    r = run(slave, heat_cool(6.0, total=0.5), np.full(500, f),
+    r = run_wire(slave, heat_cool(6.0, total=0.5), np.full(500, f),
             names=("segment[1]_stress", "segment[2]_stress", "segment[3]_stress",
                    "segment[4]_stress", "segment[1]_strain", "segment[3]_strain", "stress"))
     e = math.exp(0.0237 * math.pi)
@@ -60,8 +38,8 @@ def test_one_segment_without_friction_is_the_straight_wire_bit_for_bit(drive, hy
     u = heat_cool(0.5 if drive else 6.0)
     f = np.linspace(1.3, 1.8, len(u))  # 103-142 MPa: clamped at both data sets' ends, interpolated
     params = {"length": length, "drive_current": drive, "hysteresis": hysteresis, "T_init": 303.15}
-    wire = run(in_process(SmaWire, "wire", **params), u, f)
-    mult = run(in_process(CapstanMultiplier, "mult", n_segments=1.0, mu_f=0.0, **params), u, f)
+    wire = run_wire(in_process(SmaWire, "wire", **params), u, f)
+    mult = run_wire(in_process(CapstanMultiplier, "mult", n_segments=1.0, mu_f=0.0, **params), u, f)
     for name in OUTPUTS:
         assert np.array_equal(wire[name], mult[name]), name
     assert wire["strain"].max() > 0.03  # the run transformed the wire
