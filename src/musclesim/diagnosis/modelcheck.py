@@ -27,12 +27,6 @@ def _same_unit(a: str | None, b: str | None) -> bool:
     return (a or "1") == (b or "1")
 
 
-def _signal(signal: Signal | str) -> Signal:
-    """SEAM (issue 55): a scenario's metric names its signal as a Signal once the cosim layer's
-    typed Scenario is in; until then a string, parsed here. Delete with the string form."""
-    return signal if isinstance(signal, Signal) else Signal.parse(signal)
-
-
 def _scenario(ds: DataSet, experiment: str, path: Path, stop_time: float | None) -> Scenario:
     """The scenario file `path` of `ds`'s `experiment`, run for `stop_time`, with the bench
     conditions the set states for it (`DataSet.values`)."""
@@ -182,7 +176,7 @@ def _check_metrics(ds: DataSet, s: Scenario, m: Master, ref: str, experiments: l
                                 f"metric of scenario {ref!r} (metrics: "
                                 f"{', '.join(s.metrics) or 'none'})")
                 continue
-            signal = _signal(sm.signal)
+            signal = sm.signal
             inst = m.instances.get(signal.instance)
             v = inst.vars.get(signal.variable) if inst is not None else None
             if v is None:
