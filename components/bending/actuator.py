@@ -19,7 +19,6 @@ tension makes this stiff system oscillate numerically). Temperatures in C, SI ot
 from __future__ import annotations
 
 import math
-import tomllib
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -27,7 +26,7 @@ from pathlib import Path
 from musclesim.components.checks import require
 from musclesim.components.sma import thermal
 from musclesim.components.sma.preisach import PreisachModel
-from musclesim.components.sma.reference_wire import ReferenceWire, WireParams
+from musclesim.components.sma.reference_wire import ReferenceWire, WireParams, wire_table
 from musclesim.components.sma.surface import Hypersurface
 from musclesim.fmu import declare
 
@@ -55,11 +54,7 @@ def read_wire_file(path: str | Path = WIRE_FILE) -> dict[str, float]:
     230.0
     """
     path = Path(path)
-    try:
-        table = tomllib.loads(path.read_text(encoding="utf-8"))["thermal"]
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, KeyError) as exc:
-        raise ValueError(f"{path}: not a wire parameter file with a [thermal] table "
-                         f"({exc})") from None
+    table = wire_table(path, "thermal")
     names = ("diameter", "density", "specific_heat", "resistance_martensite",
              "resistance_austenite", "h")
     for key in names:

@@ -14,6 +14,7 @@ import math
 import tomllib
 from collections.abc import Sequence
 from dataclasses import dataclass, fields
+from typing import Any
 from pathlib import Path
 
 import numpy as np
@@ -77,6 +78,16 @@ class WireParams:
             raise ValueError(f"T_low must be below T_high (got {self.T_low!r}, {self.T_high!r})")
 
 
+def wire_table(path: Path, name: str) -> dict[str, Any]:
+    """The table [`name`] of the wire parameter file `path`; ValueError naming the file when it
+    cannot be read or has no such table."""
+    try:
+        return tomllib.loads(path.read_text(encoding="utf-8"))[name]
+    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, KeyError) as exc:
+        raise ValueError(f"{path}: not a wire parameter file with a [{name}] table "
+                         f"({exc})") from None
+
+
 def load_params(path: str | Path = DEFAULT_PARAMS) -> WireParams:
     """Read the [hysteresis] table of the wire parameter file `path` into a checked WireParams.
 
@@ -91,11 +102,7 @@ def load_params(path: str | Path = DEFAULT_PARAMS) -> WireParams:
     155000000.0
     """
     path = Path(path)
-    try:
-        table = tomllib.loads(path.read_text(encoding="utf-8"))["hysteresis"]
-    except (OSError, UnicodeDecodeError, tomllib.TOMLDecodeError, KeyError) as exc:
-        raise ValueError(f"{path}: not a wire parameter file with a [hysteresis] table "
-                         f"({exc})") from exc
+    table = wire_table(path, "hysteresis")
     names = {f.name for f in fields(WireParams)}
     for key in sorted(set(table) ^ names):
         raise ValueError(f"{path}: {'unknown' if key in table else 'missing'} entry {key!r}")
