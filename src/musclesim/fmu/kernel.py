@@ -1,0 +1,73 @@
+"""A slave whose physics is a compiled kernel: `Kernel` names a component's two core functions and
+the variables they take and give; `KernelSlave` is the thin adapter that calls them.
+
+A kernel is two functions in the subset `musclesim.fmu.compiled.jit` compiles, on float64 arrays:
+
+- ``evaluate(p, x, u, t, y)``: write the outputs ``y`` from the parameters ``p``, the state ``x``,
+  the inputs ``u`` and the time ``t``, changing nothing else (`Slave.evaluate`'s rule);
+- ``advance(p, x, u, y, t, dt)``: advance the state ``x`` in place from ``t`` to ``t + dt`` with
+  the inputs ``u`` held, ``y`` being the outputs just evaluated at ``t``.
+
+``u`` holds the inputs named in `Kernel.inputs`, ``y`` the outputs named in `Kernel.outputs` (every
+output of the slave), in that order. The slave's `setup` fills ``self.kp`` (parameters, packed
+once) and ``self.kx`` (the state), its `initialize` may set ``self.kx`` from the inputs. Because
+the whole state is in those arrays, the co-simulation master can run many kernels in one compiled
+loop (`musclesim.cosim.fused`) and give the same bits as these per-call adapters.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Callable, ClassVar
+
+import numpy as np
+
+from musclesim.fmu.slave import Slave
+
+__all__ = ["Kernel", "KernelSlave"]
+
+
+@dataclass(frozen=True)
+class Kernel:
+    """A component's compiled core (see the module docstring): `evaluate`, `advance` and the FMI
+    names of the `inputs` and `outputs` they take and give, in array order."""
+
+    evaluate: Callable[..., Any]
+    advance: Callable[..., Any]
+    inputs: tuple[str, ...]
+    outputs: tuple[str, ...]
+
+
+class KernelSlave(Slave):
+    """Base of a slave whose `evaluate` and `advance` are its class's `kernel`: its `setup` sets
+    ``kp`` and ``kx`` (float64 arrays), and may call ``super().setup()`` first for the buffers."""
+
+    kernel: ClassVar[Kernel]
+
+    def __init__(self, **kwargs: Any) -> None:
+        """`**kwargs`: pythonfmu's, passed on (see `Slave`)."""
+        super().__init__(**kwargs)
+        k = self.kernel
+        self.kp = np.zeros(0)
+        self.kx = np.zeros(0)
+        self.ku = np.zeros(len(k.inputs))
+        self.ky = np.zeros(len(k.outputs))
+        self._kin = [name.replace(".", "_") for name in k.inputs]
+        self._kout = [name.replace(".", "_") for name in k.outputs]
+
+    def _inputs(self) -> np.ndarray:
+        u = self.ku
+        for i, attr in enumerate(self._kin):
+            u[i] = getattr(self, attr)
+        return u
+
+    def evaluate(self) -> None:
+        """The kernel's outputs at the current state, inputs and time."""
+        y = self.ky
+        self.kernel.evaluate(self.kp, self.kx, self._inputs(), self.time, y)
+        for attr, value in zip(self._kout, y.tolist()):
+            setattr(self, attr, value)
+
+    def advance(self, t: float, dt: float) -> None:
+        """The kernel's step over [`t`, `t` + `dt`] [s] with the inputs held (the outputs were
+        evaluated at `t` just before: `Slave.do_step`)."""
+        self.kernel.advance(self.kp, self.kx, self._inputs(), self.ky, t, dt)
