@@ -8,7 +8,8 @@ A kernel is two functions in the subset `musclesim.fmu.compiled.jit` compiles, o
 - ``advance(p, x, u, y, t, dt)``: advance the state ``x`` in place from ``t`` to ``t + dt`` with
   the inputs ``u`` held, ``y`` being the outputs just evaluated at ``t``.
 
-``u`` holds the inputs named in `Kernel.inputs`, ``y`` the outputs named in `Kernel.outputs` (every
+``u`` holds the inputs named in `Kernel.inputs` (those in `Kernel.clamps` clamped to their range
+before the kernel sees them, the first clamp warned, NaN refused: `Slave.clamped_input`), ``y`` the outputs named in `Kernel.outputs` (every
 output of the slave), in that order. The slave's `setup` fills ``self.kp`` (parameters, packed
 once) and ``self.kx`` (the state), its `initialize` may set ``self.kx`` from the inputs. Because
 the whole state is in those arrays, the co-simulation master can run many kernels in one compiled
@@ -29,12 +30,14 @@ __all__ = ["Kernel", "KernelSlave"]
 @dataclass(frozen=True)
 class Kernel:
     """A component's compiled core (see the module docstring): `evaluate`, `advance` and the FMI
-    names of the `inputs` and `outputs` they take and give, in array order."""
+    names of the `inputs` and `outputs` they take and give, in array order; `clamps`: (input,
+    lower, upper) of the inputs held to a range."""
 
     evaluate: Callable[..., Any]
     advance: Callable[..., Any]
     inputs: tuple[str, ...]
     outputs: tuple[str, ...]
+    clamps: tuple[tuple[str, float, float], ...] = ()
 
 
 class KernelSlave(Slave):
@@ -53,21 +56,24 @@ class KernelSlave(Slave):
         self.ky = np.zeros(len(k.outputs))
         self._kin = [name.replace(".", "_") for name in k.inputs]
         self._kout = [name.replace(".", "_") for name in k.outputs]
+        self._kclamps = [(k.inputs.index(name), name, lo, hi) for name, lo, hi in k.clamps]
 
-    def _inputs(self) -> np.ndarray:
+    def _inputs(self, t: float) -> np.ndarray:
         u = self.ku
         for i, attr in enumerate(self._kin):
             u[i] = getattr(self, attr)
+        for i, name, lo, hi in self._kclamps:
+            u[i] = self.clamped_input(name, lo, hi, t)
         return u
 
     def evaluate(self) -> None:
         """The kernel's outputs at the current state, inputs and time."""
         y = self.ky
-        self.kernel.evaluate(self.kp, self.kx, self._inputs(), self.time, y)
+        self.kernel.evaluate(self.kp, self.kx, self._inputs(self.time), self.time, y)
         for attr, value in zip(self._kout, y.tolist()):
             setattr(self, attr, value)
 
     def advance(self, t: float, dt: float) -> None:
         """The kernel's step over [`t`, `t` + `dt`] [s] with the inputs held (the outputs were
         evaluated at `t` just before: `Slave.do_step`)."""
-        self.kernel.advance(self.kp, self.kx, self._inputs(), self.ky, t, dt)
+        self.kernel.advance(self.kp, self.kx, self._inputs(t), self.ky, t, dt)
