@@ -46,7 +46,7 @@ from typing import Any
 import numpy as np
 from fmpy.fmi1 import FMICallException
 
-from musclesim.cosim import direct, interrupt, wiring
+from musclesim.cosim import direct, fused, interrupt, wiring
 from musclesim.cosim.adapters import KINDS, Fmpy3Slave, FmpySlave
 from musclesim.cosim.address import Signal
 from musclesim.cosim.build import built_here
@@ -61,6 +61,7 @@ __all__ = ["Master", "Results", "signal_units", "HOSTS", "MAX_VALUES", "FLUSH_SE
 
 MAX_VALUES = 100_000_000  # recorded values a run keeps in memory (800 MB): rows x columns
 FLUSH_SECONDS = 2.0  # wall time between two hand-overs of new rows to a run's `on_rows`
+FUSED_ROWS = 4096  # rows a fused loop runs between two looks at signals and `on_rows`
 HOSTS = ("direct", "fmpy")  # who calls the FMUs musclesim built: see the module's docstring
 Rows = Callable[[np.ndarray, np.ndarray], None]  # on_rows(time, data): rows recorded so far
 
@@ -81,6 +82,9 @@ class Master:
     host : {"direct", "fmpy"}
         Who calls the FMUs musclesim built from the installed sources: this process directly
         (default, `musclesim.cosim.direct`) or fmpy. Other FMUs always run through fmpy.
+    fuse : bool
+        Where every instance is a compiled kernel on the direct host, run the steps in one
+        compiled loop (`musclesim.cosim.fused`; default): the same bits, without Python per step.
 
     Raises
     ------
@@ -91,12 +95,14 @@ class Master:
     """
 
     def __init__(self, scenario: Scenario, fmu_dir: str | os.PathLike[str] = "fmus",
-                 inputs: Mapping[Signal, Any] | None = None, host: str = "direct") -> None:
+                 inputs: Mapping[Signal, Any] | None = None, host: str = "direct",
+                 fuse: bool = True) -> None:
         """Read the FMUs of `scenario` from `fmu_dir`, check the wiring (with the replayed
-        `inputs`), plan the run on `host` (see the class docstring)."""
+        `inputs`), plan the run on `host`, fused or not (see the class docstring)."""
         if host not in HOSTS:
             raise UserError(f"host {host!r} is not one of {', '.join(HOSTS)}")
-        self.scenario, self.host = scenario, host
+        self.scenario, self.host, self.fuse = scenario, host, fuse
+        self.fused: bool | None = None  # whether the last run's steps ran fused
         self.current: Any = None  # the Loaded instance being called, named if it fails
         self.hosts: dict[str, str] = {}  # instance -> the host that ran it, once loaded
         self.fmu_dir = Path(fmu_dir)
@@ -233,7 +239,10 @@ class Master:
                     self._initialize()
                 if interrupt.requested() is None:
                     self.phase = "in a step"
-                    error = self._loop(time, data)
+                    plan = fused.Fused.plan(self) if self.fuse else None
+                    self.fused = plan is not None
+                    error = self._loop(time, data) if plan is None else \
+                        self._loop_fused(plan, time, data)
                 stopped = interrupt.requested()
         except FMICallException:
             failed = self.current
@@ -327,6 +336,44 @@ class Master:
             inst.slave.exit_initialization_mode()
         self._exchange(0)
 
+    def _not_finite(self, data: np.ndarray, row: int, t: float) -> str:
+        col = next(j for j, x in enumerate(data[row - 1]) if not math.isfinite(x))
+        return f"signal {self.columns[col]} became {data[row - 1, col]} at t = {t:.6g} s"
+
+    def _loop_fused(self, plan: fused.Fused, time: np.ndarray, data: np.ndarray) -> str | None:
+        """`_loop` in compiled chunks of `FUSED_ROWS` rows (`musclesim.cosim.fused`)."""
+        s = self.scenario
+        n, row, t = s.n_steps, 0, self.t
+        replay = self.replay_table if self.replay_table is not None else np.zeros((n + 1, 0))
+        state, due = interrupt.STATE, clock.monotonic() + FLUSH_SECONDS
+        try:
+            while True:
+                row, t, end, fault = fused.run_rows(
+                    **plan.arrays, values=self.values, replay_slots=self.replay_slots,
+                    replay_table=replay, rec_slots=self.record_slots, time=time, data=data,
+                    row=row, t=t, row_stop=min(n + 1, row + FUSED_ROWS), n=n, t0=s.start_time,
+                    h=s.step)
+                if end == fused.DONE:
+                    return None
+                if end == fused.NOT_FINITE:
+                    return self._not_finite(data, row, t)
+                if end == fused.NAN_INPUT:
+                    inst = self.instances[plan.names[fault]]
+                    inst.log.append((3, plan.nan_input(fault)))  # as the slave would log it
+                    return self._failure(inst, t)
+                if state["signum"] is not None:  # the row the unfused loop records, then stop
+                    time[row] = t
+                    self.values.take(self.record_slots, out=data[row])
+                    row += 1
+                    return None
+                if self.on_rows is not None and clock.monotonic() > due:
+                    self.row = row
+                    self._flush(time, data)
+                    due = clock.monotonic() + FLUSH_SECONDS
+        finally:
+            self.row, self.t = row, t
+            plan.finish()
+
     def _loop(self, time: np.ndarray, data: np.ndarray) -> str | None:
         """Record, step, exchange until the stop time; return an error sentence or None."""
         s = self.scenario
@@ -341,8 +388,7 @@ class Master:
                 take(rec, out=data[row])
                 row += 1
                 if not np.isfinite(data[row - 1]).all():
-                    col = next(j for j, x in enumerate(data[row - 1]) if not math.isfinite(x))
-                    return f"signal {self.columns[col]} became {data[row - 1, col]} at t = {t:.6g} s"
+                    return self._not_finite(data, row, t)
                 if row > n or state["signum"] is not None:
                     return None
                 if not row & 1023 and self.on_rows is not None and clock.monotonic() > due:
