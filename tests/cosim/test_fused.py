@@ -122,3 +122,23 @@ def test_every_kind_reaches_its_own_kernel():
         kernels.advance(kind, slave.kp, x1, u, y1, 0.3, 1e-3)
         k.advance(slave.kp, x2, u, y2, 0.3, 1e-3)
         assert x1.tobytes() == x2.tobytes()
+
+
+def test_many_cases_in_one_pass_give_each_case_its_own_bits(fmu_dir):
+    """run_cases: parameter sets of one scenario in one compiled call, each case's Results those
+    of its own run, a failing case among them included; cases that cannot share a pass run one
+    after the other (an FMU hosted by fmpy)."""
+    from musclesim.cosim import ParamRef, run_cases, with_values
+
+    s = crawler(stop_time=1.0)
+    sets = [{ParamRef("body", "k"): k, ParamRef("friction1", "mu_s_low"): mu}
+            for k, mu in ((200.0, 0.13), (150.0, 0.2), (260.0, 0.1))]
+    sets.append({ParamRef("friction1", "mu_k_high"): 1e308, ParamRef("friction1", "mu_s_high"): 1e308})
+    cases = [with_values(s, v) for v in sets]
+    batch = run_cases([Master(c, fmu_dir) for c in cases])
+    assert len(batch) == len(cases) and "became" in batch[-1].error
+    for c, res in zip(cases, batch):
+        assert_same(res, Master(c, fmu_dir, fuse=False).run())
+    one_by_one = run_cases([Master(c, fmu_dir, host="fmpy") for c in cases[:2]])
+    for a, b in zip(one_by_one, batch):
+        assert_same(a, b)

@@ -26,9 +26,12 @@ from musclesim.components import kernels
 from musclesim.fmu.compiled import COMPILED, jit, parallel_jit, range_over_cases
 from musclesim.fmu.kernel import KernelSlave
 
-__all__ = ["Fused", "run_rows", "run_cases", "DONE", "PAUSED", "NOT_FINITE", "NAN_INPUT"]
+__all__ = ["Fused", "run_rows", "run_cases", "DONE", "PAUSED", "NOT_FINITE", "NAN_INPUT",
+           "PER_CASE"]
 
 DONE, PAUSED, NOT_FINITE, NAN_INPUT = 0, 1, 2, 3  # how `run_rows` ended
+# the arrays of a plan that differ from case to case of one scenario (`run_cases`)
+PER_CASE = ("P", "X", "U", "Y", "clock", "cl_t", "cl_v")
 
 
 @jit
@@ -138,12 +141,13 @@ def run_rows(kind, P, poff, X, xoff, U, uoff, Y, yoff, every, start, clock, ex_o
 def run_cases(kind, P, poff, X, xoff, U, uoff, Y, yoff, every, start, clock, ex_order, st_order,
               rd_ptr, rd_y, rd_slot, tr_ptr, tr_u, tr_slot, cl_ptr, cl_u, cl_lo, cl_hi, cl_t,
               cl_v, gauss_seidel, values, replay_slots, replay_table, rec_slots, time, data, n, t0,
-              h, rows, ends, faults):
+              h, rows, ts, ends, faults):
     """`run_rows` to the stop time for every case c: its arrays are row c of `P`, `X`, `U`, `Y`,
-    `clock`, `cl_t`, `cl_v`, `values`, `replay_table`, `time` and `data`; its last row, how it
-    ended and the instance at fault go to ``rows[c]``, ``ends[c]``, ``faults[c]``."""
+    `clock`, `cl_t`, `cl_v`, `values`, `replay_table`, `time` and `data`; its last row, its time,
+    how it ended and the instance at fault go to ``rows[c]``, ``ts[c]``, ``ends[c]``,
+    ``faults[c]``."""
     for c in range_over_cases(P.shape[0]):
-        rows[c], _, ends[c], faults[c] = run_rows(
+        rows[c], ts[c], ends[c], faults[c] = run_rows(
             kind, P[c], poff, X[c], xoff, U[c], uoff, Y[c], yoff, every, start, clock[c],
             ex_order, st_order, rd_ptr, rd_y, rd_slot, tr_ptr, tr_u, tr_slot, cl_ptr, cl_u, cl_lo,
             cl_hi, cl_t[c], cl_v[c], gauss_seidel, values[c], replay_slots, replay_table[c],
@@ -229,6 +233,18 @@ class Fused:
         shift = np.cumsum([0] + [len(c[0]) for _, c in tr[:-1]])
         arrays["tr_ptr"] = arrays["tr_ptr"] + shift[:, None]
         return cls(slaves, [i.name for i in insts], arrays, clamps)
+
+    @staticmethod
+    def batchable(plans: list[Fused | None]) -> bool:
+        """Whether the `plans` (one per case) run as one `run_cases` call: all fused, with the
+        same layout (index arrays) and arrays of the same shapes."""
+        if not plans or any(p is None for p in plans):
+            return False
+        first = plans[0].arrays  # type: ignore[union-attr]
+        return all(
+            all(np.shape(p.arrays[k]) == np.shape(v) if k in PER_CASE
+                else np.array_equal(p.arrays[k], v) for k, v in first.items())
+            for p in plans[1:] if p is not None)
 
     def finish(self) -> None:
         """Write the state, the clocks and the last inputs back into the slaves; log each clamp
