@@ -30,18 +30,17 @@ def matvec(a: Matrix, x: Sequence[float]) -> list[float]:
     first t_k + t_(k + n/2) (the two halves in pairs), then those left to right; for an odd n
     left to right. A mirror that swaps the halves (the crawler's two blocks) leaves these sums
     alone, so mirrored inputs give mirrored bits."""
-    x = np.asarray(x, dtype=float)
     out = np.empty(np.shape(a)[0])
-    matvec_into(np.asarray(a, dtype=float), x, out)
-    return out.tolist()  # type: ignore[no-any-return]
+    matvec_into(np.asarray(a, dtype=float), np.asarray(x, dtype=float), out)
+    return out.tolist()
 
 
 def matmul(a: Matrix, b: Matrix) -> list[list[float]]:
     """The product `a` `b`, each element summed over the inner index as `matvec` sums."""
-    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
-    out = np.empty((a.shape[0], b.shape[1]))
-    matmul_into(a, b, out)
-    return out.tolist()  # type: ignore[no-any-return]
+    a_, b_ = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    out = np.empty((a_.shape[0], b_.shape[1]))
+    matmul_into(a_, b_, out)
+    return out.tolist()
 
 
 @jit
@@ -262,9 +261,9 @@ def exp_and_integral(A: Matrix, h: float) -> tuple[list[list[float]], list[list[
     >>> exp_and_integral([[0.0, 1.0], [0.0, 0.0]], 0.5)  # a free mass: exact
     ([[1.0, 0.5], [0.0, 1.0]], [[0.5, 0.125], [0.0, 0.5]])
     """
-    A = np.asarray(A, dtype=float)
-    X, Phi = np.empty_like(A), np.empty_like(A)
-    exp_and_integral_into(A, float(h), X, Phi)
+    a = np.asarray(A, dtype=float)
+    X, Phi = np.empty_like(a), np.empty_like(a)
+    exp_and_integral_into(a, float(h), X, Phi)
     return X.tolist(), Phi.tolist()
 
 
@@ -287,9 +286,9 @@ def zoh(A: Matrix, B: Matrix, h: float) -> tuple[list[list[float]], list[list[fl
     >>> zoh([[0.0, 1.0], [0.0, 0.0]], [[0.0], [1.0]], 0.5)  # a free mass pushed by u: exact
     ([[1.0, 0.5], [0.0, 1.0]], [[0.125], [0.5]])
     """
-    A, B = np.asarray(A, dtype=float), np.asarray(B, dtype=float)
-    Ad, Bd = np.empty_like(A), np.empty((A.shape[0], B.shape[1]))
-    zoh_into(A, B, float(h), Ad, Bd)
+    a, b = np.asarray(A, dtype=float), np.asarray(B, dtype=float)
+    Ad, Bd = np.empty_like(a), np.empty((a.shape[0], b.shape[1]))
+    zoh_into(a, b, float(h), Ad, Bd)
     return Ad.tolist(), Bd.tolist()
 
 

@@ -67,7 +67,7 @@ class BodyParams:
 def stiffness(p: BodyParams, f_a: float = 0.0) -> float:
     """Actuator stiffness of the body `p` at actuator force `f_a`: k (1 + k_slope f_a), never
     below zero."""
-    return _stiffness(pack(p), f_a)  # type: ignore[no-any-return]
+    return _stiffness(pack(p), f_a)
 
 
 # the kernel's parameters (`pack`): the fields, then constants derived from them
@@ -135,7 +135,7 @@ def nonfriction_forces(x: Sequence[float] | np.ndarray, f_a: float, p: BodyParam
     """Net non-friction force along the surface on each block of the body `p` in state `x` under
     actuator force `f_a` (spring, damper, actuator, gravity, and the ground's viscous drag when
     that effect is on)."""
-    return _nonfriction_forces(np.asarray(x, dtype=float), f_a, pack(p))  # type: ignore[no-any-return]
+    return _nonfriction_forces(np.asarray(x, dtype=float), f_a, pack(p))
 
 
 @jit
@@ -154,7 +154,7 @@ def normal_forces(p: BodyParams) -> tuple[float, float]:
 
 def centre_of_mass(x: Sequence[float] | np.ndarray, p: BodyParams) -> float:
     """Position of the centre of mass (m1 x1 + m2 x2) / (m1 + m2) of the body `p` in state `x`."""
-    return _centre_of_mass(np.asarray(x, dtype=float), pack(p))  # type: ignore[no-any-return]
+    return _centre_of_mass(np.asarray(x, dtype=float), pack(p))
 
 
 @jit

@@ -110,7 +110,7 @@ def references(t: float, p: GaitParams) -> tuple[float, float, float, float, flo
     >>> references(2.0, GaitParams(p_central=5e3, p_anchor1=2e3, p_anchor2=3e3))
     (2000.0, 5000.0, 3000.0, 3.0, 1.0, 1.0)
     """
-    return _references(t, pack(p))  # type: ignore[no-any-return]
+    return _references(t, pack(p))
 
 
 def pack(p: GaitParams) -> np.ndarray:

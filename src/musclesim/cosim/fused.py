@@ -182,8 +182,9 @@ class Fused:
         if not COMPILED:
             return None
         insts = list(master.instances.values())
-        slaves = [getattr(i.slave, "slave", None) for i in insts]
-        if not all(isinstance(s, KernelSlave) and s.kernel in kernels.KINDS for s in slaves):
+        found = [getattr(i.slave, "slave", None) for i in insts]
+        slaves = [s for s in found if isinstance(s, KernelSlave) and s.kernel in kernels.KINDS]
+        if len(slaves) < len(insts):
             return None
         index = {inst.name: k for k, inst in enumerate(insts)}
         ks = [s.kernel for s in slaves]

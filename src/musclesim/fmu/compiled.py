@@ -89,7 +89,7 @@ def jit(fn: F) -> F:
     if _NUMBA is None:
         return fn
     return _NUMBA.njit(cache=CACHE is not None or bool(os.environ.get("NUMBA_CACHE_DIR")),
-                       nogil=True)(fn)  # type: ignore[no-any-return]
+                       nogil=True)(fn)
 
 
 def parallel_jit(fn: F) -> F:
@@ -97,7 +97,7 @@ def parallel_jit(fn: F) -> F:
     if _NUMBA is None:
         return fn
     return _NUMBA.njit(cache=CACHE is not None or bool(os.environ.get("NUMBA_CACHE_DIR")),
-                       nogil=True, parallel=True)(fn)  # type: ignore[no-any-return]
+                       nogil=True, parallel=True)(fn)
 
 
 # the loop over independent cases in a `parallel_jit` function: threads where compiled

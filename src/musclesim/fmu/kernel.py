@@ -84,7 +84,8 @@ class KernelSlave(Slave):
         """Warn of input `name` at `value` clamped to [`lo`, `hi`] at time `t` [s] as
         `clamped_input` does (once per input): a master that ran the kernel itself met it."""
         attr = name.replace(".", "_")
-        held, _ = getattr(self, attr), setattr(self, attr, value)
+        held = getattr(self, attr)
+        setattr(self, attr, value)
         self.clamped_input(name, lo, hi, t)
         setattr(self, attr, held)
 
