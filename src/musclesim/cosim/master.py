@@ -264,21 +264,25 @@ class Master:
         tmp = Path(tempfile.mkdtemp(prefix=f"musclesim_run_{os.getpid()}_"))
         try:
             with interrupt.polled():
-                self._instantiate(tmp)
-                if interrupt.requested() is None:
-                    self.phase = "during initialization"
-                    self._initialize()
-                if interrupt.requested() is None:
-                    self.phase = "in a step"
-                    run.ready = True
                 try:
-                    yield run
+                    self._instantiate(tmp)
+                    if interrupt.requested() is None:
+                        self.phase = "during initialization"
+                        self._initialize()
+                    if interrupt.requested() is None:
+                        self.phase = "in a step"
+                        run.ready = True
+                except FMICallException:
+                    failed = self.current
+                    run.error = self._failure(failed, self.t)
+                try:
+                    yield run  # the caller steps it if ready
+                except FMICallException:
+                    failed = self.current
+                    run.error = self._failure(failed, self.t)
                 finally:
                     run.ready = False
                 stopped = interrupt.requested()
-        except FMICallException:
-            failed = self.current
-            run.error = self._failure(failed, self.t)
         finally:
             for inst in self.instances.values():
                 # An instance that failed is left alone: pythonfmu 0.7 has already released its
