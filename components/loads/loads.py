@@ -8,13 +8,15 @@ docs' tables and the diagnosis read it there.
 
 The equations are written once, as `jit` functions on numbers (the ``*_core`` functions), which the
 functions on the dataclasses below and the FMUs' kernels (`musclesim.components.loads.slaves`)
-call; the link's transition matrix is computed in Python (`link_transition`, fixed order).
+call (the link's transition matrix through `fixedorder`'s compiled exponential).
 """
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+
+import numpy as np
 
 from musclesim.components import fixedorder
 from musclesim.components.checks import require
@@ -104,8 +106,19 @@ def link_transition(dt: float, p: WeightParams) -> list[list[float]]:
     """2x2 matrix (rows of floats) advancing (y, dy/dt) of y'' = -w^2 y - 2 zeta w y' of the
     weight `p` exactly over `dt`: its matrix exponential, taken in a fixed order of operations (no
     BLAS, whose kernel is chosen per CPU: the same bits on every CPU)."""
-    w = link_omega(p)
-    return fixedorder.exp_and_integral([[0.0, 1.0], [-w * w, -2.0 * p.zeta * w]], dt)[0]
+    phi = np.empty((2, 2))
+    link_transition_into(link_omega(p), p.zeta, float(dt), phi)
+    return phi.tolist()
+
+
+@jit
+def link_transition_into(omega: float, zeta: float, dt: float, phi: np.ndarray) -> None:
+    """`phi` (2x2) = `link_transition` over `dt` [s] of the link of angular frequency `omega`
+    [rad/s] and damping ratio `zeta`."""
+    A = np.empty((2, 2))
+    A[0, 0], A[0, 1], A[1, 0], A[1, 1] = 0.0, 1.0, -omega * omega, -2.0 * zeta * omega
+    integral = np.empty((2, 2))
+    fixedorder.exp_and_integral_into(A, dt, phi, integral)
 
 
 def weight_step(x: float, v: float, s: float, u: float, phi: Sequence[Sequence[float]], dt: float,

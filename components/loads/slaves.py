@@ -7,7 +7,8 @@ puts on the wire (the SmaWire FMU's convention); equations in §loads.
 Packed layouts (index constants below): BiasSpring kp = [k, preload], no state. DeadWeight kp =
 [mass, g, inertia, k_link, zeta, omega (the link's angular frequency)], kx = [x, v (the moving
 share's position and velocity), t, s (time and contraction at the last step), the step the link's
-transition was computed for (NaN: none), its elements phi00, phi01, phi10, phi11]. Electromagnet
+transition was computed for (NaN: none; the kernel computes it anew when the step changes), its
+elements phi00, phi01, phi10, phi11]. Electromagnet
 kp = [m_cal, g, V_supply, R, L, k_f, nonlinearity], kx = [coil current].
 """
 from __future__ import annotations
@@ -47,9 +48,15 @@ def _weight_evaluate(p, x, u, t, y):
 
 @jit
 def _weight_advance(p, x, u, y, t, dt):
-    """The moving share's step; the transition over `dt` is in x (DeadWeight.prepare_step)."""
+    """The moving share's step, the link's transition over `dt` kept in x (computed when the
+    step changes)."""
     if p[INERTIA] == 0.0:
         return
+    if x[PHI_DT] != dt:
+        phi = np.empty((2, 2))
+        loads.link_transition_into(p[OMEGA], p[ZETA], dt, phi)
+        x[PHI_DT], x[PHI00], x[PHI01], x[PHI10], x[PHI11] = (dt, phi[0, 0], phi[0, 1], phi[1, 0],
+                                                              phi[1, 1])
     s = u[0]
     slope = (s - x[S_LAST]) / (t - x[T_LAST]) if t > x[T_LAST] else 0.0
     x[X], x[V] = loads.weight_step_core(x[X], x[V], s, slope, x[PHI00], x[PHI01], x[PHI10],
@@ -113,18 +120,6 @@ class DeadWeight(KernelSlave):
         # at rest at the wire's end; no transition computed yet
         self.kx = np.array([self.flange_s, 0.0, self.time, self.flange_s, math.nan, 0.0, 0.0, 0.0,
                             0.0])
-
-    def prepare_step(self, dt: float) -> None:
-        """Put the link's transition over a step of `dt` [s] in the state, where the kernel reads
-        it (computed in Python, `loads.link_transition`, when the step changes)."""
-        if self.p.inertia and dt != self.kx[PHI_DT]:
-            (a, b), (c, d) = loads.link_transition(dt, self.p)
-            self.kx[PHI_DT:] = dt, a, b, c, d
-
-    def advance(self, t: float, dt: float) -> None:
-        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
-        self.prepare_step(dt)
-        super().advance(t, dt)
 
 
 class Electromagnet(KernelSlave):

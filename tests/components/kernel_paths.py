@@ -20,8 +20,6 @@ def assert_paths_agree(slave, inputs, dt, steps):
         slave.set_real([], [])
         slave.get_real([])
         t = slave.time
-        if hasattr(slave, "prepare_step"):  # a step's constants the kernel reads from its state
-            slave.prepare_step(dt)
         u = slave._inputs(t).copy()
         ys = []
         for fn in (kernel.evaluate, kernel.evaluate.py_func):
