@@ -29,14 +29,16 @@ Y_ON, Y_OFF, U_ON, U_OFF, INITIALLY_ON = range(5)  # BangBang's kp; its kx = [on
 
 
 @jit
-def _pid_evaluate(p, x, u, t, y):
+def pid_evaluate(p, x, u, t, y):
+    """PID's kernel: outputs (y, e)."""
     y[0] = pid.output_core(x[INTEGRAL], x[DERIVATIVE], x[Y_LAST], u[0], u[1], x[DT_LAST], p[KP],
                            p[KD], p[TF], p[U_MIN], p[U_MAX])
     y[1] = u[0] - u[1]
 
 
 @jit
-def _pid_advance(p, x, u, y, t, dt):
+def pid_advance(p, x, u, y, t, dt):
+    """PID's kernel: one sample's step of the state."""
     x[INTEGRAL], x[DERIVATIVE], x[Y_LAST] = pid.update_core(
         x[INTEGRAL], x[DERIVATIVE], x[Y_LAST], u[0], u[1], dt, p[KP], p[KI], p[KD], p[TF],
         p[U_MIN], p[U_MAX])
@@ -44,7 +46,8 @@ def _pid_advance(p, x, u, y, t, dt):
 
 
 @jit
-def _scheduled_evaluate(p, x, u, t, y):
+def scheduled_evaluate(p, x, u, t, y):
+    """GainScheduledPID's kernel: outputs (y, e), the gains at the reference."""
     Kp, _, Kd = pid.gains_at(u[0], p, N + 1, int(p[N]))
     y[0] = pid.output_core(x[INTEGRAL], x[DERIVATIVE], x[Y_LAST], u[0], u[1], x[DT_LAST], Kp, Kd,
                            p[TF], p[U_MIN], p[U_MAX])
@@ -52,7 +55,8 @@ def _scheduled_evaluate(p, x, u, t, y):
 
 
 @jit
-def _scheduled_advance(p, x, u, y, t, dt):
+def scheduled_advance(p, x, u, y, t, dt):
+    """GainScheduledPID's kernel: one sample's step, the gains at the reference."""
     Kp, Ki, Kd = pid.gains_at(u[0], p, N + 1, int(p[N]))
     x[INTEGRAL], x[DERIVATIVE], x[Y_LAST] = pid.update_core(
         x[INTEGRAL], x[DERIVATIVE], x[Y_LAST], u[0], u[1], dt, Kp, Ki, Kd, p[TF], p[U_MIN],
@@ -61,14 +65,16 @@ def _scheduled_advance(p, x, u, y, t, dt):
 
 
 @jit
-def _relay_evaluate(p, x, u, t, y):
+def relay_evaluate(p, x, u, t, y):
+    """BangBang's kernel: outputs (y, on) after seeing T."""
     on = relay.switch_core(x[0] == 1.0, u[0], p[Y_ON], p[Y_OFF])
     y[0] = relay.output_core(on, p[U_ON], p[U_OFF])
     y[1] = 1.0 if on else 0.0
 
 
 @jit
-def _relay_advance(p, x, u, y, t, dt):
+def relay_advance(p, x, u, y, t, dt):
+    """BangBang's kernel: the relay's state after seeing T."""
     x[0] = 1.0 if relay.switch_core(x[0] == 1.0, u[0], p[Y_ON], p[Y_OFF]) else 0.0
 
 
@@ -97,7 +103,7 @@ class PID(_PIDBase):
     """Discrete PID controller with derivative filter, output limits and anti-windup."""
 
     description = "Discrete PID: derivative on measurement, output limits, conditional integration"
-    kernel = Kernel(_pid_evaluate, _pid_advance, ("u_s", "u_m"), ("y", "e"))
+    kernel = Kernel(pid_evaluate, pid_advance, ("u_s", "u_m"), ("y", "e"))
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
@@ -121,7 +127,7 @@ class GainScheduledPID(_PIDBase):
     description = ("Gain-scheduled PID: 21 gain sets on the reference, 30..130 C every 5 C, "
                    "linear in between (§temperature-control)")
     # a NaN reference has no gains: refused (a range without bounds: no clamp, no warning)
-    kernel = Kernel(_scheduled_evaluate, _scheduled_advance, ("u_s", "u_m"), ("y", "e"),
+    kernel = Kernel(scheduled_evaluate, scheduled_advance, ("u_s", "u_m"), ("y", "e"),
                     clamps=(("u_s", -math.inf, math.inf),))
 
     def __init__(self, **kwargs: object) -> None:
@@ -164,7 +170,7 @@ class BangBang(KernelSlave):
     description = ("Bang-bang (relay) temperature controller: on when T falls to T_on, off when T "
                    "rises to T_off; output u_on / u_off (§multiplier-experiments)")
     # a NaN temperature is refused ("input T is NaN at t = ..."): a range without bounds
-    kernel = Kernel(_relay_evaluate, _relay_advance, ("T",), ("y", "on"),
+    kernel = Kernel(relay_evaluate, relay_advance, ("T",), ("y", "on"),
                     clamps=(("T", -math.inf, math.inf),))
 
     def __init__(self, **kwargs: object) -> None:

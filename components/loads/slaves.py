@@ -31,25 +31,28 @@ M_CAL, G_MAG, V_SUPPLY, R, L, K_F, NONLINEARITY = range(7)  # Electromagnet's kp
 
 
 @jit
-def _no_state(p, x, u, y, t, dt):
+def no_state(p, x, u, y, t, dt):
+    """The kernel's advance of a slave without state: nothing."""
     pass
 
 
 @jit
-def _spring_evaluate(p, x, u, t, y):
+def spring_evaluate(p, x, u, t, y):
+    """BiasSpring's kernel: output flange.f."""
     y[0] = loads.spring_core(u[0], p[K], p[PRELOAD])
 
 
 @jit
-def _weight_evaluate(p, x, u, t, y):
+def weight_evaluate(p, x, u, t, y):
+    """DeadWeight's kernel: outputs (flange.f, lift)."""
     y[0] = loads.weight_tension_core(x[X], u[0], p[MASS], p[G], p[INERTIA], p[K_LINK])
     y[1] = loads.weight_lift_core(x[X], u[0], p[INERTIA])
 
 
 @jit
-def _weight_advance(p, x, u, y, t, dt):
-    """The moving share's step, the link's transition over `dt` kept in x (computed when the
-    step changes)."""
+def weight_advance(p, x, u, y, t, dt):
+    """DeadWeight's kernel: the moving share's step, the link's transition over `dt` kept in x
+    (computed when the step changes)."""
     if p[INERTIA] == 0.0:
         return
     if x[PHI_DT] != dt:
@@ -66,13 +69,15 @@ def _weight_advance(p, x, u, y, t, dt):
 
 
 @jit
-def _magnet_evaluate(p, x, u, t, y):
+def magnet_evaluate(p, x, u, t, y):
+    """Electromagnet's kernel: outputs (flange.f, i)."""
     y[0] = loads.magnet_tension_core(x[0], p[M_CAL], p[G_MAG], p[K_F], p[NONLINEARITY])
     y[1] = x[0]
 
 
 @jit
-def _magnet_advance(p, x, u, y, t, dt):
+def magnet_advance(p, x, u, y, t, dt):
+    """Electromagnet's kernel: the coil current's exact step, the duty held."""
     x[0] = loads.coil_step_core(x[0], u[0], dt, p[V_SUPPLY], p[R], p[L])
 
 
@@ -81,7 +86,7 @@ class BiasSpring(KernelSlave):
 
     default_experiment = experiment(10.0, 0.00025)  # §multiplier-experiments (pulses)
     description = "Bias spring: tension preload + k s on the wire (§loads: 490 N/m, ~125 MPa)"
-    kernel = Kernel(_spring_evaluate, _no_state, ("flange.s",), ("flange.f",))
+    kernel = Kernel(spring_evaluate, no_state, ("flange.s",), ("flange.f",))
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
@@ -101,7 +106,7 @@ class DeadWeight(KernelSlave):
     default_experiment = experiment(20.0, 0.0004)  # §multiplier-experiments (bang-bang)
     description = ("Dead weight on the wire: tension m g, or (inertia effect) a mass on a "
                    "spring link pulled by the wire, its motion damped: m g + k_link (s - lift)")
-    kernel = Kernel(_weight_evaluate, _weight_advance, ("flange.s",), ("flange.f", "lift"))
+    kernel = Kernel(weight_evaluate, weight_advance, ("flange.s",), ("flange.f", "lift"))
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
@@ -129,7 +134,7 @@ class Electromagnet(KernelSlave):
     default_experiment = experiment(550.0, 0.0004)  # sma-position-control, §position-control
     description = ("Electromagnet load: 100 g calibration weight plus a coil (L di/dt = V duty - "
                    "R i) pulling a magnet with k_f i (1 + nonlinearity i) (§sma-bench)")
-    kernel = Kernel(_magnet_evaluate, _magnet_advance, ("duty", "flange.s"), ("flange.f", "i"),
+    kernel = Kernel(magnet_evaluate, magnet_advance, ("duty", "flange.s"), ("flange.f", "i"),
                     clamps=(("duty", 0.0, 1.0),))
 
     def __init__(self, **kwargs: object) -> None:

@@ -21,27 +21,32 @@ from musclesim.fmu.kernel import Kernel, KernelSlave
 
 
 @jit
-def _no_state(p, x, u, y, t, dt):
+def no_state(p, x, u, y, t, dt):
+    """The kernel's advance of a slave without state: nothing."""
     pass
 
 
 @jit
-def _signal_evaluate(p, x, u, t, y):
+def signal_evaluate(p, x, u, t, y):
+    """SignalSource's kernel: output y at t."""
     y[0] = signals.value_core(t, p)
 
 
 @jit
-def _forc_evaluate(p, x, u, t, y):
+def forc_evaluate(p, x, u, t, y):
+    """ForcReference's kernel: outputs (T_ref, run, phase) at t."""
     y[0], y[1], y[2] = forc.value_core(t, p)
 
 
 @jit
-def _strain_evaluate(p, x, u, t, y):
+def strain_evaluate(p, x, u, t, y):
+    """StrainProfile's kernel: output eps_ref at t."""
     y[0] = profiles.value_core(p, 0, t)
 
 
 @jit
-def _loading_evaluate(p, x, u, t, y):
+def loading_evaluate(p, x, u, t, y):
+    """LoadingProfile's kernel: outputs (sigma_ref, f_ref) at t."""
     sigma = profiles.value_core(p, 1, t)
     y[0] = sigma
     y[1] = sigma * p[0]
@@ -51,7 +56,7 @@ class SignalSource(KernelSlave):
     """Constant, sine, square, triangle or ramp signal (references, loads)."""
 
     description = "Signal source: constant, sine, square or triangle wave around an offset, or a ramp"
-    kernel = Kernel(_signal_evaluate, _no_state, (), ("y",))
+    kernel = Kernel(signal_evaluate, no_state, (), ("y",))
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
@@ -70,7 +75,7 @@ class ForcReference(KernelSlave):
     description = ("FORC experiment reference (§forc-identification): run j heats from T_low to "
                    "T_low + j T_step along a raised cosine and cools back; outputs run index and "
                    "phase")
-    kernel = Kernel(_forc_evaluate, _no_state, (), ("T_ref", "run", "phase"))
+    kernel = Kernel(forc_evaluate, no_state, (), ("T_ref", "run", "phase"))
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
@@ -136,7 +141,7 @@ class StrainProfile(_ProfileSlave):
                    "[lo, hi])")
     names = profiles.STRAIN_PROFILES
     make = staticmethod(profiles.strain_profile)
-    kernel = Kernel(_strain_evaluate, _no_state, (), ("eps_ref",))
+    kernel = Kernel(strain_evaluate, no_state, (), ("eps_ref",))
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(0.0, profiles.EPS_MAX, "1", **kwargs)
@@ -150,7 +155,7 @@ class LoadingProfile(_ProfileSlave):
     description = "Loading (stress) profile LP I-VI of §reference-profiles, within [lo, hi] Pa"
     names = profiles.LOADING_PROFILES
     make = staticmethod(profiles.loading_profile)
-    kernel = Kernel(_loading_evaluate, _no_state, (), ("sigma_ref", "f_ref"))
+    kernel = Kernel(loading_evaluate, no_state, (), ("sigma_ref", "f_ref"))
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(profiles.SIGMA_LO, profiles.SIGMA_HI, "Pa", **kwargs)
