@@ -383,11 +383,11 @@ class Master:
         state, due = interrupt.STATE, clock.monotonic() + FLUSH_SECONDS
         try:
             while True:
-                row, t, end, fault = fused.run_rows(
-                    **plan.arrays, values=self.values, replay_slots=self.replay_slots,
-                    replay_table=replay, rec_slots=self.record_slots, time=time, data=data,
-                    row=row, t=t, row_stop=min(n + 1, row + FUSED_ROWS), n=n, t0=s.start_time,
-                    h=s.step)
+                a = plan.arrays
+                row, t, end, fault = plan.module.run_rows(
+                    a["P"], a["X"], a["U"], a["Y"], a["clock"], a["dirty"], a["cl_t"], a["cl_v"],
+                    self.values, replay, time, data, row, t, min(n + 1, row + FUSED_ROWS), n,
+                    s.start_time, s.step)
                 if end == fused.DONE:
                     return None
                 if end == fused.NOT_FINITE:
@@ -478,11 +478,8 @@ def _run_batch(masters: Sequence[Master], runs: list[_Run], plans: list[fused.Fu
     time, data = np.stack([r.time for r in runs]), np.stack([r.data for r in runs])
     rows, ends, faults = (np.zeros(len(masters), dtype=np.intp) for _ in range(3))
     ts = np.zeros(len(masters))
-    shared = {k: v for k, v in plans[0].arrays.items() if k not in fused.PER_CASE}
-    fused.run_cases(**shared, **stack, values=values, replay_slots=masters[0].replay_slots,
-                    replay_table=replay, rec_slots=masters[0].record_slots, time=time, data=data,
-                    n=n, t0=s.start_time, h=s.step, rows=rows, ts=ts, ends=ends,
-                    faults=faults)
+    plans[0].module.run_cases(*(stack[k] for k in fused.PER_CASE), values, replay, time, data, n,
+                              s.start_time, s.step, rows, ts, ends, faults)
     for c, (m, r, plan) in enumerate(zip(masters, runs, plans)):
         for k in fused.PER_CASE:
             plan.arrays[k][...] = stack[k][c]

@@ -74,11 +74,18 @@ class KernelSlave(Slave):
         """The inputs `Kernel.inputs` as set, unclamped."""
         return [getattr(self, attr) for attr in self._kin]
 
-    def set_kernel_inputs(self, u: Any) -> None:
-        """Set the inputs `Kernel.inputs` to the values `u` (a master that ran the kernel
-        itself hands them back)."""
-        for attr, value in zip(self._kin, np.asarray(u, dtype=float).tolist()):
-            setattr(self, attr, value)
+    def kernel_dirty(self) -> bool:
+        """Whether an input was set or a step taken since the outputs were evaluated."""
+        return self._dirty
+
+    def restore_kernel(self, x: np.ndarray, u: np.ndarray, y: np.ndarray, time: float,
+                       dirty: bool) -> None:
+        """Take the state `x`, the inputs `u` (`Kernel.inputs`), the outputs `y` last evaluated,
+        the clock `time` [s] and whether the outputs are out of date (`dirty`) that a master
+        reached running the kernel itself."""
+        self.kx[:], self.ky[:], self.time, self._dirty = x, y, time, dirty
+        self.__dict__.update(zip(self._kin, u.tolist()))
+        self.__dict__.update(zip(self._kout, y.tolist()))
 
     def note_clamp(self, name: str, value: float, lo: float, hi: float, t: float) -> None:
         """Warn of input `name` at `value` clamped to [`lo`, `hi`] at time `t` [s] as
