@@ -313,7 +313,8 @@ def valve_intervals(x: np.ndarray, v: int, cap: int, et: np.ndarray, eon: np.nda
     if rest > cap:
         raise ValueError("a valve has more switchings pending than its state holds: valve "
                          "delays far above the step with the duty changing at every step")
-    x[v + CMD], x[v + OPEN], x[v + N_PENDING] = (1.0 if cmd else 0.0), (1.0 if is_open else 0.0), rest
+    x[v + CMD], x[v + OPEN] = (1.0 if cmd else 0.0), (1.0 if is_open else 0.0)
+    x[v + N_PENDING] = rest
     for j in range(rest):
         x[v + PENDING + j], x[v + PENDING + cap + j] = pt[first + j], pon[first + j]
     return starts, ends, count

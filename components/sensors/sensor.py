@@ -168,13 +168,13 @@ if COMPILED:  # numpy's PCG64 and ziggurat, ported: their tables are numba's cop
                                   np.uint64(0x000FFFFFFFFFFFFF))
 
     @jit
-    def _limbs(x: np.ndarray, i: int) -> tuple[int, int]:
+    def _limbs(x: np.ndarray, i: int) -> tuple[np.uint64, np.uint64]:
         """The 128-bit number in 32-bit limbs x[i:i+4] as (high, low) 64-bit words."""
         return ((np.uint64(x[i]) << _S32) | np.uint64(x[i + 1]),
                 (np.uint64(x[i + 2]) << _S32) | np.uint64(x[i + 3]))
 
     @jit
-    def _next64(x: np.ndarray, i: int) -> int:
+    def _next64(x: np.ndarray, i: int) -> np.uint64:
         """PCG64's next output (XSL-RR of the state after a step), the state x[i:i+8] advanced."""
         s_hi, s_lo = _limbs(x, i)
         inc_hi, inc_lo = _limbs(x, i + 4)
