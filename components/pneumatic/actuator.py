@@ -366,7 +366,7 @@ def open_time(intervals: list[tuple[float, float]], a: float, b: float) -> float
     """Time [s] the `intervals` [(start, end)] cover within [`a`, `b`) (`time_open`)."""
     starts = np.array([s for s, _ in intervals], dtype=np.float64)
     ends = np.array([e for _, e in intervals], dtype=np.float64)
-    return time_open(starts, ends, len(intervals), a, b)
+    return float(time_open(starts, ends, len(intervals), a, b))
 
 
 @jit
@@ -392,7 +392,7 @@ def volume(elongation: float, contact: float, p: ActuatorParams) -> float:
     >>> round(volume(0.01, 0.0, ActuatorParams()), 12)
     6.832e-05
     """
-    return chamber_volume(pack(p), elongation, contact)
+    return float(chamber_volume(pack(p), elongation, contact))
 
 
 @jit
@@ -412,7 +412,7 @@ def contact_step(c: float, pressure: float, dt: float, p: ActuatorParams) -> flo
     >>> contact_step(0.5, 9e3, 0.05, ActuatorParams())
     0.75
     """
-    return contact_rate(pack(p), c, pressure, dt)
+    return float(contact_rate(pack(p), c, pressure, dt))
 
 
 @jit
@@ -441,7 +441,7 @@ def bulge_contact(c: float, pressure: float, p: ActuatorParams) -> float:
     >>> round((P_ATM + 8.5e3) * (volume(0, 0, p) / volume(0, c, p)) ** p.kappa - P_ATM, 6)
     8000.0
     """
-    return bulge(pack(p), c, pressure)
+    return float(bulge(pack(p), c, pressure))
 
 
 @jit
