@@ -8,7 +8,7 @@ Equations and where every default comes from: §pneumatics (docs/model/pneumatic
 The physics is written once, in `jit` functions on numbers and float64 arrays: the parameters
 packed by `pack` (kp), the state in one array (kx, `start_state`: pressure, contact, elongation,
 the last step's mean mass flow and each valve's command, position and pending switchings). The
-FMU's kernel (`evaluate`, `advance`; `musclesim.fmu.kernel`) and the Python API below
+FMU's kernel (`KERNEL`: `evaluate`, `advance`; `musclesim.fmu.kernel`) and the Python API below
 (`Actuator`, `Valve`, `pwm_edges`, ...) call the same functions.
 """
 from __future__ import annotations
@@ -21,6 +21,7 @@ import numpy as np
 from musclesim.components.checks import require
 from musclesim.fmu import Calibration, declare
 from musclesim.fmu.compiled import jit
+from musclesim.fmu.kernel import Kernel
 
 P_ATM = 101325.0  # Pa, standard atmosphere (gauge 0)
 RHO_0 = 1.185  # kg/m^3, ISO 6358 reference density
@@ -567,6 +568,10 @@ def advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float
     reached at its end."""
     mass = step(p, x, t, dt, u[0], u[2] - u[1])
     x[M_FLOW] = mass / dt if dt > 0 else 0.0
+
+
+KERNEL = Kernel(evaluate, advance, inputs=("duty", "flange_a.s", "flange_b.s"),
+                outputs=("p", "f_a", "u", "m_flow"), clamps=(("duty", -1.0, 1.0),))
 
 
 class Actuator:

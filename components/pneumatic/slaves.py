@@ -8,15 +8,14 @@ from typing import Any
 
 from musclesim.components.pneumatic import actuator
 from musclesim.fmu import Slave, experiment
-from musclesim.fmu.kernel import Kernel, KernelSlave
+from musclesim.fmu.kernel import KernelSlave
 
 
 class SoftActuator(KernelSlave):
     """Silicone chamber fed through two PWM solenoid valves by an inflation and an exhaust pump
     (§crawler-hardware, §gait, §valves)."""
 
-    kernel = Kernel(actuator.evaluate, actuator.advance, ("duty", "flange_a.s", "flange_b.s"),
-                    ("p", "f_a", "u", "m_flow"), clamps=(("duty", -1.0, 1.0),))
+    kernel = actuator.KERNEL
     default_experiment = experiment(30.0, 0.001)  # crawler-gait-forward, §gait
     display_units = {**Slave.display_units, "Pa": "kPa"}  # air pressures
     description = ("Soft pneumatic actuator: chamber (polytropic) filled and emptied through two "
