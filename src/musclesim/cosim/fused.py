@@ -294,8 +294,8 @@ class Fused:
         have."""
         a, o = self.arrays, self.offsets
         for k, s in enumerate(self.slaves):
-            s.restore_kernel(*(a[x][o[x][k]:o[x][k + 1]] for x in "XUY"),
-                             float(a["clock"][k]), bool(a["dirty"][k]))
+            x, u, y = (a[v][o[v][k]:o[v][k + 1]] for v in "XUY")
+            s.restore_kernel(x, u, y, float(a["clock"][k]), bool(a["dirty"][k]))
         for j, (k, name, lo, hi) in enumerate(self.clamps):
             if not math.isnan(a["cl_t"][j]) and not math.isnan(a["cl_v"][j]):
                 self.slaves[k].note_clamp(name, float(a["cl_v"][j]), lo, hi, float(a["cl_t"][j]))
