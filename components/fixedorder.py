@@ -20,7 +20,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from musclesim.fmu.compiled import jit
+from musclesim.fmu import jit
 
 Matrix = Sequence[Sequence[float]]  # rows of floats (numpy arrays work as well)
 

@@ -19,7 +19,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from musclesim.fmu import declare
-from musclesim.fmu.compiled import jit
+from musclesim.fmu import jit
 
 ZERO_C = 273.15
 

@@ -17,8 +17,8 @@ import numpy as np
 from musclesim.components.control import pid, relay
 from musclesim.components.control.pid import SCHEDULE_K
 from musclesim.fmu import experiment
-from musclesim.fmu.compiled import jit
-from musclesim.fmu.kernel import Kernel, KernelSlave
+from musclesim.fmu import jit
+from musclesim.fmu import Kernel, KernelSlave
 
 UNLIMITED = 1e30  # output limits that never act (FMI start values must be finite)
 

@@ -21,8 +21,8 @@ import numpy as np
 from musclesim.components import fixedorder
 from musclesim.components.checks import require
 from musclesim.fmu import Calibration, declare
-from musclesim.fmu.compiled import jit
-from musclesim.fmu.kernel import Kernel
+from musclesim.fmu import jit
+from musclesim.fmu import Kernel
 
 G = 9.81  # m/s^2
 

@@ -30,8 +30,8 @@ import numpy as np
 
 from musclesim.components.checks import require
 from musclesim.fmu import declare
-from musclesim.fmu.compiled import jit
-from musclesim.fmu.kernel import Kernel
+from musclesim.fmu import jit
+from musclesim.fmu import Kernel
 
 # s: times within this of a phase boundary count as past it, so that a time accumulated step by
 # step (0.001 + 0.001 + ...) switches on the same sample as the exact time would

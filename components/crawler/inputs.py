@@ -12,8 +12,8 @@ import numpy as np
 
 from musclesim.components.checks import require
 from musclesim.fmu import declare
-from musclesim.fmu.compiled import jit
-from musclesim.fmu.kernel import Kernel
+from musclesim.fmu import jit
+from musclesim.fmu import Kernel
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from musclesim.components.crawler import body, friction, inputs
-from musclesim.fmu.compiled import jit
+from musclesim.fmu import jit
 
 
 def simulate_ideal(body_p: body.BodyParams = body.BodyParams(),

@@ -5,7 +5,7 @@ import numpy as np
 
 from musclesim.components.crawler import body, friction, gait, inputs
 from musclesim.fmu import experiment
-from musclesim.fmu.kernel import KernelSlave
+from musclesim.fmu import KernelSlave
 
 
 class CrawlerBody(KernelSlave):

@@ -19,8 +19,8 @@ import numpy as np
 
 from musclesim.components.loads import loads
 from musclesim.fmu import experiment
-from musclesim.fmu.compiled import jit
-from musclesim.fmu.kernel import Kernel, KernelSlave
+from musclesim.fmu import jit
+from musclesim.fmu import Kernel, KernelSlave
 
 S_DESCRIPTION = "Contraction of the wire (SmaWire flange.s); positive = the wire shortens"
 

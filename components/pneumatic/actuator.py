@@ -20,8 +20,8 @@ import numpy as np
 
 from musclesim.components.checks import require
 from musclesim.fmu import Calibration, declare
-from musclesim.fmu.compiled import jit
-from musclesim.fmu.kernel import Kernel
+from musclesim.fmu import jit
+from musclesim.fmu import Kernel
 
 P_ATM = 101325.0  # Pa, standard atmosphere (gauge 0)
 RHO_0 = 1.185  # kg/m^3, ISO 6358 reference density

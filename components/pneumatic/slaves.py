@@ -8,7 +8,7 @@ from typing import Any
 
 from musclesim.components.pneumatic import actuator
 from musclesim.fmu import Slave, experiment
-from musclesim.fmu.kernel import KernelSlave
+from musclesim.fmu import KernelSlave
 
 
 class SoftActuator(KernelSlave):

@@ -18,7 +18,7 @@ import numpy as np
 
 from musclesim.components.checks import require
 from musclesim.fmu import declare
-from musclesim.fmu.compiled import COMPILED, jit
+from musclesim.fmu import COMPILED, jit
 
 # kernel parameters `pack` gives (kp) and the state `start_state` gives (kx)
 TAU, GAIN, ORIGIN, BIAS, NOISE_STD, QUANTUM = range(6)

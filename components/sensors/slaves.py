@@ -5,7 +5,7 @@ from typing import Any
 
 from musclesim.components.sensors import sensor
 from musclesim.fmu import Calibration, Slave, experiment
-from musclesim.fmu.kernel import Kernel, KernelSlave
+from musclesim.fmu import Kernel, KernelSlave
 
 # the diagnosis's calibration of a load cell's, laser's or pressure sensor's gain
 AMPLIFIER_GAIN = Calibration(0.95, 1.05, True, "the sensor's and its amplifier's "

@@ -12,7 +12,7 @@ from collections.abc import Callable
 
 import numpy as np
 
-from musclesim.fmu.compiled import jit
+from musclesim.fmu import jit
 
 EPS_MAX = 0.0376  # strain, top of the reference strain profiles (§reference-profiles)
 SIGMA_LO, SIGMA_HI = 105e6, 145e6  # Pa, range of the loading profiles (§reference-profiles)

@@ -28,7 +28,7 @@ from musclesim.components.checks import require
 import numpy as np
 
 from musclesim.fmu import declare
-from musclesim.fmu.compiled import jit
+from musclesim.fmu import jit
 
 IDLE, HEATING, COOLING = 0.0, 1.0, -1.0  # values of the phase flag
 

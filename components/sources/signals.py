@@ -25,7 +25,7 @@ from musclesim.components.checks import require
 import numpy as np
 
 from musclesim.fmu import declare
-from musclesim.fmu.compiled import jit
+from musclesim.fmu import jit
 
 KINDS = ("constant", "sine", "square", "triangle", "ramp")
 EDGE = 1e-9  # periods: the rounding of a sample's phase, far below any step a master takes

@@ -16,8 +16,8 @@ import numpy as np
 from musclesim.components.sma import profiles
 from musclesim.components.sources import forc, signals
 from musclesim.fmu import experiment
-from musclesim.fmu.compiled import jit
-from musclesim.fmu.kernel import Kernel, KernelSlave
+from musclesim.fmu import jit
+from musclesim.fmu import Kernel, KernelSlave
 
 
 @jit

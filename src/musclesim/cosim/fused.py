@@ -31,8 +31,8 @@ from typing import Any
 
 import numpy as np
 
-from musclesim.fmu.compiled import CACHE, COMPILED
-from musclesim.fmu.kernel import Kernel, KernelSlave
+from musclesim.fmu import CACHE, COMPILED
+from musclesim.fmu import Kernel, KernelSlave
 
 __all__ = ["Fused", "DONE", "PAUSED", "NOT_FINITE", "NAN_INPUT", "PER_CASE"]
 
@@ -81,7 +81,7 @@ class _Layout:
         """The module's source: ``run_rows`` and ``run_cases`` for this layout."""
         imports = sorted({f for pair in self.funcs for f in pair})
         self.lines = ["import math", "import numpy as np",
-                      "from musclesim.fmu.compiled import jit, parallel_jit, range_over_cases"]
+                      "from musclesim.fmu import jit, parallel_jit, range_over_cases"]
         self.lines += [f"from {m} import {n} as {self._alias(m, n)}" for m, n in imports]
         self.lines += ["", "", "@jit", "def run_rows(P, X, U, Y, clock, dirty, cl_t, cl_v, values, "
                        "replay_table, time, data, row, t, row_stop, n, t0, h):"]

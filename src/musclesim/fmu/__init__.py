@@ -3,9 +3,11 @@ declares, `experiment`, a component's default experiment, `step_end`, the clock 
 keeps, and `declare`, one declaration of a core's parameter (its unit, description, source and
 role: an effect's bounds or a `Calibration`) that the slave, the docs and the diagnosis read.
 
-Modules: `slave` (the base class), `declaration` (a parameter's one declaration), `units` (the
-units a variable may carry), `clock` (the default experiment and the step's end) and `fmi3` (the
-FMI 3.0 face of every slave, in FMI 3.0 FMUs only).
+Modules: `slave` (the base class), `kernel` (`KernelSlave`, a slave whose physics is a compiled
+`Kernel`), `compiled` (`jit`: numba where installed, plain Python where not), `declaration` (a
+parameter's one declaration), `units` (the units a variable may carry), `clock` (the default
+experiment and the step's end) and `fmi3` (the FMI 3.0 face of every slave, in FMI 3.0 FMUs
+only).
 
 `musclesim build` copies this package into each FMU's resources, so it imports nothing but the
 standard library, numpy and pythonfmu: an FMU must run where only Python, numpy and scipy are
@@ -13,7 +15,11 @@ installed.
 """
 from musclesim.fmu.declaration import Calibration, Declaration, declare
 from musclesim.fmu.clock import experiment, step_end
+from musclesim.fmu.compiled import CACHE, COMPILED, jit, parallel_jit, range_over_cases
+from musclesim.fmu.kernel import Kernel, KernelSlave
 from musclesim.fmu.slave import Slave
 from musclesim.fmu.units import UNITS
 
-__all__ = ["Slave", "UNITS", "experiment", "step_end", "declare", "Calibration", "Declaration"]
+__all__ = ["Slave", "UNITS", "experiment", "step_end", "declare", "Calibration", "Declaration",
+           "Kernel", "KernelSlave", "jit", "parallel_jit", "range_over_cases", "COMPILED",
+           "CACHE"]
