@@ -59,6 +59,7 @@ def watched(monkeypatch):
         def evaluate(self, _original=cls.evaluate, _name=name):
             outputs = {attr for vr, attr in enumerate(self._attrs)
                        if self.vars[vr].causality.name == "output"}
+            outputs |= set(getattr(self, "buffers", ()))  # a kernel's inputs and outputs arrays
             before = _state(self, outputs)
             _original(self)
             after = _state(self, outputs)

@@ -46,6 +46,9 @@ class KernelSlave(Slave):
     ``kp`` and ``kx`` (float64 arrays), and may call ``super().setup()`` first for the buffers."""
 
     kernel: ClassVar[Kernel]
+    # what evaluate writes besides the output variables: the inputs as the kernel took them and
+    # the outputs it gave, as arrays (the state is `kx`; evaluate changes nothing else)
+    buffers: ClassVar[tuple[str, ...]] = ("ku", "ky")
 
     def __init__(self, **kwargs: Any) -> None:
         """`**kwargs`: pythonfmu's, passed on (see `Slave`)."""
