@@ -60,14 +60,14 @@ def _row_dot(a, i, x):
 
 
 @jit
-def matvec_into(a, x, out):
+def matvec_into(a: np.ndarray, x: np.ndarray, out: np.ndarray) -> None:
     """`out` = `a` `x` (float64 arrays), each row summed as `matvec` states."""
     for i in range(a.shape[0]):
         out[i] = _row_dot(a, i, x)
 
 
 @jit
-def matmul_into(a, b, out):
+def matmul_into(a: np.ndarray, b: np.ndarray, out: np.ndarray) -> None:
     """`out` = `a` `b` (float64 arrays, `out` neither), each element summed as `matvec` states."""
     bt = np.ascontiguousarray(b.T)
     for i in range(a.shape[0]):
@@ -77,7 +77,7 @@ def matmul_into(a, b, out):
 
 
 @jit
-def fsum(x):
+def fsum(x: np.ndarray) -> float:
     """The exactly rounded sum of the float64 array `x`: Shewchuk's algorithm as Python's
     ``math.fsum`` runs it (the same result, infinities and NaN included; an overflow of finite
     terms gives an infinity where math.fsum raises)."""
@@ -233,7 +233,8 @@ def _fused(alpha, c, a, b, d):
 
 
 @jit
-def exp_and_integral_into(A, h, X_out, Phi_out):
+def exp_and_integral_into(A: np.ndarray, h: float, X_out: np.ndarray, Phi_out: np.ndarray
+                          ) -> None:
     """`X_out` = exp(`A` `h`), `Phi_out` = its integral over the step (float64 arrays): the
     algorithm of `exp_and_integral`."""
     A, d = _balance(A)
@@ -293,7 +294,7 @@ def exp_and_integral(A: Matrix, h: float) -> tuple[list[list[float]], list[list[
 
 
 @jit
-def zoh_into(A, B, h, Ad, Bd):
+def zoh_into(A: np.ndarray, B: np.ndarray, h: float, Ad: np.ndarray, Bd: np.ndarray) -> None:
     """`Ad`, `Bd` = the zero-order hold of (`A`, `B`) over `h` (float64 arrays): `zoh`."""
     Phi = np.empty_like(A)
     exp_and_integral_into(A, h, Ad, Phi)

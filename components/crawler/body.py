@@ -119,12 +119,15 @@ def discretise(p: BodyParams, Ts: float, f_a: float = 0.0) -> tuple[np.ndarray, 
     (`fixedorder.zoh`): through BLAS its last digits would depend on the CPU (§two-mass).
     """
     Ad, Bd = np.empty((4, 4)), np.empty((4, 4))
-    _discretise_into(pack(p), Ts, f_a, Ad, Bd)
+    discretise_into(pack(p), Ts, f_a, Ad, Bd)
     return Ad, Bd
 
 
 @jit
-def _discretise_into(p, Ts, f_a, Ad, Bd):
+def discretise_into(p: np.ndarray, Ts: float, f_a: float, Ad: np.ndarray, Bd: np.ndarray
+                    ) -> None:
+    """`discretise` of the packed parameters `p` (`pack`) at step `Ts` [s] and actuator force
+    `f_a` [N] into `Ad` and `Bd` (4 x 4 each)."""
     A, B = _state_space(p, f_a)
     fixedorder.zoh_into(A, B, Ts, Ad, Bd)
 
@@ -133,11 +136,13 @@ def nonfriction_forces(x: Sequence[float] | np.ndarray, f_a: float, p: BodyParam
     """Net non-friction force along the surface on each block of the body `p` in state `x` under
     actuator force `f_a` (spring, damper, actuator, gravity, and the ground's viscous drag when
     that effect is on)."""
-    return _nonfriction_forces(np.asarray(x, dtype=float), f_a, pack(p))
+    return nonfriction_core(np.asarray(x, dtype=float), f_a, pack(p))
 
 
 @jit
-def _nonfriction_forces(x, f_a, p):
+def nonfriction_core(x: np.ndarray, f_a: float, p: np.ndarray) -> tuple[float, float]:
+    """`nonfriction_forces` of the state `x` under actuator force `f_a` [N], the packed
+    parameters `p` (`pack`)."""
     f_spring = _stiffness(p, f_a) * (x[0] - x[2]) + p[C] * (x[1] - x[3])
     slope = p[SLOPE]
     return (-f_spring - f_a - p[M1] * slope - p[C_GROUND] * x[1],
@@ -170,13 +175,15 @@ def step_state(x: Sequence[float] | np.ndarray, u: Sequence[float], Ad: np.ndarr
     f1 <-> -f2) leaves these sums alone, so with equal masses a mirrored run is bit for bit the
     mirror image (`fixedorder.zoh` keeps Ad and Bd mirror-symmetric too)."""
     out = np.array(x, dtype=float)
-    _step_state(out, u[0], u[1], u[2], np.asarray(Ad, dtype=float), np.asarray(Bd, dtype=float))
+    step_state_into(out, u[0], u[1], u[2], np.asarray(Ad, dtype=float), np.asarray(Bd, dtype=float))
     return out
 
 
 @jit
-def _step_state(x, f_a, f1, f2, Ad, Bd):
-    """`step_state` in place on the array `x`."""
+def step_state_into(x: np.ndarray, f_a: float, f1: float, f2: float, Ad: np.ndarray,
+                    Bd: np.ndarray) -> None:
+    """`step_state` in place on the array `x`, the inputs `f_a`, `f1`, `f2` [N] held, with the
+    hold matrices `Ad` and `Bd`."""
     x0, x1, x2, x3 = x[0], x[1], x[2], x[3]
     for i in range(4):
         a, b = Ad[i], Bd[i]
@@ -192,26 +199,28 @@ def initial_state() -> np.ndarray:
 
 
 @jit
-def evaluate(p, x, u, t, y):
-    """Kernel outputs y = [s1, v1, f_n1, N1, s2, v2, f_n2, N2, x_cm, incline] at state `x` and
-    inputs u = [f_a, f1, f2] (`t` does not matter)."""
-    f_n1, f_n2 = _nonfriction_forces(x, u[0], p)
+def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """Kernel outputs `y` = [s1, v1, f_n1, N1, s2, v2, f_n2, N2, x_cm, incline] at state `x` and
+    inputs `u` = [f_a, f1, f2], parameters `p` (`pack`; the time `t` does not matter)."""
+    f_n1, f_n2 = nonfriction_core(x, u[0], p)
     y[0], y[1], y[2], y[3] = x[0], x[1], f_n1, p[N1]
     y[4], y[5], y[6], y[7] = x[2], x[3], f_n2, p[N2]
     y[8], y[9] = _centre_of_mass(x, p), p[THETA]
 
 
 @jit
-def advance(p, x, u, y, t, dt):
-    """Kernel step of `dt` [s] with the inputs held: the hold matrices for this step (made anew
+def advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
+            dt: float) -> None:
+    """Kernel step of the state `x` over [`t`, `t` + `dt`] [s] with the inputs `u` held
+    (parameters `p`; the outputs `y` are not needed): the hold matrices for this step (made anew
     when the step changes beyond rounding, as an integer clock's steps do, or, with a
     force-dependent stiffness, the actuator force), then `step_state`."""
     f_held = u[0] if p[K_SLOPE] != 0.0 else 0.0
     Ad, Bd = x[6:22].reshape((4, 4)), x[22:38].reshape((4, 4))
     if math.isnan(x[4]) or abs(dt - x[4]) > 1e-9 * max(abs(dt), abs(x[4])) or f_held != x[5]:
-        _discretise_into(p, dt, f_held, Ad, Bd)
+        discretise_into(p, dt, f_held, Ad, Bd)
         x[4], x[5] = dt, f_held
-    _step_state(x[:4], u[0], u[1], u[2], Ad, Bd)
+    step_state_into(x[:4], u[0], u[1], u[2], Ad, Bd)
 
 
 KERNEL = Kernel(evaluate, advance, inputs=("f_a", "flange_a.f", "flange_b.f"),

@@ -90,11 +90,14 @@ def coefficients(s: float, p: FrictionParams, scale: float = 1.0) -> tuple[float
     """Static and kinetic coefficients of `p` at contact state `s` (0 = low, 1 = high
     friction), with the high coefficients multiplied by `scale` (see `high_scale`); the low ones
     are unaffected."""
-    return _coefficients(s, p.mu_s_high, p.mu_k_high, p.mu_s_low, p.mu_k_low, scale)
+    return coefficients_core(s, p.mu_s_high, p.mu_k_high, p.mu_s_low, p.mu_k_low, scale)
 
 
 @jit
-def _coefficients(s, mu_s_high, mu_k_high, mu_s_low, mu_k_low, scale):
+def coefficients_core(s: float, mu_s_high: float, mu_k_high: float, mu_s_low: float,
+                      mu_k_low: float, scale: float) -> tuple[float, float]:
+    """`coefficients` at contact state `s` of the coefficients `mu_s_high`, `mu_k_high`,
+    `mu_s_low`, `mu_k_low`, the high ones times `scale`."""
     mu_s_high, mu_k_high = scale * mu_s_high, scale * mu_k_high
     return mu_s_low + s * (mu_s_high - mu_s_low), mu_k_low + s * (mu_k_high - mu_k_low)
 
@@ -173,11 +176,11 @@ def pack(p: FrictionParams) -> np.ndarray:
 
 
 @jit
-def evaluate(p, x, u, t, y):
-    """Kernel outputs y = [f, contact, stuck, slip] at state x = [s, slip], inputs u = [v, f_n,
-    N, u, theta] and time `t` [s] (parameters `p` from `pack`)."""
+def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """Kernel outputs `y` = [f, contact, stuck, slip] at state `x` = [s, slip], inputs `u` = [v,
+    f_n, N, u, theta] and time `t` [s] (parameters `p` from `pack`)."""
     contact = u[3] if p[5] <= 0 else x[0]
-    mu_s, mu_k = _coefficients(contact, p[0], p[1], p[2], p[3], _high_scale(u[4], t, p[6], p[7]))
+    mu_s, mu_k = coefficients_core(contact, p[0], p[1], p[2], p[3], _high_scale(u[4], t, p[6], p[7]))
     y[0] = friction_force(u[0], u[1], u[2], mu_s, mu_k, p[4])
     y[1] = contact
     y[2] = 1.0 if abs(u[0]) <= p[4] and abs(u[1]) <= mu_s * u[2] else 0.0
@@ -185,9 +188,11 @@ def evaluate(p, x, u, t, y):
 
 
 @jit
-def advance(p, x, u, y, t, dt):
-    """Kernel step of `dt` [s]: the slip from the velocity and the contact at the step's start,
-    the contact state towards the indicator."""
+def advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
+            dt: float) -> None:
+    """Kernel step of the state `x` over [`t`, `t` + `dt`] [s] (parameters `p`, inputs `u`): the
+    slip from the velocity and the contact (outputs `y`) at the step's start, the contact state
+    towards the indicator."""
     x[1] = accumulate_slip(x[1], u[0], y[1], dt, p[4])
     x[0] = advance_contact(x[0], u[3], dt, p[5])
 

@@ -148,14 +148,17 @@ def _references(t, p):
 
 
 @jit
-def evaluate(p, x, u, t, y):
-    """Kernel outputs y = `references` at time `t` [s] (`x` and `u` are empty)."""
+def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """Kernel outputs `y` = `references` at time `t` [s] of the gait `p` (`pack`; the state `x`
+    and the inputs `u` are empty)."""
     y[0], y[1], y[2], y[3], y[4], y[5] = _references(t, p)
 
 
 @jit
-def advance(p, x, u, y, t, dt):
-    """Kernel step: the sequencer has no state."""
+def advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
+            dt: float) -> None:
+    """Kernel step over [`t`, `t` + `dt`]: the sequencer has no state (`p`, `x`, `u`, `y` do
+    not matter)."""
 
 
 KERNEL = Kernel(evaluate, advance, inputs=(),

@@ -43,11 +43,12 @@ class InputParams:
 def signals(t: float, p: InputParams) -> tuple[float, float, float]:
     """Return (f_a [N], u1, u2) of the signals `p` at time `t` [s]: u_i = 1 while its square
     wave is high (inflated)."""
-    return _signals(t, pack(p))
+    return signals_core(t, pack(p))
 
 
 @jit
-def _signals(t, p):
+def signals_core(t: float, p: np.ndarray) -> tuple[float, float, float]:
+    """`signals` at time `t` [s] of the packed parameters `p` (`pack`)."""
     f_mean, f_amp, f_f, f_u, phi, direction = p[0], p[1], p[2], p[3], p[4], p[5]
     f_a = f_mean + f_amp * math.sin(2 * math.pi * f_f * t)
     u1 = 1.0 if math.sin(2 * math.pi * f_u * t) >= 0 else 0.0
@@ -62,14 +63,17 @@ def pack(p: InputParams) -> np.ndarray:
 
 
 @jit
-def evaluate(p, x, u, t, y):
-    """Kernel outputs y = [f_a, u1, u2] at time `t` [s] (`x` and `u` are empty)."""
-    y[0], y[1], y[2] = _signals(t, p)
+def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """Kernel outputs `y` = [f_a, u1, u2] at time `t` [s] of the signals `p` (`pack`; the state
+    `x` and the inputs `u` are empty)."""
+    y[0], y[1], y[2] = signals_core(t, p)
 
 
 @jit
-def advance(p, x, u, y, t, dt):
-    """Kernel step: the signals have no state."""
+def advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
+            dt: float) -> None:
+    """Kernel step over [`t`, `t` + `dt`]: the signals have no state (`p`, `x`, `u`, `y` do not
+    matter)."""
 
 
 KERNEL = Kernel(evaluate, advance, inputs=(), outputs=("f_a", "u1", "u2"))

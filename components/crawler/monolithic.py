@@ -46,30 +46,30 @@ def _simulate(pb, pf, pi, step, n, actuator_lead, times, states):
     """`simulate_ideal` on the packed parameters of the body `pb`, the blocks `pf` (a row each)
     and the inputs `pi`, into `times` and `states`."""
     Ad, Bd = np.empty((4, 4)), np.empty((4, 4))
-    body._discretise_into(pb, step, 0.0, Ad, Bd)
+    body.discretise_into(pb, step, 0.0, Ad, Bd)
     x = np.zeros(4)
     t = 0.0
-    f_a, u1, u2 = inputs._signals(t, pi)
+    f_a, u1, u2 = inputs.signals_core(t, pi)
     contact = np.array([u1, u2])
     forces = np.zeros(2)
     for k in range(n + 1):
         times[k], states[k] = t, x
         if k == n:
             break
-        f_n = body._nonfriction_forces(x, f_a, pb)
+        f_n = body.nonfriction_core(x, f_a, pb)
         for i in range(2):
             p, u = pf[i], u1 if i == 0 else u2
             s = u if p[5] <= 0 else contact[i]  # t_switch off: the contact follows u at once
-            mu_s, mu_k = friction._coefficients(s, p[0], p[1], p[2], p[3], 1.0)
+            mu_s, mu_k = friction.coefficients_core(s, p[0], p[1], p[2], p[3], 1.0)
             forces[i] = friction.friction_force(x[1 + 2 * i], f_n[i], pb[body.N1 + i], mu_s,
                                                 mu_k, p[4])
             contact[i] = friction.advance_contact(contact[i], u, step, p[5])
         t_next = (k + 1) * step  # t0 + k h, as the master counts its points
-        f_next, u1, u2 = inputs._signals(t_next, pi)
+        f_next, u1, u2 = inputs.signals_core(t_next, pi)
         f_held = f_next if actuator_lead else f_a
         if pb[body.K_SLOPE]:  # the stiffness follows the actuator force held over the step
-            body._discretise_into(pb, step, f_held, Ad, Bd)
-        body._step_state(x, f_held, forces[0], forces[1], Ad, Bd)
+            body.discretise_into(pb, step, f_held, Ad, Bd)
+        body.step_state_into(x, f_held, forces[0], forces[1], Ad, Bd)
         t, f_a = t_next, f_next
 
 

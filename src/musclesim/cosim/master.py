@@ -450,7 +450,7 @@ class Master:
 
 
 def run_cases(masters: Sequence[Master]) -> list[Results]:
-    """`Results` of every master's run (masters of one scenario with other parameter values, as
+    """`Results` of every run of the `masters` (of one scenario with other parameter values, as
     `with_values` makes them): where all of them fuse into arrays of one shape, in one compiled
     call, the cases on threads (`fused.run_cases`), each case the bits of its own run; else one
     after the other."""

@@ -93,7 +93,7 @@ def jit(fn: F) -> F:
 
 
 def parallel_jit(fn: F) -> F:
-    """As `jit`, with `range_over_cases` run on threads (numba's ``prange``)."""
+    """As `jit`, `fn` compiled with `range_over_cases` run on threads (numba's ``prange``)."""
     if _NUMBA is None:
         return fn
     return _NUMBA.njit(cache=CACHE is not None or bool(os.environ.get("NUMBA_CACHE_DIR")),
