@@ -72,7 +72,9 @@ def derivative_core(d_last: float, y_last: float, y: float, dt: float, Kd: float
 @jit
 def output_core(integral: float, d_last: float, y_last: float, r: float, y: float, dt: float,
                 Kp: float, Kd: float, Tf: float, u_min: float, u_max: float) -> float:
-    """The controller's output (`output`) from its state (`integral`, `d_last`, `y_last`)."""
+    """The controller's output (`output`) from its state (`integral`, `d_last`, `y_last`) for
+    reference `r` and measurement `y`, `dt` [s] after the last sample, with gains `Kp`, `Kd`,
+    filter time `Tf` [s] and limits `u_min`, `u_max`."""
     u = Kp * (r - y) + integral + derivative_core(d_last, y_last, y, dt, Kd, Tf)
     if u_min > u:  # Python's max(u, u_min), then min(., u_max): NaN and zeros' signs kept
         u = u_min
@@ -85,7 +87,9 @@ def output_core(integral: float, d_last: float, y_last: float, r: float, y: floa
 def update_core(integral: float, d_last: float, y_last: float, r: float, y: float, dt: float,
                 Kp: float, Ki: float, Kd: float, Tf: float, u_min: float,
                 u_max: float) -> tuple[float, float, float]:
-    """The state (integral, derivative, last measurement) after one sample (`update`)."""
+    """The state (integral, derivative, last measurement) after one sample (`update`) of `dt`
+    [s] from the state (`integral`, `d_last`, `y_last`), with reference `r`, measurement `y`,
+    gains `Kp`, `Ki`, `Kd`, filter time `Tf` [s] and limits `u_min`, `u_max`."""
     e = r - y
     d = derivative_core(d_last, y_last, y, dt, Kd, Tf)
     unclipped = Kp * e + integral + d
@@ -138,8 +142,8 @@ def update(state: PIDState, r: float, y: float, dt: float, gains: Sequence[float
 
 def pack_schedule(breakpoints: Sequence[float],
                   table: Sequence[Sequence[float]]) -> np.ndarray:
-    """The schedule as `gains_at` reads it: the breakpoints, then the column of Kp, of Ki and of
-    Kd of `table` (rows (Kp, Ki, Kd))."""
+    """The schedule as `gains_at` reads it: the `breakpoints`, then the column of Kp, of Ki and
+    of Kd of `table` (rows (Kp, Ki, Kd))."""
     return np.array([*breakpoints, *(row[k] for k in range(3) for row in table)], dtype=float)
 
 

@@ -63,7 +63,8 @@ def switch_core(on: bool, y: float, y_on: float, y_off: float) -> bool:
 
 @jit
 def initial_core(y: float, y_on: float, y_off: float, initially_on: float) -> bool:
-    """The relay's state at the start, measuring `y` (`initial_state`)."""
+    """The relay's state at the start, measuring `y` (`initial_state`): on at or below `y_on`,
+    off at or above `y_off`, else on if `initially_on` is 1."""
     if y <= y_on:
         return True
     if y >= y_off:

@@ -29,16 +29,19 @@ Y_ON, Y_OFF, U_ON, U_OFF, INITIALLY_ON = range(5)  # BangBang's kp; its kx = [on
 
 
 @jit
-def pid_evaluate(p, x, u, t, y):
-    """PID's kernel: outputs (y, e)."""
+def pid_evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """PID's kernel: writes the outputs `y` = (y, e) from the state `x` and the inputs `u` =
+    (u_s, u_m) of the parameters `p` at time `t`."""
     y[0] = pid.output_core(x[INTEGRAL], x[DERIVATIVE], x[Y_LAST], u[0], u[1], x[DT_LAST], p[KP],
                            p[KD], p[TF], p[U_MIN], p[U_MAX])
     y[1] = u[0] - u[1]
 
 
 @jit
-def pid_advance(p, x, u, y, t, dt):
-    """PID's kernel: one sample's step of the state."""
+def pid_advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
+                dt: float) -> None:
+    """PID's kernel: one sample's step of `dt` [s] from `t` of the state `x` in place, with the
+    inputs `u`, outputs `y` and parameters `p`."""
     x[INTEGRAL], x[DERIVATIVE], x[Y_LAST] = pid.update_core(
         x[INTEGRAL], x[DERIVATIVE], x[Y_LAST], u[0], u[1], dt, p[KP], p[KI], p[KD], p[TF],
         p[U_MIN], p[U_MAX])
@@ -46,8 +49,10 @@ def pid_advance(p, x, u, y, t, dt):
 
 
 @jit
-def scheduled_evaluate(p, x, u, t, y):
-    """GainScheduledPID's kernel: outputs (y, e), the gains at the reference."""
+def scheduled_evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float,
+                       y: np.ndarray) -> None:
+    """GainScheduledPID's kernel: writes the outputs `y` = (y, e) from the state `x` and the
+    inputs `u` = (u_s, u_m) of the parameters `p` at time `t`, the gains at the reference."""
     Kp, _, Kd = pid.gains_at(u[0], p, N + 1, int(p[N]))
     y[0] = pid.output_core(x[INTEGRAL], x[DERIVATIVE], x[Y_LAST], u[0], u[1], x[DT_LAST], Kp, Kd,
                            p[TF], p[U_MIN], p[U_MAX])
@@ -55,8 +60,10 @@ def scheduled_evaluate(p, x, u, t, y):
 
 
 @jit
-def scheduled_advance(p, x, u, y, t, dt):
-    """GainScheduledPID's kernel: one sample's step, the gains at the reference."""
+def scheduled_advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
+                      dt: float) -> None:
+    """GainScheduledPID's kernel: one sample's step of `dt` [s] from `t` of the state `x` in
+    place, with the inputs `u`, outputs `y` and parameters `p`, the gains at the reference."""
     Kp, Ki, Kd = pid.gains_at(u[0], p, N + 1, int(p[N]))
     x[INTEGRAL], x[DERIVATIVE], x[Y_LAST] = pid.update_core(
         x[INTEGRAL], x[DERIVATIVE], x[Y_LAST], u[0], u[1], dt, Kp, Ki, Kd, p[TF], p[U_MIN],
@@ -65,16 +72,19 @@ def scheduled_advance(p, x, u, y, t, dt):
 
 
 @jit
-def relay_evaluate(p, x, u, t, y):
-    """BangBang's kernel: outputs (y, on) after seeing T."""
+def relay_evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """BangBang's kernel: writes the outputs `y` = (y, on) after seeing the input `u` = (T) in
+    the state `x`, of the parameters `p` at time `t`."""
     on = relay.switch_core(x[0] == 1.0, u[0], p[Y_ON], p[Y_OFF])
     y[0] = relay.output_core(on, p[U_ON], p[U_OFF])
     y[1] = 1.0 if on else 0.0
 
 
 @jit
-def relay_advance(p, x, u, y, t, dt):
-    """BangBang's kernel: the relay's state after seeing T."""
+def relay_advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
+                  dt: float) -> None:
+    """BangBang's kernel: the relay's state `x` (in place) after seeing the input `u` = (T), of
+    the parameters `p`; the outputs `y`, time `t` and step `dt` are not used."""
     x[0] = 1.0 if relay.switch_core(x[0] == 1.0, u[0], p[Y_ON], p[Y_OFF]) else 0.0
 
 

@@ -148,8 +148,10 @@ def weight_step(x: float, v: float, s: float, u: float, phi: Sequence[Sequence[f
 def weight_step_core(x: float, v: float, s: float, u: float, phi00: float, phi01: float,
                      phi10: float, phi11: float, dt: float, zeta: float,
                      omega: float) -> tuple[float, float]:
-    """`weight_step` with the transition's elements `phi00`..`phi11`, the damping ratio `zeta` and
-    the link's angular frequency `omega` [rad/s]; the product as `fixedorder.matvec` sums it."""
+    """`weight_step` of the position `x` [m], velocity `v` [m/s], wire end `s` [m] and its slope
+    `u` [m/s] over `dt` [s], with the transition's elements `phi00`, `phi01`, `phi10`, `phi11`,
+    the damping ratio `zeta` and the link's angular frequency `omega` [rad/s]; the product as
+    `fixedorder.matvec` sums it."""
     lag = 2.0 * zeta * u / omega  # d u / k_link: how far it trails a steady lift
     a, b = x - s + lag, v - u
     y, w = phi00 * a + phi01 * b, phi10 * a + phi11 * b
@@ -165,7 +167,8 @@ def weight_tension(x: float, s: float, p: WeightParams) -> float:
 @jit
 def weight_tension_core(x: float, s: float, mass: float, g: float, inertia: float,
                         k_link: float) -> float:
-    """`weight_tension` of the weight's fields."""
+    """`weight_tension` at the position `x` [m] and wire end `s` [m] of the weight's fields
+    `mass` [kg], `g` [m/s2], `inertia` and `k_link` [N/m]."""
     return mass * g + inertia * k_link * (s - x)
 
 
@@ -177,7 +180,8 @@ def weight_lift(x: float, s: float, p: WeightParams) -> float:
 
 @jit
 def weight_lift_core(x: float, s: float, inertia: float) -> float:
-    """`weight_lift` of the moving share `inertia`."""
+    """`weight_lift` at the position `x` [m] and wire end `s` [m] of the moving share
+    `inertia`."""
     return s + inertia * (x - s)
 
 
@@ -217,7 +221,8 @@ def coil_steady(duty: float, p: MagnetParams) -> float:
 
 @jit
 def coil_steady_core(duty: float, V_supply: float, R: float) -> float:
-    """`coil_steady` of the supply `V_supply` [V] and the coil's resistance `R` [Ohm]."""
+    """`coil_steady` at the `duty` of the supply `V_supply` [V] and the coil's resistance `R`
+    [Ohm]."""
     return V_supply * duty / R
 
 
@@ -237,7 +242,8 @@ def coil_step(i: float, duty: float, dt: float, p: MagnetParams) -> float:
 @jit
 def coil_step_core(i: float, duty: float, dt: float, V_supply: float, R: float,
                    L: float) -> float:
-    """`coil_step` of the supply `V_supply` [V], the coil's `R` [Ohm] and `L` [H]."""
+    """`coil_step` of the current `i` [A] over `dt` [s] at the `duty`, of the supply `V_supply`
+    [V], the coil's `R` [Ohm] and `L` [H]."""
     i_inf = coil_steady_core(duty, V_supply, R)
     return i_inf + (i - i_inf) * math.exp(-dt * R / L)
 
@@ -251,5 +257,6 @@ def magnet_tension(i: float, p: MagnetParams) -> float:
 @jit
 def magnet_tension_core(i: float, m_cal: float, g: float, k_f: float,
                         nonlinearity: float) -> float:
-    """`magnet_tension` of the magnet's fields."""
+    """`magnet_tension` at the coil current `i` [A] of the magnet's fields `m_cal` [kg], `g`
+    [m/s2], `k_f` [N/A] and `nonlinearity` [1/A]."""
     return m_cal * g + k_f * i * (1.0 + nonlinearity * i)

@@ -31,28 +31,34 @@ M_CAL, G_MAG, V_SUPPLY, R, L, K_F, NONLINEARITY = range(7)  # Electromagnet's kp
 
 
 @jit
-def no_state(p, x, u, y, t, dt):
-    """The kernel's advance of a slave without state: nothing."""
+def no_state(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
+             dt: float) -> None:
+    """The kernel's advance of a slave without state: nothing (of the parameters `p`, state `x`,
+    inputs `u`, outputs `y`, time `t` and step `dt`)."""
     pass
 
 
 @jit
-def spring_evaluate(p, x, u, t, y):
-    """BiasSpring's kernel: output flange.f."""
+def spring_evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """BiasSpring's kernel: writes the output `y` = (flange.f) from the input `u` = (flange.s) of
+    the parameters `p`; no state `x`, the time `t` unused."""
     y[0] = loads.spring_core(u[0], p[K], p[PRELOAD])
 
 
 @jit
-def weight_evaluate(p, x, u, t, y):
-    """DeadWeight's kernel: outputs (flange.f, lift)."""
+def weight_evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """DeadWeight's kernel: writes the outputs `y` = (flange.f, lift) from the state `x` and the
+    input `u` = (flange.s) of the parameters `p`; the time `t` unused."""
     y[0] = loads.weight_tension_core(x[X], u[0], p[MASS], p[G], p[INERTIA], p[K_LINK])
     y[1] = loads.weight_lift_core(x[X], u[0], p[INERTIA])
 
 
 @jit
-def weight_advance(p, x, u, y, t, dt):
-    """DeadWeight's kernel: the moving share's step, the link's transition over `dt` kept in x
-    (computed when the step changes)."""
+def weight_advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
+                   dt: float) -> None:
+    """DeadWeight's kernel: the moving share's step of the state `x` (in place) from `t` over
+    `dt`, the wire's end `u` = (flange.s), of the parameters `p`; the link's transition over `dt`
+    kept in `x` (computed when the step changes); the outputs `y` unused."""
     if p[INERTIA] == 0.0:
         return
     if x[PHI_DT] != dt:
@@ -69,15 +75,19 @@ def weight_advance(p, x, u, y, t, dt):
 
 
 @jit
-def magnet_evaluate(p, x, u, t, y):
-    """Electromagnet's kernel: outputs (flange.f, i)."""
+def magnet_evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """Electromagnet's kernel: writes the outputs `y` = (flange.f, i) from the state `x` = (i) of
+    the parameters `p`; the inputs `u` and time `t` unused."""
     y[0] = loads.magnet_tension_core(x[0], p[M_CAL], p[G_MAG], p[K_F], p[NONLINEARITY])
     y[1] = x[0]
 
 
 @jit
-def magnet_advance(p, x, u, y, t, dt):
-    """Electromagnet's kernel: the coil current's exact step, the duty held."""
+def magnet_advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
+                   dt: float) -> None:
+    """Electromagnet's kernel: the coil current's exact step of the state `x` = (i) in place over
+    `dt`, the inputs `u` = (duty, flange.s) held, of the parameters `p`; the outputs `y` and time
+    `t` unused."""
     x[0] = loads.coil_step_core(x[0], u[0], dt, p[V_SUPPLY], p[R], p[L])
 
 

@@ -153,8 +153,8 @@ def pending_capacity(p: ActuatorParams) -> int:
 
 
 def start_state(kp: np.ndarray, elongation: float = 0.0) -> np.ndarray:
-    """The kernel's state kx at rest (gauge 0, no contact, valves shut and commanded shut) at
-    the `elongation` [m] (central actuator)."""
+    """The kernel's state kx of the actuator `kp` (`pack`) at rest (gauge 0, no contact, valves
+    shut and commanded shut) at the `elongation` [m] (central actuator)."""
     x = np.zeros(VALVES + 2 * (PENDING + 2 * int(kp[CAP])))
     x[ELONGATION] = elongation
     return x
@@ -239,7 +239,8 @@ def edge_capacity(t0: float, t1: float, period: float) -> int:
 @jit
 def edges_into(t0: float, t1: float, duty: float, period: float, phase: float, et: np.ndarray,
                eon: np.ndarray) -> int:
-    """`pwm_edges` written into `et` (times) and `eon` (1 on, 0 off); returns their number.
+    """`pwm_edges` of `duty` over [`t0`, `t1`), the carrier of `period` [s] shifted by `phase`
+    [periods], written into `et` (times) and `eon` (1 on, 0 off); returns their number.
 
     The carrier's period k starts at k period + phase period (any phase: 1.25 is 0.25); the
     command is on for the first duty of each. The state at t0 comes from the same edge times as
@@ -274,10 +275,11 @@ def edges_into(t0: float, t1: float, duty: float, period: float, phase: float, e
 def valve_intervals(x: np.ndarray, v: int, cap: int, et: np.ndarray, eon: np.ndarray, ne: int,
                     t1: float, d_open: float,
                     d_close: float) -> tuple[np.ndarray, np.ndarray, int]:
-    """A valve's step (`Valve.open_intervals`): its state the block x[v:] (command, position,
-    number of pending switchings, then `cap` times and `cap` directions of them), the command's
-    `ne` edges `et`, `eon` over [t0, `t1`) (`edges_into`); returns the (starts, ends, number)
-    of the intervals the valve is open, the block advanced."""
+    """A valve's step (`Valve.open_intervals`): its state the block of `x` from `v` (command,
+    position, number of pending switchings, then `cap` times and `cap` directions of them), the
+    command's `ne` edges `et`, `eon` over [t0, `t1`) (`edges_into`), the valve opening `d_open`
+    [s] and closing `d_close` [s] after its command; returns the (starts, ends, number) of the
+    intervals the valve is open, the block advanced."""
     n0 = int(x[v + N_PENDING])
     pt, pon = np.empty(n0 + ne), np.empty(n0 + ne)
     for j in range(n0):
@@ -372,7 +374,7 @@ def open_time(intervals: list[tuple[float, float]], a: float, b: float) -> float
 
 @jit
 def time_open(starts: np.ndarray, ends: np.ndarray, n: int, a: float, b: float) -> float:
-    """Time [s] the first `n` intervals [starts, ends) cover within [`a`, `b`)."""
+    """Time [s] the first `n` intervals [`starts`, `ends`) cover within [`a`, `b`)."""
     total = 0.0
     for j in range(n):
         total += _max(0.0, _min(ends[j], b) - _max(starts[j], a))
@@ -398,7 +400,7 @@ def volume(elongation: float, contact: float, p: ActuatorParams) -> float:
 
 @jit
 def chamber_volume(kp: np.ndarray, elongation: float, contact: float) -> float:
-    """`volume` of the actuator kp."""
+    """`volume` at the `elongation` [m] and `contact` of the actuator `kp`."""
     v = kp[V0_] + (kp[S_A] * elongation if kp[CENTRAL] != 0.0 else kp[DV_CONTACT] * contact)
     return _max(v, V_MIN * kp[V0_])
 
@@ -418,7 +420,8 @@ def contact_step(c: float, pressure: float, dt: float, p: ActuatorParams) -> flo
 
 @jit
 def contact_rate(kp: np.ndarray, c: float, pressure: float, dt: float) -> float:
-    """`contact_step` of the actuator kp."""
+    """`contact_step` from the contact `c` at gauge `pressure` [Pa] over `dt` [s] of the
+    actuator `kp`."""
     target = 1.0 if pressure > kp[P_CONTACT] else 0.0
     if kp[T_CONTACT] <= 0:
         return target
@@ -447,7 +450,7 @@ def bulge_contact(c: float, pressure: float, p: ActuatorParams) -> float:
 
 @jit
 def bulge(kp: np.ndarray, c: float, pressure: float) -> float:
-    """`bulge_contact` of the actuator kp."""
+    """`bulge_contact` from the contact `c` at gauge `pressure` [Pa] of the actuator `kp`."""
     v = chamber_volume(kp, 0.0, c)
     v_eq = v * ((P_ATM + pressure) / (P_ATM + kp[P_CONTACT])) ** (1.0 / kp[KAPPA])
     return _min(_max((v_eq - kp[V0_]) / kp[DV_CONTACT], 0.0), 1.0)
@@ -455,8 +458,9 @@ def bulge(kp: np.ndarray, c: float, pressure: float) -> float:
 
 @jit
 def contact_after(kp: np.ndarray, x: np.ndarray, pressure: float, dt: float) -> float:
-    """The contact after a sub-step of dt at gauge pressure `pressure`: an extremal chamber
-    whose bulge follows at once (`bulge`), else at its finite rate (`contact_rate`)."""
+    """The contact after a sub-step of `dt` [s] at gauge pressure `pressure` of the actuator
+    `kp` in the state `x`: an extremal chamber whose bulge follows at once (`bulge`), else at
+    its finite rate (`contact_rate`)."""
     if kp[T_CONTACT] <= 0 and kp[CENTRAL] == 0.0 and kp[DV_CONTACT] > 0:
         return bulge(kp, x[CONTACT], pressure)
     return contact_rate(kp, x[CONTACT], pressure, dt)
@@ -464,8 +468,9 @@ def contact_after(kp: np.ndarray, x: np.ndarray, pressure: float, dt: float) -> 
 
 @jit
 def holds(kp: np.ndarray, x: np.ndarray, elongation: float, dt: float) -> bool:
-    """With no air flowing over the next step (valves shut, no leak), whether its sub-steps
-    of `dt` would leave pressure, contact and volume as they are: the contact already where
+    """With no air flowing over the next step (valves shut, no leak) of the actuator `kp` in
+    the state `x` to the `elongation` [m], whether its sub-steps of `dt` would leave pressure,
+    contact and volume as they are: the contact already where
     its sub-step takes it at this pressure, the volume not following an elongation (an
     extremal chamber's does not; a central one's must stand still). The extremal
     actuators hold so most of a gait, their valves shut between pulses."""
@@ -477,9 +482,10 @@ def holds(kp: np.ndarray, x: np.ndarray, elongation: float, dt: float) -> bool:
 @jit
 def valves(kp: np.ndarray, x: np.ndarray, t: float, h: float,
            duty: float) -> tuple[np.ndarray, np.ndarray, int, np.ndarray, np.ndarray, int, int]:
-    """Both valves over [`t`, `t` + `h`) with the `duty` in [-1, 1] held (> 0 drives the
-    inflation valve, < 0 the exhaust valve): (starts, ends, number) of the inflation valve's
-    open intervals, the same of the exhaust valve's, and the number of sub-steps."""
+    """Both valves of the actuator `kp`, their blocks of the state `x` advanced, over [`t`,
+    `t` + `h`) with the `duty` in [-1, 1] held (> 0 drives the inflation valve, < 0 the exhaust
+    valve): (starts, ends, number) of the inflation valve's open intervals, the same of the
+    exhaust valve's, and the number of sub-steps."""
     duty = _min(_max(duty, -1.0), 1.0)
     period, t1 = 1.0 / kp[F_PWM], t + h
     cap = int(kp[CAP])
@@ -498,9 +504,10 @@ def valves(kp: np.ndarray, x: np.ndarray, t: float, h: float,
 def substeps(kp: np.ndarray, x: np.ndarray, t: float, h: float, n: int, elongation: float,
              in_s: np.ndarray, in_e: np.ndarray, n_in: int, out_s: np.ndarray,
              out_e: np.ndarray, n_out: int) -> float:
-    """The chamber over [`t`, `t` + `h`] in `n` sub-steps, the valves open over their intervals
-    (`valves`) and the elongation [m] moving linearly to `elongation`; returns the mass [kg]
-    that flowed in."""
+    """The chamber of the actuator `kp` in the state `x` (advanced in place) over [`t`, `t` +
+    `h`] in `n` sub-steps, the inflation valve open over the `n_in` intervals [`in_s`, `in_e`)
+    and the exhaust valve over the `n_out` intervals [`out_s`, `out_e`) (`valves`), the
+    elongation [m] moving linearly to `elongation`; returns the mass [kg] that flowed in."""
     p_in, p_out = kp[P_SUPPLY] * (1.0 - kp[SUPPLY_DROP]), kp[P_EXHAUST]  # source_pressures
     gain = kp[KAPPA] * R_AIR * kp[T_AIR]
     t1 = t + h
@@ -541,9 +548,10 @@ def substeps(kp: np.ndarray, x: np.ndarray, t: float, h: float, n: int, elongati
 @jit
 def step(kp: np.ndarray, x: np.ndarray, t: float, h: float, duty: float,
          elongation: float) -> float:
-    """`Actuator.step` of the actuator kp in state x: advance x from `t` to `t` + `h`; return
-    the mass [kg] that flowed in. A step in which no air flows (valves shut throughout, no leak)
-    and that `holds` skips its sub-steps: the same state to the bit."""
+    """`Actuator.step` of the actuator `kp` in state `x`: advance `x` from `t` to `t` + `h` with
+    the `duty` held and the `elongation` [m] reached at the end; return the mass [kg] that
+    flowed in. A step in which no air flows (valves shut throughout, no leak) and that `holds`
+    skips its sub-steps: the same state to the bit."""
     in_s, in_e, n_in, out_s, out_e, n_out, n = valves(kp, x, t, h, duty)
     if not (n_in or n_out or kp[C_LEAK] != 0.0) and holds(kp, x, elongation, h / n):
         x[ELONGATION] = elongation
@@ -554,7 +562,8 @@ def step(kp: np.ndarray, x: np.ndarray, t: float, h: float, duty: float,
 # ---- the FMU's kernel: u = [duty, flange_a.s, flange_b.s], y = [p, f_a, u, m_flow] -----------
 @jit
 def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
-    """The outputs: gauge pressure, force s_a p, contact, the last step's mean mass flow."""
+    """The outputs `y`: gauge pressure, force s_a p, contact, the last step's mean mass flow,
+    from the state `x` of the parameters `p`; the inputs `u` and time `t` unused."""
     y[0] = x[PRESSURE]
     y[1] = p[S_A] * x[PRESSURE]
     y[2] = x[CONTACT]
@@ -564,8 +573,9 @@ def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarra
 @jit
 def advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
             dt: float) -> None:
-    """The step over [t, t + dt] with the duty held and the elongation flange_b.s - flange_a.s
-    reached at its end."""
+    """The step of the state `x` (in place) over [`t`, `t` + `dt`] of the parameters `p` with the
+    inputs `u` = (duty, flange_a.s, flange_b.s) held, the elongation flange_b.s - flange_a.s
+    reached at its end; the outputs `y` unused."""
     mass = step(p, x, t, dt, u[0], u[2] - u[1])
     x[M_FLOW] = mass / dt if dt > 0 else 0.0
 

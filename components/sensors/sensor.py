@@ -96,7 +96,8 @@ def reading(x: float, p: SensorParams, noise: float = 0.0) -> float:
 @jit
 def read(x: float, gain: float, origin: float, bias: float, quantum: float,
          noise: float) -> float:
-    """`reading` of `x` with the parameters as numbers."""
+    """`reading` of `x` with the parameters as numbers: `gain` about `origin`, `bias`, the
+    `noise` sample, rounded to `quantum`."""
     if gain != 1.0:
         x = origin + gain * (x - origin)
     y = x + bias + noise
@@ -133,21 +134,24 @@ def start_state(p: SensorParams) -> np.ndarray:
 
 @jit
 def element(x: np.ndarray, u: float) -> float:
-    """The sensing element's value now: what the past steps left plus the present signal `u`'s
-    share (`lag_weights`, the signal taken linear over a step)."""
+    """The sensing element's value now: what the past steps left in the state `x` plus the
+    present signal `u`'s share (`lag_weights`, the signal taken linear over a step)."""
     return u if x[WEIGHT] == 1.0 and x[HELD] == 0.0 else x[HELD] + x[WEIGHT] * u
 
 
 @jit
 def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
-    """The kernel's output: y = [reading] of the signal u = [signal]."""
+    """The kernel's output: `y` = [reading] of the signal `u` = [signal] in the state `x`, of the
+    parameters `p`; the time `t` unused."""
     y[0] = read(element(x, u[0]), p[GAIN], p[ORIGIN], p[BIAS], p[QUANTUM], x[NOISE])
 
 
 @jit
 def advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
             dt: float) -> None:
-    """The lag over [t, t + dt] and the next step's noise sample (one per communication step)."""
+    """The lag of the state `x` (in place) over [`t`, `t` + `dt`] from the signal `u` =
+    [signal], and the next step's noise sample (one per communication step), of the parameters
+    `p`; the outputs `y` unused."""
     y0, u0 = element(x, u[0]), u[0]
     a, b = lag_weights(dt, p[TAU])
     x[HELD], x[WEIGHT] = a * y0 + (1.0 - a - b) * u0, b
@@ -198,7 +202,7 @@ if COMPILED:  # numpy's PCG64 and ziggurat, ported: their tables are numba's cop
     @jit
     def standard_normal(x: np.ndarray, i: int) -> float:
         """numpy's ``Generator.standard_normal()`` of the PCG64 generator whose state is in
-        x[i:i+8] (state, increment: 32-bit limbs, high first), the state advanced."""
+        `x` from `i`, x[i:i+8] (state, increment: 32-bit limbs, high first), the state advanced."""
         while True:
             r = _next64(x, i)
             idx = np.int64(r & np.uint64(0xFF))
@@ -222,7 +226,7 @@ else:  # numpy's own generator, its state passed through the array
 
     def standard_normal(x: np.ndarray, i: int) -> float:
         """numpy's ``Generator.standard_normal()`` of the PCG64 generator whose state is in
-        x[i:i+8] (state, increment: 32-bit limbs, high first), the state advanced."""
+        `x` from `i`, x[i:i+8] (state, increment: 32-bit limbs, high first), the state advanced."""
         words = [int(v) for v in x[i:i + 8]]
         state, inc = (sum(w << (96 - 32 * j) for j, w in enumerate(words[k:k + 4]))
                       for k in (0, 4))

@@ -30,8 +30,9 @@ SHAPE, LO, HI, DURATION_, MID, HALF, W, N = range(8)
 
 @jit
 def peaks_core(p: np.ndarray, o: int, n: int, t: float) -> float:
-    """The random peaks' signal at `t` [s]: half cosines between the `n` knots whose times are
-    ``p[o:o + n]`` (increasing) and levels ``p[o + n:o + 2 n]`` (`random_peaks`)."""
+    """The random peaks' signal at `t` [s]: half cosines between the `n` knots packed in `p` from
+    `o`, their times ``p[o:o + n]`` (increasing) and levels ``p[o + n:o + 2 n]``
+    (`random_peaks`)."""
     lo, hi = 0, n  # the knots at or before t (numpy's searchsorted, side "right")
     while lo < hi:
         mid = (lo + hi) // 2
@@ -105,9 +106,10 @@ def _on_times(core: Callable[..., None], p: np.ndarray, t: np.ndarray) -> np.nda
 
 
 def pack(name: str, lo: float, hi: float, duration: float, seed: int) -> np.ndarray:
-    """Profile `name` (SP I-IV, LP I-VI) as `value_core` reads it: [shape (`SHAPES`, or `PEAKS`),
-    lo, hi, duration, mid, half, angular frequency, n], then the n knots' times and levels of a
-    random profile (n = 0 for the others)."""
+    """Profile `name` (SP I-IV, LP I-VI) within [`lo`, `hi`] over `duration` [s] as `value_core`
+    reads it: [shape (`SHAPES`, or `PEAKS`), lo, hi, duration, mid, half, angular frequency, n],
+    then the n knots' times and levels of a random profile (n = 0 for the others), drawn with
+    `seed` (`seed` + 1 for LP VI)."""
     if name not in SHAPES and name not in ("SP IV", "LP V", "LP VI"):
         raise ValueError(f"unknown profile {name!r}")
     mid, half = (lo + hi) / 2, (hi - lo) / 2
@@ -210,7 +212,8 @@ def random_peaks(lo: float, hi: float, duration: float, seed: int, start: float 
 
 def peak_knots(lo: float, hi: float, duration: float, seed: int, start: float | None = None,
                segment: tuple[float, float] = (4.0, 12.0)) -> tuple[np.ndarray, np.ndarray]:
-    """(times, levels) of the knots of `random_peaks` (its arguments)."""
+    """(times, levels) of the knots of `random_peaks` (its arguments `lo`, `hi`, `duration`,
+    `seed`, `start` and `segment`)."""
     rng = np.random.default_rng(seed)
     span = hi - lo
     knots, levels = [0.0], [lo if start is None else start]

@@ -21,32 +21,38 @@ from musclesim.fmu import Kernel, KernelSlave
 
 
 @jit
-def no_state(p, x, u, y, t, dt):
-    """The kernel's advance of a slave without state: nothing."""
+def no_state(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
+             dt: float) -> None:
+    """The kernel's advance of a slave without state: nothing (of the parameters `p`, state `x`,
+    inputs `u`, outputs `y`, time `t` and step `dt`)."""
     pass
 
 
 @jit
-def signal_evaluate(p, x, u, t, y):
-    """SignalSource's kernel: output y at t."""
+def signal_evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """SignalSource's kernel: writes the output `y` = (y) at the time `t` of the parameters `p`;
+    no state `x` nor inputs `u`."""
     y[0] = signals.value_core(t, p)
 
 
 @jit
-def forc_evaluate(p, x, u, t, y):
-    """ForcReference's kernel: outputs (T_ref, run, phase) at t."""
+def forc_evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """ForcReference's kernel: writes the outputs `y` = (T_ref, run, phase) at the time `t` of
+    the parameters `p`; no state `x` nor inputs `u`."""
     y[0], y[1], y[2] = forc.value_core(t, p)
 
 
 @jit
-def strain_evaluate(p, x, u, t, y):
-    """StrainProfile's kernel: output eps_ref at t."""
+def strain_evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """StrainProfile's kernel: writes the output `y` = (eps_ref) at the time `t` of the
+    parameters `p`; no state `x` nor inputs `u`."""
     y[0] = profiles.value_core(p, 0, t)
 
 
 @jit
-def loading_evaluate(p, x, u, t, y):
-    """LoadingProfile's kernel: outputs (sigma_ref, f_ref) at t."""
+def loading_evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """LoadingProfile's kernel: writes the outputs `y` = (sigma_ref, f_ref) at the time `t` of
+    the parameters `p` (the area, then the profile); no state `x` nor inputs `u`."""
     sigma = profiles.value_core(p, 1, t)
     y[0] = sigma
     y[1] = sigma * p[0]
