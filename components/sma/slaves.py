@@ -4,13 +4,14 @@ from __future__ import annotations
 
 import math
 
-from musclesim.components.sma import datasets, ports, smawire, thermal
+from musclesim.components.sma import datasets, ports, smawire, thermal, wirekernel
 from musclesim.components.sma.inverse import InverseBases
 from musclesim.components.sma.inverse import PreisachInverse as InverseCore
 from musclesim.components.sma.ports import LOAD_150G
 from musclesim.components.sma.smawire import HYSTERESIS, ZERO_C
 from musclesim.components.sma.surface import Hypersurface, clamp
 from musclesim.fmu import Slave, experiment
+from musclesim.fmu.kernel import KernelSlave
 
 __all__ = ["SmaWire", "PreisachInverse", "LOAD_150G", "HYSTERESIS", "ZERO_C"]
 
@@ -18,11 +19,11 @@ __all__ = ["SmaWire", "PreisachInverse", "LOAD_150G", "HYSTERESIS", "ZERO_C"]
 _BASES: dict[int, tuple[Hypersurface, InverseBases]] = {}
 
 
-class SmaWire(Slave):
+class SmaWire(KernelSlave):
     """SMA wire: Joule heating and convection (§thermal-model) drive the modified Preisach model
     (§preisach).
 
-    A thin adapter over `smawire.SmaWireCore`: per communication step, with the inputs held from
+    A thin adapter over `smawire.SmaWireCore`'s compiled kernel (`wirekernel`): per communication step, with the inputs held from
     its start, the temperature advances by the lumped thermal model (resistance from the
     martensite fraction at the start of the step), then the hysteresis model takes the new
     temperature and the stress flange.f / area; its strain gives the martensite fraction for the
@@ -38,6 +39,7 @@ class SmaWire(Slave):
     (docs/model/).
     """
 
+    kernel = wirekernel.KERNEL
     default_experiment = experiment(30.0, 0.0004)  # the SMA bench at 2.5 kHz, §sma-bench
     description = ("SMA wire: lumped thermal model with phase-dependent resistance and modified "
                    "Preisach hysteresis under stress (§thermal-model, §preisach)")
@@ -63,10 +65,11 @@ class SmaWire(Slave):
                                 "xi": "Martensite fraction, 1 - hysteresis strain / its maximum"})
 
     def setup(self) -> None:
-        """Check the parameters and build the wire's core."""
+        """Check the parameters and build the wire's core and its kernel's arrays."""
         params = self.core_params(smawire.SmaWireParams)
         self.core = smawire.SmaWireCore(params, thermal.params_of(self, params.drive),
                                         datasets.shipped(self.resources))
+        self.kp, self.kx = self.core.kp, self.core.kx
         self._warned: set[str] = set()
         self._start()
 
@@ -76,33 +79,35 @@ class SmaWire(Slave):
 
     def _start(self) -> None:
         """Initial state: a new (or drift_cycles_start old) wire heated to T_init."""
-        self.core.start(self.u, self.T_amb - ZERO_C, self.flange_f, self._stress(self.time),
-                        self.time)
-
-    def evaluate(self) -> None:
-        """The outputs of the state after the last step."""
-        core = self.core
-        self.T = core.T_C + ZERO_C
-        self.strain = core.eps
-        self.flange_s = core.eps * self.length
-        self.stress = core.stress_held
-        self.R = core.resistance()
-        self.P = core.P_held
-        self.xi = core.xi
+        sigma = self._stress(self.time)
+        self.core.start(self.u, self.T_amb - ZERO_C, self.flange_f, sigma, self.time)
 
     def advance(self, t: float, dt: float) -> None:
-        """Step the core over [`t`, `t` + `dt`] [s] with the inputs held."""
+        """The kernel's step over [`t`, `t` + `dt`] [s] with the inputs held, its inputs checked
+        first and its first stress clamp logged after (the kernel keeps it in its state)."""
         ports.check_inputs(self.u, self.T_amb, self.flange_f, t)
-        self.core.step(self.u, self.T_amb - ZERO_C, self.flange_f, self._stress(t), t, dt)
+        super().advance(t, dt)
+        kx = self.kx
+        if kx[wirekernel.X_WARN] == 1.0:
+            self._clamp_logged(kx[wirekernel.X_WARN_SIGMA], kx[wirekernel.X_WARN_T])
+        if kx[wirekernel.X_ERROR]:
+            smawire.raise_error(kx)
 
     def _stress(self, t: float) -> float:
-        """Stress [Pa] for the hysteresis: clamped to the data set's stresses, warned once in the
-        FMU log."""
-        sigma = self.core.stress_seen(self.flange_f)
-        s = self.core.surface
-        if len(s.stresses) > 1 and not s.s_lo <= sigma <= s.s_hi:
-            sigma = self.logged(clamp, self._warned, "stress", sigma, s.s_lo, s.s_hi, "Pa", t)
+        """Stress [Pa] for the hysteresis at the start: the kernel's (`wirekernel.stress`),
+        clamped to the data set's stresses, the clamp logged once."""
+        kx = self.kx
+        sigma = wirekernel.stress(self.kp, kx, self.flange_f, t)
+        if kx[wirekernel.X_WARN] == 1.0:
+            self._clamp_logged(kx[wirekernel.X_WARN_SIGMA], kx[wirekernel.X_WARN_T])
         return sigma
+
+    def _clamp_logged(self, sigma: float, t: float) -> None:
+        """Log the kernel's first clamp of the stress `sigma` [Pa] at `t` [s] as `clamp` words
+        it (once: the state records it as told)."""
+        s = self.core.surface
+        self.logged(clamp, self._warned, "stress", float(sigma), s.s_lo, s.s_hi, "Pa", float(t))
+        self.kx[wirekernel.X_WARN] = 2.0
 
 
 class PreisachInverse(Slave):

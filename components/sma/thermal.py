@@ -18,10 +18,13 @@ from collections.abc import Callable
 from dataclasses import dataclass, fields
 from typing import NamedTuple
 
+import numpy as np
 from scipy.optimize import brentq
 
 from musclesim.components.checks import require
+from musclesim.components.sma.surface import fmax, fmin
 from musclesim.fmu import Calibration, declare
+from musclesim.fmu.compiled import jit
 
 DRIVES = ("voltage", "current")
 
@@ -255,3 +258,82 @@ def _root(g, lo, hi, xi_end):
     an end)."""
     T_new = brentq(g, lo, hi, xtol=1e-10)
     return T_new, xi_end(T_new)
+
+
+# --- the lumped model on a float64 array, for the compiled cores (`musclesim.fmu.compiled`) ---
+# slots of `pack`'s array: the parameters and the derived constants the functions above compute
+# per call (same operations, same order, so the same bits)
+(TP_LENGTH, TP_AREA, TP_RHO_M, TP_RHO_A, TP_CURRENT, TP_H, TP_H_EXPONENT, TP_DT_REF,
+ TP_MAX_SUBSTEP, TP_SURFACE, TP_HEAT_CAPACITY, TP_LATENT) = range(12)
+TP_SIZE = 12
+
+
+def pack(p: ThermalParams) -> np.ndarray:
+    """The thermal parameters `p` as a float64 array (slots ``TP_*``): length, cross-section,
+    resistivities, drive (1 = current), h, its exponent and reference excess, the sub-step,
+    the lateral surface, the heat capacity and m L / c-free latent factor rho A L L_h."""
+    return np.array([p.length, cross_section(p), p.rho_martensite, p.rho_austenite,
+                     1.0 if p.drive == "current" else 0.0, p.h, p.h_exponent, p.h_dT_ref,
+                     p.max_substep, lateral_surface(p), heat_capacity(p),
+                     p.density * cross_section(p) * p.length * p.latent_heat], dtype=float)
+
+
+@jit
+def resistance_k(tp: np.ndarray, xi: float) -> float:
+    """`resistance` of the packed parameters `tp` (`pack`)."""
+    rho = xi * tp[TP_RHO_M] + (1 - xi) * tp[TP_RHO_A]
+    return rho * tp[TP_LENGTH] / tp[TP_AREA]
+
+
+@jit
+def joule_power_k(tp: np.ndarray, u: float, xi: float) -> float:
+    """`joule_power` of the packed parameters `tp`."""
+    r = resistance_k(tp, xi)
+    return u * u / r if tp[TP_CURRENT] == 0.0 else r * u * u
+
+
+@jit
+def convection_k(tp: np.ndarray, T: float, T_amb: float) -> float:
+    """`convection_coefficient` of the packed parameters `tp`."""
+    if tp[TP_H_EXPONENT] == 0:
+        return tp[TP_H]
+    return tp[TP_H] * (abs(T - T_amb) / tp[TP_DT_REF]) ** tp[TP_H_EXPONENT]
+
+
+@jit
+def martensite_fraction_k(eps: float, eps_max: float) -> float:
+    """`martensite_fraction`."""
+    return fmin(1.0, fmax(0.0, 1.0 - eps / eps_max))
+
+
+@jit
+def derivative_k(tp: np.ndarray, T: float, u: float, T_amb: float, xi: float,
+                 xi_rate: float) -> float:
+    """`derivative` of the packed parameters `tp`, the inputs spelled out."""
+    h = convection_k(tp, T, T_amb)
+    heat = (joule_power_k(tp, u, xi) + tp[TP_LATENT] * xi_rate
+            - h * tp[TP_SURFACE] * (T - T_amb))
+    return heat / tp[TP_HEAT_CAPACITY]
+
+
+@jit
+def phi_k(x: float) -> float:
+    """(1 - exp(-x)) / x, with its limit 1 at x = 0."""
+    return -math.expm1(-x) / x if x > 1e-12 else 1.0
+
+
+@jit
+def step_k(tp: np.ndarray, T: float, u: float, T_amb: float, xi: float, xi_rate: float,
+           dt: float) -> float:
+    """`step` of the packed parameters `tp`, the inputs spelled out."""
+    n = 1
+    if tp[TP_H_EXPONENT] != 0:
+        n = max(1, int(math.ceil(dt / tp[TP_MAX_SUBSTEP] - 1e-9)))
+    dt_s = dt / n
+    mc = tp[TP_HEAT_CAPACITY]
+    for _ in range(n):
+        h = convection_k(tp, T, T_amb)
+        k = (1 + tp[TP_H_EXPONENT]) * h * tp[TP_SURFACE]
+        T = T + dt_s * derivative_k(tp, T, u, T_amb, xi, xi_rate) * phi_k(dt_s * k / mc)
+    return T
+
