@@ -251,16 +251,17 @@ TP_SIZE = 12
 def packed(p: ThermalParams) -> np.ndarray:
     """`pack` (`p`), kept on `p` (immutable) so that the functions above pack it once."""
     try:
-        return p.__dict__["_packed"]  # type: ignore[no-any-return]
+        return p.__dict__["_packed"]
     except KeyError:
         object.__setattr__(p, "_packed", pack(p))
-        return p.__dict__["_packed"]  # type: ignore[no-any-return]
+        return p.__dict__["_packed"]
 
 
 def pack(p: ThermalParams) -> np.ndarray:
     """The thermal parameters `p` as a float64 array (slots ``TP_*``): length, cross-section,
     resistivities, drive (1 = current), h, its exponent and reference excess, the sub-step,
-    the lateral surface, the heat capacity and m L / c-free latent factor rho A L L_h."""
+    the lateral surface, the heat capacity and the latent factor rho A L L_h (the mass times
+    the latent heat)."""
     return np.array([p.length, cross_section(p), p.rho_martensite, p.rho_austenite,
                      0.0 if p.drive == "voltage" else 1.0, p.h, p.h_exponent, p.h_dT_ref,
                      p.max_substep, lateral_surface(p), heat_capacity(p),

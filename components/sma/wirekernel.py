@@ -18,6 +18,8 @@ step), then the memories stepped at their temperatures and the strain, fractions
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -31,6 +33,9 @@ from musclesim.components.sma.thermal import (joule_power_k, martensite_fraction
                                               resistance_k, step_k)
 from musclesim.fmu.compiled import jit
 from musclesim.fmu.kernel import Kernel
+
+if TYPE_CHECKING:
+    from musclesim.components.sma.smawire import SmaWireParams
 
 __all__ = ["ZERO_C", "INPUTS", "OUTPUTS", "pack", "state", "start", "evaluate", "advance",
            "KERNEL"]
@@ -58,8 +63,8 @@ X_CONTEXT = 13  # the root search's context (C_* slots)
 X_MEMORIES = X_CONTEXT + 10  # the core's memory, the zones', the scratch
 
 
-def pack(params: object, wire: thermal.ThermalParams, hysteresis: surface.Hypersurface,
-         zones: list[tuple[float, float]] | tuple[()], memory_size: int) -> np.ndarray:
+def pack(params: SmaWireParams, wire: thermal.ThermalParams, hysteresis: surface.Hypersurface,
+         zones: Sequence[tuple[float, float]], memory_size: int) -> np.ndarray:
     """The kernel's parameters of the wire's `params` (`smawire.SmaWireParams`), thermal
     parameters `wire`, `hysteresis` surface, cold end `zones` (`ends.zones`) and Preisach
     memories of `memory_size` floats (layout: the module docstring)."""
@@ -67,12 +72,12 @@ def pack(params: object, wire: thermal.ThermalParams, hysteresis: surface.Hypers
     if len(zones) > MAX_ZONES:
         raise ValueError(f"at most {MAX_ZONES} cold end zones (got {len(zones)})")
     head = np.zeros(P_HEAD)
-    blend = p.sigma_surface > 0 and p.stress_blend > 0  # type: ignore[attr-defined]
+    blend = p.sigma_surface > 0 and p.stress_blend > 0
     head[:P_CORE_SHARE] = [
-        p.T_init - ZERO_C, p.drift_cycles_start, p.hysteresis_shift,  # type: ignore[attr-defined]
-        p.strain_scale, thermal.cross_section(wire), wire.length,  # type: ignore[attr-defined]
-        1.0 if blend else 0.0, p.sigma_surface, p.stress_blend,  # type: ignore[attr-defined]
-        p.drift_amplitude, p.drift_shift, p.drift_settle_cycles,  # type: ignore[attr-defined]
+        p.T_init - ZERO_C, p.drift_cycles_start, p.hysteresis_shift,
+        p.strain_scale, thermal.cross_section(wire), wire.length,
+        1.0 if blend else 0.0, p.sigma_surface, p.stress_blend,
+        p.drift_amplitude, p.drift_shift, p.drift_settle_cycles,
         1.0 if wire.latent_heat != 0 else 0.0, float(len(zones))]
     head[P_CORE_SHARE] = 1 - sum(w for w, _ in zones)  # as the ends submodel sums it
     for i, (w, g) in enumerate(zones):
