@@ -13,8 +13,9 @@ import numpy as np
 from musclesim.components.checks import require
 from musclesim.fmu.compiled import jit
 
-from .surface import (GRID_TEMPS, S_HEAD, S_MSHI, S_MSLO, S_NC, S_NLEV, S_NS, S_THI, S_TLO, STRESSES,
-                      Hypersurface, RangeWarning, cell_eval, clamp, clip, fmax, fmin)
+from .surface import (GRID_TEMPS, S_HEAD, S_MSHI, S_MSLO, S_NC, S_NLEV, S_THI, S_TLO, STRESSES,
+                      Hypersurface, RangeWarning, cell_eval, clamp, clip, fmax, fmin,
+                      stress_weights_k)
 
 __all__ = ["GRID_TEMPS", "STRESSES", "Hypersurface", "MemoryParams", "PreisachModel",
            "RangeWarning", "stack_strain", "strain_falling", "strain_rising"]
@@ -421,20 +422,11 @@ def _forget_least_pair(s: np.ndarray, m: np.ndarray) -> None:
     n = int(m[M_N])
     e, pr, st = M_HEAD, M_HEAD + cap, M_HEAD + 2 * cap
     nc = int(s[S_NC])
-    ns = int(s[S_NS])
     best_p = -1
     best = 0.0
     for p in range(1, n - 2):
         q = p + 2
-        k = 0
-        w = 0.0
-        if ns > 1:  # Hypersurface.stress_weights
-            sig = m[st + q]
-            k = -1
-            while k + 1 < ns and s[S_HEAD + k + 1] <= sig:
-                k += 1
-            k = min(max(k, 0), ns - 2)
-            w = (sig - s[S_HEAD + k]) / (s[S_HEAD + k + 1] - s[S_HEAD + k])
+        k, w = stress_weights_k(s, m[st + q])
         if q % 2:
             term = cell_eval(s, k * nc * nc, m[e + q], m[e + p - 1], w)
         else:

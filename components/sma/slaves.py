@@ -4,19 +4,22 @@ from __future__ import annotations
 
 import math
 
-from musclesim.components.sma import datasets, ports, smawire, thermal, wirekernel
+import numpy as np
+
+from musclesim.components.sma import (datasets, inversekernel, ports, smawire, surface, thermal,
+                                      wirekernel)
 from musclesim.components.sma.inverse import InverseBases
-from musclesim.components.sma.inverse import PreisachInverse as InverseCore
 from musclesim.components.sma.ports import LOAD_150G
 from musclesim.components.sma.smawire import HYSTERESIS, ZERO_C
 from musclesim.components.sma.surface import Hypersurface, clamp
-from musclesim.fmu import Slave, experiment
+from musclesim.fmu import experiment
 from musclesim.fmu.kernel import KernelSlave
 
 __all__ = ["SmaWire", "PreisachInverse", "LOAD_150G", "HYSTERESIS", "ZERO_C"]
 
-# id(surface) -> (surface, its InverseBases); the surface is held, so ids stay unique
-_BASES: dict[int, tuple[Hypersurface, InverseBases]] = {}
+# id(surface) -> (surface, its InverseBases, the inverse kernel's parameters); the surface is
+# held, so ids stay unique
+_BASES: dict[int, tuple[Hypersurface, InverseBases, np.ndarray]] = {}
 
 
 class SmaWire(KernelSlave):
@@ -110,11 +113,11 @@ class SmaWire(KernelSlave):
         self.kx[wirekernel.X_WARN] = 2.0
 
 
-class PreisachInverse(Slave):
+class PreisachInverse(KernelSlave):
     """Inverse of the modified Preisach model (§preisach-inverse): reference strain and stress in,
     the temperature reference that makes the wire produce that strain out (feed-forward).
 
-    A thin adapter over `inverse.PreisachInverse`. T_ref is direct feedthrough: at every
+    A thin adapter over `inverse.PreisachInverse`'s compiled kernel (`inversekernel`). T_ref is direct feedthrough: at every
     communication point it is the core's `peek` at the present inputs (memory untouched); each
     step commits that sample with the core's `step`, so the memory sees every sample once, exactly
     as the core stepped by hand (clear at initialization, then one step per communication step =
@@ -123,6 +126,7 @@ class PreisachInverse(Slave):
     Equations: §preisach-inverse.
     """
 
+    kernel = inversekernel.KERNEL
     default_experiment = experiment(550.0, 0.0004)  # sma-position-control, §position-control
     description = ("Feed-forward inverse of the modified Preisach model: reference strain and "
                    "stress in, temperature reference out (§position-control)")
@@ -145,13 +149,15 @@ class PreisachInverse(Slave):
                     depends=["eps_ref", "sigma_ref"])
 
     def setup(self) -> None:
-        """Load the data set's surface and the inverse's bases (once per process), then start."""
+        """Load the data set's surface, the inverse's bases and the kernel's parameters (once per
+        process), then start."""
         self.surface = datasets.surface(self.hysteresis, self.sigma_surface,
                                         datasets.shipped(self.resources))
         key = id(self.surface)
         if key not in _BASES:  # ~0.1-0.3 s per data set: once per process
-            _BASES[key] = (self.surface, InverseBases(self.surface))
-        self.bases = _BASES[key][1]
+            bases = InverseBases(self.surface)
+            _BASES[key] = (self.surface, bases, inversekernel.pack(self.surface, bases))
+        _, self.bases, self.kp = _BASES[key]
         self._start()
 
     def initialize(self) -> None:
@@ -159,21 +165,41 @@ class PreisachInverse(Slave):
         self._start()
 
     def _start(self) -> None:
-        self.core = InverseCore(self.surface, bases=self.bases)
+        """A new memory (and its one-time warnings), cleared at the reference stress."""
+        self.kx = inversekernel.new_state()
+        self.core = inversekernel.InverseState(self.bases, self.kx)
+        self._warned: set[str] = set()
         self._checked(self.time)
-        self.logged(self.core.clear, self.sigma_ref, self.time)
+        inversekernel.clear(self.kp, self.kx, self.sigma_ref, self.time)
+        self._log_clamps()
 
     def evaluate(self) -> None:
-        """T_ref: the core's `peek` at the present inputs, its memory untouched."""
-        t = self.time
-        self._checked(t)
-        self.T_ref = self.logged(self.core.peek, self.eps_ref, self.sigma_ref, t) + ZERO_C
+        """T_ref: the kernel's `peek` at the present inputs, its memory untouched."""
+        self._checked(self.time)
+        super().evaluate()
+        self._log_clamps()
 
     def advance(self, t: float, dt: float) -> None:
-        """Commit the inputs at `t` [s] with the core's `step` (the step `dt` [s] plays no part:
-        the inverse has no dynamics)."""
+        """Commit the inputs at `t` [s] with the kernel's `step` (the step `dt` [s] plays no
+        part: the inverse has no dynamics)."""
         self._checked(t)
-        self.logged(self.core.step, self.eps_ref, self.sigma_ref, t)
+        super().advance(t, dt)
+        self._log_clamps()
+
+    def _log_clamps(self) -> None:
+        """Log the kernel's first clamp of the reference strain and of the stress, as the
+        core's `clamp` words them (each once: the state records it as told)."""
+        x, k = self.kx, inversekernel
+        if x[k.X_WARN_EPS] == 1.0:
+            self.logged(clamp, self._warned, "reference strain", float(x[k.X_WARN_EPS_VALUE]),
+                        0.0, float(self.kp[k.I_EPS_HI]), "", float(x[k.X_WARN_EPS_T]))
+            x[k.X_WARN_EPS] = 2.0
+        if x[k.X_WARN_SIGMA] == 1.0:
+            s = self.kp[int(self.kp[k.I_SURFACE]):]
+            self.logged(clamp, self._warned, "stress", float(x[k.X_WARN_SIGMA_VALUE]),
+                        float(s[surface.S_MSLO]), float(s[surface.S_MSHI]), "Pa",
+                        float(x[k.X_WARN_SIGMA_T]))
+            x[k.X_WARN_SIGMA] = 2.0
 
     def _checked(self, t: float) -> None:
         for name, value in (("eps_ref", self.eps_ref), ("sigma_ref", self.sigma_ref)):

@@ -306,6 +306,16 @@ def pack(surface: Hypersurface) -> np.ndarray:
     return np.concatenate([np.array(head + levels + inv, dtype=float), cells])
 
 
+def packed(surface: Hypersurface) -> np.ndarray:
+    """`pack` (`surface`), kept on the (immutable) surface: packed once per process, read-only."""
+    arr: np.ndarray | None = surface.__dict__.get("_packed")
+    if arr is None:
+        arr = pack(surface)
+        arr.flags.writeable = False
+        surface._packed = arr  # type: ignore[attr-defined]
+    return arr
+
+
 @jit
 def fmin(a: float, b: float) -> float:
     """Python's ``min(a, b)`` (the first unless the second is smaller)."""
@@ -360,15 +370,21 @@ def surface_F(s: np.ndarray, a: float, b: float, sigma: float) -> float:
     b = clip(b, s[S_TLO], s[S_THI])
     if a <= b:
         return 0.0
-    ns = int(s[S_NS])
-    k = 0
-    w = 0.0
-    if ns > 1:
+    if s[S_NS] > 1:
         sigma = clip(sigma, s[S_SLO], s[S_SHI])
-        k = -1
-        while k + 1 < ns and s[S_HEAD + k + 1] <= sigma:  # bisect_right - 1
-            k += 1
-        k = min(max(k, 0), ns - 2)
-        w = (sigma - s[S_HEAD + k]) / (s[S_HEAD + k + 1] - s[S_HEAD + k])
+    k, w = stress_weights_k(s, sigma)
     nc = int(s[S_NC])
     return cell_eval(s, k * nc * nc, a, b, w)
+
+
+@jit
+def stress_weights_k(s: np.ndarray, sigma: float) -> tuple[int, float]:
+    """`Hypersurface.stress_weights` of the packed surface `s`: (k, w) of in-range `sigma`."""
+    ns = int(s[S_NS])
+    if ns == 1:
+        return 0, 0.0
+    k = -1
+    while k + 1 < ns and s[S_HEAD + k + 1] <= sigma:  # bisect_right - 1
+        k += 1
+    k = min(max(k, 0), ns - 2)
+    return k, (sigma - s[S_HEAD + k]) / (s[S_HEAD + k + 1] - s[S_HEAD + k])

@@ -86,7 +86,7 @@ def pack(params: SmaWireParams, wire: thermal.ThermalParams, hysteresis: surface
     head[P_MEMORY] = memory_size
     head[P_THERMAL] = P_HEAD
     head[P_SURFACE] = P_HEAD + len(tp)
-    return np.concatenate([head, tp, surface.pack(hysteresis)])
+    return np.concatenate([head, tp, surface.packed(hysteresis)])
 
 
 def state(p: np.ndarray, memory: np.ndarray) -> np.ndarray:
