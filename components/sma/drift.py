@@ -47,7 +47,7 @@ def count_cycles(n_cycles: float, xi_old: float, xi_new: float) -> float:
 
 @jit
 def count_cycles_k(n_cycles: float, xi_old: float, xi_new: float) -> float:
-    """`count_cycles`, compiled."""
+    """`count_cycles` of `n_cycles`, `xi_old`, `xi_new`, compiled."""
     return n_cycles + abs(xi_new - xi_old) / 2
 
 
@@ -72,13 +72,13 @@ def temperature_shift(n_cycles: float, p: DriftParams) -> float:
 
 @jit
 def progress_k(n_cycles: float, cycles_to_settle: float) -> float:
-    """`progress` of the drift's pace `cycles_to_settle`."""
+    """`progress` after `n_cycles` at the drift's pace `cycles_to_settle`."""
     return -math.expm1(-n_cycles / cycles_to_settle)
 
 
 @jit
 def strain_scale_k(n_cycles: float, amplitude_change: float, cycles_to_settle: float) -> float:
-    """`strain_scale` of the drift's parameters spelled out."""
+    """`strain_scale` after `n_cycles` of the drift `amplitude_change`, `cycles_to_settle`."""
     if amplitude_change == 0:
         return 1.0
     return 1.0 + amplitude_change * progress_k(n_cycles, cycles_to_settle)
@@ -86,7 +86,7 @@ def strain_scale_k(n_cycles: float, amplitude_change: float, cycles_to_settle: f
 
 @jit
 def temperature_shift_k(n_cycles: float, shift: float, cycles_to_settle: float) -> float:
-    """`temperature_shift` of the drift's parameters spelled out."""
+    """`temperature_shift` [K] after `n_cycles` of the drift `shift`, `cycles_to_settle`."""
     if shift == 0:
         return 0.0
     return shift * progress_k(n_cycles, cycles_to_settle)

@@ -19,14 +19,14 @@ from musclesim.components.sma import preisach, surface
 from musclesim.components.sma.inverse import InverseBases
 from musclesim.components.sma.preisach import (M_CAP, M_HEAD, M_K, M_N, M_RISING, M_SIG,
                                                M_SIGMA, M_TOL, M_W, M_X, M_XSIG, M_XTERM,
-                                               _all_off, _record, _set_stress)
+                                               mem_all_off, mem_record, mem_set_stress)
 from musclesim.components.sma.surface import (S_MSHI, S_MSLO, S_NC, cell_eval, fmax, fmin,
                                               stress_weights_k)
 from musclesim.fmu.compiled import jit
 from musclesim.fmu.kernel import Kernel
 
 __all__ = ["ZERO_C", "INPUTS", "OUTPUTS", "pack", "state", "clear", "peek", "step", "evaluate",
-           "advance", "KERNEL", "InverseState"]
+           "advance", "KERNEL", "InverseState", "blocks", "new_state"]
 
 ZERO_C = 273.15  # K; the FMU speaks K, the cores C
 INPUTS = ("eps_ref", "sigma_ref")
@@ -66,7 +66,7 @@ def state(memory: np.ndarray) -> np.ndarray:
 
 
 @jit
-def _blocks(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def blocks(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(memory block, scratch block) of the state `x`."""
     size = (len(x) - X_BLOCK) // 2
     return x[X_BLOCK:X_BLOCK + size], x[X_BLOCK + size:]
@@ -78,7 +78,7 @@ def _new_stress(p: np.ndarray, x: np.ndarray, m: np.ndarray, sigma: float, t: fl
     s = p[int(p[I_SURFACE]):int(p[I_AFMAX])]
     if not s[S_MSLO] <= sigma <= s[S_MSHI] and x[X_WARN_SIGMA] == 0.0:
         x[X_WARN_SIGMA], x[X_WARN_SIGMA_VALUE], x[X_WARN_SIGMA_T] = 1.0, sigma, t
-    _set_stress(s, m, sigma)
+    mem_set_stress(s, m, sigma)
 
 
 @jit
@@ -140,7 +140,7 @@ def _fall(p: np.ndarray, m: np.ndarray, eps_r: float) -> float:
     T = _invert(p, m, True, m[M_HEAD + n - 1], m[M_HEAD + cap + n - 1] - eps_r)
     while T <= m[M_HEAD + n - 2]:
         if n == 2:
-            _all_off(p[int(p[I_SURFACE]):int(p[I_AFMAX])], m)
+            mem_all_off(p[int(p[I_SURFACE]):int(p[I_AFMAX])], m)
             return p[I_TLO]
         bottom = m[M_HEAD + n - 2]
         n -= 2
@@ -170,7 +170,7 @@ def _reverse(p: np.ndarray, m: np.ndarray, eps_r: float) -> float:
         if _invert(p, m, False, X, eps_r - m[M_HEAD + cap + n - 1] - term) <= X + tol:
             return X
     m[M_XTERM] = term  # push_extremum's term
-    _record(s, m)
+    mem_record(s, m)
     if m[M_RISING] != 0.0:
         return fmax(_rise(p, m, eps_r), np.nextafter(X + tol, np.inf))
     return fmin(_fall(p, m, eps_r), np.nextafter(X - tol, -np.inf))
@@ -179,8 +179,9 @@ def _reverse(p: np.ndarray, m: np.ndarray, eps_r: float) -> float:
 @jit
 def step(p: np.ndarray, x: np.ndarray, block: np.ndarray, eps_r: float, sigma: float,
          t: float) -> float:
-    """`PreisachInverse.step` of the memory `block` (the last reference, then the memory): take
-    `eps_r` [-] and `sigma` [Pa] at `t` [s], return T_out [C]; clamps kept in the state `x`."""
+    """`PreisachInverse.step` of the parameters `p` on the memory `block` (the last reference,
+    then the memory): take `eps_r` [-] and `sigma` [Pa] at `t` [s], return T_out [C]; clamps
+    kept in the state `x`."""
     m = block[1:]
     eps_hi = p[I_EPS_HI]
     if not 0.0 <= eps_r <= eps_hi:
@@ -203,33 +204,37 @@ def step(p: np.ndarray, x: np.ndarray, block: np.ndarray, eps_r: float, sigma: f
 
 @jit
 def peek(p: np.ndarray, x: np.ndarray, eps_r: float, sigma: float, t: float) -> float:
-    """`PreisachInverse.peek`: `step` on a copy of the memory block (the scratch block)."""
-    block, scratch = _blocks(x)
+    """`PreisachInverse.peek` of the parameters `p`: `step` of `eps_r` [-], `sigma` [Pa] at `t`
+    [s] on a copy of the state `x`'s memory block (into its scratch block)."""
+    block, scratch = blocks(x)
     scratch[:] = block
     return step(p, x, scratch, eps_r, sigma, t)
 
 
 @jit
 def clear(p: np.ndarray, x: np.ndarray, sigma: float, t: float) -> None:
-    """`PreisachInverse.clear`: the all-off memory at b0 under `sigma` [Pa] at `t` [s]."""
-    block, _ = _blocks(x)
+    """`PreisachInverse.clear` of the parameters `p`: the state `x`'s memory all off at b0
+    under `sigma` [Pa] at `t` [s]."""
+    block, _ = blocks(x)
     m = block[1:]
     _new_stress(p, x, m, sigma, t)
-    _all_off(p[int(p[I_SURFACE]):int(p[I_AFMAX])], m)
+    mem_all_off(p[int(p[I_SURFACE]):int(p[I_AFMAX])], m)
     block[0] = 0.0
 
 
 @jit
 def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
-    """T_ref [K]: `peek` at the present inputs, the memory untouched."""
+    """T_ref [K] into `y`: `peek` of the parameters `p`, state `x` at the present inputs `u`
+    (eps_ref, sigma_ref) and time `t`, the memory untouched."""
     y[0] = peek(p, x, u[0], u[1], t) + ZERO_C
 
 
 @jit
 def advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
             dt: float) -> None:
-    """Commit the inputs at `t` [s] with `step` (`dt` plays no part: no dynamics)."""
-    block, _ = _blocks(x)
+    """Commit the inputs `u` at `t` [s] to the state `x` with `step`, parameters `p` (the
+    outputs `y` and `dt` play no part: no dynamics)."""
+    block, _ = blocks(x)
     step(p, x, block, u[0], u[1], t)
 
 
@@ -246,11 +251,22 @@ class InverseState:
     def _stack(self, which: int) -> list[float]:
         m = self.kx[X_BLOCK + 1:]
         n, cap = int(m[M_N]), int(m[M_CAP])
-        return m[M_HEAD + which * cap:M_HEAD + which * cap + n].tolist()
+        return list(m[M_HEAD + which * cap:M_HEAD + which * cap + n].tolist())
 
-    extrema = property(lambda self: self._stack(0), doc="[m_0 = b0, M_1, m_1, ...] [C]")
-    prefix = property(lambda self: self._stack(1), doc="The completed terms' running sums")
-    stresses = property(lambda self: self._stack(2), doc="Each extremum's stress [Pa]")
+    @property
+    def extrema(self) -> list[float]:
+        """The stack [m_0 = b0, M_1, m_1, ...] [C]."""
+        return self._stack(0)
+
+    @property
+    def prefix(self) -> list[float]:
+        """The completed terms' running sums."""
+        return self._stack(1)
+
+    @property
+    def stresses(self) -> list[float]:
+        """Each extremum's stress [Pa]."""
+        return self._stack(2)
 
 
 def new_state(params: preisach.MemoryParams | None = None) -> np.ndarray:

@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 import math
-import sys
+
 from bisect import bisect_right
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -15,7 +15,7 @@ from musclesim.fmu.compiled import jit
 
 from .surface import (GRID_TEMPS, S_HEAD, S_MSHI, S_MSLO, S_NC, S_NLEV, S_THI, S_TLO, STRESSES,
                       Hypersurface, RangeWarning, cell_eval, clamp, clip, fmax, fmin,
-                      stress_weights_k)
+                      stress_grid, stress_weights_k)
 
 __all__ = ["GRID_TEMPS", "STRESSES", "Hypersurface", "MemoryParams", "PreisachModel",
            "RangeWarning", "stack_strain", "strain_falling", "strain_rising"]
@@ -268,19 +268,6 @@ def forget_least_pair(surface: Hypersurface, extrema: list[float], prefix: list[
         P[q] -= change
 
 
-def stress_grid(surface: Hypersurface) -> tuple[float, float, list[float], list[float], int]:
-    """(lo, hi, levels, 1 / level spacings, last interval) of `surface` for inline stress
-    interpolation.
-
-    A single level ignores stress: its range is every finite value and its weight is 0.
-    """
-    levels = [float(s) for s in surface.stresses]
-    if len(levels) == 1:
-        return -sys.float_info.max, sys.float_info.max, levels * 2, [0.0], 0
-    inv = [1.0 / (hi - lo) for lo, hi in zip(levels, levels[1:])]
-    return levels[0], levels[-1], levels, inv, len(levels) - 2
-
-
 def stack_strain(surface: Hypersurface, extrema: Sequence[float], stresses: Sequence[float],
                  T: float, sigma: float) -> float:
     """Strain of an extrema stack summed term by term (the O(stack) form of §preisach).
@@ -375,8 +362,9 @@ def memory(params: MemoryParams | None = None) -> np.ndarray:
 
 
 @jit
-def _set_stress(s: np.ndarray, m: np.ndarray, sigma: float) -> None:
-    """`StressInput._set_stress`: the interpolation weights of a new stress."""
+def mem_set_stress(s: np.ndarray, m: np.ndarray, sigma: float) -> None:
+    """`StressInput._set_stress` of the memory `m` on the packed surface `s`: the
+    interpolation weights of the new stress `sigma` [Pa]."""
     m[M_SIGMA] = sigma
     sigma = clip(sigma, s[S_MSLO], s[S_MSHI])
     nlev = int(s[S_NLEV])
@@ -394,14 +382,16 @@ def _set_stress(s: np.ndarray, m: np.ndarray, sigma: float) -> None:
 
 
 @jit
-def _term(s: np.ndarray, m: np.ndarray, a: float, b: float) -> float:
+def mem_term(s: np.ndarray, m: np.ndarray, a: float, b: float) -> float:
+    """F(`a`, `b`) at the memory `m`'s current stress on the packed surface `s` (`_term`)."""
     nc = int(s[S_NC])
     return cell_eval(s, int(m[M_K]) * nc * nc, a, b, m[M_W])
 
 
 @jit
-def _all_off(s: np.ndarray, m: np.ndarray) -> float:
-    """Cooling reached b0: the all-off memory at the current stress; strain 0."""
+def mem_all_off(s: np.ndarray, m: np.ndarray) -> float:
+    """Cooling reached b0: the memory `m` all off at its current stress on the packed surface
+    `s`; strain 0."""
     cap = int(m[M_CAP])
     b0 = s[S_TLO]
     m[M_N] = 1.0
@@ -416,8 +406,8 @@ def _all_off(s: np.ndarray, m: np.ndarray) -> float:
 
 
 @jit
-def _forget_least_pair(s: np.ndarray, m: np.ndarray) -> None:
-    """`forget_least_pair` on the memory's stack."""
+def mem_forget_least_pair(s: np.ndarray, m: np.ndarray) -> None:
+    """`forget_least_pair` on the stack of the memory `m`, packed surface `s`."""
     cap = int(m[M_CAP])
     n = int(m[M_N])
     e, pr, st = M_HEAD, M_HEAD + cap, M_HEAD + 2 * cap
@@ -447,8 +437,9 @@ def _forget_least_pair(s: np.ndarray, m: np.ndarray) -> None:
 
 
 @jit
-def _record(s: np.ndarray, m: np.ndarray) -> None:
-    """`push_extremum`: record X with its frozen term, bound the stack, turn round."""
+def mem_record(s: np.ndarray, m: np.ndarray) -> None:
+    """`push_extremum` on the memory `m`, packed surface `s`: record X with its frozen term
+    (``m[M_XTERM]``), bound the stack, turn round."""
     cap = int(m[M_CAP])
     n = int(m[M_N])
     m[M_HEAD + n] = m[M_X]
@@ -456,7 +447,7 @@ def _record(s: np.ndarray, m: np.ndarray) -> None:
     m[M_HEAD + 2 * cap + n] = m[M_XSIG]
     m[M_N] = n + 1
     if n + 1 > cap - 1:
-        _forget_least_pair(s, m)
+        mem_forget_least_pair(s, m)
     m[M_RISING] = 0.0 if m[M_RISING] != 0.0 else 1.0
 
 
@@ -466,15 +457,15 @@ def mem_step(s: np.ndarray, m: np.ndarray, T: float, sigma: float) -> float:
     `sigma` [Pa] (clamped without warning), return the strain."""
     T = clip(T, s[S_TLO], s[S_THI])
     if sigma != m[M_SIGMA]:
-        _set_stress(s, m, sigma)
+        mem_set_stress(s, m, sigma)
     tol = m[M_TOL]
     cap = int(m[M_CAP])
     X = m[M_X]
     if m[M_RISING] != 0.0:
         if T < X - tol:
-            _record(s, m)
+            mem_record(s, m)
     elif T > X + tol:
-        _record(s, m)
+        mem_record(s, m)
     n = int(m[M_N])
     if m[M_RISING] != 0.0:
         if T >= X:
@@ -488,11 +479,11 @@ def mem_step(s: np.ndarray, m: np.ndarray, T: float, sigma: float) -> float:
             X = T
             while T <= m[M_HEAD + n - 2]:  # wiping-out: a smaller minimum
                 if n == 2:
-                    return _all_off(s, m)
+                    return mem_all_off(s, m)
                 n -= 2
             m[M_N] = n
         a, b = m[M_HEAD + n - 1], X
-    f = _term(s, m, a, b)
+    f = mem_term(s, m, a, b)
     if m[M_RISING] == 0.0:
         f = -f
     m[M_X] = X
@@ -504,8 +495,8 @@ def mem_step(s: np.ndarray, m: np.ndarray, T: float, sigma: float) -> float:
 @jit
 def mem_reset(s: np.ndarray, m: np.ndarray, T: float, sigma: float) -> float:
     """`PreisachModel.reset`: the all-off memory, then `T` [C], `sigma` [Pa]; the strain."""
-    _set_stress(s, m, sigma)
-    _all_off(s, m)
+    mem_set_stress(s, m, sigma)
+    mem_all_off(s, m)
     return mem_step(s, m, T, sigma)
 
 
@@ -519,8 +510,8 @@ def mem_peek(s: np.ndarray, m: np.ndarray, trial: np.ndarray, T: float, sigma: f
         cap = int(m[M_CAP])
         if m[M_RISING] != 0.0:
             if T >= X - m[M_TOL] and (T < X or n <= 2 or T < m[M_HEAD + n - 2]):
-                return m[M_HEAD + cap + n - 1] + _term(s, m, fmax(X, T), m[M_HEAD + n - 1])
+                return m[M_HEAD + cap + n - 1] + mem_term(s, m, fmax(X, T), m[M_HEAD + n - 1])
         elif T <= X + m[M_TOL] and (T > X or T > m[M_HEAD + n - 2]):
-            return m[M_HEAD + cap + n - 1] - _term(s, m, m[M_HEAD + n - 1], fmin(X, T))
+            return m[M_HEAD + cap + n - 1] - mem_term(s, m, m[M_HEAD + n - 1], fmin(X, T))
     trial[:] = m
     return mem_step(s, trial, T, sigma)

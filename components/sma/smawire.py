@@ -145,18 +145,40 @@ class SmaWireCore:
         self.kp = wirekernel.pack(params, wire, self.surface, self.ends.zones, len(memory))
         self.kx = wirekernel.state(self.kp, memory)
 
-    T_C = property(lambda self: float(self.kx[wirekernel.X_T]), doc="Core temperature [C]")
-    cycles = property(lambda self: float(self.kx[wirekernel.X_CYCLES]),
-                      doc="Transformation cycles of the drift")
-    xi = property(lambda self: float(self.kx[wirekernel.X_XI]),
-                  doc="The wire's martensite fraction")
-    xi_core = property(lambda self: float(self.kx[wirekernel.X_XI_CORE]),
-                       doc="The core's martensite fraction")
-    eps = property(lambda self: float(self.kx[wirekernel.X_EPS]), doc="The wire's strain")
-    stress_held = property(lambda self: float(self.kx[wirekernel.X_STRESS]),
-                           doc="Stress f / area [Pa] of the last step")
-    P_held = property(lambda self: float(self.kx[wirekernel.X_P]),
-                      doc="Joule power [W] over the last step")
+    @property
+    def T_C(self) -> float:
+        """Core temperature [C]."""
+        return float(self.kx[wirekernel.X_T])
+
+    @property
+    def cycles(self) -> float:
+        """Transformation cycles of the drift."""
+        return float(self.kx[wirekernel.X_CYCLES])
+
+    @property
+    def xi(self) -> float:
+        """The wire's martensite fraction."""
+        return float(self.kx[wirekernel.X_XI])
+
+    @property
+    def xi_core(self) -> float:
+        """The core's martensite fraction."""
+        return float(self.kx[wirekernel.X_XI_CORE])
+
+    @property
+    def eps(self) -> float:
+        """The wire's strain."""
+        return float(self.kx[wirekernel.X_EPS])
+
+    @property
+    def stress_held(self) -> float:
+        """Stress f / area [Pa] over the last step."""
+        return float(self.kx[wirekernel.X_STRESS])
+
+    @property
+    def P_held(self) -> float:
+        """Joule power [W] over the last step."""
+        return float(self.kx[wirekernel.X_P])
 
     def stress_seen(self, f: float) -> float:
         """Stress [Pa] the hysteresis takes under the tensile load `f` [N] before clamping:

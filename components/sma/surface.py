@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import bisect
 import math
+import sys
 import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -290,14 +291,25 @@ S_TLO, S_THI, S_INVH, S_NC, S_NS, S_SLO, S_SHI, S_MSLO, S_MSHI, S_NLEV = range(1
 S_HEAD = 10  # the levels start here
 
 
+def stress_grid(surface: Hypersurface) -> tuple[float, float, list[float], list[float], int]:
+    """(lo, hi, levels, 1 / level spacings, last interval) of `surface` for inline stress
+    interpolation.
+
+    A single level ignores stress: its range is every finite value and its weight is 0.
+    """
+    levels = [float(s) for s in surface.stresses]
+    if len(levels) == 1:
+        return -sys.float_info.max, sys.float_info.max, levels * 2, [0.0], 0
+    inv = [1.0 / (hi - lo) for lo, hi in zip(levels, levels[1:])]
+    return levels[0], levels[-1], levels, inv, len(levels) - 2
+
+
 def pack(surface: Hypersurface) -> np.ndarray:
     """`surface` as one float64 array for the compiled cores: the header [t_lo, t_hi, inv_h,
     n_cells, number of stresses, s_lo, s_hi, the memory's stress range lo and hi (every finite
-    value for a single level: `preisach.stress_grid`), nlev], then the nlev stress levels of
+    value for a single level: `stress_grid`), nlev], then the nlev stress levels of
     the memory's interpolation (a single level twice), their nlev - 1 inverse spacings, then the
     cells' 8 coefficients each (`_cell_coefficients`, in `Hypersurface.cells`' order)."""
-    from .preisach import stress_grid  # the memory's stress interpolation, written once there
-
     m_lo, m_hi, levels, inv, _ = stress_grid(surface)
     head = [surface.t_lo, surface.t_hi, surface.inv_h, float(surface.n_cells),
             float(len(surface.stresses)), surface.s_lo, surface.s_hi, m_lo, m_hi,
@@ -318,13 +330,13 @@ def packed(surface: Hypersurface) -> np.ndarray:
 
 @jit
 def fmin(a: float, b: float) -> float:
-    """Python's ``min(a, b)`` (the first unless the second is smaller)."""
+    """Python's ``min(a, b)``: `a` unless `b` is smaller."""
     return b if b < a else a
 
 
 @jit
 def fmax(a: float, b: float) -> float:
-    """Python's ``max(a, b)`` (the first unless the second is larger)."""
+    """Python's ``max(a, b)``: `a` unless `b` is larger."""
     return b if b > a else a
 
 

@@ -270,21 +270,21 @@ def pack(p: ThermalParams) -> np.ndarray:
 
 @jit
 def resistance_k(tp: np.ndarray, xi: float) -> float:
-    """`resistance` of the packed parameters `tp` (`pack`)."""
+    """`resistance` at martensite fraction `xi` of the packed parameters `tp` (`pack`)."""
     rho = xi * tp[TP_RHO_M] + (1 - xi) * tp[TP_RHO_A]
     return rho * tp[TP_LENGTH] / tp[TP_AREA]
 
 
 @jit
 def joule_power_k(tp: np.ndarray, u: float, xi: float) -> float:
-    """`joule_power` of the packed parameters `tp`."""
+    """`joule_power` of the input `u` at martensite fraction `xi`, packed parameters `tp`."""
     r = resistance_k(tp, xi)
     return u * u / r if tp[TP_CURRENT] == 0.0 else r * u * u
 
 
 @jit
 def convection_k(tp: np.ndarray, T: float, T_amb: float) -> float:
-    """`convection_coefficient` of the packed parameters `tp`."""
+    """`convection_coefficient` at `T` in air at `T_amb` [C], packed parameters `tp`."""
     if tp[TP_H_EXPONENT] == 0:
         return tp[TP_H]
     return tp[TP_H] * (abs(T - T_amb) / tp[TP_DT_REF]) ** tp[TP_H_EXPONENT]
@@ -292,14 +292,15 @@ def convection_k(tp: np.ndarray, T: float, T_amb: float) -> float:
 
 @jit
 def martensite_fraction_k(eps: float, eps_max: float) -> float:
-    """`martensite_fraction`."""
+    """`martensite_fraction` of the strain `eps` and the maximum `eps_max`."""
     return fmin(1.0, fmax(0.0, 1.0 - eps / eps_max))
 
 
 @jit
 def derivative_k(tp: np.ndarray, T: float, u: float, T_amb: float, xi: float,
                  xi_rate: float) -> float:
-    """`derivative` of the packed parameters `tp`, the inputs spelled out."""
+    """`derivative` at `T` [C] of the packed parameters `tp`, the inputs spelled out (`u`,
+    `T_amb`, `xi`, `xi_rate`: `ThermalInputs`)."""
     h = convection_k(tp, T, T_amb)
     heat = (joule_power_k(tp, u, xi) + tp[TP_LATENT] * xi_rate
             - h * tp[TP_SURFACE] * (T - T_amb))
@@ -308,14 +309,15 @@ def derivative_k(tp: np.ndarray, T: float, u: float, T_amb: float, xi: float,
 
 @jit
 def phi_k(x: float) -> float:
-    """(1 - exp(-x)) / x, with its limit 1 at x = 0."""
+    """(1 - exp(-`x`)) / `x`, with its limit 1 at x = 0."""
     return -math.expm1(-x) / x if x > 1e-12 else 1.0
 
 
 @jit
 def step_k(tp: np.ndarray, T: float, u: float, T_amb: float, xi: float, xi_rate: float,
            dt: float) -> float:
-    """`step` of the packed parameters `tp`, the inputs spelled out."""
+    """`step` from `T` [C] over `dt` [s] of the packed parameters `tp`, the inputs spelled out
+    (`u`, `T_amb`, `xi`, `xi_rate`: `ThermalInputs`)."""
     n = 1
     if tp[TP_H_EXPONENT] != 0:
         n = max(1, int(math.ceil(dt / tp[TP_MAX_SUBSTEP] - 1e-9)))

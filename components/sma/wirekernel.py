@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
+from typing import Any
 
 import numpy as np
 
@@ -33,9 +33,6 @@ from musclesim.components.sma.thermal import (joule_power_k, martensite_fraction
                                               resistance_k, step_k)
 from musclesim.fmu.compiled import jit
 from musclesim.fmu.kernel import Kernel
-
-if TYPE_CHECKING:
-    from musclesim.components.sma.smawire import SmaWireParams
 
 __all__ = ["ZERO_C", "INPUTS", "OUTPUTS", "pack", "state", "start", "evaluate", "advance",
            "KERNEL"]
@@ -63,7 +60,7 @@ X_CONTEXT = 13  # the root search's context (C_* slots)
 X_MEMORIES = X_CONTEXT + 10  # the core's memory, the zones', the scratch
 
 
-def pack(params: SmaWireParams, wire: thermal.ThermalParams, hysteresis: surface.Hypersurface,
+def pack(params: Any, wire: thermal.ThermalParams, hysteresis: surface.Hypersurface,
          zones: Sequence[tuple[float, float]], memory_size: int) -> np.ndarray:
     """The kernel's parameters of the wire's `params` (`smawire.SmaWireParams`), thermal
     parameters `wire`, `hysteresis` surface, cold end `zones` (`ends.zones`) and Preisach
@@ -131,8 +128,8 @@ def _eps_max(p: np.ndarray, x: np.ndarray, s: np.ndarray, sigma: float) -> float
 @jit
 def stress(p: np.ndarray, x: np.ndarray, f: float, t: float) -> float:
     """The stress [Pa] the hysteresis takes under the load `f` [N] at `t` [s]
-    (`SmaWireCore.stress_seen`), clamped to the data set's stresses: the first clamp is kept in
-    the state (X_WARN 1, its value and time) for the slave to log."""
+    (`SmaWireCore.stress_seen`) of the parameters `p`, clamped to the data set's stresses: the
+    first clamp is kept in the state `x` (X_WARN 1, its value and time) for the slave to log."""
     sigma = f / p[P_AREA]
     if p[P_BLEND] != 0.0:
         sigma = p[P_SIGMA_SURFACE] + p[P_STRESS_BLEND] * (sigma - p[P_SIGMA_SURFACE])
@@ -173,8 +170,9 @@ def _strains(p: np.ndarray, x: np.ndarray, reset: bool, T_core: float, T_amb: fl
 
 @jit
 def start(p: np.ndarray, x: np.ndarray, u: float, T_amb: float, f: float, sigma: float) -> None:
-    """`SmaWireCore.start`: a new (or drift_cycles_start old) wire heated to T_init, under the
-    input `u`, ambient `T_amb` [C], load `f` [N] and hysteresis stress `sigma` [Pa]."""
+    """`SmaWireCore.start` of the parameters `p` into the state `x`: a new (or
+    drift_cycles_start old) wire heated to T_init, under the input `u`, ambient `T_amb` [C], load
+    `f` [N] and hysteresis stress `sigma` [Pa]."""
     tp, s = _views(p, x)
     x[X_T] = p[P_T_INIT]
     x[X_CYCLES] = p[P_CYCLES_START]
@@ -306,8 +304,9 @@ def _thermal_step(p: np.ndarray, x: np.ndarray, c: np.ndarray, tp: np.ndarray) -
 @jit
 def step(p: np.ndarray, x: np.ndarray, u: float, T_amb: float, f: float, sigma: float,
          dt: float) -> None:
-    """`SmaWireCore.step`: advance over a step of `dt` [s] with the input `u`, ambient `T_amb`
-    [C], load `f` [N] and hysteresis stress `sigma` [Pa] held."""
+    """`SmaWireCore.step` of the parameters `p`: advance the state `x` over a step of `dt` [s]
+    with the input `u`, ambient `T_amb` [C], load `f` [N] and hysteresis stress `sigma` [Pa]
+    held."""
     tp, s = _views(p, x)
     eps_max = _eps_max(p, x, s, sigma)
     shift = temperature_shift_k(x[X_CYCLES], p[P_DRIFT_SHIFT], p[P_DRIFT_SETTLE])
@@ -328,7 +327,8 @@ def step(p: np.ndarray, x: np.ndarray, u: float, T_amb: float, f: float, sigma: 
 
 @jit
 def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
-    """The outputs (`OUTPUTS`) of the state after the last step."""
+    """The outputs `y` (`OUTPUTS`) of the state `x` after the last step, parameters `p` (the
+    inputs `u` and the time `t` play no part: no direct feedthrough)."""
     tp = p[int(p[P_THERMAL]):int(p[P_SURFACE])]
     y[0] = x[X_T] + ZERO_C
     y[1] = x[X_EPS]
@@ -342,7 +342,8 @@ def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarra
 @jit
 def advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
             dt: float) -> None:
-    """Step the wire over [`t`, `t` + `dt`] [s] with the inputs `u` (`INPUTS`) held."""
+    """Step the wire of parameters `p`, state `x`, over [`t`, `t` + `dt`] [s] with the inputs
+    `u` (`INPUTS`) held (the outputs `y` play no part)."""
     sigma = stress(p, x, u[2], t)
     step(p, x, u[0], u[1] - ZERO_C, u[2], sigma, dt)
 

@@ -202,7 +202,7 @@ def test_kernel_is_the_inverse_bit_for_bit(params, seed):
         sigma = 125e6 + 25e6 * np.sin(np.arange(600) * 0.05)  # beyond the levels at times
         for k, (e, s) in enumerate(zip(eps.tolist(), sigma.tolist())):
             assert ik.peek(p, x, e, s, k) == inverse.peek(e, s)
-            assert ik.step(p, x, ik._blocks(x)[0], e, s, k) == inverse.step(e, s)
+            assert ik.step(p, x, ik.blocks(x)[0], e, s, k) == inverse.step(e, s)
             assert (view.extrema, view.prefix, view.stresses) == (
                 inverse.extrema, inverse.prefix, inverse.stresses), k
     assert x[ik.X_WARN_EPS] == 1.0 and x[ik.X_WARN_SIGMA] == 1.0  # both clamps were seen
