@@ -8,15 +8,19 @@ every sum runs in the order `matvec` states (the halves in pairs, then left to r
 CPU. Matrices are sequences of rows of floats (numpy arrays work as well); results are lists of
 lists. `least_squares` fits long columns: its sums are `math.fsum`'s, exactly rounded whatever
 their order. Python's own floats carry no fused multiply-add, so nothing here depends on the CPU.
+
+The matrix products and the exponential are written once, on float64 arrays, as functions that
+`musclesim.fmu.compiled.jit` compiles (numba adds no fused multiply-add either): a compiled core
+(the crawler body's, a weight's link) calls them per step; the list functions below call them too.
 """
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
 
-if TYPE_CHECKING:  # arrays work as well as sequences; nothing here calls numpy
-    import numpy as np
+import numpy as np
+
+from musclesim.fmu.compiled import jit
 
 Matrix = Sequence[Sequence[float]]  # rows of floats (numpy arrays work as well)
 
@@ -26,53 +30,148 @@ def matvec(a: Matrix, x: Sequence[float]) -> list[float]:
     first t_k + t_(k + n/2) (the two halves in pairs), then those left to right; for an odd n
     left to right. A mirror that swaps the halves (the crawler's two blocks) leaves these sums
     alone, so mirrored inputs give mirrored bits."""
-    n = len(x)
-    out = []
-    for row in a:
-        t = [p * q for p, q in zip(row, x)]
-        if n % 2 == 0:
-            t = [t[k] + t[k + n // 2] for k in range(n // 2)]
-        s = t[0]
-        for v in t[1:]:
-            s += v
-        out.append(s)
-    return out
+    out = np.empty(np.shape(a)[0])
+    matvec_into(np.asarray(a, dtype=float), np.asarray(x, dtype=float), out)
+    return out.tolist()
 
 
 def matmul(a: Matrix, b: Matrix) -> list[list[float]]:
     """The product `a` `b`, each element summed over the inner index as `matvec` sums."""
-    cols = list(zip(*b))
-    if len(cols[0]) == 4:  # the crawler body's size, written out: the same sums, twice as fast
-        return [[(r0 * c0 + r2 * c2) + (r1 * c1 + r3 * c3) for c0, c1, c2, c3 in cols]
-                for r0, r1, r2, r3 in a]
-    return [matvec(cols, row) for row in a]
+    a_, b_ = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    out = np.empty((a_.shape[0], b_.shape[1]))
+    matmul_into(a_, b_, out)
+    return out.tolist()
 
 
-def _fused(alpha, c, a, b, d):
-    """alpha c + (a b) / d, element by element, the product as `matmul` sums it."""
-    return [[alpha * q + p / d for p, q in zip(rp, rc)] for rp, rc in zip(matmul(a, b), c)]
+@jit
+def _row_dot(a, i, x):
+    """Row `i` of `a` times the vector `x`, summed as `matvec` states."""
+    n = x.shape[0]
+    if n % 2 == 0:
+        m = n // 2
+        s = a[i, 0] * x[0] + a[i, m] * x[m]
+        for k in range(1, m):
+            s += a[i, k] * x[k] + a[i, k + m] * x[k + m]
+        return s
+    s = a[i, 0] * x[0]
+    for k in range(1, n):
+        s += a[i, k] * x[k]
+    return s
 
 
+@jit
+def matvec_into(a, x, out):
+    """`out` = `a` `x` (float64 arrays), each row summed as `matvec` states."""
+    for i in range(a.shape[0]):
+        out[i] = _row_dot(a, i, x)
+
+
+@jit
+def matmul_into(a, b, out):
+    """`out` = `a` `b` (float64 arrays, `out` neither), each element summed as `matvec` states."""
+    bt = np.ascontiguousarray(b.T)
+    for i in range(a.shape[0]):
+        row = a[i]
+        for j in range(b.shape[1]):
+            out[i, j] = _row_dot(bt, j, row)
+
+
+@jit
+def fsum(x):
+    """The exactly rounded sum of the float64 array `x`: Shewchuk's algorithm as Python's
+    ``math.fsum`` runs it (the same result, infinities and NaN included; an overflow of finite
+    terms gives an infinity where math.fsum raises)."""
+    partials = np.empty(x.shape[0] + 1)
+    n = 0
+    special = 0.0
+    inf_sum = 0.0
+    for k in range(x.shape[0]):
+        v = x[k]
+        saved = v
+        i = 0
+        for j in range(n):
+            y = partials[j]
+            if abs(v) < abs(y):
+                v, y = y, v
+            hi = v + y
+            lo = y - (hi - v)
+            if lo != 0.0:
+                partials[i] = lo
+                i += 1
+            v = hi
+        n = i
+        if v != 0.0:
+            if not math.isfinite(v):
+                if math.isinf(saved):
+                    inf_sum += saved
+                special += saved
+                n = 0
+            else:
+                partials[n] = v
+                n += 1
+    if special != 0.0:
+        return special if not math.isnan(inf_sum) else math.nan
+    hi = 0.0
+    lo = 0.0
+    if n > 0:
+        n -= 1
+        hi = partials[n]
+        while n > 0:
+            v = hi
+            n -= 1
+            y = partials[n]
+            hi = v + y
+            lo = y - (hi - v)
+            if lo != 0.0:
+                break
+        if n > 0 and ((lo < 0.0 and partials[n - 1] < 0.0) or (lo > 0.0 and partials[n - 1] > 0.0)):
+            y = lo * 2.0
+            v = hi + y
+            if y == v - hi:
+                hi = v
+    return hi
+
+
+@jit
 def _norm1(a):
     """The 1-norm: the largest column sum of magnitudes (each sum exactly rounded)."""
-    return max((math.fsum(abs(row[j]) for row in a) for j in range(len(a[0]))), default=0.0)
+    best = 0.0
+    for j in range(a.shape[1]):
+        c = fsum(np.abs(a[:, j]))
+        if j == 0 or c > best:
+            best = c
+    return best
 
 
+@jit
+def _off_diagonal_sum(a, i, column):
+    """Exactly rounded sum of the magnitudes off the diagonal in row or `column` `i` of `a`."""
+    n = a.shape[0]
+    t = np.empty(n - 1)
+    m = 0
+    for j in range(n):
+        if j != i:
+            t[m] = abs(a[j, i]) if column else abs(a[i, j])
+            m += 1
+    return fsum(t)
+
+
+@jit
 def _balance(a):
     """Powers of two d with B = diag(d)^-1 A diag(d) of rows and columns of like size (Parlett and
     Reinsch's balancing, radix 2, as EISPACK's BALANC without its permutations). Scaling by powers
     of two commutes with the rounding of every product, so working on B gives diag(d)^-1 (what A
     would give) diag(d) bit for bit, but for the number of squarings (B's smaller norm asks fewer)
     and the doubling at which exp - I turns to exp. Returns (B, d)."""
-    n = len(a)
-    a = [[float(v) for v in row] for row in a]
-    d = [1.0] * n
-    changed = all(math.isfinite(v) for row in a for v in row)  # (an infinity would not settle)
+    n = a.shape[0]
+    a = a.copy()
+    d = np.ones(n)
+    changed = bool(np.all(np.isfinite(a)))  # (an infinity would not settle)
     while changed:
         changed = False
         for i in range(n):
-            c = math.fsum(abs(a[j][i]) for j in range(n) if j != i)
-            r = math.fsum(abs(a[i][j]) for j in range(n) if j != i)
+            c = _off_diagonal_sum(a, i, True)
+            r = _off_diagonal_sum(a, i, False)
             if c == 0.0 or r == 0.0:
                 continue
             f, total = 1.0, c + r
@@ -84,8 +183,8 @@ def _balance(a):
                 changed = True
                 d[i] *= f
                 for j in range(n):
-                    a[i][j] /= f
-                    a[j][i] *= f
+                    a[i, j] /= f
+                    a[j, i] *= f
     return a, d
 
 
@@ -95,6 +194,55 @@ def identity(n: int) -> list[list[float]]:
 
 
 TAYLOR_TERMS = 13  # E^13 / 14! is the last term kept: the next is below 5e-17 at |E| <= 1/2
+
+
+@jit
+def _fused(alpha, c, a, b, d):
+    """alpha c + (a b) / d, element by element, the product as `matmul` sums it."""
+    out = np.empty((a.shape[0], b.shape[1]))
+    matmul_into(a, b, out)
+    for i in range(out.shape[0]):
+        for j in range(out.shape[1]):
+            out[i, j] = alpha * c[i, j] + out[i, j] / d
+    return out
+
+
+@jit
+def exp_and_integral_into(A, h, X_out, Phi_out):
+    """`X_out` = exp(`A` `h`), `Phi_out` = its integral over the step (float64 arrays): the
+    algorithm of `exp_and_integral`."""
+    A, d = _balance(A)
+    n = A.shape[0]
+    norm = _norm1(A) * abs(h)
+    s = max(0, math.frexp(norm)[1] + 1)  # norm < 2^e, so |A tau| < 2^(e - s) <= 1/2
+    tau = math.ldexp(h, -s)  # exact: a power of two
+    E = A * tau
+    eye = np.eye(n)
+    P = eye.copy()
+    for j in range(TAYLOR_TERMS + 1, 1, -1):  # P = I + E/2 (I + E/3 (... (I + E/14)))
+        P = _fused(1.0, eye, E, P, float(j))
+    D = np.empty((n, n))
+    matmul_into(E, P, D)
+    Phi = tau * P
+    X = np.empty((n, n))
+    have_x = False  # exp itself, once it has decayed below D
+    for _ in range(s):
+        if not have_x:
+            candidate = D + eye
+            if _norm1(candidate) < 0.5 * _norm1(D):
+                X, have_x = candidate, True
+        if not have_x:
+            D, Phi = _fused(2.0, D, D, D, 1.0), _fused(2.0, Phi, D, Phi, 1.0)
+        else:
+            X2 = np.empty((n, n))
+            matmul_into(X, X, X2)
+            X, Phi = X2, _fused(1.0, Phi, X, Phi, 1.0)
+    if not have_x:
+        X = D + eye
+    for i in range(n):
+        for j in range(n):
+            X_out[i, j] = X[i, j] * d[i] / d[j]
+            Phi_out[i, j] = Phi[i, j] * d[i] / d[j]
 
 
 def exp_and_integral(A: Matrix, h: float) -> tuple[list[list[float]], list[list[float]]]:
@@ -113,31 +261,18 @@ def exp_and_integral(A: Matrix, h: float) -> tuple[list[list[float]], list[list[
     >>> exp_and_integral([[0.0, 1.0], [0.0, 0.0]], 0.5)  # a free mass: exact
     ([[1.0, 0.5], [0.0, 1.0]], [[0.5, 0.125], [0.0, 0.5]])
     """
-    A, d = _balance(A)
-    n = len(A)
-    norm = _norm1(A) * abs(h)
-    s = max(0, math.frexp(norm)[1] + 1)  # norm < 2^e, so |A tau| < 2^(e - s) <= 1/2
-    tau = math.ldexp(h, -s)  # exact: a power of two
-    E = [[float(v) * tau for v in row] for row in A]
-    eye = identity(n)
-    P = eye
-    for j in range(TAYLOR_TERMS + 1, 1, -1):  # P = I + E/2 (I + E/3 (... (I + E/14)))
-        P = _fused(1.0, eye, E, P, j)
-    D, Phi = matmul(E, P), [[tau * v for v in row] for row in P]
-    X = None  # exp itself, once it has decayed below D
-    for _ in range(s):
-        if X is None:
-            candidate = [[p + q for p, q in zip(rd, ri)] for rd, ri in zip(D, eye)]
-            if _norm1(candidate) < 0.5 * _norm1(D):
-                X = candidate
-        if X is None:
-            D, Phi = _fused(2.0, D, D, D, 1.0), _fused(2.0, Phi, D, Phi, 1.0)
-        else:
-            X, Phi = matmul(X, X), _fused(1.0, Phi, X, Phi, 1.0)
-    if X is None:
-        X = [[p + q for p, q in zip(rd, ri)] for rd, ri in zip(D, eye)]
-    return [[v * d[i] / d[j] for j, v in enumerate(row)] for i, row in enumerate(X)], \
-        [[v * d[i] / d[j] for j, v in enumerate(row)] for i, row in enumerate(Phi)]
+    a = np.asarray(A, dtype=float)
+    X, Phi = np.empty_like(a), np.empty_like(a)
+    exp_and_integral_into(a, float(h), X, Phi)
+    return X.tolist(), Phi.tolist()
+
+
+@jit
+def zoh_into(A, B, h, Ad, Bd):
+    """`Ad`, `Bd` = the zero-order hold of (`A`, `B`) over `h` (float64 arrays): `zoh`."""
+    Phi = np.empty_like(A)
+    exp_and_integral_into(A, h, Ad, Phi)
+    matmul_into(Phi, B, Bd)
 
 
 def zoh(A: Matrix, B: Matrix, h: float) -> tuple[list[list[float]], list[list[float]]]:
@@ -151,8 +286,10 @@ def zoh(A: Matrix, B: Matrix, h: float) -> tuple[list[list[float]], list[list[fl
     >>> zoh([[0.0, 1.0], [0.0, 0.0]], [[0.0], [1.0]], 0.5)  # a free mass pushed by u: exact
     ([[1.0, 0.5], [0.0, 1.0]], [[0.125], [0.5]])
     """
-    Ad, Phi = exp_and_integral(A, h)
-    return Ad, matmul(Phi, B)
+    a, b = np.asarray(A, dtype=float), np.asarray(B, dtype=float)
+    Ad, Bd = np.empty_like(a), np.empty((a.shape[0], b.shape[1]))
+    zoh_into(a, b, float(h), Ad, Bd)
+    return Ad.tolist(), Bd.tolist()
 
 
 def _dot(a, b):

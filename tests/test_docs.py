@@ -20,6 +20,15 @@ def _modules():
 MODULES = list({m.__name__: m for m in _modules()}.values())
 
 
+def _compiled(module):
+    """(name, Python function) of each function of `module` compiled by musclesim.fmu.compiled.jit
+    (a numba dispatcher keeps the function as ``py_func``; without numba it is the function)."""
+    for name, obj in vars(module).items():
+        fn = getattr(obj, "py_func", None)
+        if fn is not None and getattr(fn, "__module__", None) == module.__name__:
+            yield name, fn
+
+
 @pytest.mark.parametrize("module", MODULES, ids=lambda m: m.__name__)
 def test_public_objects_have_docstrings(module):
     assert inspect.getdoc(module), module.__name__
@@ -28,12 +37,21 @@ def test_public_objects_have_docstrings(module):
             continue
         if inspect.isfunction(obj) or inspect.isclass(obj):
             assert inspect.getdoc(obj), f"{module.__name__}.{name}"
+    for name, fn in _compiled(module):
+        if not name.startswith("_"):
+            assert inspect.getdoc(fn), f"{module.__name__}.{name}"
 
 
 @pytest.mark.parametrize("module", MODULES, ids=lambda m: m.__name__)
 def test_docstring_examples(module):
     result = doctest.testmod(module)
     assert result.failed == 0
+    runner = doctest.DocTestRunner()
+    for name, fn in _compiled(module):  # doctest finds no compiled function: each by hand
+        for test in doctest.DocTestFinder().find(fn, f"{module.__name__}.{name}", module=module,
+                                                 globs=vars(module).copy()):
+            runner.run(test)
+    assert runner.failures == 0
 
 
 def test_the_modelica_table_names_every_component_and_only_ports_it_has(fmu_dir):

@@ -7,16 +7,22 @@ Parallel form u = Kp e + I + D with e = r - y, sampled at the communication step
     u[k]   = clip(Kp e[k] + I[k] + D[k], u_min, u_max)
 
 The integral is stored already multiplied by Ki, so changing gains (scheduling) does not bump u.
+
+The equations are written once, as `jit` scalar functions (`derivative_core`, `output_core`,
+`update_core`, `gains_at`); the dataclass functions below and the FMU's kernel
+(`musclesim.components.control.slaves`) both call them.
 """
 from __future__ import annotations
 
-import bisect
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import numpy as np
+
 from musclesim.components.checks import require
 from musclesim.fmu import declare
+from musclesim.fmu.compiled import jit
 
 # §temperature-control: 21 operating points of the temperature reference, 30..130 C every 5 C (in
 # K): the GainScheduledPID's default scheduling points, and those its gains are designed at
@@ -53,12 +59,62 @@ class PIDState:
     y_last: float = math.nan  # NaN: no sample yet, so no derivative kick on the first one
 
 
+@jit
+def derivative_core(d_last: float, y_last: float, y: float, dt: float, Kd: float,
+                    Tf: float) -> float:
+    """Filtered derivative of -`y` after `dt` [s], the last term `d_last` at measurement `y_last`
+    (NaN: no sample yet, 0), with gain `Kd` and filter time `Tf` [s]."""
+    if math.isnan(y_last) or dt <= 0 or Kd == 0:
+        return 0.0
+    return (Tf * d_last - Kd * (y - y_last)) / (Tf + dt)
+
+
+@jit
+def output_core(integral: float, d_last: float, y_last: float, r: float, y: float, dt: float,
+                Kp: float, Kd: float, Tf: float, u_min: float, u_max: float) -> float:
+    """The controller's output (`output`) from its state (`integral`, `d_last`, `y_last`)."""
+    u = Kp * (r - y) + integral + derivative_core(d_last, y_last, y, dt, Kd, Tf)
+    if u_min > u:  # Python's max(u, u_min), then min(., u_max): NaN and zeros' signs kept
+        u = u_min
+    if u_max < u:
+        u = u_max
+    return u
+
+
+@jit
+def update_core(integral: float, d_last: float, y_last: float, r: float, y: float, dt: float,
+                Kp: float, Ki: float, Kd: float, Tf: float, u_min: float,
+                u_max: float) -> tuple[float, float, float]:
+    """The state (integral, derivative, last measurement) after one sample (`update`)."""
+    e = r - y
+    d = derivative_core(d_last, y_last, y, dt, Kd, Tf)
+    unclipped = Kp * e + integral + d
+    winding_up = (unclipped > u_max and e > 0) or (unclipped < u_min and e < 0)
+    step = 0.0 if winding_up else Ki * e * dt
+    return integral + step, d, y
+
+
+@jit
+def gains_at(x: float, p: np.ndarray, o: int, n: int) -> tuple[float, float, float]:
+    """Gains (Kp, Ki, Kd) at scheduling variable `x` of the schedule packed in `p` from `o`: `n`
+    increasing breakpoints, then the n values of Kp, of Ki and of Kd (`scheduled_gains`)."""
+    if x <= p[o]:
+        return p[o + n], p[o + 2 * n], p[o + 3 * n]
+    if x >= p[o + n - 1]:
+        return p[o + 2 * n - 1], p[o + 3 * n - 1], p[o + 4 * n - 1]
+    i = 0
+    while i < n - 2 and p[o + i + 1] <= x:  # to p[o + i] <= x < p[o + i + 1]
+        i += 1
+    w = (x - p[o + i]) / (p[o + i + 1] - p[o + i])
+    a, b, c = p[o + n + i], p[o + 2 * n + i], p[o + 3 * n + i]
+    return (a + w * (p[o + n + i + 1] - a), b + w * (p[o + 2 * n + i + 1] - b),
+            c + w * (p[o + 3 * n + i + 1] - c))
+
+
 def derivative_term(state: PIDState, y: float, dt: float, Kd: float, Tf: float) -> float:
     """Filtered derivative of -`y` at this sample, after `dt` [s] in `state`, with gain `Kd` and
     filter time `Tf` [s] (0 on the first sample)."""
-    if math.isnan(state.y_last) or dt <= 0 or Kd == 0:
-        return 0.0
-    return (Tf * state.derivative - Kd * (y - state.y_last)) / (Tf + dt)
+    return float(derivative_core(state.derivative, state.y_last, y, dt, Kd, Tf))
 
 
 def output(state: PIDState, r: float, y: float, dt: float, gains: Sequence[float],
@@ -66,8 +122,8 @@ def output(state: PIDState, r: float, y: float, dt: float, gains: Sequence[float
     """Output of the controller `p` in `state` for reference `r` and measurement `y`, `dt` [s]
     after the last sample; `gains` = (Kp, Ki, Kd)."""
     Kp, _, Kd = gains
-    u = Kp * (r - y) + state.integral + derivative_term(state, y, dt, Kd, p.Tf)
-    return min(max(u, p.u_min), p.u_max)
+    return float(output_core(state.integral, state.derivative, state.y_last, r, y, dt, Kp, Kd,
+                             p.Tf, p.u_min, p.u_max))
 
 
 def update(state: PIDState, r: float, y: float, dt: float, gains: Sequence[float],
@@ -75,11 +131,16 @@ def update(state: PIDState, r: float, y: float, dt: float, gains: Sequence[float
     """Advance `state` over one sample of `dt` [s] with reference `r`, measurement `y`, `gains`
     (Kp, Ki, Kd) and the controller `p` (conditional integration as anti-windup)."""
     Kp, Ki, Kd = gains
-    e = r - y
-    d = derivative_term(state, y, dt, Kd, p.Tf)
-    unclipped = Kp * e + state.integral + d
-    winding_up = (unclipped > p.u_max and e > 0) or (unclipped < p.u_min and e < 0)
-    return PIDState(state.integral + (0.0 if winding_up else Ki * e * dt), d, y)
+    integral, d, y_last = update_core(state.integral, state.derivative, state.y_last, r, y, dt,
+                                      Kp, Ki, Kd, p.Tf, p.u_min, p.u_max)
+    return PIDState(float(integral), float(d), float(y_last))
+
+
+def pack_schedule(breakpoints: Sequence[float],
+                  table: Sequence[Sequence[float]]) -> np.ndarray:
+    """The schedule as `gains_at` reads it: the breakpoints, then the column of Kp, of Ki and of
+    Kd of `table` (rows (Kp, Ki, Kd))."""
+    return np.array([*breakpoints, *(row[k] for k in range(3) for row in table)], dtype=float)
 
 
 def scheduled_gains(x: float, breakpoints: Sequence[float],
@@ -92,10 +153,7 @@ def scheduled_gains(x: float, breakpoints: Sequence[float],
     >>> scheduled_gains(2.5, [0.0, 5.0], [(1.0, 0.0, 0.0), (3.0, 1.0, 0.0)])
     (2.0, 0.5, 0.0)
     """
-    if x <= breakpoints[0]:
-        return tuple(table[0])
-    if x >= breakpoints[-1]:
-        return tuple(table[-1])
-    i = bisect.bisect_right(breakpoints, x) - 1  # breakpoints[i] <= x < breakpoints[i + 1]
-    w = (x - breakpoints[i]) / (breakpoints[i + 1] - breakpoints[i])
-    return tuple(a + w * (b - a) for a, b in zip(table[i], table[i + 1]))
+    if math.isnan(x):
+        raise ValueError("the scheduling variable is NaN")
+    return tuple(float(g) for g in gains_at(float(x), pack_schedule(breakpoints, table), 0,
+                                            len(breakpoints)))

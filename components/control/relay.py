@@ -8,7 +8,9 @@ The relay is on or off. Sampled at the communication points, with y the measurem
 
 Between the thresholds the relay keeps its state, so the switching has hysteresis y_off - y_on.
 The decision at a sample uses that sample's measurement (direct feedthrough), as the study's
-relay on the measured temperature does.
+relay on the measured temperature does. The switching is written once, as `jit` functions
+(`switch_core`, `initial_core`, `output_core`), which the functions below and the BangBang FMU's
+kernel call.
 """
 from __future__ import annotations
 
@@ -17,6 +19,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from musclesim.fmu import declare
+from musclesim.fmu.compiled import jit
 
 ZERO_C = 273.15
 
@@ -50,6 +53,30 @@ class RelayParams:
             raise ValueError(f"initially_on must be 0 or 1 (got {self.initially_on!r})")
 
 
+@jit
+def switch_core(on: bool, y: float, y_on: float, y_off: float) -> bool:
+    """The relay's state after seeing `y` in state `on`, thresholds `y_on` < `y_off` (`switch`)."""
+    if on:
+        return not y >= y_off
+    return y <= y_on
+
+
+@jit
+def initial_core(y: float, y_on: float, y_off: float, initially_on: float) -> bool:
+    """The relay's state at the start, measuring `y` (`initial_state`)."""
+    if y <= y_on:
+        return True
+    if y >= y_off:
+        return False
+    return initially_on == 1.0
+
+
+@jit
+def output_core(on: bool, u_on: float, u_off: float) -> float:
+    """`u_on` or `u_off` as the relay is `on` or not."""
+    return u_on if on else u_off
+
+
 def switch(on: bool, y: float, p: RelayParams) -> bool:
     """The state of the relay `p` after seeing measurement `y` in state `on`.
 
@@ -61,24 +88,18 @@ def switch(on: bool, y: float, p: RelayParams) -> bool:
     """
     if math.isnan(y):
         raise ValueError("the relay's measurement is NaN")
-    if on:
-        return not y >= p.y_off
-    return y <= p.y_on
+    return bool(switch_core(bool(on), float(y), p.y_on, p.y_off))
 
 
 def initial_state(y: float, p: RelayParams) -> bool:
     """State of the relay `p` at the start, measuring `y`: on below y_on, off above y_off,
     ``initially_on`` in between."""
-    if y <= p.y_on:
-        return True
-    if y >= p.y_off:
-        return False
-    return p.initially_on == 1.0
+    return bool(initial_core(float(y), p.y_on, p.y_off, p.initially_on))
 
 
 def output(on: bool, p: RelayParams) -> float:
     """u_on or u_off of the relay `p`, as it is `on` or not."""
-    return p.u_on if on else p.u_off
+    return float(output_core(bool(on), p.u_on, p.u_off))
 
 
 def sequence(ys: Sequence[float], p: RelayParams) -> list[bool]:

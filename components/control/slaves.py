@@ -1,16 +1,84 @@
-"""FMU slaves of the controllers: thin adapters over musclesim.components.control.pid and .relay."""
+"""FMU slaves of the controllers: kernels (`musclesim.fmu.kernel`) over the jit cores of
+musclesim.components.control.pid and .relay.
+
+Packed layouts (``kp``, ``kx``; index constants below):
+
+- PID: kp = [Tf, u_min, u_max, Kp, Ki, Kd]; GainScheduledPID: kp = [Tf, u_min, u_max, n, the n
+  breakpoints, the n Kp, the n Ki, the n Kd] (`pid.pack_schedule`); both kx = [integral, last
+  derivative term, last measurement (NaN: none yet), last step].
+- BangBang: kp = [y_on (T_on), y_off (T_off), u_on, u_off, initially_on], kx = [on (1 or 0)].
+"""
 from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from musclesim.components.control import pid, relay
 from musclesim.components.control.pid import SCHEDULE_K
-from musclesim.fmu import Slave, experiment
+from musclesim.fmu import experiment
+from musclesim.fmu.compiled import jit
+from musclesim.fmu.kernel import Kernel, KernelSlave
 
 UNLIMITED = 1e30  # output limits that never act (FMI start values must be finite)
 
+TF, U_MIN, U_MAX, KP, KI, KD = range(6)  # PID's kp; GainScheduledPID's: TF, U_MIN, U_MAX, N, ...
+N = 3  # GainScheduledPID: number of breakpoints, the schedule (pid.gains_at) from N + 1
+INTEGRAL, DERIVATIVE, Y_LAST, DT_LAST = range(4)  # kx of both PIDs
+Y_ON, Y_OFF, U_ON, U_OFF, INITIALLY_ON = range(5)  # BangBang's kp; its kx = [on]
 
-class _PIDBase(Slave):
+
+@jit
+def pid_evaluate(p, x, u, t, y):
+    """PID's kernel: outputs (y, e)."""
+    y[0] = pid.output_core(x[INTEGRAL], x[DERIVATIVE], x[Y_LAST], u[0], u[1], x[DT_LAST], p[KP],
+                           p[KD], p[TF], p[U_MIN], p[U_MAX])
+    y[1] = u[0] - u[1]
+
+
+@jit
+def pid_advance(p, x, u, y, t, dt):
+    """PID's kernel: one sample's step of the state."""
+    x[INTEGRAL], x[DERIVATIVE], x[Y_LAST] = pid.update_core(
+        x[INTEGRAL], x[DERIVATIVE], x[Y_LAST], u[0], u[1], dt, p[KP], p[KI], p[KD], p[TF],
+        p[U_MIN], p[U_MAX])
+    x[DT_LAST] = dt
+
+
+@jit
+def scheduled_evaluate(p, x, u, t, y):
+    """GainScheduledPID's kernel: outputs (y, e), the gains at the reference."""
+    Kp, _, Kd = pid.gains_at(u[0], p, N + 1, int(p[N]))
+    y[0] = pid.output_core(x[INTEGRAL], x[DERIVATIVE], x[Y_LAST], u[0], u[1], x[DT_LAST], Kp, Kd,
+                           p[TF], p[U_MIN], p[U_MAX])
+    y[1] = u[0] - u[1]
+
+
+@jit
+def scheduled_advance(p, x, u, y, t, dt):
+    """GainScheduledPID's kernel: one sample's step, the gains at the reference."""
+    Kp, Ki, Kd = pid.gains_at(u[0], p, N + 1, int(p[N]))
+    x[INTEGRAL], x[DERIVATIVE], x[Y_LAST] = pid.update_core(
+        x[INTEGRAL], x[DERIVATIVE], x[Y_LAST], u[0], u[1], dt, Kp, Ki, Kd, p[TF], p[U_MIN],
+        p[U_MAX])
+    x[DT_LAST] = dt
+
+
+@jit
+def relay_evaluate(p, x, u, t, y):
+    """BangBang's kernel: outputs (y, on) after seeing T."""
+    on = relay.switch_core(x[0] == 1.0, u[0], p[Y_ON], p[Y_OFF])
+    y[0] = relay.output_core(on, p[U_ON], p[U_OFF])
+    y[1] = 1.0 if on else 0.0
+
+
+@jit
+def relay_advance(p, x, u, y, t, dt):
+    """BangBang's kernel: the relay's state after seeing T."""
+    x[0] = 1.0 if relay.switch_core(x[0] == 1.0, u[0], p[Y_ON], p[Y_OFF]) else 0.0
+
+
+class _PIDBase(KernelSlave):
     """Inputs u_s (reference), u_m (measurement); output y = PID(u_s - u_m) with direct
     feedthrough; limits and filter as parameters. The ports are named as in the Modelica Standard
     Library's LimPID (scenario format 2; earlier r, y, u: `musclesim.components.RENAMED`)."""
@@ -28,28 +96,23 @@ class _PIDBase(Slave):
         Kp, Ki, Kd = self.gains()
         self.p = pid.PIDParams(Kp, Ki, Kd, self.Tf, self.u_min, self.u_max)
         self.p.check()
-        self.state = pid.PIDState()
-        self.dt = 0.0
-
-    def evaluate(self) -> None:
-        self.e = self.u_s - self.u_m
-        self.y = pid.output(self.state, self.u_s, self.u_m, self.dt, self.gains(), self.p)
-
-    def advance(self, t: float, dt: float) -> None:
-        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
-        self.dt = dt
-        self.state = pid.update(self.state, self.u_s, self.u_m, dt, self.gains(), self.p)
+        self.kx = np.array([0.0, 0.0, math.nan, 0.0])  # no sample yet (pid.PIDState), no step
 
 
 class PID(_PIDBase):
     """Discrete PID controller with derivative filter, output limits and anti-windup."""
 
     description = "Discrete PID: derivative on measurement, output limits, conditional integration"
+    kernel = Kernel(pid_evaluate, pid_advance, ("u_s", "u_m"), ("y", "e"))
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         self.parameters_of(pid.PIDParams)
         self._declare_common()
+
+    def setup(self) -> None:
+        super().setup()
+        self.kp = np.array([self.Tf, self.u_min, self.u_max, self.Kp, self.Ki, self.Kd])
 
     def gains(self) -> tuple[float, ...]:
         """Current (Kp, Ki, Kd)."""
@@ -63,6 +126,9 @@ class GainScheduledPID(_PIDBase):
     default_experiment = experiment(30.0, 0.0004)  # sma-temperature-tracking, §temperature-control
     description = ("Gain-scheduled PID: 21 gain sets on the reference, 30..130 C every 5 C, "
                    "linear in between (§temperature-control)")
+    # a NaN reference has no gains: refused (a range without bounds: no clamp, no warning)
+    kernel = Kernel(scheduled_evaluate, scheduled_advance, ("u_s", "u_m"), ("y", "e"),
+                    clamps=(("u_s", -math.inf, math.inf),))
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
@@ -85,13 +151,15 @@ class GainScheduledPID(_PIDBase):
             raise ValueError("the scheduling points x[1..21] must increase strictly")
         self.table = [(attr("Kp", i), attr("Ki", i), attr("Kd", i)) for i in range(1, 22)]
         super().setup()
+        self.kp = np.concatenate(([self.Tf, self.u_min, self.u_max, len(self.breakpoints)],
+                                  pid.pack_schedule(self.breakpoints, self.table)))
 
     def gains(self) -> tuple[float, ...]:
         """(Kp, Ki, Kd) interpolated at the current reference."""
         return pid.scheduled_gains(self.u_s, self.breakpoints, self.table)
 
 
-class BangBang(Slave):
+class BangBang(KernelSlave):
     """Relay temperature controller with hysteresis: on when the measured temperature falls to
     T_on, off when it rises to T_off (§multiplier-experiments: 75 C and 90 C); output y: u_on or
     u_off (named u before format 2).
@@ -101,6 +169,9 @@ class BangBang(Slave):
     default_experiment = experiment(20.0, 0.0004)  # §multiplier-experiments (bang-bang)
     description = ("Bang-bang (relay) temperature controller: on when T falls to T_on, off when T "
                    "rises to T_off; output u_on / u_off (§multiplier-experiments)")
+    # a NaN temperature is refused ("input T is NaN at t = ..."): a range without bounds
+    kernel = Kernel(relay_evaluate, relay_advance, ("T",), ("y", "on"),
+                    clamps=(("T", -math.inf, math.inf),))
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
@@ -119,22 +190,9 @@ class BangBang(Slave):
         self.p = relay.RelayParams(y_on=self.T_on, y_off=self.T_off, u_on=self.u_on,
                                    u_off=self.u_off, initially_on=self.initially_on)
         self.p.check()
-        self.state = relay.initial_state(self.T, self.p)
+        self.kp = np.array([self.T_on, self.T_off, self.u_on, self.u_off, self.initially_on])
+        self.initialize()
 
     def initialize(self) -> None:
-        self.state = relay.initial_state(self.T, self.p)  # the measurement is known now
-
-    def _checked(self, t):
-        if math.isnan(self.T):
-            raise ValueError(f"input T is NaN at t = {t:g} s")
-
-    def evaluate(self) -> None:
-        self._checked(self.time)
-        on = relay.switch(self.state, self.T, self.p)
-        self.y = relay.output(on, self.p)
-        self.on = 1.0 if on else 0.0
-
-    def advance(self, t: float, dt: float) -> None:
-        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
-        self._checked(t)
-        self.state = relay.switch(self.state, self.T, self.p)
+        # the measurement is known now
+        self.kx = np.array([1.0 if relay.initial_state(self.T, self.p) else 0.0])

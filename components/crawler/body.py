@@ -4,18 +4,25 @@ discretisation.
 State x = [x1, v1, x2, v2] (positions are variations from rest, climbing is positive x);
 input u = [f_a, f1, f2] (actuator force pushing the blocks apart, friction on block 1 and 2).
 The same `state_space` serves the FMU, the monolithic reference simulation and the linear analysis.
+
+The FMU's kernel (`KERNEL`, compiled where numba is installed: `musclesim.fmu.compiled`):
+parameters `pack`; state [x1, v1, x2, v2, the step and the held force the hold matrices were
+made for, Ad (16 values), Bd (16)]; inputs u = [f_a, f1, f2]; outputs y = [s1, v1, f_n1, N1, s2,
+v2, f_n2, N2, x_cm, incline].
 """
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass
 
 import numpy as np
 
 from musclesim.components import fixedorder
 from musclesim.components.checks import require
 from musclesim.fmu import Calibration, declare
+from musclesim.fmu.compiled import jit
+from musclesim.fmu.kernel import Kernel
 
 G = 9.81  # m/s^2
 
@@ -60,7 +67,22 @@ class BodyParams:
 def stiffness(p: BodyParams, f_a: float = 0.0) -> float:
     """Actuator stiffness of the body `p` at actuator force `f_a`: k (1 + k_slope f_a), never
     below zero."""
-    return max(0.0, p.k * (1.0 + p.k_slope * f_a))
+    return _stiffness(pack(p), f_a)
+
+
+# the kernel's parameters (`pack`): the fields, then constants derived from them
+M1, M2, K, C, THETA, K_SLOPE, C_GROUND, N1, N2, SLOPE = range(10)
+
+
+def pack(p: BodyParams) -> np.ndarray:
+    """The kernel's parameters: `p`'s fields in their declared order (m1, m2, k, c, theta,
+    k_slope, c_ground), then the normal forces N1, N2 and g sin(theta)."""
+    return np.array([*astuple(p), *normal_forces(p), G * math.sin(p.theta)], dtype=float)
+
+
+@jit
+def _stiffness(p, f_a):
+    return max(0.0, p[K] * (1.0 + p[K_SLOPE] * f_a))
 
 
 def state_space(p: BodyParams, f_a: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -70,15 +92,22 @@ def state_space(p: BodyParams, f_a: float = 0.0) -> tuple[np.ndarray, np.ndarray
     With the effects on, k is the stiffness at actuator force `f_a` and each block also feels
     the ground's viscous drag -c_ground v_i.
     """
-    m1, m2, k, c, cg = p.m1, p.m2, stiffness(p, f_a), p.c, p.c_ground
+    A, B = _state_space(pack(p), f_a)
+    return A, B[:, :3]
+
+
+@jit
+def _state_space(p, f_a):
+    """(A, B) of `state_space`, B with the gravity column as its fourth."""
+    m1, m2, k, c, cg = p[M1], p[M2], _stiffness(p, f_a), p[C], p[C_GROUND]
     A = np.array([[0.0, 1.0, 0.0, 0.0],
                   [-k / m1, -(c + cg) / m1, k / m1, c / m1],
                   [0.0, 0.0, 0.0, 1.0],
                   [k / m2, c / m2, -k / m2, -(c + cg) / m2]])
-    B = np.array([[0.0, 0.0, 0.0],
-                  [-1 / m1, 1 / m1, 0.0],
-                  [0.0, 0.0, 0.0],
-                  [1 / m2, 0.0, 1 / m2]])
+    B = np.array([[0.0, 0.0, 0.0, 0.0],
+                  [-1 / m1, 1 / m1, 0.0, -p[SLOPE]],
+                  [0.0, 0.0, 0.0, 0.0],
+                  [1 / m2, 0.0, 1 / m2, -p[SLOPE]]])
     return A, B
 
 
@@ -91,20 +120,30 @@ def discretise(p: BodyParams, Ts: float, f_a: float = 0.0) -> tuple[np.ndarray, 
     ``StateSpace.sample(Ts, 'zoh')``) gives, computed in a fixed order of operations
     (`fixedorder.zoh`): through BLAS its last digits would depend on the CPU (§two-mass).
     """
-    A, B = state_space(p, f_a)
-    gravity = np.array([0.0, -G * math.sin(p.theta), 0.0, -G * math.sin(p.theta)])
-    Ad, Bd = fixedorder.zoh(A.tolist(), np.column_stack([B, gravity]).tolist(), Ts)
-    return np.array(Ad), np.array(Bd)
+    Ad, Bd = np.empty((4, 4)), np.empty((4, 4))
+    _discretise_into(pack(p), Ts, f_a, Ad, Bd)
+    return Ad, Bd
+
+
+@jit
+def _discretise_into(p, Ts, f_a, Ad, Bd):
+    A, B = _state_space(p, f_a)
+    fixedorder.zoh_into(A, B, Ts, Ad, Bd)
 
 
 def nonfriction_forces(x: Sequence[float] | np.ndarray, f_a: float, p: BodyParams) -> tuple[float, float]:
     """Net non-friction force along the surface on each block of the body `p` in state `x` under
     actuator force `f_a` (spring, damper, actuator, gravity, and the ground's viscous drag when
     that effect is on)."""
-    f_spring = stiffness(p, f_a) * (x[0] - x[2]) + p.c * (x[1] - x[3])
-    slope = G * math.sin(p.theta)
-    return (-f_spring - f_a - p.m1 * slope - p.c_ground * x[1],
-            f_spring + f_a - p.m2 * slope - p.c_ground * x[3])
+    return _nonfriction_forces(np.asarray(x, dtype=float), f_a, pack(p))
+
+
+@jit
+def _nonfriction_forces(x, f_a, p):
+    f_spring = _stiffness(p, f_a) * (x[0] - x[2]) + p[C] * (x[1] - x[3])
+    slope = p[SLOPE]
+    return (-f_spring - f_a - p[M1] * slope - p[C_GROUND] * x[1],
+            f_spring + f_a - p[M2] * slope - p[C_GROUND] * x[3])
 
 
 def normal_forces(p: BodyParams) -> tuple[float, float]:
@@ -115,7 +154,12 @@ def normal_forces(p: BodyParams) -> tuple[float, float]:
 
 def centre_of_mass(x: Sequence[float] | np.ndarray, p: BodyParams) -> float:
     """Position of the centre of mass (m1 x1 + m2 x2) / (m1 + m2) of the body `p` in state `x`."""
-    return (p.m1 * x[0] + p.m2 * x[2]) / (p.m1 + p.m2)
+    return _centre_of_mass(np.asarray(x, dtype=float), pack(p))
+
+
+@jit
+def _centre_of_mass(x, p):
+    return (p[M1] * x[0] + p[M2] * x[2]) / (p[M1] + p[M2])
 
 
 def step_state(x: Sequence[float] | np.ndarray, u: Sequence[float], Ad: np.ndarray,
@@ -127,8 +171,51 @@ def step_state(x: Sequence[float] | np.ndarray, u: Sequence[float], Ad: np.ndarr
     f_a's, the frictions' and gravity's: mirroring the blocks (x1 <-> -x2, v1 <-> -v2,
     f1 <-> -f2) leaves these sums alone, so with equal masses a mirrored run is bit for bit the
     mirror image (`fixedorder.zoh` keeps Ad and Bd mirror-symmetric too)."""
-    x0, x1, x2, x3 = x.tolist() if isinstance(x, np.ndarray) else x
-    f_a, f1, f2 = u
-    return np.array([((a0 * x0 + a2 * x2) + (a1 * x1 + a3 * x3))
-                     + ((b0 * f_a + (b1 * f1 + b2 * f2)) + b3)
-                     for (a0, a1, a2, a3), (b0, b1, b2, b3) in zip(Ad.tolist(), Bd.tolist())])
+    out = np.array(x, dtype=float)
+    _step_state(out, u[0], u[1], u[2], np.asarray(Ad, dtype=float), np.asarray(Bd, dtype=float))
+    return out
+
+
+@jit
+def _step_state(x, f_a, f1, f2, Ad, Bd):
+    """`step_state` in place on the array `x`."""
+    x0, x1, x2, x3 = x[0], x[1], x[2], x[3]
+    for i in range(4):
+        a, b = Ad[i], Bd[i]
+        x[i] = (((a[0] * x0 + a[2] * x2) + (a[1] * x1 + a[3] * x3))
+                + ((b[0] * f_a + (b[1] * f1 + b[2] * f2)) + b[3]))
+
+
+def initial_state() -> np.ndarray:
+    """The kernel's state at rest (§ideal-actuation), its hold matrices not yet made."""
+    x = np.zeros(38)
+    x[4] = math.nan
+    return x
+
+
+@jit
+def evaluate(p, x, u, t, y):
+    """Kernel outputs y = [s1, v1, f_n1, N1, s2, v2, f_n2, N2, x_cm, incline] at state `x` and
+    inputs u = [f_a, f1, f2] (`t` does not matter)."""
+    f_n1, f_n2 = _nonfriction_forces(x, u[0], p)
+    y[0], y[1], y[2], y[3] = x[0], x[1], f_n1, p[N1]
+    y[4], y[5], y[6], y[7] = x[2], x[3], f_n2, p[N2]
+    y[8], y[9] = _centre_of_mass(x, p), p[THETA]
+
+
+@jit
+def advance(p, x, u, y, t, dt):
+    """Kernel step of `dt` [s] with the inputs held: the hold matrices for this step (made anew
+    when the step changes beyond rounding, as an integer clock's steps do, or, with a
+    force-dependent stiffness, the actuator force), then `step_state`."""
+    f_held = u[0] if p[K_SLOPE] != 0.0 else 0.0
+    Ad, Bd = x[6:22].reshape((4, 4)), x[22:38].reshape((4, 4))
+    if math.isnan(x[4]) or abs(dt - x[4]) > 1e-9 * max(abs(dt), abs(x[4])) or f_held != x[5]:
+        _discretise_into(p, dt, f_held, Ad, Bd)
+        x[4], x[5] = dt, f_held
+    _step_state(x[:4], u[0], u[1], u[2], Ad, Bd)
+
+
+KERNEL = Kernel(evaluate, advance, inputs=("f_a", "flange_a.f", "flange_b.f"),
+                outputs=("flange_a.s", "flange_a.v", "flange_a.f_n", "flange_a.N", "flange_b.s",
+                         "flange_b.v", "flange_b.f_n", "flange_b.N", "x_cm", "incline"))

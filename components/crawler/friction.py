@@ -7,14 +7,22 @@ more effects, off by default, lower the high (silicone) coefficients only: bendi
 actuator under shear on an incline, and contamination of the silicone over time (§gait,
 §named-effects). The anchoring slip, the distance a block slides while its contact is high, is
 accumulated here too.
+
+The FMU's kernel (`KERNEL`, compiled where numba is installed: `musclesim.fmu.compiled`) runs the
+same functions on arrays: parameters `pack`, state x = [s, slip], inputs u = [v, f_n, N, u,
+theta], outputs y = [f, contact, stuck, slip].
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass
+
+import numpy as np
 
 from musclesim.components.checks import require
 from musclesim.fmu import Calibration, declare
+from musclesim.fmu.compiled import jit
+from musclesim.fmu.kernel import Kernel
 
 
 @dataclass(frozen=True)
@@ -70,18 +78,28 @@ def high_scale(theta: float, t: float, p: FrictionParams) -> float:
     >>> high_scale(-0.5, 0.0, FrictionParams(bending=1.0))
     0.5
     """
-    return max(0.0, 1.0 - p.bending * abs(theta)) * math.exp(-p.mu_decay * t)
+    return _high_scale(theta, t, p.bending, p.mu_decay)
+
+
+@jit
+def _high_scale(theta, t, bending, mu_decay):
+    return max(0.0, 1.0 - bending * abs(theta)) * math.exp(-mu_decay * t)
 
 
 def coefficients(s: float, p: FrictionParams, scale: float = 1.0) -> tuple[float, float]:
     """Static and kinetic coefficients of `p` at contact state `s` (0 = low, 1 = high
     friction), with the high coefficients multiplied by `scale` (see `high_scale`); the low ones
     are unaffected."""
-    mu_s_high, mu_k_high = scale * p.mu_s_high, scale * p.mu_k_high
-    return (p.mu_s_low + s * (mu_s_high - p.mu_s_low),
-            p.mu_k_low + s * (mu_k_high - p.mu_k_low))
+    return _coefficients(s, p.mu_s_high, p.mu_k_high, p.mu_s_low, p.mu_k_low, scale)
 
 
+@jit
+def _coefficients(s, mu_s_high, mu_k_high, mu_s_low, mu_k_low, scale):
+    mu_s_high, mu_k_high = scale * mu_s_high, scale * mu_k_high
+    return mu_s_low + s * (mu_s_high - mu_s_low), mu_k_low + s * (mu_k_high - mu_k_low)
+
+
+@jit
 def friction_force(v: float, f_n: float, normal: float, mu_s: float, mu_k: float,
                    v_s: float) -> float:
     """Friction force on a block (§friction).
@@ -121,6 +139,7 @@ def friction_force(v: float, f_n: float, normal: float, mu_s: float, mu_k: float
     return -math.copysign(mu_k * normal, f_n)
 
 
+@jit
 def advance_contact(s: float, u: float, dt: float, t_switch: float) -> float:
     """Contact state `s` after `dt` [s]: jumps to the indicator `u` when `t_switch` == 0, else
     ramps towards u at 1/t_switch."""
@@ -130,6 +149,7 @@ def advance_contact(s: float, u: float, dt: float, t_switch: float) -> float:
     return min(u, s + rate) if u > s else max(u, s - rate)
 
 
+@jit
 def accumulate_slip(slip: float, v: float, contact: float, dt: float, v_s: float) -> float:
     """Anchoring `slip` after a step of `dt`: grows by |v| dt while the `contact` is high (>= 0.5)
     and the block slides (|`v`| > `v_s`); v and contact are the values at the start of the step.
@@ -144,3 +164,33 @@ def accumulate_slip(slip: float, v: float, contact: float, dt: float, v_s: float
     if contact >= 0.5 and abs(v) > v_s:
         return slip + abs(v) * dt
     return slip
+
+
+def pack(p: FrictionParams) -> np.ndarray:
+    """The kernel's parameters: `p`'s fields in their declared order (mu_s_high, mu_k_high,
+    mu_s_low, mu_k_low, v_s, t_switch, bending, mu_decay)."""
+    return np.array(astuple(p), dtype=float)
+
+
+@jit
+def evaluate(p, x, u, t, y):
+    """Kernel outputs y = [f, contact, stuck, slip] at state x = [s, slip], inputs u = [v, f_n,
+    N, u, theta] and time `t` [s] (parameters `p` from `pack`)."""
+    contact = u[3] if p[5] <= 0 else x[0]
+    mu_s, mu_k = _coefficients(contact, p[0], p[1], p[2], p[3], _high_scale(u[4], t, p[6], p[7]))
+    y[0] = friction_force(u[0], u[1], u[2], mu_s, mu_k, p[4])
+    y[1] = contact
+    y[2] = 1.0 if abs(u[0]) <= p[4] and abs(u[1]) <= mu_s * u[2] else 0.0
+    y[3] = x[1]
+
+
+@jit
+def advance(p, x, u, y, t, dt):
+    """Kernel step of `dt` [s]: the slip from the velocity and the contact at the step's start,
+    the contact state towards the indicator."""
+    x[1] = accumulate_slip(x[1], u[0], y[1], dt, p[4])
+    x[0] = advance_contact(x[0], u[3], dt, p[5])
+
+
+KERNEL = Kernel(evaluate, advance, inputs=("flange.v", "flange.f_n", "flange.N", "u", "theta"),
+                outputs=("flange.f", "contact", "stuck", "slip"))

@@ -17,14 +17,21 @@ keeps its own anchoring pressure. Phase 2 lasts the protrusion time; the stance 
 equally over phases 1, 3 and 4 (an assumption: §gait gives only the protrusion and stance
 times). With t_reverse > 0 the direction flips every t_reverse seconds and a new stride starts at
 phase 1 in the other direction (§gait bidirectional test).
+
+The FMU's kernel (`KERNEL`): parameters `pack`, no state, no inputs, outputs y = [p_ref1, p_ref_c,
+p_ref2, phase, stride_direction, stride] (`references`).
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass
+
+import numpy as np
 
 from musclesim.components.checks import require
 from musclesim.fmu import declare
+from musclesim.fmu.compiled import jit
+from musclesim.fmu.kernel import Kernel
 
 # s: times within this of a phase boundary count as past it, so that a time accumulated step by
 # step (0.001 + 0.001 + ...) switches on the same sample as the exact time would
@@ -103,25 +110,53 @@ def references(t: float, p: GaitParams) -> tuple[float, float, float, float, flo
     >>> references(2.0, GaitParams(p_central=5e3, p_anchor1=2e3, p_anchor2=3e3))
     (2000.0, 5000.0, 3000.0, 3.0, 1.0, 1.0)
     """
-    T = period(p)
-    if p.t_reverse > 0:
-        k = math.floor((t + EPS) / p.t_reverse)  # reversals so far
-        t = t - k * p.t_reverse
-        per_segment = math.floor((p.t_reverse - EPS) / T) + 1  # strides started between reversals
+    return _references(t, pack(p))
+
+
+def pack(p: GaitParams) -> np.ndarray:
+    """The kernel's parameters: `p`'s fields in their declared order (t_protrusion, t_stance,
+    direction, t_reverse, p_central, p_anchor1, p_anchor2, p_off)."""
+    return np.array(astuple(p), dtype=float)
+
+
+@jit
+def _references(t, p):
+    t_protrusion, t_stance, first, t_reverse = p[0], p[1], p[2], p[3]
+    p_central, p_anchor1, p_anchor2, off = p[4], p[5], p[6], p[7]
+    T = t_protrusion + t_stance  # `period`
+    if t_reverse > 0:
+        k = math.floor((t + EPS) / t_reverse)  # reversals so far
+        t = t - k * t_reverse
+        per_segment = math.floor((t_reverse - EPS) / T) + 1  # strides started between reversals
     else:
         k, per_segment = 0, 0
     j = math.floor((t + EPS) / T)  # strides completed since the last reversal
     tau = t - j * T + EPS
-    phase = 1 + sum(tau >= end for end in phase_ends(p))
-    direction = p.direction * (-1) ** k
-    off = p.p_off
-    central = p.p_central if phase in (2, 3) else off
+    d = t_stance / 3  # `phase_ends`
+    phase = 1 + (tau >= d) + (tau >= d + t_protrusion) + (tau >= 2 * d + t_protrusion)
+    direction = first * (1.0 if k % 2 == 0 else -1.0)
+    central = p_central if phase == 2 or phase == 3 else off
     anchor_first = phase < 4  # the actuator that anchors first holds through phases 1 to 3
     anchor_second = phase >= 3  # the other one anchors from phase 3 on
     if direction > 0:
         back, front = anchor_first, anchor_second
     else:  # mirror image: the front actuator anchors first
         back, front = anchor_second, anchor_first
-    p_back = p.p_anchor1 if back else off
-    p_front = p.p_anchor2 if front else off
+    p_back = p_anchor1 if back else off
+    p_front = p_anchor2 if front else off
     return p_back, central, p_front, float(phase), float(direction), float(k * per_segment + j + 1)
+
+
+@jit
+def evaluate(p, x, u, t, y):
+    """Kernel outputs y = `references` at time `t` [s] (`x` and `u` are empty)."""
+    y[0], y[1], y[2], y[3], y[4], y[5] = _references(t, p)
+
+
+@jit
+def advance(p, x, u, y, t, dt):
+    """Kernel step: the sequencer has no state."""
+
+
+KERNEL = Kernel(evaluate, advance, inputs=(),
+                outputs=("p_ref1", "p_ref_c", "p_ref2", "phase", "stride_direction", "stride"))

@@ -1,12 +1,19 @@
 """Ideal open-loop actuation of §ideal-actuation: a sinusoidal actuator force and two friction
-indicators."""
+indicators.
+
+The FMU's kernel (`KERNEL`): parameters `pack`, no state, no inputs, outputs y = [f_a, u1, u2].
+"""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass
+
+import numpy as np
 
 from musclesim.components.checks import require
 from musclesim.fmu import declare
+from musclesim.fmu.compiled import jit
+from musclesim.fmu.kernel import Kernel
 
 
 @dataclass(frozen=True)
@@ -36,7 +43,33 @@ class InputParams:
 def signals(t: float, p: InputParams) -> tuple[float, float, float]:
     """Return (f_a [N], u1, u2) of the signals `p` at time `t` [s]: u_i = 1 while its square
     wave is high (inflated)."""
-    f_a = p.f_mean + p.f_amp * math.sin(2 * math.pi * p.f_f * t)
-    u1 = 1.0 if math.sin(2 * math.pi * p.f_u * t) >= 0 else 0.0
-    u2 = 1.0 if math.sin(2 * math.pi * p.f_u * t - p.phi) >= 0 else 0.0
-    return (f_a, u1, u2) if p.direction > 0 else (f_a, u2, u1)
+    return _signals(t, pack(p))
+
+
+@jit
+def _signals(t, p):
+    f_mean, f_amp, f_f, f_u, phi, direction = p[0], p[1], p[2], p[3], p[4], p[5]
+    f_a = f_mean + f_amp * math.sin(2 * math.pi * f_f * t)
+    u1 = 1.0 if math.sin(2 * math.pi * f_u * t) >= 0 else 0.0
+    u2 = 1.0 if math.sin(2 * math.pi * f_u * t - phi) >= 0 else 0.0
+    return (f_a, u1, u2) if direction > 0 else (f_a, u2, u1)
+
+
+def pack(p: InputParams) -> np.ndarray:
+    """The kernel's parameters: `p`'s fields in their declared order (f_mean, f_amp, f_f, f_u,
+    phi, direction)."""
+    return np.array(astuple(p), dtype=float)
+
+
+@jit
+def evaluate(p, x, u, t, y):
+    """Kernel outputs y = [f_a, u1, u2] at time `t` [s] (`x` and `u` are empty)."""
+    y[0], y[1], y[2] = _signals(t, p)
+
+
+@jit
+def advance(p, x, u, y, t, dt):
+    """Kernel step: the signals have no state."""
+
+
+KERNEL = Kernel(evaluate, advance, inputs=(), outputs=("f_a", "u1", "u2"))

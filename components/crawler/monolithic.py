@@ -1,9 +1,10 @@
-"""Monolithic reference simulation of the ideal-actuation crawler (§ideal-actuation) in plain numpy.
+"""Monolithic reference simulation of the ideal-actuation crawler (§ideal-actuation).
 
-It steps the same physics cores as the FMUs in one loop, with no co-simulation in between; the
-co-simulated scenario must agree with it (tests/cosim/test_crawler_cosim.py) and the benchmark uses
-it as the speed reference. Time is accumulated step by step exactly as the master does, so that
-square waves switch on the same sample in both.
+It steps the same physics cores as the FMUs in one loop, with no co-simulation in between,
+compiled where numba is installed (`musclesim.fmu.compiled`); the co-simulated scenario must agree
+with it (tests/cosim/test_crawler_cosim.py) and the benchmark uses it as the limit of speed. Time
+is accumulated step by step exactly as the master does, so that square waves switch on the same
+sample in both.
 """
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from musclesim.components.crawler import body, friction, inputs
+from musclesim.fmu.compiled import jit
 
 
 def simulate_ideal(body_p: body.BodyParams = body.BodyParams(),
@@ -33,33 +35,42 @@ def simulate_ideal(body_p: body.BodyParams = body.BodyParams(),
         signal source is stepped before the body); the friction still sees f_a at the start.
     """
     n = int(round(stop_time / step))
-    Ad, Bd = body.discretise(body_p, step)
-    normal = body.normal_forces(body_p)
+    times, states = np.empty(n + 1), np.empty((n + 1, 4))
+    _simulate(body.pack(body_p), np.stack([friction.pack(p) for p in friction_p]),
+              inputs.pack(inputs_p), step, n, actuator_lead, times, states)
+    return times, states
+
+
+@jit
+def _simulate(pb, pf, pi, step, n, actuator_lead, times, states):
+    """`simulate_ideal` on the packed parameters of the body `pb`, the blocks `pf` (a row each)
+    and the inputs `pi`, into `times` and `states`."""
+    Ad, Bd = np.empty((4, 4)), np.empty((4, 4))
+    body._discretise_into(pb, step, 0.0, Ad, Bd)
     x = np.zeros(4)
     t = 0.0
-    f_a, u1, u2 = inputs.signals(t, inputs_p)
-    contact = [u1, u2]
-    times = np.empty(n + 1)
-    states = np.empty((n + 1, 4))
+    f_a, u1, u2 = inputs._signals(t, pi)
+    contact = np.array([u1, u2])
+    forces = np.zeros(2)
     for k in range(n + 1):
         times[k], states[k] = t, x
         if k == n:
             break
-        f_n = body.nonfriction_forces(x, f_a, body_p)
-        forces = []
-        for i, (p, u) in enumerate(zip(friction_p, (u1, u2))):
-            s = u if p.t_switch <= 0 else contact[i]
-            mu_s, mu_k = friction.coefficients(s, p)
-            forces.append(friction.friction_force(x[1 + 2 * i], f_n[i], normal[i], mu_s, mu_k, p.v_s))
-            contact[i] = friction.advance_contact(contact[i], u, step, p.t_switch)
+        f_n = body._nonfriction_forces(x, f_a, pb)
+        for i in range(2):
+            p, u = pf[i], u1 if i == 0 else u2
+            s = u if p[5] <= 0 else contact[i]  # t_switch off: the contact follows u at once
+            mu_s, mu_k = friction._coefficients(s, p[0], p[1], p[2], p[3], 1.0)
+            forces[i] = friction.friction_force(x[1 + 2 * i], f_n[i], pb[body.N1 + i], mu_s,
+                                                mu_k, p[4])
+            contact[i] = friction.advance_contact(contact[i], u, step, p[5])
         t_next = (k + 1) * step  # t0 + k h, as the master counts its points
-        f_next, u1, u2 = inputs.signals(t_next, inputs_p)
+        f_next, u1, u2 = inputs._signals(t_next, pi)
         f_held = f_next if actuator_lead else f_a
-        if body_p.k_slope:  # the stiffness follows the actuator force held over the step
-            Ad, Bd = body.discretise(body_p, step, f_held)
-        x = body.step_state(x, (f_held, *forces), Ad, Bd)
+        if pb[body.K_SLOPE]:  # the stiffness follows the actuator force held over the step
+            body._discretise_into(pb, step, f_held, Ad, Bd)
+        body._step_state(x, f_held, forces[0], forces[1], Ad, Bd)
         t, f_a = t_next, f_next
-    return times, states
 
 
 def write_reference(path: str | Path, stop_time: float = 5.0, every: int = 10) -> None:

@@ -1,15 +1,14 @@
 """FMU slaves of the crawler components: thin adapters from FMI variables to the physics cores."""
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from musclesim.components.crawler import body, friction, gait, inputs
-from musclesim.fmu import Slave, experiment
+from musclesim.fmu import experiment
+from musclesim.fmu.kernel import KernelSlave
 
 
-class CrawlerBody(Slave):
+class CrawlerBody(KernelSlave):
     """Two-mass crawler body (§two-mass) discretised by zero-order hold at the communication
     step."""
 
@@ -33,34 +32,15 @@ class CrawlerBody(Slave):
         self.output("incline", "rad", "Incline of the ground, the parameter theta (for the "
                     "friction blocks' bending effect)")
 
+    kernel = body.KERNEL  # masters with an integer clock (libcosim counts nanoseconds) hand
+    # steps that differ in the last bits: the hold matrices are made anew only beyond rounding
+
     def setup(self) -> None:
-        self.p = self.core_params(body.BodyParams)
-        self.x = np.zeros(4)  # zero initial state (§ideal-actuation)
-        self.dt: float | None = None
-        self.f_held: float | None = None
-        self.flange_a_N, self.flange_b_N = body.normal_forces(self.p)
-        self.incline = self.p.theta
-
-    def evaluate(self) -> None:
-        x = self.x
-        self.flange_a_s, self.flange_a_v, self.flange_b_s, self.flange_b_v = x
-        self.flange_a_f_n, self.flange_b_f_n = body.nonfriction_forces(x, self.f_a, self.p)
-        self.x_cm = body.centre_of_mass(x, self.p)
-
-    def advance(self, t: float, dt: float) -> None:
-        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
-        # masters with an integer clock (libcosim counts nanoseconds) hand steps that differ in
-        # the last bits; the hold matrices of such steps agree to machine precision. With a
-        # force-dependent stiffness they hold for the step's actuator force.
-        f_held = self.f_a if self.p.k_slope else 0.0
-        if self.dt is None or not math.isclose(dt, self.dt, rel_tol=1e-9) or f_held != self.f_held:
-            self.Ad, self.Bd = body.discretise(self.p, dt, f_held)
-            self.dt, self.f_held = dt, f_held
-        self.x = body.step_state(self.x, (self.f_a, self.flange_a_f, self.flange_b_f), self.Ad,
-                                 self.Bd)
+        self.kp = body.pack(self.core_params(body.BodyParams))
+        self.kx = body.initial_state()  # zero initial state (§ideal-actuation)
 
 
-class FrictionBlock(Slave):
+class FrictionBlock(KernelSlave):
     """Stick-slip friction of one block with coefficients switched by an indicator (§friction)."""
 
     default_experiment = experiment(60.0, 0.001)  # crawler-ideal, §ideal-actuation
@@ -80,31 +60,17 @@ class FrictionBlock(Slave):
         self.output("stuck", "1", "1 while the block sticks, else 0", depends=ins, type="Boolean")
         self.output("slip", "m", "Anchoring slip: distance slid while the contact is high")
 
+    kernel = friction.KERNEL
+
     def setup(self) -> None:
-        self.p = self.core_params(friction.FrictionParams)
-        self.s = self.u
-        self.slip = 0.0
+        self.kp = friction.pack(self.core_params(friction.FrictionParams))
+        self.kx = np.array([self.u, 0.0])  # contact state, slip
 
     def initialize(self) -> None:
-        self.s = self.u  # the contact starts settled in the state the indicator asks for
-
-    def evaluate(self) -> None:
-        p = self.p
-        self.contact = self.u if p.t_switch <= 0 else self.s
-        scale = friction.high_scale(self.theta, self.time, p)
-        mu_s, mu_k = friction.coefficients(self.contact, p, scale)
-        self.flange_f = friction.friction_force(self.flange_v, self.flange_f_n, self.flange_N,
-                                                mu_s, mu_k, p.v_s)
-        self.stuck = float(abs(self.flange_v) <= p.v_s
-                           and abs(self.flange_f_n) <= mu_s * self.flange_N)
-
-    def advance(self, t: float, dt: float) -> None:
-        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
-        self.slip = friction.accumulate_slip(self.slip, self.flange_v, self.contact, dt, self.p.v_s)
-        self.s = friction.advance_contact(self.s, self.u, dt, self.p.t_switch)
+        self.kx[0] = self.u  # the contact starts settled in the state the indicator asks for
 
 
-class FrictionSwitchingInputs(Slave):
+class FrictionSwitchingInputs(KernelSlave):
     """Ideal actuation of §ideal-actuation: sinusoidal actuator force and square-wave friction
     indicators."""
 
@@ -119,18 +85,17 @@ class FrictionSwitchingInputs(Slave):
         self.output("u1", "1", "Friction indicator of block 1")
         self.output("u2", "1", "Friction indicator of block 2")
 
+    kernel = inputs.KERNEL
+
     def setup(self) -> None:
-        self.p = self.core_params(inputs.InputParams)
-
-    def evaluate(self) -> None:
-        self.f_a, self.u1, self.u2 = inputs.signals(self.time, self.p)
+        self.kp = inputs.pack(self.core_params(inputs.InputParams))
 
 
-class GaitSequencer(Slave):
+class GaitSequencer(KernelSlave):
     """Four-phase peristaltic gait (§gait): pressure references of the three actuators."""
 
     default_experiment = experiment(30.0, 0.001)  # crawler-gait-forward, §gait
-    display_units = {**Slave.display_units, "Pa": "kPa"}  # air pressures
+    display_units = {**KernelSlave.display_units, "Pa": "kPa"}  # air pressures
     description = ("Peristaltic gait sequencer: pressure references of the back, central and front "
                    "actuators (§gait)")
 
@@ -147,9 +112,7 @@ class GaitSequencer(Slave):
         self.output("stride", "1", "Index of the current stride since the start, from 1",
                     type="Integer")
 
-    def setup(self) -> None:
-        self.p = self.core_params(gait.GaitParams)
+    kernel = gait.KERNEL
 
-    def evaluate(self) -> None:
-        (self.p_ref1, self.p_ref_c, self.p_ref2, self.phase, self.stride_direction,
-         self.stride) = gait.references(self.time, self.p)
+    def setup(self) -> None:
+        self.kp = gait.pack(self.core_params(gait.GaitParams))

@@ -5,6 +5,10 @@ shortens and lifts or pulls its load; f [N] is the tension the load puts on the 
 §loads (docs/model/loads-sensors.md). Each parameter is declared once, in its dataclass
 (`musclesim.fmu.declare`), with its unit, description, source and diagnosis role: the FMUs, the
 docs' tables and the diagnosis read it there.
+
+The equations are written once, as `jit` functions on numbers (the ``*_core`` functions), which the
+functions on the dataclasses below and the FMUs' kernels (`musclesim.components.loads.slaves`)
+call (the link's transition matrix through `fixedorder`'s compiled exponential).
 """
 from __future__ import annotations
 
@@ -12,9 +16,12 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import numpy as np
+
 from musclesim.components import fixedorder
 from musclesim.components.checks import require
 from musclesim.fmu import declare
+from musclesim.fmu.compiled import jit
 
 G = 9.80665  # m/s^2, standard gravity
 AREA = math.pi * 127e-6 ** 2 / 4  # m^2, the 127 um main wire (§sma-bench), as SmaWire computes it
@@ -51,7 +58,13 @@ def spring_tension(s: float, p: SpringParams) -> float:
     >>> spring_tension(0.001, SpringParams(k=490.0, preload=1.5))
     1.99
     """
-    return p.preload + p.k * s
+    return float(spring_core(s, p.k, p.preload))
+
+
+@jit
+def spring_core(s: float, k: float, preload: float) -> float:
+    """Tension [N] of a spring of stiffness `k` and `preload` at contraction `s` [m]."""
+    return preload + k * s
 
 
 @dataclass(frozen=True)
@@ -93,8 +106,19 @@ def link_transition(dt: float, p: WeightParams) -> list[list[float]]:
     """2x2 matrix (rows of floats) advancing (y, dy/dt) of y'' = -w^2 y - 2 zeta w y' of the
     weight `p` exactly over `dt`: its matrix exponential, taken in a fixed order of operations (no
     BLAS, whose kernel is chosen per CPU: the same bits on every CPU)."""
-    w = link_omega(p)
-    return fixedorder.exp_and_integral([[0.0, 1.0], [-w * w, -2.0 * p.zeta * w]], dt)[0]
+    phi = np.empty((2, 2))
+    link_transition_into(link_omega(p), p.zeta, float(dt), phi)
+    return phi.tolist()
+
+
+@jit
+def link_transition_into(omega: float, zeta: float, dt: float, phi: np.ndarray) -> None:
+    """`phi` (2x2) = `link_transition` over `dt` [s] of the link of angular frequency `omega`
+    [rad/s] and damping ratio `zeta`."""
+    A = np.empty((2, 2))
+    A[0, 0], A[0, 1], A[1, 0], A[1, 1] = 0.0, 1.0, -omega * omega, -2.0 * zeta * omega
+    integral = np.empty((2, 2))
+    fixedorder.exp_and_integral_into(A, dt, phi, integral)
 
 
 def weight_step(x: float, v: float, s: float, u: float, phi: Sequence[Sequence[float]], dt: float,
@@ -115,21 +139,46 @@ def weight_step(x: float, v: float, s: float, u: float, phi: Sequence[Sequence[f
     >>> weight_step(0.002, 0.0, 0.002, 0.0, link_transition(0.01, p), 0.01, p)  # at rest
     (0.002, 0.0)
     """
-    lag = 2.0 * p.zeta * u / link_omega(p)  # d u / k_link: how far it trails a steady lift
-    y, w = fixedorder.matvec(phi, (x - s + lag, v - u))
-    return float(y + s + u * dt - lag), float(w + u)
+    x1, v1 = weight_step_core(x, v, s, u, phi[0][0], phi[0][1], phi[1][0], phi[1][1], dt, p.zeta,
+                              link_omega(p))
+    return float(x1), float(v1)
+
+
+@jit
+def weight_step_core(x: float, v: float, s: float, u: float, phi00: float, phi01: float,
+                     phi10: float, phi11: float, dt: float, zeta: float,
+                     omega: float) -> tuple[float, float]:
+    """`weight_step` with the transition's elements `phi00`..`phi11`, the damping ratio `zeta` and
+    the link's angular frequency `omega` [rad/s]; the product as `fixedorder.matvec` sums it."""
+    lag = 2.0 * zeta * u / omega  # d u / k_link: how far it trails a steady lift
+    a, b = x - s + lag, v - u
+    y, w = phi00 * a + phi01 * b, phi10 * a + phi11 * b
+    return y + s + u * dt - lag, w + u
 
 
 def weight_tension(x: float, s: float, p: WeightParams) -> float:
     """Tension [N] of the weight `p` on the wire: m g plus the moving share's pull inertia k_link
     (`s` - `x`) (exactly m g with the inertia off)."""
-    return p.mass * p.g + p.inertia * p.k_link * (s - x)
+    return float(weight_tension_core(x, s, p.mass, p.g, p.inertia, p.k_link))
+
+
+@jit
+def weight_tension_core(x: float, s: float, mass: float, g: float, inertia: float,
+                        k_link: float) -> float:
+    """`weight_tension` of the weight's fields."""
+    return mass * g + inertia * k_link * (s - x)
 
 
 def weight_lift(x: float, s: float, p: WeightParams) -> float:
     """Lift [m] of the weight `p`: the wire's end `s` less the link's stretch beyond its static
     one, (tension - m g) / k_link = inertia (s - `x`); s exactly with the inertia off."""
-    return s + p.inertia * (x - s)
+    return float(weight_lift_core(x, s, p.inertia))
+
+
+@jit
+def weight_lift_core(x: float, s: float, inertia: float) -> float:
+    """`weight_lift` of the moving share `inertia`."""
+    return s + inertia * (x - s)
 
 
 @dataclass(frozen=True)
@@ -163,7 +212,13 @@ class MagnetParams:
 
 def coil_steady(duty: float, p: MagnetParams) -> float:
     """Steady coil current [A] of the magnet `p` under the PWM-averaged voltage V_supply `duty`."""
-    return p.V_supply * duty / p.R
+    return float(coil_steady_core(duty, p.V_supply, p.R))
+
+
+@jit
+def coil_steady_core(duty: float, V_supply: float, R: float) -> float:
+    """`coil_steady` of the supply `V_supply` [V] and the coil's resistance `R` [Ohm]."""
+    return V_supply * duty / R
 
 
 def coil_step(i: float, duty: float, dt: float, p: MagnetParams) -> float:
@@ -176,11 +231,25 @@ def coil_step(i: float, duty: float, dt: float, p: MagnetParams) -> float:
     >>> round(coil_step(0.0, 1.0, 1.0, p), 12)  # settled after 1 s (L/R = 2.1 ms)
     0.5
     """
-    i_inf = coil_steady(duty, p)
-    return i_inf + (i - i_inf) * math.exp(-dt * p.R / p.L)
+    return float(coil_step_core(i, duty, dt, p.V_supply, p.R, p.L))
+
+
+@jit
+def coil_step_core(i: float, duty: float, dt: float, V_supply: float, R: float,
+                   L: float) -> float:
+    """`coil_step` of the supply `V_supply` [V], the coil's `R` [Ohm] and `L` [H]."""
+    i_inf = coil_steady_core(duty, V_supply, R)
+    return i_inf + (i - i_inf) * math.exp(-dt * R / L)
 
 
 def magnet_tension(i: float, p: MagnetParams) -> float:
     """Tension [N] of the magnet `p` at coil current `i`: the calibration weight plus the coil's
     pull k_f i (1 + nonlinearity i)."""
-    return p.m_cal * p.g + p.k_f * i * (1.0 + p.nonlinearity * i)
+    return float(magnet_tension_core(i, p.m_cal, p.g, p.k_f, p.nonlinearity))
+
+
+@jit
+def magnet_tension_core(i: float, m_cal: float, g: float, k_f: float,
+                        nonlinearity: float) -> float:
+    """`magnet_tension` of the magnet's fields."""
+    return m_cal * g + k_f * i * (1.0 + nonlinearity * i)

@@ -1,21 +1,92 @@
-"""FMU slaves of the loads: thin adapters over musclesim.components.loads.loads.
+"""FMU slaves of the loads: kernels (`musclesim.fmu.kernel`) over the jit cores of
+musclesim.components.loads.loads.
 
 Every load reads the wire's contraction `flange.s` [m] and gives the tension `flange.f` [N] it
 puts on the wire (the SmaWire FMU's convention); equations in §loads.
+
+Packed layouts (index constants below): BiasSpring kp = [k, preload], no state. DeadWeight kp =
+[mass, g, inertia, k_link, zeta, omega (the link's angular frequency)], kx = [x, v (the moving
+share's position and velocity), t, s (time and contraction at the last step), the step the link's
+transition was computed for (NaN: none; the kernel computes it anew when the step changes), its
+elements phi00, phi01, phi10, phi11]. Electromagnet
+kp = [m_cal, g, V_supply, R, L, k_f, nonlinearity], kx = [coil current].
 """
 from __future__ import annotations
 
+import math
+
+import numpy as np
+
 from musclesim.components.loads import loads
-from musclesim.fmu import Slave, experiment
+from musclesim.fmu import experiment
+from musclesim.fmu.compiled import jit
+from musclesim.fmu.kernel import Kernel, KernelSlave
 
 S_DESCRIPTION = "Contraction of the wire (SmaWire flange.s); positive = the wire shortens"
 
+K, PRELOAD = range(2)  # BiasSpring's kp
+MASS, G, INERTIA, K_LINK, ZETA, OMEGA = range(6)  # DeadWeight's kp
+X, V, T_LAST, S_LAST, PHI_DT, PHI00, PHI01, PHI10, PHI11 = range(9)  # DeadWeight's kx
+M_CAL, G_MAG, V_SUPPLY, R, L, K_F, NONLINEARITY = range(7)  # Electromagnet's kp; kx = [i]
 
-class BiasSpring(Slave):
+
+@jit
+def no_state(p, x, u, y, t, dt):
+    """The kernel's advance of a slave without state: nothing."""
+    pass
+
+
+@jit
+def spring_evaluate(p, x, u, t, y):
+    """BiasSpring's kernel: output flange.f."""
+    y[0] = loads.spring_core(u[0], p[K], p[PRELOAD])
+
+
+@jit
+def weight_evaluate(p, x, u, t, y):
+    """DeadWeight's kernel: outputs (flange.f, lift)."""
+    y[0] = loads.weight_tension_core(x[X], u[0], p[MASS], p[G], p[INERTIA], p[K_LINK])
+    y[1] = loads.weight_lift_core(x[X], u[0], p[INERTIA])
+
+
+@jit
+def weight_advance(p, x, u, y, t, dt):
+    """DeadWeight's kernel: the moving share's step, the link's transition over `dt` kept in x
+    (computed when the step changes)."""
+    if p[INERTIA] == 0.0:
+        return
+    if x[PHI_DT] != dt:
+        phi = np.empty((2, 2))
+        loads.link_transition_into(p[OMEGA], p[ZETA], dt, phi)
+        x[PHI_DT], x[PHI00], x[PHI01], x[PHI10], x[PHI11] = (dt, phi[0, 0], phi[0, 1], phi[1, 0],
+                                                              phi[1, 1])
+    s = u[0]
+    slope = (s - x[S_LAST]) / (t - x[T_LAST]) if t > x[T_LAST] else 0.0
+    x[X], x[V] = loads.weight_step_core(x[X], x[V], s, slope, x[PHI00], x[PHI01], x[PHI10],
+                                        x[PHI11], dt, p[ZETA], p[OMEGA])
+    x[T_LAST] = t
+    x[S_LAST] = s
+
+
+@jit
+def magnet_evaluate(p, x, u, t, y):
+    """Electromagnet's kernel: outputs (flange.f, i)."""
+    y[0] = loads.magnet_tension_core(x[0], p[M_CAL], p[G_MAG], p[K_F], p[NONLINEARITY])
+    y[1] = x[0]
+
+
+@jit
+def magnet_advance(p, x, u, y, t, dt):
+    """Electromagnet's kernel: the coil current's exact step, the duty held."""
+    x[0] = loads.coil_step_core(x[0], u[0], dt, p[V_SUPPLY], p[R], p[L])
+
+
+class BiasSpring(KernelSlave):
     """Preloaded bias spring stretched by the wire's contraction (§loads)."""
 
     default_experiment = experiment(10.0, 0.00025)  # §multiplier-experiments (pulses)
     description = "Bias spring: tension preload + k s on the wire (§loads: 490 N/m, ~125 MPa)"
+    kernel = Kernel(spring_evaluate, no_state, ("flange.s",), ("flange.f",))
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
@@ -25,18 +96,17 @@ class BiasSpring(Slave):
 
     def setup(self) -> None:
         self.p = self.core_params(loads.SpringParams)
-
-    def evaluate(self) -> None:
-        self.flange_f = loads.spring_tension(self.flange_s, self.p)
+        self.kp = np.array([self.p.k, self.p.preload], dtype=float)
 
 
-class DeadWeight(Slave):
+class DeadWeight(KernelSlave):
     """Weight hanging from the wire, quasi-static by default; inertia is an effect (§loads,
     §named-effects)."""
 
     default_experiment = experiment(20.0, 0.0004)  # §multiplier-experiments (bang-bang)
     description = ("Dead weight on the wire: tension m g, or (inertia effect) a mass on a "
                    "spring link pulled by the wire, its motion damped: m g + k_link (s - lift)")
+    kernel = Kernel(weight_evaluate, weight_advance, ("flange.s",), ("flange.f", "lift"))
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
@@ -47,39 +117,25 @@ class DeadWeight(Slave):
                     depends=["flange.s"])
 
     def setup(self) -> None:
-        self.p = self.core_params(loads.WeightParams)
-        # step -> the link's transition matrix over it
-        self.phi: dict[float, list[list[float]]] = {}
+        p = self.p = self.core_params(loads.WeightParams)
+        self.kp = np.array([p.mass, p.g, p.inertia, p.k_link, p.zeta, loads.link_omega(p)])
         self.initialize()
 
     def initialize(self) -> None:
-        self.x, self.v = self.flange_s, 0.0  # at rest at the wire's end
-        self.last = (self.time, self.flange_s)
-
-    def evaluate(self) -> None:
-        self.flange_f = loads.weight_tension(self.x, self.flange_s, self.p)
-        self.lift = loads.weight_lift(self.x, self.flange_s, self.p)
-
-    def advance(self, t: float, dt: float) -> None:
-        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
-        if not self.p.inertia:
-            return
-        t0, s0 = self.last
-        u = (self.flange_s - s0) / (t - t0) if t > t0 else 0.0
-        if dt not in self.phi:
-            self.phi[dt] = loads.link_transition(dt, self.p)
-        self.x, self.v = loads.weight_step(self.x, self.v, self.flange_s, u, self.phi[dt], dt,
-                                           self.p)
-        self.last = (t, self.flange_s)
+        # at rest at the wire's end; no transition computed yet
+        self.kx = np.array([self.flange_s, 0.0, self.time, self.flange_s, math.nan, 0.0, 0.0, 0.0,
+                            0.0])
 
 
-class Electromagnet(Slave):
+class Electromagnet(KernelSlave):
     """Calibration weight plus a PWM-driven coil pulling a rare-earth magnet (§sma-bench,
     §loads)."""
 
     default_experiment = experiment(550.0, 0.0004)  # sma-position-control, §position-control
     description = ("Electromagnet load: 100 g calibration weight plus a coil (L di/dt = V duty - "
                    "R i) pulling a magnet with k_f i (1 + nonlinearity i) (§sma-bench)")
+    kernel = Kernel(magnet_evaluate, magnet_advance, ("duty", "flange.s"), ("flange.f", "i"),
+                    clamps=(("duty", 0.0, 1.0),))
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
@@ -91,18 +147,10 @@ class Electromagnet(Slave):
         self.output("i", "A", "Coil current")
 
     def setup(self) -> None:
-        self.p = self.core_params(loads.MagnetParams)
-        self.current = 0.0
+        p = self.p = self.core_params(loads.MagnetParams)
+        self.kp = np.array([p.m_cal, p.g, p.V_supply, p.R, p.L, p.k_f, p.nonlinearity])
+        self.kx = np.zeros(1)
 
     def initialize(self) -> None:
         duty = self.clamped_input("duty", 0.0, 1.0, self.time)
-        self.current = loads.coil_steady(duty, self.p)  # settled at the start
-
-    def evaluate(self) -> None:
-        self.i = self.current
-        self.flange_f = loads.magnet_tension(self.current, self.p)
-
-    def advance(self, t: float, dt: float) -> None:
-        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
-        duty = self.clamped_input("duty", 0.0, 1.0, t)
-        self.current = loads.coil_step(self.current, duty, dt, self.p)
+        self.kx = np.array([loads.coil_steady(duty, self.p)])  # settled at the start

@@ -4,14 +4,24 @@ inflation pump and emptied into an exhaust pump, each line through a PWM-driven 
 
 Pressures are gauge [Pa] everywhere except in the ISO 6358 flow law, which takes absolute ones.
 Equations and where every default comes from: §pneumatics (docs/model/pneumatics.md).
+
+The physics is written once, in `jit` functions on numbers and float64 arrays: the parameters
+packed by `pack` (kp), the state in one array (kx, `start_state`: pressure, contact, elongation,
+the last step's mean mass flow and each valve's command, position and pending switchings). The
+FMU's kernel (`KERNEL`: `evaluate`, `advance`; `musclesim.fmu.kernel`) and the Python API below
+(`Actuator`, `Valve`, `pwm_edges`, ...) call the same functions.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, fields
 
+import numpy as np
+
 from musclesim.components.checks import require
 from musclesim.fmu import Calibration, declare
+from musclesim.fmu.compiled import jit
+from musclesim.fmu.kernel import Kernel
 
 P_ATM = 101325.0  # Pa, standard atmosphere (gauge 0)
 RHO_0 = 1.185  # kg/m^3, ISO 6358 reference density
@@ -114,6 +124,55 @@ class ActuatorParams:
             raise ValueError(f"supply_drop must be within [0, 1) (got {self.supply_drop!r})")
 
 
+# kernel parameters (kp, `pack`): ActuatorParams' fields in order, then the pending switchings
+# a valve's state holds
+(CENTRAL, S_A, V0_, DV_CONTACT, P_SUPPLY, P_EXHAUST, C_IN, C_OUT, B, T_AIR, KAPPA, F_PWM,
+ PWM_PHASE, P_CONTACT, T_CONTACT, DT_SUB, T_OPEN_DELAY, T_CLOSE_DELAY, C_LEAK, SUPPLY_DROP,
+ CAP) = range(21)
+# kernel state (kx, `start_state`): gauge pressure [Pa], contact, elongation [m] the volume stands
+# at, net mass flow [kg/s] of the last step; then the inflation valve's and the exhaust valve's
+# blocks (`valve_intervals`: command, position, number of pending switchings, their times, their
+# directions)
+PRESSURE, CONTACT, ELONGATION, M_FLOW, VALVES = range(5)
+CMD, OPEN, N_PENDING, PENDING = range(4)
+
+
+def pack(p: ActuatorParams) -> np.ndarray:
+    """The kernel's parameters kp of `p`: its fields in declaration order (indices CENTRAL ..
+    SUPPLY_DROP), then CAP, the pending switchings a valve's state holds (`pending_capacity`)."""
+    return np.array([getattr(p, f.name) for f in fields(p)] + [pending_capacity(p)],
+                    dtype=np.float64)
+
+
+def pending_capacity(p: ActuatorParams) -> int:
+    """Switchings a valve of `p` can have scheduled and still to come after a step: those of the
+    command's edges within the longest delay, two per PWM period and one per step start where
+    the duty changes (steps down to half the internal step), and a margin."""
+    delay = max(p.t_open_delay, p.t_close_delay)
+    return 2 * math.ceil(delay * p.f_pwm) + 2 * math.ceil(delay / p.dt_sub) + 8
+
+
+def start_state(kp: np.ndarray, elongation: float = 0.0) -> np.ndarray:
+    """The kernel's state kx at rest (gauge 0, no contact, valves shut and commanded shut) at
+    the `elongation` [m] (central actuator)."""
+    x = np.zeros(VALVES + 2 * (PENDING + 2 * int(kp[CAP])))
+    x[ELONGATION] = elongation
+    return x
+
+
+@jit
+def _max(a: float, b: float) -> float:
+    """Python's max(a, b), to the bit (the first of equal ones)."""
+    return b if b > a else a
+
+
+@jit
+def _min(a: float, b: float) -> float:
+    """Python's min(a, b), to the bit (the first of equal ones)."""
+    return b if b < a else a
+
+
+@jit
 def mass_flow(p_up: float, p_down: float, C: float, b: float, T_up: float = T_0) -> float:
     """Mass flow [kg/s] from `p_up` to `p_down` (absolute [Pa]) through an ISO 6358 orifice of
     sonic conductance `C` [m^3/(s Pa)] and critical pressure ratio `b`, the upstream air at
@@ -136,6 +195,7 @@ def mass_flow(p_up: float, p_down: float, C: float, b: float, T_up: float = T_0)
     return q * math.sqrt(1.0 - x * x)
 
 
+@jit
 def signed_flow(p_a: float, p_b: float, C: float, b: float, T: float = T_0) -> float:
     """Mass flow [kg/s] from side a at `p_a` to side b at `p_b` (absolute pressures [Pa]),
     negative when it runs from b to a, through the orifice `C`, `b` (`mass_flow`); the upstream
@@ -152,11 +212,8 @@ def signed_flow(p_a: float, p_b: float, C: float, b: float, T: float = T_0) -> f
 def pwm_edges(t0: float, t1: float, duty: float, period: float,
               phase: float = 0.0) -> list[tuple[float, bool]]:
     """The PWM command of `duty` over [`t0`, `t1`): [(t0, state at t0), (time, on) of each
-    switching in (t0, t1)], the carrier of `period` [s] shifted by `phase` [periods].
-
-    The carrier's period k starts at k period + phase period (any phase: 1.25 is 0.25); the
-    command is on for the first duty of each. The state at t0 comes from the same edge times as
-    the switchings, so consecutive steps agree to the last bit.
+    switching in (t0, t1)], the carrier of `period` [s] shifted by `phase` [periods]
+    (`edges_into`).
 
     Examples
     --------
@@ -167,18 +224,101 @@ def pwm_edges(t0: float, t1: float, duty: float, period: float,
     >>> [(round(t, 9), on) for t, on in pwm_edges(0.0, 0.03, 0.25, 0.02, phase=0.875)]
     [(0.0, True), (0.0025, False), (0.0175, True), (0.0225, False)]
     """
+    et, eon = np.empty(edge_capacity(t0, t1, period)), np.empty(edge_capacity(t0, t1, period))
+    n = edges_into(t0, t1, duty, period, phase, et, eon)
+    return [(te, on != 0.0) for te, on in zip(et[:n].tolist(), eon[:n].tolist())]
+
+
+@jit
+def edge_capacity(t0: float, t1: float, period: float) -> int:
+    """Room for the PWM edges over [`t0`, `t1`) of a carrier of `period`: 2 per period the span
+    touches, and the state at t0."""
+    return 2 * int((t1 - t0) / period) + 8
+
+
+@jit
+def edges_into(t0: float, t1: float, duty: float, period: float, phase: float, et: np.ndarray,
+               eon: np.ndarray) -> int:
+    """`pwm_edges` written into `et` (times) and `eon` (1 on, 0 off); returns their number.
+
+    The carrier's period k starts at k period + phase period (any phase: 1.25 is 0.25); the
+    command is on for the first duty of each. The state at t0 comes from the same edge times as
+    the switchings, so consecutive steps agree to the last bit.
+    """
+    et[0] = t0
     if duty <= 0.0 or duty >= 1.0:
-        return [(t0, duty >= 1.0)]
+        eon[0] = 1.0 if duty >= 1.0 else 0.0
+        return 1
     shift = phase * period  # period k starts at k period + shift
     k = math.floor((t0 - shift) / period)
-    k += ((k + 1) * period + shift <= t0) - (k * period + shift > t0)  # rounded across an integer
-    edges = [(t0, t0 < k * period + shift + duty * period)]
-    while (rise := k * period + shift) < t1:
-        for te, on in ((rise, True), (rise + duty * period, False)):
-            if t0 < te < t1:
-                edges.append((te, on))
+    up = 1 if (k + 1) * period + shift <= t0 else 0  # rounded across an integer
+    down = 1 if k * period + shift > t0 else 0
+    k += up - down
+    eon[0] = 1.0 if t0 < k * period + shift + duty * period else 0.0
+    n = 1
+    rise = k * period + shift
+    while rise < t1:
+        if t0 < rise < t1:
+            et[n], eon[n] = rise, 1.0
+            n += 1
+        fall = rise + duty * period
+        if t0 < fall < t1:
+            et[n], eon[n] = fall, 0.0
+            n += 1
         k += 1
-    return edges
+        rise = k * period + shift
+    return n
+
+
+@jit
+def valve_intervals(x: np.ndarray, v: int, cap: int, et: np.ndarray, eon: np.ndarray, ne: int,
+                    t1: float, d_open: float,
+                    d_close: float) -> tuple[np.ndarray, np.ndarray, int]:
+    """A valve's step (`Valve.open_intervals`): its state the block x[v:] (command, position,
+    number of pending switchings, then `cap` times and `cap` directions of them), the command's
+    `ne` edges `et`, `eon` over [t0, `t1`) (`edges_into`); returns the (starts, ends, number)
+    of the intervals the valve is open, the block advanced."""
+    n0 = int(x[v + N_PENDING])
+    pt, pon = np.empty(n0 + ne), np.empty(n0 + ne)
+    for j in range(n0):
+        pt[j], pon[j] = x[v + PENDING + j], x[v + PENDING + cap + j]
+    npend = n0
+    cmd = x[v + CMD] != 0.0
+    for k in range(ne):
+        on = eon[k] != 0.0
+        if on != cmd:
+            cmd = on
+            ts = et[k] + (d_open if on else d_close)
+            keep = 0  # the switchings scheduled at or after ts are cancelled
+            for j in range(npend):
+                if pt[j] < ts:
+                    pt[keep], pon[keep] = pt[j], pon[j]
+                    keep += 1
+            pt[keep], pon[keep] = ts, (1.0 if on else 0.0)
+            npend = keep + 1
+    starts, ends = np.empty(npend + 1), np.empty(npend + 1)
+    count, start, is_open, first = 0, et[0], x[v + OPEN] != 0.0, 0
+    while first < npend and pt[first] < t1:
+        ts, on = pt[first], pon[first] != 0.0
+        first += 1
+        if on and not is_open:
+            start = ts
+        elif is_open and not on:
+            starts[count], ends[count] = start, ts
+            count += 1
+        is_open = on
+    if is_open:
+        starts[count], ends[count] = start, t1
+        count += 1
+    rest = npend - first
+    if rest > cap:
+        raise ValueError("a valve has more switchings pending than its state holds: valve "
+                         "delays far above the step with the duty changing at every step")
+    x[v + CMD], x[v + OPEN] = (1.0 if cmd else 0.0), (1.0 if is_open else 0.0)
+    x[v + N_PENDING] = rest
+    for j in range(rest):
+        x[v + PENDING + j], x[v + PENDING + cap + j] = pt[first + j], pon[first + j]
+    return starts, ends, count
 
 
 @dataclass
@@ -196,7 +336,8 @@ class Valve:
     def open_intervals(self, edges: list[tuple[float, bool]], t1: float, d_open: float,
                        d_close: float) -> list[tuple[float, float]]:
         """Take the command `edges` over [t0, `t1`) (`pwm_edges`) and return the intervals the
-        valve is open, opening `d_open` [s] and closing `d_close` [s] after its command.
+        valve is open, opening `d_open` [s] and closing `d_close` [s] after its command
+        (`valve_intervals`).
 
         A command edge at t makes the valve follow at t + d_open (opening) or t + d_close
         (closing) and cancels the switchings scheduled at or after that time: a command pulse
@@ -208,27 +349,34 @@ class Valve:
         >>> Valve().open_intervals([(0.0, True), (0.005, False)], 0.02, 0.002, 0.001)
         [(0.002, 0.006)]
         """
-        for te, on in edges:
-            if on != self.cmd:
-                self.cmd = on
-                ts = te + (d_open if on else d_close)
-                self.pending = [e for e in self.pending if e[0] < ts] + [(ts, on)]
-        intervals, start = [], edges[0][0]
-        while self.pending and self.pending[0][0] < t1:
-            ts, on = self.pending.pop(0)
-            if on and not self.is_open:
-                start = ts
-            elif self.is_open and not on:
-                intervals.append((start, ts))
-            self.is_open = on
-        if self.is_open:
-            intervals.append((start, t1))
-        return intervals
+        cap = len(self.pending) + len(edges)
+        x = np.zeros(PENDING + 2 * cap)
+        x[CMD], x[OPEN], x[N_PENDING] = self.cmd, self.is_open, len(self.pending)
+        for j, (ts, on) in enumerate(self.pending):
+            x[PENDING + j], x[PENDING + cap + j] = ts, on
+        et = np.array([te for te, _ in edges], dtype=np.float64)
+        eon = np.array([1.0 if on else 0.0 for _, on in edges])
+        starts, ends, n = valve_intervals(x, 0, cap, et, eon, len(edges), t1, d_open, d_close)
+        self.cmd, self.is_open = bool(x[CMD]), bool(x[OPEN])
+        rest = int(x[N_PENDING])
+        self.pending = [(float(x[PENDING + j]), bool(x[PENDING + cap + j])) for j in range(rest)]
+        return list(zip(starts[:n].tolist(), ends[:n].tolist()))
 
 
 def open_time(intervals: list[tuple[float, float]], a: float, b: float) -> float:
-    """Time [s] the `intervals` [(start, end)] cover within [`a`, `b`)."""
-    return sum(max(0.0, min(e, b) - max(s, a)) for s, e in intervals)
+    """Time [s] the `intervals` [(start, end)] cover within [`a`, `b`) (`time_open`)."""
+    starts = np.array([s for s, _ in intervals], dtype=np.float64)
+    ends = np.array([e for _, e in intervals], dtype=np.float64)
+    return float(time_open(starts, ends, len(intervals), a, b))
+
+
+@jit
+def time_open(starts: np.ndarray, ends: np.ndarray, n: int, a: float, b: float) -> float:
+    """Time [s] the first `n` intervals [starts, ends) cover within [`a`, `b`)."""
+    total = 0.0
+    for j in range(n):
+        total += _max(0.0, _min(ends[j], b) - _max(starts[j], a))
+    return total
 
 
 def source_pressures(p: ActuatorParams) -> tuple[float, float]:
@@ -238,36 +386,49 @@ def source_pressures(p: ActuatorParams) -> tuple[float, float]:
 
 def volume(elongation: float, contact: float, p: ActuatorParams) -> float:
     """Chamber volume [m^3] of `p`: V0 + s_a `elongation` (central) or V0 + dV_contact `contact`
-    (extremal), at least V_MIN V0.
+    (extremal), at least V_MIN V0 (`chamber_volume`).
 
     Examples
     --------
     >>> round(volume(0.01, 0.0, ActuatorParams()), 12)
     6.832e-05
     """
-    v = p.V0 + (p.s_a * elongation if p.central else p.dV_contact * contact)
-    return max(v, V_MIN * p.V0)
+    return float(chamber_volume(pack(p), elongation, contact))
+
+
+@jit
+def chamber_volume(kp: np.ndarray, elongation: float, contact: float) -> float:
+    """`volume` of the actuator kp."""
+    v = kp[V0_] + (kp[S_A] * elongation if kp[CENTRAL] != 0.0 else kp[DV_CONTACT] * contact)
+    return _max(v, V_MIN * kp[V0_])
 
 
 def contact_step(c: float, pressure: float, dt: float, p: ActuatorParams) -> float:
     """Contact state `c` of `p` after `dt` [s] at gauge pressure `pressure`: towards 1 above
-    p_contact, towards 0 at or below it, at the rate 1 / t_contact (a jump when t_contact <= 0).
+    p_contact, towards 0 at or below it, at the rate 1 / t_contact (a jump when t_contact <= 0;
+    `contact_rate`).
 
     Examples
     --------
     >>> contact_step(0.5, 9e3, 0.05, ActuatorParams())
     0.75
     """
-    target = 1.0 if pressure > p.p_contact else 0.0
-    if p.t_contact <= 0:
+    return float(contact_rate(pack(p), c, pressure, dt))
+
+
+@jit
+def contact_rate(kp: np.ndarray, c: float, pressure: float, dt: float) -> float:
+    """`contact_step` of the actuator kp."""
+    target = 1.0 if pressure > kp[P_CONTACT] else 0.0
+    if kp[T_CONTACT] <= 0:
         return target
-    rate = dt / p.t_contact
-    return min(c + rate, 1.0) if target else max(c - rate, 0.0)
+    rate = dt / kp[T_CONTACT]
+    return _min(c + rate, 1.0) if target else _max(c - rate, 0.0)
 
 
-def bulge_contact(c: float, pressure: float, p: ActuatorParams) -> tuple[float, float]:
+def bulge_contact(c: float, pressure: float, p: ActuatorParams) -> float:
     """Contact (from `c`, at gauge `pressure` [Pa]) of an extremal chamber `p` whose bulge follows
-    at once (t_contact <= 0, dV_contact > 0):
+    at once (t_contact <= 0, dV_contact > 0; `bulge`):
     the chamber grows or shrinks at its mass (p_abs V^kappa constant) until its gauge pressure is
     p_contact, within contact 0..1. A jump of the volume instead would throw the pressure back
     across p_contact at every sub-step.
@@ -281,13 +442,141 @@ def bulge_contact(c: float, pressure: float, p: ActuatorParams) -> tuple[float, 
     >>> round((P_ATM + 8.5e3) * (volume(0, 0, p) / volume(0, c, p)) ** p.kappa - P_ATM, 6)
     8000.0
     """
-    v = volume(0.0, c, p)
-    v_eq = v * ((P_ATM + pressure) / (P_ATM + p.p_contact)) ** (1.0 / p.kappa)
-    return min(max((v_eq - p.V0) / p.dV_contact, 0.0), 1.0)
+    return float(bulge(pack(p), c, pressure))
+
+
+@jit
+def bulge(kp: np.ndarray, c: float, pressure: float) -> float:
+    """`bulge_contact` of the actuator kp."""
+    v = chamber_volume(kp, 0.0, c)
+    v_eq = v * ((P_ATM + pressure) / (P_ATM + kp[P_CONTACT])) ** (1.0 / kp[KAPPA])
+    return _min(_max((v_eq - kp[V0_]) / kp[DV_CONTACT], 0.0), 1.0)
+
+
+@jit
+def contact_after(kp: np.ndarray, x: np.ndarray, pressure: float, dt: float) -> float:
+    """The contact after a sub-step of dt at gauge pressure `pressure`: an extremal chamber
+    whose bulge follows at once (`bulge`), else at its finite rate (`contact_rate`)."""
+    if kp[T_CONTACT] <= 0 and kp[CENTRAL] == 0.0 and kp[DV_CONTACT] > 0:
+        return bulge(kp, x[CONTACT], pressure)
+    return contact_rate(kp, x[CONTACT], pressure, dt)
+
+
+@jit
+def holds(kp: np.ndarray, x: np.ndarray, elongation: float, dt: float) -> bool:
+    """With no air flowing over the next step (valves shut, no leak), whether its sub-steps
+    of `dt` would leave pressure, contact and volume as they are: the contact already where
+    its sub-step takes it at this pressure, the volume not following an elongation (an
+    extremal chamber's does not; a central one's must stand still). The extremal
+    actuators hold so most of a gait, their valves shut between pulses."""
+    if kp[CENTRAL] != 0.0 and elongation != x[ELONGATION]:
+        return False
+    return contact_after(kp, x, x[PRESSURE], dt) == x[CONTACT]
+
+
+@jit
+def valves(kp: np.ndarray, x: np.ndarray, t: float, h: float,
+           duty: float) -> tuple[np.ndarray, np.ndarray, int, np.ndarray, np.ndarray, int, int]:
+    """Both valves over [`t`, `t` + `h`) with the `duty` in [-1, 1] held (> 0 drives the
+    inflation valve, < 0 the exhaust valve): (starts, ends, number) of the inflation valve's
+    open intervals, the same of the exhaust valve's, and the number of sub-steps."""
+    duty = _min(_max(duty, -1.0), 1.0)
+    period, t1 = 1.0 / kp[F_PWM], t + h
+    cap = int(kp[CAP])
+    et, eon = np.empty(edge_capacity(t, t1, period)), np.empty(edge_capacity(t, t1, period))
+    ne = edges_into(t, t1, _max(duty, 0.0), period, kp[PWM_PHASE], et, eon)
+    in_s, in_e, n_in = valve_intervals(x, VALVES, cap, et, eon, ne, t1, kp[T_OPEN_DELAY],
+                                       kp[T_CLOSE_DELAY])
+    ne = edges_into(t, t1, _max(-duty, 0.0), period, kp[PWM_PHASE], et, eon)
+    out_s, out_e, n_out = valve_intervals(x, VALVES + PENDING + 2 * cap, cap, et, eon, ne, t1,
+                                          kp[T_OPEN_DELAY], kp[T_CLOSE_DELAY])
+    n = max(1, math.ceil(h / kp[DT_SUB] - 1e-9))
+    return in_s, in_e, n_in, out_s, out_e, n_out, n
+
+
+@jit
+def substeps(kp: np.ndarray, x: np.ndarray, t: float, h: float, n: int, elongation: float,
+             in_s: np.ndarray, in_e: np.ndarray, n_in: int, out_s: np.ndarray,
+             out_e: np.ndarray, n_out: int) -> float:
+    """The chamber over [`t`, `t` + `h`] in `n` sub-steps, the valves open over their intervals
+    (`valves`) and the elongation [m] moving linearly to `elongation`; returns the mass [kg]
+    that flowed in."""
+    p_in, p_out = kp[P_SUPPLY] * (1.0 - kp[SUPPLY_DROP]), kp[P_EXHAUST]  # source_pressures
+    gain = kp[KAPPA] * R_AIR * kp[T_AIR]
+    t1 = t + h
+    e0, mass = x[ELONGATION], 0.0
+    v = chamber_volume(kp, e0, x[CONTACT])
+    for i in range(n):
+        a = t + h * i / n
+        b = t1 if i + 1 == n else t + h * (i + 1) / n
+        pressure = x[PRESSURE]
+        p_abs = P_ATM + pressure
+        dm = 0.0
+        if n_in:
+            t_open = time_open(in_s, in_e, n_in, a, b)
+            if t_open:
+                dm += signed_flow(P_ATM + p_in, p_abs, kp[C_IN], kp[B], kp[T_AIR]) * t_open
+        if n_out:
+            t_open = time_open(out_s, out_e, n_out, a, b)
+            if t_open:
+                dm -= signed_flow(p_abs, P_ATM + p_out, kp[C_OUT], kp[B], kp[T_AIR]) * t_open
+        if kp[C_LEAK] != 0.0:
+            dm -= signed_flow(p_abs, P_ATM, kp[C_LEAK], kp[B], kp[T_AIR]) * (b - a)
+        # the flows cannot push the pressure past their sources (the unchoked law's slope is
+        # infinite at r -> 1)
+        p_flow = pressure + gain * dm / v
+        clamped = _min(_max(p_flow, _min(pressure, p_out)), _max(pressure, p_in))
+        if clamped != p_flow:  # the mass that fits
+            p_flow, dm = clamped, (clamped - pressure) * v / gain
+        x[CONTACT] = contact_after(kp, x, p_flow, b - a)
+        v_next = chamber_volume(kp, e0 + (elongation - e0) * (i + 1) / n, x[CONTACT])
+        if v_next != v:  # polytropic change at the mass just reached: p_abs V^kappa constant
+            p_flow = (P_ATM + p_flow) * (v / v_next) ** kp[KAPPA] - P_ATM
+        x[PRESSURE], v = p_flow, v_next
+        mass += dm
+    x[ELONGATION] = elongation
+    return mass
+
+
+@jit
+def step(kp: np.ndarray, x: np.ndarray, t: float, h: float, duty: float,
+         elongation: float) -> float:
+    """`Actuator.step` of the actuator kp in state x: advance x from `t` to `t` + `h`; return
+    the mass [kg] that flowed in. A step in which no air flows (valves shut throughout, no leak)
+    and that `holds` skips its sub-steps: the same state to the bit."""
+    in_s, in_e, n_in, out_s, out_e, n_out, n = valves(kp, x, t, h, duty)
+    if not (n_in or n_out or kp[C_LEAK] != 0.0) and holds(kp, x, elongation, h / n):
+        x[ELONGATION] = elongation
+        return 0.0
+    return substeps(kp, x, t, h, n, elongation, in_s, in_e, n_in, out_s, out_e, n_out)
+
+
+# ---- the FMU's kernel: u = [duty, flange_a.s, flange_b.s], y = [p, f_a, u, m_flow] -----------
+@jit
+def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """The outputs: gauge pressure, force s_a p, contact, the last step's mean mass flow."""
+    y[0] = x[PRESSURE]
+    y[1] = p[S_A] * x[PRESSURE]
+    y[2] = x[CONTACT]
+    y[3] = x[M_FLOW]
+
+
+@jit
+def advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
+            dt: float) -> None:
+    """The step over [t, t + dt] with the duty held and the elongation flange_b.s - flange_a.s
+    reached at its end."""
+    mass = step(p, x, t, dt, u[0], u[2] - u[1])
+    x[M_FLOW] = mass / dt if dt > 0 else 0.0
+
+
+KERNEL = Kernel(evaluate, advance, inputs=("duty", "flange_a.s", "flange_b.s"),
+                outputs=("p", "f_a", "u", "m_flow"), clamps=(("duty", -1.0, 1.0),))
 
 
 class Actuator:
-    """One soft actuator's state (gauge pressure, contact, valves, volume) and its step.
+    """One soft actuator's state (gauge pressure, contact, valves, volume: the kernel's state
+    `x`) and its step.
 
     Parameters
     ----------
@@ -298,71 +587,35 @@ class Actuator:
 
     def __init__(self, params: ActuatorParams, elongation: float = 0.0) -> None:
         self.params = params
-        self.pressure = 0.0  # Pa gauge
-        self.contact = 0.0
-        self.elongation = elongation  # m, the elongation the volume stands at
-        self.inflate, self.exhaust = Valve(), Valve()
+        self.kp = pack(params)
+        self.x = start_state(self.kp, elongation)
+
+    @property
+    def pressure(self) -> float:
+        """Gauge pressure [Pa] of the chamber."""
+        return float(self.x[PRESSURE])
+
+    @property
+    def contact(self) -> float:
+        """Contact 0..1 with the ground."""
+        return float(self.x[CONTACT])
+
+    @property
+    def elongation(self) -> float:
+        """Elongation [m] the volume stands at."""
+        return float(self.x[ELONGATION])
 
     def step(self, t: float, h: float, duty: float, elongation: float) -> float:
         """Advance from `t` to `t` + `h` with the `duty` in [-1, 1] held (> 0 inflates, < 0
         exhausts) and the elongation [m] moving linearly to `elongation`; return the mass [kg] that
-        flowed in."""
-        p = self.params
-        duty = min(max(duty, -1.0), 1.0)
-        period, t1 = 1.0 / p.f_pwm, t + h
-        delays = p.t_open_delay, p.t_close_delay
-        open_in = self.inflate.open_intervals(
-            pwm_edges(t, t1, max(duty, 0.0), period, p.pwm_phase), t1, *delays)
-        open_out = self.exhaust.open_intervals(
-            pwm_edges(t, t1, max(-duty, 0.0), period, p.pwm_phase), t1, *delays)
-        n = max(1, math.ceil(h / p.dt_sub - 1e-9))
-        if not (open_in or open_out or p.C_leak) and self._holds(elongation, h / n):
-            self.elongation = elongation
+        flowed in (`step`, with the shortcut asked of `_holds`)."""
+        kp, x = self.kp, self.x
+        in_s, in_e, n_in, out_s, out_e, n_out, n = valves(kp, x, t, h, duty)
+        if not (n_in or n_out or kp[C_LEAK] != 0.0) and self._holds(elongation, h / n):
+            x[ELONGATION] = elongation
             return 0.0
-        p_in, p_out = source_pressures(p)
-        gain = p.kappa * R_AIR * p.T
-        times = [t + h * i / n for i in range(n)] + [t1]
-        e0, mass = self.elongation, 0.0
-        v = volume(e0, self.contact, p)
-        for i in range(n):
-            a, b = times[i], times[i + 1]
-            p_abs = P_ATM + self.pressure
-            dm = 0.0
-            if open_in and (t_open := open_time(open_in, a, b)):
-                dm += signed_flow(P_ATM + p_in, p_abs, p.C_in, p.b, p.T) * t_open
-            if open_out and (t_open := open_time(open_out, a, b)):
-                dm -= signed_flow(p_abs, P_ATM + p_out, p.C_out, p.b, p.T) * t_open
-            if p.C_leak:
-                dm -= signed_flow(p_abs, P_ATM, p.C_leak, p.b, p.T) * (b - a)
-            # the flows cannot push the pressure past their sources (the unchoked law's slope is
-            # infinite at r -> 1)
-            p_flow = self.pressure + gain * dm / v
-            clamped = min(max(p_flow, min(self.pressure, p_out)), max(self.pressure, p_in))
-            if clamped != p_flow:  # the mass that fits
-                p_flow, dm = clamped, (clamped - self.pressure) * v / gain
-            self.contact = self._contact_after(p_flow, b - a)
-            v_next = volume(e0 + (elongation - e0) * (i + 1) / n, self.contact, p)
-            if v_next != v:  # polytropic change at the mass just reached: p_abs V^kappa constant
-                p_flow = (P_ATM + p_flow) * (v / v_next) ** p.kappa - P_ATM
-            self.pressure, v = p_flow, v_next
-            mass += dm
-        self.elongation = elongation
-        return mass
+        return float(substeps(kp, x, t, h, n, elongation, in_s, in_e, n_in, out_s, out_e, n_out))
 
-    def _holds(self, elongation, dt):
-        """With no air flowing over the next step (valves shut, no leak), whether its sub-steps
-        of `dt` would leave pressure, contact and volume as they are: the contact already where
-        its sub-step takes it at this pressure, the volume not following an elongation (an
-        extremal chamber's does not; a central one's must stand still). The extremal
-        actuators hold so most of a gait, their valves shut between pulses."""
-        if self.params.central and elongation != self.elongation:
-            return False
-        return self._contact_after(self.pressure, dt) == self.contact
-
-    def _contact_after(self, pressure, dt):
-        """The contact after a sub-step of dt at gauge pressure `pressure`: an extremal chamber
-        whose bulge follows at once (`bulge_contact`), else at its finite rate (`contact_step`)."""
-        p = self.params
-        if p.t_contact <= 0 and not p.central and p.dV_contact > 0:
-            return bulge_contact(self.contact, pressure, p)
-        return contact_step(self.contact, pressure, dt, p)
+    def _holds(self, elongation: float, dt: float) -> bool:
+        """Whether a step without flow leaves the state as it is (`holds`)."""
+        return bool(holds(self.kp, self.x, elongation, dt))

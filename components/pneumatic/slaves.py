@@ -4,21 +4,25 @@ Equations, ports and sign conventions: §pneumatics (docs/model/pneumatics.md).
 """
 from __future__ import annotations
 
+from typing import Any
+
 from musclesim.components.pneumatic import actuator
 from musclesim.fmu import Slave, experiment
+from musclesim.fmu.kernel import KernelSlave
 
 
-class SoftActuator(Slave):
+class SoftActuator(KernelSlave):
     """Silicone chamber fed through two PWM solenoid valves by an inflation and an exhaust pump
     (§crawler-hardware, §gait, §valves)."""
 
+    kernel = actuator.KERNEL
     default_experiment = experiment(30.0, 0.001)  # crawler-gait-forward, §gait
     display_units = {**Slave.display_units, "Pa": "kPa"}  # air pressures
     description = ("Soft pneumatic actuator: chamber (polytropic) filled and emptied through two "
                    "PWM solenoid valves (ISO 6358) from an inflation and an exhaust pump "
                    "(§crawler-hardware, §gait, §valves)")
 
-    def __init__(self, **kwargs: object) -> None:
+    def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         self.parameters_of(actuator.ActuatorParams)
         self.input("duty", 0.0, "1", "PWM duty, -1..1 (clamped, with one warning): > 0 drives the "
@@ -36,23 +40,9 @@ class SoftActuator(Slave):
 
     def setup(self) -> None:
         self.params = self.core_params(actuator.ActuatorParams)
-        self.core = actuator.Actuator(self.params, self._elongation())
-        self.m_flow = 0.0
+        self.kp = actuator.pack(self.params)
+        self.initialize()
 
     def initialize(self) -> None:
-        self.core = actuator.Actuator(self.params, self._elongation())
-        self.m_flow = 0.0
-
-    def evaluate(self) -> None:
-        self.p = self.core.pressure
-        self.f_a = self.params.s_a * self.core.pressure
-        self.u = self.core.contact
-
-    def advance(self, t: float, dt: float) -> None:
-        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
-        duty = self.clamped_input("duty", -1.0, 1.0, t)
-        mass = self.core.step(t, dt, duty, self._elongation())
-        self.m_flow = mass / dt if dt > 0 else 0.0
-
-    def _elongation(self):
-        return self.flange_b_s - self.flange_a_s
+        """At rest, the volume at the elongation the inputs give now."""
+        self.kx = actuator.start_state(self.kp, self.flange_b_s - self.flange_a_s)

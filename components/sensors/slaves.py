@@ -1,15 +1,18 @@
 """FMU slaves of the sensors: thin adapters over musclesim.components.sensors.sensor."""
 from __future__ import annotations
 
+from typing import Any
+
 from musclesim.components.sensors import sensor
 from musclesim.fmu import Calibration, Slave, experiment
+from musclesim.fmu.kernel import Kernel, KernelSlave
 
 # the diagnosis's calibration of a load cell's, laser's or pressure sensor's gain
 AMPLIFIER_GAIN = Calibration(0.95, 1.05, True, "the sensor's and its amplifier's "
                              "calibration")
 
 
-class _ScalarSensor(Slave):
+class _ScalarSensor(KernelSlave):
     """A sensor reading one signal with lag, gain, bias, noise and quantisation, all off by
     default.
 
@@ -20,12 +23,10 @@ class _ScalarSensor(Slave):
     """
 
     signal = measured = unit = element = signal_description = ""
-    held: float  # the lag's state: the reading is held + weight * the signal
-    weight: float
     start = origin = 0.0
     roles: dict[str, dict[str, object]] = {}
 
-    def __init__(self, **kwargs: object) -> None:
+    def __init__(self, **kwargs: Any) -> None:
         super().__init__(**kwargs)
         u = self.unit
         own = {"tau": {"description": f"Time constant of the first-order lag of the "
@@ -41,34 +42,24 @@ class _ScalarSensor(Slave):
     def setup(self) -> None:
         # not self.p: PressureSensor reads "p"; `origin` is the class's
         self.params = self.core_params(sensor.SensorParams)
-        self.rng = sensor.make_rng(self.params)
+        self.kp = sensor.pack(self.params)
+        self.kx = sensor.start_state(self.params)  # the generator and the first noise sample
         self._settle()
-        self.noise = sensor.noise_sample(self.params, self.rng)
 
     def initialize(self) -> None:
         self._settle()
 
-    def _settle(self):
+    def _settle(self) -> None:
         """The sensing element settled on the signal's present value (without a lag, the
         reading is the signal itself)."""
         u = getattr(self, self.signal)
-        self.held, self.weight = (0.0, 1.0) if self.params.tau <= 0 else (u, 0.0)
+        self.kx[sensor.HELD], self.kx[sensor.WEIGHT] = (0.0, 1.0) if self.params.tau <= 0 else \
+            (u, 0.0)
 
-    def _element(self):
-        """The sensing element's value now: what the past steps left plus the present signal's
-        share (`sensor.lag_weights`, the signal taken linear over a step)."""
-        u = getattr(self, self.signal)
-        return u if self.weight == 1.0 and self.held == 0.0 else self.held + self.weight * u
 
-    def evaluate(self) -> None:
-        setattr(self, self.measured, sensor.reading(self._element(), self.params, self.noise))
-
-    def advance(self, t: float, dt: float) -> None:
-        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
-        y0, u0 = self._element(), getattr(self, self.signal)
-        a, b = sensor.lag_weights(dt, self.params.tau)
-        self.held, self.weight = a * y0 + (1.0 - a - b) * u0, b
-        self.noise = sensor.noise_sample(self.params, self.rng)  # one sample per communication step
+def _kernel(signal: str, measured: str) -> Kernel:
+    """The kernel of a sensor reading the input `signal` into the output `measured`."""
+    return Kernel(sensor.evaluate, sensor.advance, (signal,), (measured,))
 
 
 class Thermocouple(_ScalarSensor):
@@ -79,6 +70,7 @@ class Thermocouple(_ScalarSensor):
     description = ("Thermocouple: first-order lag, bias, seeded noise, quantisation (§sma-bench, "
                    "§named-effects)")
     signal, measured, unit, start = "T", "T_meas", "K", 293.15
+    kernel = _kernel(signal, measured)
     origin = 273.15  # K: a thermocouple's gain error is a share of the reading in C
     element, signal_description = "junction", "Temperature of the wire"
     # its offset is the effect "thermocouple bias", so its gain alone is calibrated
@@ -96,6 +88,7 @@ class LoadCell(_ScalarSensor):
     description = ("Load cell: tension on the wire with first-order lag, bias, seeded noise, "
                    "quantisation (§sma-bench, §named-effects)")
     signal, measured, unit = "f", "f_meas", "N"
+    kernel = _kernel(signal, measured)
     element, signal_description = "load cell and its amplifier", "Tension on the wire"
     roles = {"tau": {"source": "§sma-bench, §named-effects", "effect": (0.0, 0.5)},
              "gain": {"source": "§sma-bench", "calibrate": AMPLIFIER_GAIN}}
@@ -108,6 +101,7 @@ class LaserSensor(_ScalarSensor):
     description = ("Laser displacement sensor: wire contraction with first-order lag, bias, "
                    "seeded noise, quantisation (§sma-bench, §named-effects)")
     signal, measured, unit = "s", "s_meas", "m"
+    kernel = _kernel(signal, measured)
     element, signal_description = "sensor's filter", "Contraction of the wire (SmaWire flange.s)"
     roles = {"noise_std": {"source": "§sma-bench, §named-effects", "effect": (0.0, 2e-5)},
              "gain": {"source": "§sma-bench", "calibrate": AMPLIFIER_GAIN}}
@@ -122,5 +116,6 @@ class PressureSensor(_ScalarSensor):
     description = ("Pressure sensor: chamber gauge pressure with first-order lag, bias, seeded "
                    "noise, quantisation (§crawler-hardware, §named-effects)")
     signal, measured, unit = "p", "p_meas", "Pa"
+    kernel = _kernel(signal, measured)
     element, signal_description = "pressure sensor", "Gauge pressure of the chamber"
     roles = {"gain": {"source": "§crawler-hardware", "calibrate": AMPLIFIER_GAIN}}

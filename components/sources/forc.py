@@ -15,6 +15,9 @@ The period P must let the closed loop follow the cooling half: the wire cools by
 (time constant tau ~1.7 s toward the ambient air), and the falling reference must never be faster
 than free cooling. `min_period` gives the bound: about 16 s for the 100 K run with T_low 10 K above
 the ambient air.
+
+The reference is written once, as the `jit` function `value_core` on numbers, which `value` and
+the ForcReference FMU's kernel call.
 """
 from __future__ import annotations
 
@@ -22,7 +25,10 @@ import math
 from dataclasses import dataclass
 
 from musclesim.components.checks import require
+import numpy as np
+
 from musclesim.fmu import declare
+from musclesim.fmu.compiled import jit
 
 IDLE, HEATING, COOLING = 0.0, 1.0, -1.0  # values of the phase flag
 
@@ -79,7 +85,36 @@ def peak(j: float, p: ForcParams) -> float:
     >>> p.n_runs, round(peak(0, p), 2), round(peak(20, p), 2)
     (21, 303.15, 403.15)
     """
-    return p.T_low + j * p.T_step
+    return float(peak_core(j, p.T_low, p.T_step))
+
+
+@jit
+def peak_core(j: float, T_low: float, T_step: float) -> float:
+    """Peak temperature a_j [K] of run `j` on the grid from `T_low` by `T_step` (`peak`)."""
+    return T_low + j * T_step
+
+
+@jit
+def value_core(t: float, p: np.ndarray) -> tuple[float, float, float]:
+    """(T_ref [K], run index, phase flag) at time `t` [s] of the experiments packed in `p`
+    (`pack`)."""
+    T_low, T_step, period, t_start, n_runs = p[0], p[1], p[2], p[3], p[4]
+    tau_all = t - t_start
+    if tau_all < 0:
+        return T_low, -1.0, IDLE
+    j = int(math.floor(tau_all / period))
+    if j >= n_runs:
+        return T_low, -1.0, IDLE
+    tau = tau_all - j * period
+    x = tau / period
+    T = T_low + (peak_core(j, T_low, T_step) - T_low) * 0.5 * (1.0 - math.cos(2.0 * math.pi * x))
+    return T, float(j), HEATING if x < 0.5 else COOLING
+
+
+def pack(p: ForcParams) -> np.ndarray:
+    """The experiments `p` as `value_core` reads them: [T_low, T_step, period, t_start,
+    n_runs]."""
+    return np.array([p.T_low, p.T_step, p.period, p.t_start, p.n_runs], dtype=float)
 
 
 def value(t: float, p: ForcParams) -> tuple[float, float, float]:
@@ -92,16 +127,8 @@ def value(t: float, p: ForcParams) -> tuple[float, float, float]:
     >>> [tuple(round(x, 6) for x in value(t, p)) for t in (25.0, 30.0, 35.0, 500.0)]
     [(305.65, 1.0, 1.0), (308.15, 1.0, -1.0), (305.65, 1.0, -1.0), (303.15, -1.0, 0.0)]
     """
-    tau_all = t - p.t_start
-    if tau_all < 0:
-        return p.T_low, -1.0, IDLE
-    j = int(math.floor(tau_all / p.period))
-    if j >= p.n_runs:
-        return p.T_low, -1.0, IDLE
-    tau = tau_all - j * p.period
-    x = tau / p.period
-    T = p.T_low + (peak(j, p) - p.T_low) * 0.5 * (1.0 - math.cos(2.0 * math.pi * x))
-    return T, float(j), HEATING if x < 0.5 else COOLING
+    T, run, phase = value_core(float(t), pack(p))
+    return float(T), float(run), float(phase)
 
 
 def min_period(amplitude: float, T_low_above_ambient: float, tau: float) -> float:

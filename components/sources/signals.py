@@ -12,6 +12,9 @@ A square wave's edge belongs to the part after it, and a time within `EDGE` peri
 is taken on it: a master samples at t0 + k h, and f t + phase / 2 pi rounds either side of an
 edge that falls on a sample, so that otherwise a pulse of 25 steps could take 26 (the bending
 actuator's wire B, half a period behind wire A).
+
+The waves are written once, as `jit` functions on numbers (`wave`, `value_core`), which `value`
+and the SignalSource FMU's kernel call.
 """
 from __future__ import annotations
 
@@ -19,7 +22,10 @@ import math
 from dataclasses import dataclass
 
 from musclesim.components.checks import require
+import numpy as np
+
 from musclesim.fmu import declare
+from musclesim.fmu.compiled import jit
 
 KINDS = ("constant", "sine", "square", "triangle", "ramp")
 EDGE = 1e-9  # periods: the rounding of a sample's phase, far below any step a master takes
@@ -51,6 +57,40 @@ class SignalParams:
                              f"at offset + amplitude; got {self.duty!r})")
 
 
+@jit
+def wave(kind: float, cycles: float, duty: float) -> float:
+    """The unit wave of `kind` (an index into KINDS: 1 sine, 2 square, 4 ramp, any other the
+    triangle) after `cycles` periods; `duty`: a square wave's high share (`unit_wave`)."""
+    if kind == 4.0:  # ramp: Python's min(max(cycles, 0.0), 1.0)
+        c = 0.0 if 0.0 > cycles else cycles
+        return 1.0 if 1.0 < c else c
+    frac = cycles - math.floor(cycles)
+    if kind == 1.0:
+        return math.sin(2 * math.pi * cycles)
+    if kind == 2.0:  # edges belong to the part after them, to within EDGE
+        shifted = cycles + EDGE
+        return 1.0 if shifted - math.floor(shifted) < duty else -1.0
+    return 4 * frac - 1 if frac < 0.5 else 3 - 4 * frac  # triangle
+
+
+@jit
+def value_core(t: float, p: np.ndarray) -> float:
+    """y(`t`) of the signal packed in `p` (`pack`)."""
+    kind, offset, amplitude, frequency, phase, t_start, duty = p[0], p[1], p[2], p[3], p[4], \
+        p[5], p[6]
+    if kind == 0.0 or t < t_start:
+        return offset
+    cycles = frequency * (t - t_start) + phase / (2 * math.pi)
+    return offset + amplitude * wave(kind, cycles, duty)
+
+
+def pack(p: SignalParams) -> np.ndarray:
+    """The signal `p` as `value_core` reads it: [kind, offset, amplitude, frequency, phase,
+    t_start, duty] (the fields' order)."""
+    return np.array([p.kind, p.offset, p.amplitude, p.frequency, p.phase, p.t_start, p.duty],
+                    dtype=float)
+
+
 def unit_wave(kind: str, cycles: float, duty: float = 0.5) -> float:
     """The unit wave of `kind` after `cycles` periods (a float); `duty`: a square wave's high share.
 
@@ -63,21 +103,10 @@ def unit_wave(kind: str, cycles: float, duty: float = 0.5) -> float:
     >>> [unit_wave("ramp", c) for c in (0.25, 3.0)]
     [0.25, 1.0]
     """
-    if kind == "ramp":
-        return min(max(cycles, 0.0), 1.0)
-    frac = cycles - math.floor(cycles)
-    if kind == "sine":
-        return math.sin(2 * math.pi * cycles)
-    if kind == "square":  # edges belong to the part after them, to within EDGE
-        shifted = cycles + EDGE
-        return 1.0 if shifted - math.floor(shifted) < duty else -1.0
-    return 4 * frac - 1 if frac < 0.5 else 3 - 4 * frac  # triangle
+    return float(wave(float(KINDS.index(kind)) if kind in KINDS else 3.0, float(cycles),
+                      float(duty)))
 
 
 def value(t: float, p: SignalParams) -> float:
     """y(`t`) of the signal `p` (module equation)."""
-    kind = KINDS[int(p.kind)]
-    if kind == "constant" or t < p.t_start:
-        return p.offset
-    cycles = p.frequency * (t - p.t_start) + p.phase / (2 * math.pi)
-    return p.offset + p.amplitude * unit_wave(kind, cycles, p.duty)
+    return float(value_core(float(t), pack(p)))

@@ -1,19 +1,62 @@
-"""FMU slaves of the sources: thin adapters over musclesim.components.sources.signals and .forc,
-and the reference profiles of §reference-profiles (musclesim.components.sma.profiles)."""
+"""FMU slaves of the sources: kernels (`musclesim.fmu.kernel`) over the jit cores of
+musclesim.components.sources.signals and .forc, and of the reference profiles of
+§reference-profiles (musclesim.components.sma.profiles).
+
+Packed layouts: SignalSource's kp is `signals.pack`'s, ForcReference's `forc.pack`'s,
+StrainProfile's `profiles.pack`'s, LoadingProfile's [area, then `profiles.pack`'s]; none has a
+state (kx empty): each output is a function of time.
+"""
 from __future__ import annotations
 
 import math
 from collections.abc import Callable
 
+import numpy as np
+
 from musclesim.components.sma import profiles
 from musclesim.components.sources import forc, signals
-from musclesim.fmu import Slave, experiment
+from musclesim.fmu import experiment
+from musclesim.fmu.compiled import jit
+from musclesim.fmu.kernel import Kernel, KernelSlave
 
 
-class SignalSource(Slave):
+@jit
+def no_state(p, x, u, y, t, dt):
+    """The kernel's advance of a slave without state: nothing."""
+    pass
+
+
+@jit
+def signal_evaluate(p, x, u, t, y):
+    """SignalSource's kernel: output y at t."""
+    y[0] = signals.value_core(t, p)
+
+
+@jit
+def forc_evaluate(p, x, u, t, y):
+    """ForcReference's kernel: outputs (T_ref, run, phase) at t."""
+    y[0], y[1], y[2] = forc.value_core(t, p)
+
+
+@jit
+def strain_evaluate(p, x, u, t, y):
+    """StrainProfile's kernel: output eps_ref at t."""
+    y[0] = profiles.value_core(p, 0, t)
+
+
+@jit
+def loading_evaluate(p, x, u, t, y):
+    """LoadingProfile's kernel: outputs (sigma_ref, f_ref) at t."""
+    sigma = profiles.value_core(p, 1, t)
+    y[0] = sigma
+    y[1] = sigma * p[0]
+
+
+class SignalSource(KernelSlave):
     """Constant, sine, square, triangle or ramp signal (references, loads)."""
 
     description = "Signal source: constant, sine, square or triangle wave around an offset, or a ramp"
+    kernel = Kernel(signal_evaluate, no_state, (), ("y",))
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
@@ -22,18 +65,17 @@ class SignalSource(Slave):
 
     def setup(self) -> None:
         self.p = self.core_params(signals.SignalParams)
-
-    def evaluate(self) -> None:
-        self.y = signals.value(self.time, self.p)
+        self.kp = signals.pack(self.p)
 
 
-class ForcReference(Slave):
+class ForcReference(KernelSlave):
     """Temperature reference of the FORC identification runs with run index and phase markers."""
 
     default_experiment = experiment(420.0, 0.005)  # sma-forc-identification, §forc-identification
     description = ("FORC experiment reference (§forc-identification): run j heats from T_low to "
                    "T_low + j T_step along a raised cosine and cools back; outputs run index and "
                    "phase")
+    kernel = Kernel(forc_evaluate, no_state, (), ("T_ref", "run", "phase"))
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
@@ -46,15 +88,13 @@ class ForcReference(Slave):
 
     def setup(self) -> None:
         self.p = self.core_params(forc.ForcParams)
-
-    def evaluate(self) -> None:
-        self.T_ref, self.run, self.phase = forc.value(self.time, self.p)
+        self.kp = forc.pack(self.p)
 
 
 AREA_127UM = math.pi * 63.5e-6 ** 2  # m2, the 127 um wire's cross-section (§sma-wire)
 
 
-class _ProfileSlave(Slave):
+class _ProfileSlave(KernelSlave):
     """A reference profile of §reference-profiles (components/sma/profiles.py) as an output
     signal."""
 
@@ -89,6 +129,8 @@ class _ProfileSlave(Slave):
         make = type(self).make
         assert make is not None  # each profile slave names its generator
         self.fn = make(self.names[int(k) - 1], self.lo, self.hi, self.duration, int(self.seed))
+        assert self.fn.kp is not None  # the shipped profiles are packed
+        self.kp = self.fn.kp
 
 
 class StrainProfile(_ProfileSlave):
@@ -99,13 +141,11 @@ class StrainProfile(_ProfileSlave):
                    "[lo, hi])")
     names = profiles.STRAIN_PROFILES
     make = staticmethod(profiles.strain_profile)
+    kernel = Kernel(strain_evaluate, no_state, (), ("eps_ref",))
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(0.0, profiles.EPS_MAX, "1", **kwargs)
         self.output("eps_ref", "1", "Reference strain (contraction / length)")
-
-    def evaluate(self) -> None:
-        self.eps_ref = self.fn(self.time)
 
 
 class LoadingProfile(_ProfileSlave):
@@ -115,6 +155,7 @@ class LoadingProfile(_ProfileSlave):
     description = "Loading (stress) profile LP I-VI of §reference-profiles, within [lo, hi] Pa"
     names = profiles.LOADING_PROFILES
     make = staticmethod(profiles.loading_profile)
+    kernel = Kernel(loading_evaluate, no_state, (), ("sigma_ref", "f_ref"))
 
     def __init__(self, **kwargs: object) -> None:
         super().__init__(profiles.SIGMA_LO, profiles.SIGMA_HI, "Pa", **kwargs)
@@ -123,6 +164,6 @@ class LoadingProfile(_ProfileSlave):
         self.output("sigma_ref", "Pa", "Reference stress")
         self.output("f_ref", "N", "Reference tension sigma_ref x area")
 
-    def evaluate(self) -> None:
-        self.sigma_ref = self.fn(self.time)
-        self.f_ref = self.sigma_ref * self.area
+    def setup(self) -> None:
+        super().setup()
+        self.kp = np.concatenate(([self.area], self.kp))

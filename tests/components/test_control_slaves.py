@@ -59,3 +59,29 @@ def test_a_schedule_that_does_not_increase_is_refused():
     slave = in_process(GainScheduledPID, "gs", **{"x[3]": 0.0})
     with pytest.raises(ValueError, match="scheduling points x\\[1..21\\] must increase"):
         slave.setup()
+
+
+@pytest.mark.parametrize("cls, params", [
+    (PID, {"Kp": 2.0, "Ki": 5.0, "Kd": 0.01, "Tf": 0.005, "u_max": 3.0, "u_min": -0.5}),
+    (GainScheduledPID, {**{f"Kp[{i}]": 0.5 * i for i in range(1, 22)},
+                        **{f"Ki[{i}]": 0.1 * i for i in range(1, 22)}, "Kd[4]": 0.01,
+                        "Tf": 0.002, "u_max": 40.0})])
+def test_the_compiled_kernel_is_its_python_bit_for_bit(cls, params):
+    """The kernel's compiled evaluate and advance give the bits of their plain-Python source on a
+    run through saturation and a reference sweeping the schedule."""
+    import math
+
+    from kernel_paths import assert_paths_agree
+
+    def inputs(k):
+        return {"u_s": 310.0 + 60.0 * math.sin(k / 40), "u_m": 300.0 + 0.3 * k}
+    assert_paths_agree(in_process(cls, "c", **params), inputs, DT, 300)
+
+
+def test_a_nan_reference_is_refused_by_the_scheduled_pid():
+    slave = in_process(GainScheduledPID, "gs")
+    slave.enter_initialization_mode()
+    slave.exit_initialization_mode()
+    slave.u_s = float("nan")
+    with pytest.raises(ValueError, match="input u_s is NaN at t = 0 s"):
+        slave.do_step(0.0, DT)

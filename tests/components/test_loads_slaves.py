@@ -131,3 +131,19 @@ def test_dead_weight_inertia_in_the_wire_loop_is_stable(fmu_dir):
     assert 0.1 * mg < f.max() - f.min() < mg  # it shows, and it stays a load
     assert np.max(np.abs(np.diff(f))) < 0.03 * mg  # omega h = 0.02: smooth, no step-to-step swing
     assert np.max(np.abs(res[Signal("weight", "lift")] - 0.1 * res[Signal("wire", "strain")])) > 1e-4
+
+
+@pytest.mark.parametrize("name, params, inputs", [
+    ("BiasSpring", {}, lambda k: {"flange_s": 1e-3 * math.sin(k / 7)}),
+    ("DeadWeight", {"inertia": 0.7, "mass": 0.15}, lambda k: {"flange_s": 1e-3 * math.sin(k / 7)}),
+    ("DeadWeight", {}, lambda k: {"flange_s": 1e-3 * math.sin(k / 7)}),
+    ("Electromagnet", {"nonlinearity": 0.3},
+     lambda k: {"duty": 0.5 + 0.7 * math.sin(k / 11), "flange_s": 0.0})])
+def test_the_compiled_kernel_is_its_python_bit_for_bit(name, params, inputs):
+    """Each load's compiled kernel gives the bits of its plain-Python source along a run (the
+    dead weight ringing on its link, the magnet's duty swinging past its clamps)."""
+    from conftest import in_process
+    from kernel_paths import assert_paths_agree
+    from musclesim.components.loads import slaves
+
+    assert_paths_agree(in_process(getattr(slaves, name), name, **params), inputs, 4e-4, 600)

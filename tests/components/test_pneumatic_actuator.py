@@ -231,3 +231,49 @@ def test_a_step_without_flow_or_motion_is_the_sub_steps_to_the_bit(central, t_co
 def test_bad_parameters_are_named(field, value):
     with pytest.raises(ValueError, match=field):
         ActuatorParams(**{field: value}).check()
+
+
+def test_the_kernel_is_the_actuators_step_compiled_and_as_python():
+    # the FMU's kernel (u = [duty, flange_a.s, flange_b.s], y = [p, f_a, u, m_flow]) against
+    # Actuator.step, and its compiled functions against their Python source, to the bit
+    params = ActuatorParams(central=0.0, V0=1.41e-5, t_open_delay=0.004, t_close_delay=0.002,
+                            pwm_phase=0.3, C_leak=1e-11)
+    kp = pa.pack(params)
+    compiled = getattr(pa.advance, "py_func", None) is not None
+    xa, xb, ya, yb = pa.start_state(kp), pa.start_state(kp), np.zeros(4), np.zeros(4)
+    act = pa.Actuator(params)
+    duties = np.r_[np.full(150, 0.7), np.full(100, 0.0), np.full(150, -0.45)]
+    contacts = []
+    for k, duty in enumerate(duties):
+        u = np.array([duty, 0.0, 0.0])
+        pa.advance(kp, xa, u, ya, k * 1e-3, 1e-3)
+        mass = act.step(k * 1e-3, 1e-3, duty, 0.0)
+        assert xa[pa.M_FLOW] == mass / 1e-3  # the rest of the state is the Actuator's
+        assert np.delete(xa, pa.M_FLOW).tobytes() == np.delete(act.x, pa.M_FLOW).tobytes()
+        pa.evaluate(kp, xa, u, (k + 1) * 1e-3, ya)
+        assert ya.tolist() == [act.pressure, params.s_a * act.pressure, act.contact, mass / 1e-3]
+        contacts.append(ya[2])
+        if compiled:
+            pa.advance.py_func(kp, xb, u, yb, k * 1e-3, 1e-3)
+            pa.evaluate.py_func(kp, xb, u, (k + 1) * 1e-3, yb)
+            assert xa.tobytes() == xb.tobytes() and ya.tobytes() == yb.tobytes()
+    assert max(contacts) > 0.9 and ya[2] < max(contacts) and ya[0] < params.p_contact
+    if compiled:  # the step's own functions, as Python, on copies of the state
+        xc = xa.copy()
+        m1 = pa.step(kp, xa, 0.4, 1e-3, 0.9, 0.0)
+        m2 = pa.step.py_func(kp, xc, 0.4, 1e-3, 0.9, 0.0)
+        assert m1 == m2 and xa.tobytes() == xc.tobytes()
+
+
+def test_a_valve_holds_its_pending_switchings_in_its_state():
+    # 20 ms delays, the command toggled at every 0.1 ms step: more switchings pending than the
+    # state was sized for is an error, not a lost switching
+    params = ActuatorParams(t_open_delay=0.02, t_close_delay=0.02)
+    assert pa.pending_capacity(params) == 2 + 400 + 8
+    act = pa.Actuator(params)
+    for k in range(100):  # every 1 ms: within the capacity
+        act.step(k * 1e-3, 1e-3, 1.0 if k % 2 else 0.0, 0.0)
+    assert act.x[pa.VALVES + pa.N_PENDING] == 20  # the command's edges of the last 20 ms
+    with pytest.raises(ValueError, match="pending"):
+        for k in range(5000):
+            act.step(0.1 + k * 2e-5, 2e-5, 1.0 if k % 2 else 0.0, 0.0)

@@ -38,3 +38,21 @@ def test_relay_starts_from_its_measurement():
     assert not relay.initial_state((p.y_on + p.y_off) / 2, p)
     with pytest.raises(ValueError, match="y_on .* must lie below y_off"):
         relay.RelayParams(y_on=400.0).check()
+
+
+def test_the_compiled_kernel_is_its_python_bit_for_bit():
+    from kernel_paths import assert_paths_agree
+
+    trace = [20, 60, 89.9, 90, 95, 80, 76, 75.1, 75, 80, 89, 85, 90.5, 74] * 3
+    assert_paths_agree(in_process(BangBang, "relay", u_on=7.0, T=293.15),
+                       lambda k: {"T": 273.15 + trace[k]}, DT, len(trace))
+
+
+def test_a_nan_temperature_is_refused():
+    slave = in_process(BangBang, "relay")
+    slave.enter_initialization_mode()
+    slave.exit_initialization_mode()
+    slave.T = float("nan")
+    slave.set_real([], [])
+    with pytest.raises(ValueError, match="input T is NaN at t = 0 s"):
+        slave.get_real([])

@@ -38,3 +38,36 @@ def test_noise_is_seeded_and_has_the_asked_spread():
     b = [tc.noise_sample(p, r) for r in [tc.make_rng(p)] for _ in range(20000)]
     assert a == b
     assert np.std(a) == pytest.approx(0.3, rel=0.03) and abs(np.mean(a)) < 0.01
+
+
+def test_the_kernels_generator_draws_numpys_stream():
+    # the noise's generator lives in the kernel's state: numpy's default_rng(seed) to the bit,
+    # the ziggurat's rare branches (wedges, tail beyond 3.65) among 200000 draws
+    p = tc.SensorParams(noise_std=1.0, seed=11)
+    x = tc.start_state(p)
+    n = 200000 if getattr(tc.standard_normal, "py_func", None) is not None else 20000
+    drawn = np.array([x[tc.NOISE]] + [tc.standard_normal(x, tc.RNG) for _ in range(n)])
+    expected = np.random.default_rng(11).standard_normal(n + 1)
+    assert drawn.tobytes() == expected.tobytes()
+    assert np.abs(expected).max() > 3.7 or n < 200000  # the tail was drawn
+    # the state after them is numpy's too: the next draw agrees
+    assert tc.standard_normal(x, tc.RNG) == np.random.default_rng(11).standard_normal(n + 2)[-1]
+
+
+def test_the_kernel_compiled_and_as_python_agree_to_the_bit():
+    if getattr(tc.advance, "py_func", None) is None:
+        pytest.skip("numba is not installed: the kernel runs as Python only")
+    p = tc.SensorParams(tau=0.02, gain=1.01, origin=273.15, bias=-0.5, noise_std=0.2,
+                        quantum=0.05, seed=3)
+    kp = tc.pack(p)
+    xa, xb, ya, yb = tc.start_state(p), tc.start_state(p), np.zeros(1), np.zeros(1)
+    for k in range(500):
+        u = np.array([300.0 + 5 * math.sin(k / 30)])
+        tc.evaluate(kp, xa, u, k * 1e-3, ya)
+        tc.evaluate.py_func(kp, xb, u, k * 1e-3, yb)
+        tc.advance(kp, xa, u, ya, k * 1e-3, 1e-3)
+        with np.errstate(over="ignore"):  # numpy's uint64 scalars warn where PCG64 wraps
+            tc.advance.py_func(kp, xb, u, yb, k * 1e-3, 1e-3)
+        assert ya.tobytes() == yb.tobytes() and xa.tobytes() == xb.tobytes()
+    assert tc.read(2.5, 1.0, 0.0, 0.0, 1.0, 0.0) == 2.0 == tc.read.py_func(2.5, 1.0, 0.0, 0.0,
+                                                                         1.0, 0.0)  # half even

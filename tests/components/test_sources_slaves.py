@@ -57,3 +57,20 @@ def test_profiles_are_the_shipped_generators():
 def test_bad_profile_parameters_are_named(params, match):
     with pytest.raises(ValueError, match=match):
         in_process(StrainProfile, "sp", **params).setup()
+
+
+@pytest.mark.parametrize("cls, params", [
+    (SignalSource, {"kind": 1.0, "offset": 1.0, "amplitude": 0.5, "frequency": 2.0,
+                    "phase": 0.3, "t_start": 0.1}),
+    (SignalSource, {"kind": 2.0, "offset": 1.0, "amplitude": 0.5, "frequency": 7.0,
+                    "duty": 0.3}),
+    (SignalSource, {"kind": 3.0, "amplitude": 2.0, "frequency": 3.0}),
+    (SignalSource, {"kind": 4.0, "amplitude": 2.0, "frequency": 0.5}),
+    (ForcReference, {"period": 0.5}),
+    *[(StrainProfile, {"profile": float(k), "duration": 30.0}) for k in range(1, 5)],
+    *[(LoadingProfile, {"profile": float(k), "duration": 30.0}) for k in range(1, 7)]])
+def test_the_compiled_kernel_is_its_python_bit_for_bit(cls, params):
+    """Each source's compiled kernel gives the bits of its plain-Python source along a run."""
+    from kernel_paths import assert_paths_agree
+
+    assert_paths_agree(in_process(cls, "src", **params), lambda k: None, 0.0137, 2500)

@@ -34,8 +34,14 @@ def line(unit, values, fmu_dir, part=None):
     return [{"y.out": y}]
 
 
+def line_many(unit, sets, fmu_dir, part=None):
+    """`simulate_many` of the line model: `line` of each set."""
+    return [Simulated(line(unit, values, fmu_dir, part)) for values in sets]
+
+
 def test_fit_finds_a_lines_slope_and_offset_with_intervals(monkeypatch):
     monkeypatch.setattr(fitting, "simulate", line)
+    monkeypatch.setattr(fitting, "simulate_many", line_many)  # a fit here runs its points together
     free = [Free(("y",), "a", 0.0, 5.0, 1.0), Free(("y",), "b", 0.0, 3.0, 2.0)]
     result = fit(line_unit(noise=0.01), free, "fmus")
     assert result.x == pytest.approx([2.0, 1.0], abs=0.02) and result.applicable

@@ -70,3 +70,17 @@ def test_no_restart_where_the_master_is_gauss_seidel_or_nothing_is_upstream(fmu_
     # the wire feeds the sensor
     assert sim._downstream(s, {ParamRef("wire", "h"): 110.0}) is None
     assert sim._downstream(s, {}) is None
+
+
+def test_many_values_simulated_together_give_each_its_own_runs(fmu_dir):
+    """simulate_many (the cases of a run in one pass where they fuse) gives each parameter set
+    simulate's runs to the bit, and a failed set its failure, not the others'."""
+    ds = dataset.load(SCENARIOS / "data" / "sma-independent-thermocouple-lag")
+    unit = Problem(ds, fmu_dir).unit("model")
+    tau = ParamRef("thermocouple", "tau")
+    sets = [{tau: 0.05}, {tau: 0.4}, {tau: -1.0}]  # a negative lag fails the sensor's check
+    with reuse_fmus():
+        many = sim.simulate_many(unit, sets, fmu_dir, TRAIN)
+        assert [m.failed for m in many] == [False, False, True]
+        for values, got in zip(sets[:2], many):
+            _same(got.runs, sim.simulate(replace(unit), values, fmu_dir, TRAIN))  # no restarts kept

@@ -21,7 +21,7 @@ from musclesim.cosim.build import build_all, check_fresh, source_digest
 from musclesim.cosim.graph import Graph, Link
 from musclesim.cosim.host import forget_fmu_resource_paths, read_fmu, reuse_fmus
 from musclesim.cosim.interrupt import Interrupted, interruptible
-from musclesim.cosim.master import Master, signal_units
+from musclesim.cosim.master import Master, run_cases, signal_units
 from musclesim.cosim.outputs import (check_archive, check_output_dir, check_output_file,
                                      replace_file, replace_zip, save_figure)
 from musclesim.cosim.results import Results, clear_run_outputs, compute_metrics, metric_unit
@@ -38,7 +38,7 @@ __all__ = ["Signal", "ParamRef", "with_values",
            "forget_fmu_resource_paths", "read_fmu", "reuse_fmus",
            "FORMAT", "Instance", "Metric", "Panel", "Scenario", "load_scenario", "apply_overrides",
            "format_problem", "renamed_signals", "Graph", "Link",
-           "Master", "Results", "KINDS", "run_scenario",
+           "Master", "Results", "KINDS", "run_scenario", "run_cases",
            "compute_metrics", "metric_unit", "signal_units", "write_results", "clear_run_outputs",
            "read_time_series", "Interrupted", "interruptible",
            "check_output_dir", "check_output_file", "check_archive", "replace_file", "replace_zip",

@@ -33,20 +33,22 @@ call the same slave code in the same order: the results agree to the bit.
 """
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 import re
 import shutil
 import tempfile
 import time as clock
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 from fmpy.fmi1 import FMICallException
 
-from musclesim.cosim import direct, interrupt, wiring
+from musclesim.cosim import direct, fused, interrupt, wiring
 from musclesim.cosim.adapters import KINDS, Fmpy3Slave, FmpySlave
 from musclesim.cosim.address import Signal
 from musclesim.cosim.build import built_here
@@ -57,12 +59,25 @@ from musclesim.cosim.scenario import Scenario
 from musclesim.cosim.wiring import Loaded
 from musclesim.errors import UserError
 
-__all__ = ["Master", "Results", "signal_units", "HOSTS", "MAX_VALUES", "FLUSH_SECONDS"]
+__all__ = ["Master", "Results", "run_cases", "signal_units", "HOSTS", "MAX_VALUES", "FLUSH_SECONDS"]
 
 MAX_VALUES = 100_000_000  # recorded values a run keeps in memory (800 MB): rows x columns
 FLUSH_SECONDS = 2.0  # wall time between two hand-overs of new rows to a run's `on_rows`
+FUSED_ROWS = 4096  # rows a fused loop runs between two looks at signals and `on_rows`
 HOSTS = ("direct", "fmpy")  # who calls the FMUs musclesim built: see the module's docstring
 Rows = Callable[[np.ndarray, np.ndarray], None]  # on_rows(time, data): rows recorded so far
+
+
+@dataclass
+class _Run:
+    """One run's recording (`time`, `data`), its `error`, whether its instances are ready to
+    step, and its `results` once it ended (`Master._session`)."""
+
+    time: np.ndarray
+    data: np.ndarray
+    error: str | None = None
+    ready: bool = False
+    results: Results | None = None
 
 
 class Master:
@@ -81,6 +96,9 @@ class Master:
     host : {"direct", "fmpy"}
         Who calls the FMUs musclesim built from the installed sources: this process directly
         (default, `musclesim.cosim.direct`) or fmpy. Other FMUs always run through fmpy.
+    fuse : bool
+        Where every instance is a compiled kernel on the direct host, run the steps in one
+        compiled loop (`musclesim.cosim.fused`; default): the same bits, without Python per step.
 
     Raises
     ------
@@ -91,12 +109,14 @@ class Master:
     """
 
     def __init__(self, scenario: Scenario, fmu_dir: str | os.PathLike[str] = "fmus",
-                 inputs: Mapping[Signal, Any] | None = None, host: str = "direct") -> None:
+                 inputs: Mapping[Signal, Any] | None = None, host: str = "direct",
+                 fuse: bool = True) -> None:
         """Read the FMUs of `scenario` from `fmu_dir`, check the wiring (with the replayed
-        `inputs`), plan the run on `host` (see the class docstring)."""
+        `inputs`), plan the run on `host`, fused or not (see the class docstring)."""
         if host not in HOSTS:
             raise UserError(f"host {host!r} is not one of {', '.join(HOSTS)}")
-        self.scenario, self.host = scenario, host
+        self.scenario, self.host, self.fuse = scenario, host, fuse
+        self.fused: bool | None = None  # whether the last run's steps ran fused
         self.current: Any = None  # the Loaded instance being called, named if it fails
         self.hosts: dict[str, str] = {}  # instance -> the host that ran it, once loaded
         self.fmu_dir = Path(fmu_dir)
@@ -213,31 +233,56 @@ class Master:
         as the run goes. A signal caught by `interrupt.interruptible` stops the run at its next
         step: `interrupt.Interrupted` is raised with the `Results` so far (rows handed over too).
         """
+        with self._session(on_rows) as run:
+            if run.ready:
+                run.error = self._steps(run)
+        assert run.results is not None  # set when the session ends
+        return run.results
+
+    def _steps(self, run: _Run) -> str | None:
+        """Step the initialized instances to the stop time, fused where they can be."""
+        plan = fused.Fused.plan(self) if self.fuse else None
+        self.fused = plan is not None
+        if plan is None:
+            return self._loop(run.time, run.data)
+        return self._loop_fused(plan, run.time, run.data)
+
+    @contextlib.contextmanager
+    def _session(self, on_rows: Rows | None) -> Iterator[_Run]:
+        """Load and initialize the instances, yield the run (``ready`` unless a signal or a
+        failure came first: the caller then steps it), release everything and set its `Results`
+        (raising `interrupt.Interrupted` with them if a signal stopped it)."""
         s = self.scenario
-        time = np.empty(s.n_steps + 1)
-        data = np.empty((s.n_steps + 1, len(self.columns)))
+        run = _Run(np.empty(s.n_steps + 1), np.empty((s.n_steps + 1, len(self.columns))))
         self.on_rows, self.flushed = on_rows, 0
         self.callbacks = callbacks(id(self))
         LOG_SINKS[id(self)] = self.instances
         self.current, self.phase, self.row, self.t = None, "while loading", 0, s.start_time
         failed: Loaded | None = None
-        error: str | None = None
         stopped: int | None = None
         remove_orphan_runs()
         tmp = Path(tempfile.mkdtemp(prefix=f"musclesim_run_{os.getpid()}_"))
         try:
             with interrupt.polled():
-                self._instantiate(tmp)
-                if interrupt.requested() is None:
-                    self.phase = "during initialization"
-                    self._initialize()
-                if interrupt.requested() is None:
-                    self.phase = "in a step"
-                    error = self._loop(time, data)
+                try:
+                    self._instantiate(tmp)
+                    if interrupt.requested() is None:
+                        self.phase = "during initialization"
+                        self._initialize()
+                    if interrupt.requested() is None:
+                        self.phase = "in a step"
+                        run.ready = True
+                except FMICallException:
+                    failed = self.current
+                    run.error = self._failure(failed, self.t)
+                try:
+                    yield run  # the caller steps it if ready
+                except FMICallException:
+                    failed = self.current
+                    run.error = self._failure(failed, self.t)
+                finally:
+                    run.ready = False
                 stopped = interrupt.requested()
-        except FMICallException:
-            failed = self.current
-            error = self._failure(failed, self.t)
         finally:
             for inst in self.instances.values():
                 # An instance that failed is left alone: pythonfmu 0.7 has already released its
@@ -249,14 +294,13 @@ class Master:
             del LOG_SINKS[id(self)]
         warnings = [f"{i.name}: {msg}" for i in self.instances.values()
                     for status, msg in i.log if status == 1]  # fmi2Warning
-        self._flush(time, data)
+        self._flush(run.time, run.data)
         if stopped is not None:
-            error = f"{interrupt.Interrupted(stopped)} at t = {self.t:.6g} s"
-        res = Results(time[:self.row].copy(), tuple(self.columns), data[:self.row].copy(), error,
-                      warnings)
+            run.error = f"{interrupt.Interrupted(stopped)} at t = {self.t:.6g} s"
+        run.results = Results(run.time[:self.row].copy(), tuple(self.columns),
+                              run.data[:self.row].copy(), run.error, warnings)
         if stopped is not None:
-            raise interrupt.Interrupted(stopped, res)
-        return res
+            raise interrupt.Interrupted(stopped, run.results)
 
     def _flush(self, time: np.ndarray, data: np.ndarray) -> None:
         """Hand the rows recorded since the last call to `on_rows`."""
@@ -327,6 +371,44 @@ class Master:
             inst.slave.exit_initialization_mode()
         self._exchange(0)
 
+    def _not_finite(self, data: np.ndarray, row: int, t: float) -> str:
+        col = next(j for j, x in enumerate(data[row - 1]) if not math.isfinite(x))
+        return f"signal {self.columns[col]} became {data[row - 1, col]} at t = {t:.6g} s"
+
+    def _loop_fused(self, plan: fused.Fused, time: np.ndarray, data: np.ndarray) -> str | None:
+        """`_loop` in compiled chunks of `FUSED_ROWS` rows (`musclesim.cosim.fused`)."""
+        s = self.scenario
+        n, row, t = s.n_steps, 0, self.t
+        replay = self.replay_table if self.replay_table is not None else np.zeros((n + 1, 0))
+        state, due = interrupt.STATE, clock.monotonic() + FLUSH_SECONDS
+        try:
+            while True:
+                a = plan.arrays
+                row, t, end, fault = plan.module.run_rows(
+                    a["P"], a["X"], a["U"], a["Y"], a["clock"], a["dirty"], a["cl_t"], a["cl_v"],
+                    self.values, replay, time, data, row, t, min(n + 1, row + FUSED_ROWS), n,
+                    s.start_time, s.step)
+                if end == fused.DONE:
+                    return None
+                if end == fused.NOT_FINITE:
+                    return self._not_finite(data, row, t)
+                if end == fused.NAN_INPUT:
+                    inst = self.instances[plan.names[fault]]
+                    inst.log.append((3, plan.nan_input(fault)))  # as the slave would log it
+                    return self._failure(inst, t)
+                if state["signum"] is not None:  # the row the unfused loop records, then stop
+                    time[row] = t
+                    self.values.take(self.record_slots, out=data[row])
+                    row += 1
+                    return None
+                if self.on_rows is not None and clock.monotonic() > due:
+                    self.row = row
+                    self._flush(time, data)
+                    due = clock.monotonic() + FLUSH_SECONDS
+        finally:
+            self.row, self.t = row, t
+            plan.finish()
+
     def _loop(self, time: np.ndarray, data: np.ndarray) -> str | None:
         """Record, step, exchange until the stop time; return an error sentence or None."""
         s = self.scenario
@@ -341,8 +423,7 @@ class Master:
                 take(rec, out=data[row])
                 row += 1
                 if not np.isfinite(data[row - 1]).all():
-                    col = next(j for j, x in enumerate(data[row - 1]) if not math.isfinite(x))
-                    return f"signal {self.columns[col]} became {data[row - 1, col]} at t = {t:.6g} s"
+                    return self._not_finite(data, row, t)
                 if row > n or state["signum"] is not None:
                     return None
                 if not row & 1023 and self.on_rows is not None and clock.monotonic() > due:
@@ -366,6 +447,52 @@ class Master:
                 self._exchange(row)
         finally:
             self.row, self.t = row, t
+
+
+def run_cases(masters: Sequence[Master]) -> list[Results]:
+    """`Results` of every master's run (masters of one scenario with other parameter values, as
+    `with_values` makes them): where all of them fuse into arrays of one shape, in one compiled
+    call, the cases on threads (`fused.run_cases`), each case the bits of its own run; else one
+    after the other."""
+    with contextlib.ExitStack() as stack:
+        runs = [stack.enter_context(m._session(None)) for m in masters]
+        plans = [fused.Fused.plan(m) if r.ready and m.fuse else None
+                 for m, r in zip(masters, runs)]
+        if len(masters) > 1 and fused.Fused.batchable(plans):
+            _run_batch(masters, runs, [p for p in plans if p is not None])
+        else:
+            for m, r in zip(masters, runs):
+                if r.ready:
+                    r.error = m._steps(r)
+    return [r.results for r in runs if r.results is not None]
+
+
+def _run_batch(masters: Sequence[Master], runs: list[_Run], plans: list[fused.Fused]) -> None:
+    """Step the initialized `masters` in one `fused.run_cases` call (their `plans` batchable)."""
+    s = masters[0].scenario
+    n = s.n_steps
+    stack = {k: np.stack([p.arrays[k] for p in plans]) for k in fused.PER_CASE}
+    values = np.stack([m.values for m in masters])
+    replay = np.stack([m.replay_table if m.replay_table is not None else np.zeros((n + 1, 0))
+                       for m in masters])
+    time, data = np.stack([r.time for r in runs]), np.stack([r.data for r in runs])
+    rows, ends, faults = (np.zeros(len(masters), dtype=np.intp) for _ in range(3))
+    ts = np.zeros(len(masters))
+    plans[0].module.run_cases(*(stack[k] for k in fused.PER_CASE), values, replay, time, data, n,
+                              s.start_time, s.step, rows, ts, ends, faults)
+    for c, (m, r, plan) in enumerate(zip(masters, runs, plans)):
+        for k in fused.PER_CASE:
+            plan.arrays[k][...] = stack[k][c]
+        m.values[:], r.time[:], r.data[:] = values[c], time[c], data[c]
+        m.fused, m.row = True, int(rows[c])
+        m.t = float(ts[c])
+        plan.finish()
+        if ends[c] == fused.NOT_FINITE:
+            r.error = m._not_finite(r.data, m.row, m.t)
+        elif ends[c] == fused.NAN_INPUT:
+            inst = m.instances[plan.names[faults[c]]]
+            inst.log.append((3, plan.nan_input(int(faults[c]))))
+            r.error = m._failure(inst, m.t)
 
 
 def signal_units(master: Master) -> dict[Signal, str]:

@@ -21,7 +21,7 @@ from musclesim.batch import serial_map
 from musclesim.cosim import ParamRef, Signal, reuse_fmus
 
 from musclesim.diagnosis.box import axis, period_axis, residual_intervals, scan, step
-from musclesim.diagnosis.simulate import Failed, Simulated, residuals, simulate
+from musclesim.diagnosis.simulate import Failed, Simulated, residuals, simulate, simulate_many
 from musclesim.diagnosis.stats import (HELD_OUT, TRAIN, Part, gap, part_rows, part_segments,
                                        part_vector)
 from musclesim.diagnosis.thresholds import (MAX_ITERATIONS, PASSES, STEPS,
@@ -181,8 +181,9 @@ class Fit:
         for k, z in ((self.key(z), z) for z in points):
             if k not in self.cache:
                 new.setdefault(k, self.lo + self.span * np.clip(z, 0, 1))
-        runs = self.mapped(simulation_task, [self.task(x, None) for x in whole]
-                           + [self.task(x, TRAIN) for x in new.values()])
+        tasks = [self.task(x, None) for x in whole] + [self.task(x, TRAIN) for x in new.values()]
+        runs = simulation_batch(tasks) if self.mapped is serial_map else \
+            self.mapped(simulation_task, tasks)
         self.cache.update(zip(new, runs[len(whole):]))
         return runs[:len(whole)]
 
@@ -374,6 +375,23 @@ def simulation_task(args: tuple[Unit, dict[ParamRef, float], Any, Part | None]) 
             return Simulated(simulate(unit, values, fmu_dir, part=part))
         except Failed as exc:
             return Simulated(None, str(exc))
+
+
+def simulation_batch(tasks: list[tuple[Unit, dict[ParamRef, float], Any, Part | None]]
+                     ) -> list[Simulated]:
+    """`simulation_task` of each of `tasks`, in this process: those of one unit, FMU folder and
+    part simulated together (`simulate_many`: the cases of a run in one pass)."""
+    groups: dict[tuple[int, str, Part | None], list[int]] = {}
+    for i, (unit, _, fmu_dir, part) in enumerate(tasks):
+        groups.setdefault((id(unit), str(fmu_dir), part), []).append(i)
+    out: list[Simulated | None] = [None] * len(tasks)
+    with reuse_fmus():
+        for members in groups.values():
+            unit, _, fmu_dir, part = tasks[members[0]]
+            sims = simulate_many(unit, [tasks[i][1] for i in members], fmu_dir, part)
+            for i, sim in zip(members, sims):
+                out[i] = sim
+    return [sim for sim in out if sim is not None]
 
 
 def _train_size(unit):

@@ -15,13 +15,13 @@ whole run (tests/diagnosis/test_simulate.py).
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from musclesim.cosim import Master, ParamRef, compute_metrics, with_values
+from musclesim.cosim import Master, ParamRef, Results, compute_metrics, run_cases, with_values
 from musclesim.diagnosis.stats import HELD_OUT, TRAIN, Part, advance, gap, lag
 from musclesim.diagnosis.thresholds import MAX_ALIGN
 
@@ -52,35 +52,32 @@ class Simulated:
 
 
 def simulate(unit: Unit, values: Mapping[ParamRef, float], fmu_dir: Any,
-             part: Part | None = None) -> list[dict[Any, np.ndarray]]:
+             part: Part | None = None, done: Mapping[int, Results] | None = None
+             ) -> list[dict[Any, np.ndarray]]:
     """Model values of every run of `unit` with parameter `values` ({ParamRef: value}, applied
     by `musclesim.cosim.with_values`), the FMUs in `fmu_dir`: [{column: array}] per run.
 
     With `part` ``TRAIN`` it simulates only what the training part needs, as a fit's every step does: each
     run up to its last training row (the model is causal, so those rows are the same to the
     bit), the rows after it NaN; a run without training rows is not run.
-    Raises `Failed` when a run fails (the effect's values are then not viable).
+    Raises `Failed` when a run fails (the effect's values are then not viable). `done` gives
+    runs already made ({run index: `Results`}, as `simulate_many` makes them).
     """
     out = []
     for index, run in enumerate(unit.runs):
-        (s, inputs), rows = run.stepped(with_values(run.scenario, values)), None
-        if part is not None:
-            rows = np.flatnonzero(run.part == part)
-            if not rows.size:
-                out.append({c: np.full(run.part.shape, np.nan) for c in unit.observed})
-                continue
-            if run.time is not None:
-                # a step beyond it: the sample is interpolated between the same points
-                n = min(s.n_steps, math.floor(run.time[rows[-1]] / s.step) + 2)
-                s = replace(s, stop_time=s.start_time + n * s.step)
-                inputs = {k: v[:s.n_steps + 1] for k, v in inputs.items()}
+        s, inputs, rows = _stepped(run, values, part)
+        if s is None:
+            out.append({c: np.full(run.part.shape, np.nan) for c in unit.observed})
+            continue
+        res = _checked(done[index]) if done and index in done else None
         if run.time is None:  # scalar-only: the scenario's metrics
-            res = _ran(s, fmu_dir, inputs)
+            res = res or _ran(s, fmu_dir, inputs)
             metrics: dict[Any, float] = compute_metrics(res, s.metrics)  # by metric name
             # a metric of another experiment's scenario: no comparison here (NaN, as measured)
             out.append({m: np.array([metrics.get(m, math.nan)]) for m in unit.observed})
         else:
-            time, cols = _run(unit, (index, part), s, inputs, values, fmu_dir)
+            time, cols = (res.time, {c: res[c] for c in s.record}) if res else \
+                _run(unit, (index, part), s, inputs, values, fmu_dir)
             sim = {c: np.interp(run.time, time, cols[c]) for c in unit.observed}
             if rows is not None:
                 for v in sim.values():
@@ -89,12 +86,55 @@ def simulate(unit: Unit, values: Mapping[ParamRef, float], fmu_dir: Any,
     return out
 
 
-def _ran(s, fmu_dir, inputs):
-    """The master's `Results` of scenario `s` with replayed `inputs`; raises `Failed`."""
-    res = Master(s, fmu_dir, inputs).run()
+def simulate_many(unit: Unit, values: Sequence[Mapping[ParamRef, float]], fmu_dir: Any,
+                  part: Part | None = None) -> list[Simulated]:
+    """`simulate` of each of the parameter `values`, a `Simulated` each: the runs that go whole
+    (no downstream restart) of one experiment in one pass over the cases (`run_cases`)."""
+    done: list[dict[int, Results]] = [{} for _ in values]
+    for index, run in enumerate(unit.runs):
+        jobs = []
+        for case, v in enumerate(values):
+            s, inputs, _ = _stepped(run, v, part)
+            if s is not None and (run.time is None or _downstream(s, v) is None):
+                jobs.append((case, Master(s, fmu_dir, inputs)))
+        if len(jobs) > 1:
+            for (case, _), res in zip(jobs, run_cases([m for _, m in jobs])):
+                done[case][index] = res
+    out = []
+    for v, ran in zip(values, done):
+        try:
+            out.append(Simulated(simulate(unit, v, fmu_dir, part, ran)))
+        except Failed as exc:
+            out.append(Simulated(None, str(exc)))
+    return out
+
+
+def _stepped(run, values, part):
+    """(scenario, replayed inputs, rows of `part`) that `simulate` runs for `run` with `values`;
+    the scenario None where the run has no rows of `part`."""
+    (s, inputs), rows = run.stepped(with_values(run.scenario, values)), None
+    if part is not None:
+        rows = np.flatnonzero(run.part == part)
+        if not rows.size:
+            return None, inputs, rows
+        if run.time is not None:
+            # a step beyond it: the sample is interpolated between the same points
+            n = min(s.n_steps, math.floor(run.time[rows[-1]] / s.step) + 2)
+            s = replace(s, stop_time=s.start_time + n * s.step)
+            inputs = {k: v[:s.n_steps + 1] for k, v in inputs.items()}
+    return s, inputs, rows
+
+
+def _checked(res):
+    """`res`, or `Failed` raised with its error."""
     if res.error:
         raise Failed(res.error)
     return res
+
+
+def _ran(s, fmu_dir, inputs):
+    """The master's `Results` of scenario `s` with replayed `inputs`; raises `Failed`."""
+    return _checked(Master(s, fmu_dir, inputs).run())
 
 
 def _downstream(s, values):

@@ -13,37 +13,43 @@ plain Python (a debugger steps through it; the results agree to 1e-12 of each si
 Compiled code is cached per user, never in the installed package: under ``$NUMBA_CACHE_DIR`` if
 set, else ``$XDG_CACHE_HOME/musclesim/numba`` (``~/.cache/musclesim/numba``), in a folder named
 by numba's version and a digest of the package's sources, so that an edited core (or one it calls
-in another file, which numba's own cache check misses) is compiled anew and never read stale. The
-newest `KEEP` such folders are kept. The first run of a new version pays the compile (seconds);
+in another file, which numba's own cache check misses) is compiled anew and never read stale. A
+folder not used for `UNUSED_DAYS` is removed. The first run of a new version pays the compile (seconds);
 later runs load the machine code.
 """
 from __future__ import annotations
 
 import hashlib
+import importlib.util
 import os
 import shutil
+import time
 from pathlib import Path
 from typing import Any, Callable, TypeVar
 
 __all__ = ["jit", "parallel_jit", "COMPILED", "CACHE", "range_over_cases"]
 
 F = TypeVar("F", bound=Callable[..., Any])
-KEEP = 4  # cache folders kept (one per source version)
+UNUSED_DAYS = 7  # a cache folder (one per source version) not used for this long is removed
 
 
 def _sources_digest() -> str:
-    """Digest of every .py file of the package this module sits in (as installed or as shipped in
-    an FMU's resources): a change anywhere names a new cache folder."""
-    root = Path(__file__).resolve().parents[1]
+    """Digest of every .py file of the package this module sits in and of its components (as
+    installed, as an editable checkout lays them out, or as shipped in an FMU's resources): a
+    change anywhere names a new cache folder."""
+    roots = [Path(__file__).resolve().parents[1]]
+    spec = importlib.util.find_spec("musclesim.components")
+    roots += [Path(p).resolve() for p in (spec.submodule_search_locations or [])] if spec else []
     h = hashlib.sha256()
-    for path in sorted(root.rglob("*.py")):
-        h.update(str(path.relative_to(root)).encode())
-        h.update(path.read_bytes())
+    for root in dict.fromkeys(roots):
+        for path in sorted(root.rglob("*.py")):
+            h.update(str(path.relative_to(root)).encode())
+            h.update(path.read_bytes())
     return h.hexdigest()[:16]
 
 
 def _cache_folder(numba: Any) -> Path | None:
-    """This version's cache folder (created; older ones beyond `KEEP` removed), or None where the
+    """This version's cache folder (created; those unused for `UNUSED_DAYS` removed), or None where the
     user set NUMBA_CACHE_DIR (numba then caches there) or no folder can be written."""
     if os.environ.get("NUMBA_CACHE_DIR"):
         return None
@@ -52,10 +58,9 @@ def _cache_folder(numba: Any) -> Path | None:
     try:
         folder.mkdir(parents=True, exist_ok=True)
         os.utime(folder)  # the newest in use
-        old = sorted((p for p in base.iterdir() if p.is_dir() and p != folder),
-                     key=lambda p: p.stat().st_mtime, reverse=True)[KEEP - 1:]
-        for p in old:
-            shutil.rmtree(p, ignore_errors=True)
+        for p in base.iterdir():
+            if p.is_dir() and time.time() - p.stat().st_mtime > UNUSED_DAYS * 86400:
+                shutil.rmtree(p, ignore_errors=True)
     except OSError:  # a read-only home: compile in every process
         return None
     return folder
@@ -84,7 +89,7 @@ def jit(fn: F) -> F:
     if _NUMBA is None:
         return fn
     return _NUMBA.njit(cache=CACHE is not None or bool(os.environ.get("NUMBA_CACHE_DIR")),
-                       nogil=True)(fn)  # type: ignore[no-any-return]
+                       nogil=True)(fn)
 
 
 def parallel_jit(fn: F) -> F:
@@ -92,7 +97,7 @@ def parallel_jit(fn: F) -> F:
     if _NUMBA is None:
         return fn
     return _NUMBA.njit(cache=CACHE is not None or bool(os.environ.get("NUMBA_CACHE_DIR")),
-                       nogil=True, parallel=True)(fn)  # type: ignore[no-any-return]
+                       nogil=True, parallel=True)(fn)
 
 
 # the loop over independent cases in a `parallel_jit` function: threads where compiled

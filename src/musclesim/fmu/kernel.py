@@ -17,6 +17,7 @@ loop (`musclesim.cosim.fused`) and give the same bits as these per-call adapters
 """
 from __future__ import annotations
 
+import operator
 from dataclasses import dataclass
 from typing import Any, Callable, ClassVar
 
@@ -56,22 +57,50 @@ class KernelSlave(Slave):
         self.ky = np.zeros(len(k.outputs))
         self._kin = [name.replace(".", "_") for name in k.inputs]
         self._kout = [name.replace(".", "_") for name in k.outputs]
+        # one C call each way per kernel call (a Python loop over the variables cost as much as
+        # the kernel itself); attrgetter gives a tuple of two names or more
+        self._kget = operator.attrgetter(*self._kin, *self._kin[:1]) if self._kin else None
         self._kclamps = [(k.inputs.index(name), name, lo, hi) for name, lo, hi in k.clamps]
 
     def _inputs(self, t: float) -> np.ndarray:
         u = self.ku
-        for i, attr in enumerate(self._kin):
-            u[i] = getattr(self, attr)
+        if self._kget is not None:
+            u[:] = self._kget(self)[:len(u)]
         for i, name, lo, hi in self._kclamps:
             u[i] = self.clamped_input(name, lo, hi, t)
         return u
+
+    def kernel_inputs(self) -> list[float]:
+        """The inputs `Kernel.inputs` as set, unclamped."""
+        return [getattr(self, attr) for attr in self._kin]
+
+    def kernel_dirty(self) -> bool:
+        """Whether an input was set or a step taken since the outputs were evaluated."""
+        return self._dirty
+
+    def restore_kernel(self, x: np.ndarray, u: np.ndarray, y: np.ndarray, time: float,
+                       dirty: bool) -> None:
+        """Take the state `x`, the inputs `u` (`Kernel.inputs`), the outputs `y` last evaluated,
+        the clock `time` [s] and whether the outputs are out of date (`dirty`) that a master
+        reached running the kernel itself."""
+        self.kx[:], self.ky[:], self.time, self._dirty = x, y, time, dirty
+        self.__dict__.update(zip(self._kin, u.tolist()))
+        self.__dict__.update(zip(self._kout, y.tolist()))
+
+    def note_clamp(self, name: str, value: float, lo: float, hi: float, t: float) -> None:
+        """Warn of input `name` at `value` clamped to [`lo`, `hi`] at time `t` [s] as
+        `clamped_input` does (once per input): a master that ran the kernel itself met it."""
+        attr = name.replace(".", "_")
+        held = getattr(self, attr)
+        setattr(self, attr, value)
+        self.clamped_input(name, lo, hi, t)
+        setattr(self, attr, held)
 
     def evaluate(self) -> None:
         """The kernel's outputs at the current state, inputs and time."""
         y = self.ky
         self.kernel.evaluate(self.kp, self.kx, self._inputs(self.time), self.time, y)
-        for attr, value in zip(self._kout, y.tolist()):
-            setattr(self, attr, value)
+        self.__dict__.update(zip(self._kout, y.tolist()))
 
     def advance(self, t: float, dt: float) -> None:
         """The kernel's step over [`t`, `t` + `dt`] [s] with the inputs held (the outputs were
