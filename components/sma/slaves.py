@@ -96,6 +96,16 @@ class SmaWire(KernelSlave):
         if kx[wirekernel.X_ERROR]:
             smawire.raise_error(kx)
 
+    def restore_kernel(self, x: np.ndarray, u: np.ndarray, y: np.ndarray, time: float,
+                       dirty: bool) -> None:
+        """`KernelSlave.restore_kernel` (the state `x`, inputs `u`, outputs `y`, clock `time`
+        [s] and `dirty` a master reached running the kernel itself), then the first stress clamp
+        the kernel kept in its state logged as `advance` logs it."""
+        super().restore_kernel(x, u, y, time, dirty)
+        kx = self.kx
+        if kx[wirekernel.X_WARN] == 1.0:
+            self._clamp_logged(kx[wirekernel.X_WARN_SIGMA], kx[wirekernel.X_WARN_T])
+
     def _stress(self, t: float) -> float:
         """Stress [Pa] for the hysteresis at the start: the kernel's (`wirekernel.stress`),
         clamped to the data set's stresses, the clamp logged once."""
@@ -184,6 +194,14 @@ class PreisachInverse(KernelSlave):
         part: the inverse has no dynamics)."""
         self._checked(t)
         super().advance(t, dt)
+        self._log_clamps()
+
+    def restore_kernel(self, x: np.ndarray, u: np.ndarray, y: np.ndarray, time: float,
+                       dirty: bool) -> None:
+        """`KernelSlave.restore_kernel` (the state `x`, inputs `u`, outputs `y`, clock `time`
+        [s] and `dirty` a master reached running the kernel itself), then the first clamps the
+        kernel kept in its state logged as `advance` logs them."""
+        super().restore_kernel(x, u, y, time, dirty)
         self._log_clamps()
 
     def _log_clamps(self) -> None:

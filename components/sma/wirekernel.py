@@ -209,7 +209,8 @@ def _brentq(mode: int, p: np.ndarray, x: np.ndarray, c: np.ndarray, xa: float,
             xb: float) -> float:
     """scipy's `brentq` of `_g` over [`xa`, `xb`] (xtol 1e-10, rtol 4 eps, 100 iterations): its
     C code step for step. A failure sets X_ERROR (1: f(a), f(b) of one sign; 2: no
-    convergence) for the slave to raise, as scipy raises."""
+    convergence) for the slave to raise, as scipy raises, and gives NaN (a fused loop stops at
+    the non-finite temperature)."""
     xtol = 1e-10
     rtol = 4 * 2.220446049250313e-16
     xpre = xa
@@ -226,7 +227,7 @@ def _brentq(mode: int, p: np.ndarray, x: np.ndarray, c: np.ndarray, xa: float,
         return xcur
     if (math.copysign(1.0, fpre) < 0) == (math.copysign(1.0, fcur) < 0):
         x[X_ERROR] = 1.0
-        return 0.0
+        return math.nan
     for _ in range(100):
         if fpre != 0 and fcur != 0 and (
                 (math.copysign(1.0, fpre) < 0) != (math.copysign(1.0, fcur) < 0)):
@@ -270,7 +271,7 @@ def _brentq(mode: int, p: np.ndarray, x: np.ndarray, c: np.ndarray, xa: float,
             xcur += (delta if sbis > 0 else -delta)
         fcur = _g(mode, p, x, c, xcur)
     x[X_ERROR] = 2.0
-    return xcur
+    return math.nan
 
 
 @jit
