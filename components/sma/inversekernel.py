@@ -5,8 +5,8 @@ compiled or as Python.
 Parameters (`pack`, slots ``I_*``): the grid's ends, the bases' spacing and size, the F axis's
 scale, the largest strain, then the offsets of the packed surface (`surface.pack`) and of the
 bases' four tables (`inverse.InverseBases`). State (`state`, slots ``X_*``): the first clamp of
-the reference strain and of the stress (flag 0 none, 1 clamped and not yet told, 2 told; value;
-time), then the memory block (the last reference, then a `preisach.memory`) and a scratch block
+the reference strain and of the stress (flag 0 none, 1 clamped; value; time: the slave logs
+them), then the memory block (the last reference, then a `preisach.memory`) and a scratch block
 of the same size for `peek`.
 """
 from __future__ import annotations

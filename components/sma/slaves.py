@@ -90,10 +90,8 @@ class SmaWire(KernelSlave):
         first and its first stress clamp logged after (the kernel keeps it in its state)."""
         ports.check_inputs(self.u, self.T_amb, self.flange_f, t)
         super().advance(t, dt)
-        kx = self.kx
-        if kx[wirekernel.X_WARN] == 1.0:
-            self._clamp_logged(kx[wirekernel.X_WARN_SIGMA], kx[wirekernel.X_WARN_T])
-        if kx[wirekernel.X_ERROR]:
+        self._log_clamp()
+        if self.kx[wirekernel.X_ERROR]:
             smawire.raise_error(kx)
 
     def restore_kernel(self, x: np.ndarray, u: np.ndarray, y: np.ndarray, time: float,
@@ -102,25 +100,23 @@ class SmaWire(KernelSlave):
         [s] and `dirty` a master reached running the kernel itself), then the first stress clamp
         the kernel kept in its state logged as `advance` logs it."""
         super().restore_kernel(x, u, y, time, dirty)
-        kx = self.kx
-        if kx[wirekernel.X_WARN] == 1.0:
-            self._clamp_logged(kx[wirekernel.X_WARN_SIGMA], kx[wirekernel.X_WARN_T])
+        self._log_clamp()
 
     def _stress(self, t: float) -> float:
         """Stress [Pa] for the hysteresis at the start: the kernel's (`wirekernel.stress`),
         clamped to the data set's stresses, the clamp logged once."""
-        kx = self.kx
-        sigma = wirekernel.stress(self.kp, kx, self.flange_f, t)
-        if kx[wirekernel.X_WARN] == 1.0:
-            self._clamp_logged(kx[wirekernel.X_WARN_SIGMA], kx[wirekernel.X_WARN_T])
+        sigma = wirekernel.stress(self.kp, self.kx, self.flange_f, t)
+        self._log_clamp()
         return sigma
 
-    def _clamp_logged(self, sigma: float, t: float) -> None:
-        """Log the kernel's first clamp of the stress `sigma` [Pa] at `t` [s] as `clamp` words
-        it (once: the state records it as told)."""
-        s = self.core.surface
-        self.logged(clamp, self._warned, "stress", float(sigma), s.s_lo, s.s_hi, "Pa", float(t))
-        self.kx[wirekernel.X_WARN] = 2.0
+    def _log_clamp(self) -> None:
+        """Log the first clamp of the stress the kernel kept in its state (its value and time) as
+        `clamp` words it, once."""
+        kx = self.kx
+        if kx[wirekernel.X_WARN] == 1.0 and "stress" not in self._warned:
+            s = self.core.surface
+            self.logged(clamp, self._warned, "stress", float(kx[wirekernel.X_WARN_SIGMA]),
+                        s.s_lo, s.s_hi, "Pa", float(kx[wirekernel.X_WARN_T]))
 
 
 class PreisachInverse(KernelSlave):
@@ -205,19 +201,17 @@ class PreisachInverse(KernelSlave):
         self._log_clamps()
 
     def _log_clamps(self) -> None:
-        """Log the kernel's first clamp of the reference strain and of the stress, as the
-        core's `clamp` words them (each once: the state records it as told)."""
+        """Log the kernel's first clamp of the reference strain and of the stress (kept in its
+        state), as the core's `clamp` words them, each once."""
         x, k = self.kx, inversekernel
-        if x[k.X_WARN_EPS] == 1.0:
+        if x[k.X_WARN_EPS] == 1.0 and "reference strain" not in self._warned:
             self.logged(clamp, self._warned, "reference strain", float(x[k.X_WARN_EPS_VALUE]),
                         0.0, float(self.kp[k.I_EPS_HI]), "", float(x[k.X_WARN_EPS_T]))
-            x[k.X_WARN_EPS] = 2.0
-        if x[k.X_WARN_SIGMA] == 1.0:
+        if x[k.X_WARN_SIGMA] == 1.0 and "stress" not in self._warned:
             s = self.kp[int(self.kp[k.I_SURFACE]):]
             self.logged(clamp, self._warned, "stress", float(x[k.X_WARN_SIGMA_VALUE]),
                         float(s[surface.S_MSLO]), float(s[surface.S_MSHI]), "Pa",
                         float(x[k.X_WARN_SIGMA_T]))
-            x[k.X_WARN_SIGMA] = 2.0
 
     def _checked(self, t: float) -> None:
         for name, value in (("eps_ref", self.eps_ref), ("sigma_ref", self.sigma_ref)):

@@ -5,8 +5,8 @@ Parameters (`pack`, slots ``P_*``): the wire's own values, the cold end zones' t
 thermal parameters (`thermal.pack`, from ``p[P_THERMAL]``) and the hysteresis surface
 (`surface.pack`, from ``p[P_SURFACE]``). State (`state`, slots ``X_*``): temperature, cycles,
 fractions, strain, the held stress and power, the last maximum strain's stress and value, the
-stress-clamp flag (0 none, 1 clamped and not yet told, 2 told; the value and time of the first
-clamp), an error flag of the latent heat's root search (1: no sign change, 2: no convergence),
+stress-clamp flag (0 none, 1 clamped; the value and time of the first clamp, which the slave
+logs), an error flag of the latent heat's root search (1: no sign change, 2: no convergence),
 the root search's context, then the Preisach memories (`preisach.memory`): the core's, one per
 cold end zone, and a scratch copy for `preisach.mem_peek`.
 
