@@ -92,7 +92,7 @@ class SmaWire(KernelSlave):
         super().advance(t, dt)
         self._log_clamp()
         if self.kx[wirekernel.X_ERROR]:
-            smawire.raise_error(kx)
+            smawire.raise_error(self.kx)
 
     def restore_kernel(self, x: np.ndarray, u: np.ndarray, y: np.ndarray, time: float,
                        dirty: bool) -> None:

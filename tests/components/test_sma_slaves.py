@@ -332,3 +332,17 @@ def test_kernel_paths_agree(params):
     def inputs(k):
         return {"u": 2.2 if k < 700 else 0.0, "flange_f": LOAD_150G * (1 + 0.9 * math.sin(k / 90))}
     assert_paths_agree(_wire(**params), inputs, DT, 1200)
+
+
+def test_a_failed_root_search_is_the_error_scipy_raises():
+    """The kernel cannot raise: a latent-heat root search that fails (f(a), f(b) of one sign, as
+    scipy's brentq finds it) sets an error flag in the state, which the slave raises after the
+    step, as the Python core raised scipy's error."""
+    from musclesim.components.sma import wirekernel
+    wire = _wire(latent_heat=20e3)
+    wire.exit_initialization_mode()
+    wire.do_step(0.0, DT)
+    wire.kx[wirekernel.X_ERROR] = 1.0  # as _brentq sets it
+    with pytest.raises(ValueError, match="f\\(a\\) and f\\(b\\) must have different signs"):
+        wire.do_step(DT, DT)
+    assert wire.kx[wirekernel.X_ERROR] == 0.0
