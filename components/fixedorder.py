@@ -137,7 +137,10 @@ def _norm1(a):
     """The 1-norm: the largest column sum of magnitudes (each sum exactly rounded)."""
     best = 0.0
     for j in range(a.shape[1]):
-        c = fsum(np.abs(a[:, j]))
+        column = np.empty(a.shape[0])
+        for i in range(a.shape[0]):
+            column[i] = abs(a[i, j])
+        c = fsum(column)
         if j == 0 or c > best:
             best = c
     return best
@@ -164,9 +167,12 @@ def _balance(a):
     would give) diag(d) bit for bit, but for the number of squarings (B's smaller norm asks fewer)
     and the doubling at which exp - I turns to exp. Returns (B, d)."""
     n = a.shape[0]
-    a = a.copy()
+    a = _scaled(a, 1.0)
     d = np.ones(n)
-    changed = bool(np.all(np.isfinite(a)))  # (an infinity would not settle)
+    changed = True  # (an infinity would not settle)
+    for i in range(n):
+        for j in range(n):
+            changed = changed and math.isfinite(a[i, j])
     while changed:
         changed = False
         for i in range(n):
@@ -197,6 +203,25 @@ TAYLOR_TERMS = 13  # E^13 / 14! is the last term kept: the next is below 5e-17 a
 
 
 @jit
+def _scaled(a, f):
+    """A new array `f` `a` (written as loops: array expressions take numba long to compile)."""
+    out = np.empty_like(a)
+    for i in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            out[i, j] = f * a[i, j]
+    return out
+
+
+@jit
+def _plus_identity(a):
+    """A new array `a` + I."""
+    out = _scaled(a, 1.0)
+    for i in range(a.shape[0]):
+        out[i, i] += 1.0
+    return out
+
+
+@jit
 def _fused(alpha, c, a, b, d):
     """alpha c + (a b) / d, element by element, the product as `matmul` sums it."""
     out = np.empty((a.shape[0], b.shape[1]))
@@ -216,19 +241,19 @@ def exp_and_integral_into(A, h, X_out, Phi_out):
     norm = _norm1(A) * abs(h)
     s = max(0, math.frexp(norm)[1] + 1)  # norm < 2^e, so |A tau| < 2^(e - s) <= 1/2
     tau = math.ldexp(h, -s)  # exact: a power of two
-    E = A * tau
+    E = _scaled(A, tau)
     eye = np.eye(n)
-    P = eye.copy()
+    P = _scaled(eye, 1.0)
     for j in range(TAYLOR_TERMS + 1, 1, -1):  # P = I + E/2 (I + E/3 (... (I + E/14)))
         P = _fused(1.0, eye, E, P, float(j))
     D = np.empty((n, n))
     matmul_into(E, P, D)
-    Phi = tau * P
+    Phi = _scaled(P, tau)
     X = np.empty((n, n))
     have_x = False  # exp itself, once it has decayed below D
     for _ in range(s):
         if not have_x:
-            candidate = D + eye
+            candidate = _plus_identity(D)
             if _norm1(candidate) < 0.5 * _norm1(D):
                 X, have_x = candidate, True
         if not have_x:
@@ -238,7 +263,7 @@ def exp_and_integral_into(A, h, X_out, Phi_out):
             matmul_into(X, X, X2)
             X, Phi = X2, _fused(1.0, Phi, X, Phi, 1.0)
     if not have_x:
-        X = D + eye
+        X = _plus_identity(D)
     for i in range(n):
         for j in range(n):
             X_out[i, j] = X[i, j] * d[i] / d[j]

@@ -100,14 +100,12 @@ def state_space(p: BodyParams, f_a: float = 0.0) -> tuple[np.ndarray, np.ndarray
 def _state_space(p, f_a):
     """(A, B) of `state_space`, B with the gravity column as its fourth."""
     m1, m2, k, c, cg = p[M1], p[M2], _stiffness(p, f_a), p[C], p[C_GROUND]
-    A = np.array([[0.0, 1.0, 0.0, 0.0],
-                  [-k / m1, -(c + cg) / m1, k / m1, c / m1],
-                  [0.0, 0.0, 0.0, 1.0],
-                  [k / m2, c / m2, -k / m2, -(c + cg) / m2]])
-    B = np.array([[0.0, 0.0, 0.0, 0.0],
-                  [-1 / m1, 1 / m1, 0.0, -p[SLOPE]],
-                  [0.0, 0.0, 0.0, 0.0],
-                  [1 / m2, 0.0, 1 / m2, -p[SLOPE]]])
+    A, B = np.zeros((4, 4)), np.zeros((4, 4))  # element by element: quicker to compile
+    A[0, 1] = A[2, 3] = 1.0
+    A[1, 0], A[1, 1], A[1, 2], A[1, 3] = -k / m1, -(c + cg) / m1, k / m1, c / m1
+    A[3, 0], A[3, 1], A[3, 2], A[3, 3] = k / m2, c / m2, -k / m2, -(c + cg) / m2
+    B[1, 0], B[1, 1], B[1, 3] = -1 / m1, 1 / m1, -p[SLOPE]
+    B[3, 0], B[3, 2], B[3, 3] = 1 / m2, 1 / m2, -p[SLOPE]
     return A, B
 
 
