@@ -15,6 +15,7 @@ import math
 from dataclasses import dataclass
 
 from musclesim.components.checks import require
+from musclesim.fmu.compiled import jit
 
 
 @dataclass(frozen=True)
@@ -41,25 +42,51 @@ def count_cycles(n_cycles: float, xi_old: float, xi_new: float) -> float:
     >>> count_cycles(count_cycles(0.0, 1.0, 0.0), 0.0, 1.0)
     1.0
     """
+    return count_cycles_k(n_cycles, xi_old, xi_new)
+
+
+@jit
+def count_cycles_k(n_cycles: float, xi_old: float, xi_new: float) -> float:
+    """`count_cycles` of `n_cycles`, `xi_old`, `xi_new`, compiled."""
     return n_cycles + abs(xi_new - xi_old) / 2
 
 
 def progress(n_cycles: float, p: DriftParams) -> float:
     """Share of the settled drift `p` reached after `n_cycles`, 1 - exp(-N / N_settle)."""
-    return -math.expm1(-n_cycles / p.cycles_to_settle)
+    return progress_k(n_cycles, p.cycles_to_settle)
 
 
 def strain_scale(n_cycles: float, p: DriftParams) -> float:
     """Factor on the hysteresis model's strain after `n_cycles` of drift `p`, exactly 1.0 with the
     effect off."""
-    if p.amplitude_change == 0:
-        return 1.0
-    return 1.0 + p.amplitude_change * progress(n_cycles, p)
+    return strain_scale_k(n_cycles, p.amplitude_change, p.cycles_to_settle)
 
 
 def temperature_shift(n_cycles: float, p: DriftParams) -> float:
     """Shift [K] of the transformation temperatures after `n_cycles` of drift `p` (the model sees
     T - shift); 0.0 when off."""
-    if p.shift == 0:
+    return temperature_shift_k(n_cycles, p.shift, p.cycles_to_settle)
+
+
+# --- the same on floats, for the compiled cores (`musclesim.fmu.compiled`) ---------------------
+
+@jit
+def progress_k(n_cycles: float, cycles_to_settle: float) -> float:
+    """`progress` after `n_cycles` at the drift's pace `cycles_to_settle`."""
+    return -math.expm1(-n_cycles / cycles_to_settle)
+
+
+@jit
+def strain_scale_k(n_cycles: float, amplitude_change: float, cycles_to_settle: float) -> float:
+    """`strain_scale` after `n_cycles` of the drift `amplitude_change`, `cycles_to_settle`."""
+    if amplitude_change == 0:
+        return 1.0
+    return 1.0 + amplitude_change * progress_k(n_cycles, cycles_to_settle)
+
+
+@jit
+def temperature_shift_k(n_cycles: float, shift: float, cycles_to_settle: float) -> float:
+    """`temperature_shift` [K] after `n_cycles` of the drift `shift`, `cycles_to_settle`."""
+    if shift == 0:
         return 0.0
-    return p.shift * progress(n_cycles, p)
+    return shift * progress_k(n_cycles, cycles_to_settle)

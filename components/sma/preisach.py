@@ -1,15 +1,21 @@
 """Modified Preisach forward model of §preisach: temperature in, strain out, stress a correction."""
 from __future__ import annotations
 
-import sys
+import math
+
 from bisect import bisect_right
 from collections.abc import Callable, Sequence
 from typing import Any
 from dataclasses import dataclass
 
-from musclesim.components.checks import require
+import numpy as np
 
-from .surface import GRID_TEMPS, STRESSES, Hypersurface, RangeWarning, clamp
+from musclesim.components.checks import require
+from musclesim.fmu.compiled import jit
+
+from .surface import (GRID_TEMPS, S_HEAD, S_MSHI, S_MSLO, S_NC, S_NLEV, S_THI, S_TLO, STRESSES,
+                      Hypersurface, RangeWarning, cell_eval, clamp, clip, fmax, fmin,
+                      stress_grid, stress_weights_k)
 
 __all__ = ["GRID_TEMPS", "STRESSES", "Hypersurface", "MemoryParams", "PreisachModel",
            "RangeWarning", "stack_strain", "strain_falling", "strain_rising"]
@@ -262,19 +268,6 @@ def forget_least_pair(surface: Hypersurface, extrema: list[float], prefix: list[
         P[q] -= change
 
 
-def stress_grid(surface: Hypersurface) -> tuple[float, float, list[float], list[float], int]:
-    """(lo, hi, levels, 1 / level spacings, last interval) of `surface` for inline stress
-    interpolation.
-
-    A single level ignores stress: its range is every finite value and its weight is 0.
-    """
-    levels = [float(s) for s in surface.stresses]
-    if len(levels) == 1:
-        return -sys.float_info.max, sys.float_info.max, levels * 2, [0.0], 0
-    inv = [1.0 / (hi - lo) for lo, hi in zip(levels, levels[1:])]
-    return levels[0], levels[-1], levels, inv, len(levels) - 2
-
-
 def stack_strain(surface: Hypersurface, extrema: Sequence[float], stresses: Sequence[float],
                  T: float, sigma: float) -> float:
     """Strain of an extrema stack summed term by term (the O(stack) form of §preisach).
@@ -344,3 +337,181 @@ def strain_falling(F: Callable[[float, float], float], maxima: Sequence[float],
                          f"{len(minima)} and {n}")
     M: list[Any] = [None, *maxima]
     return sum(F(M[k], minima[k - 1]) - F(M[k], minima[k]) for k in range(1, n + 1))
+
+
+# --- the memory as a float64 array, for the compiled cores (`musclesim.fmu.compiled`) ---------
+# A `PreisachModel`'s state in one array (`memory`): the header slots below, then the stack's
+# extrema, prefix sums and stresses, `capacity` slots each. The stack never holds more than
+# max_extrema + 1 entries (`push_extremum` forgets a pair as soon as it exceeds max_extrema), so
+# capacity = max_extrema + 1 always suffices. The functions below are `PreisachModel`'s
+# reset/step/peek, operation for operation, on a packed surface (`surface.pack`); they clamp
+# out-of-range inputs without warning (the caller warns).
+M_N, M_RISING, M_X, M_XSIG, M_XTERM, M_SIGMA, M_SIG, M_K, M_W, M_CAP, M_TOL = range(11)
+M_HEAD = 11
+
+
+def memory(params: MemoryParams | None = None) -> np.ndarray:
+    """A new memory array of `params` (default `MemoryParams()`): header, then 3 x capacity
+    slots (capacity = max_extrema + 1); call `mem_reset` before stepping it."""
+    params = params or MemoryParams()
+    params.check()
+    cap = params.max_extrema + 1
+    m = np.zeros(M_HEAD + 3 * cap)
+    m[M_CAP], m[M_TOL], m[M_SIGMA] = cap, params.tol, math.nan
+    return m
+
+
+@jit
+def mem_set_stress(s: np.ndarray, m: np.ndarray, sigma: float) -> None:
+    """`StressInput._set_stress` of the memory `m` on the packed surface `s`: the
+    interpolation weights of the new stress `sigma` [Pa]."""
+    m[M_SIGMA] = sigma
+    sigma = clip(sigma, s[S_MSLO], s[S_MSHI])
+    nlev = int(s[S_NLEV])
+    k = 0
+    while k < nlev and s[S_HEAD + k] <= sigma:  # bisect_right
+        k += 1
+    k -= 1
+    if k > nlev - 2:
+        k = nlev - 2
+    elif k < 0:
+        k = 0
+    m[M_SIG] = sigma
+    m[M_K] = k
+    m[M_W] = (sigma - s[S_HEAD + k]) * s[S_HEAD + nlev + k]
+
+
+@jit
+def mem_term(s: np.ndarray, m: np.ndarray, a: float, b: float) -> float:
+    """F(`a`, `b`) at the memory `m`'s current stress on the packed surface `s` (`_term`)."""
+    nc = int(s[S_NC])
+    return cell_eval(s, int(m[M_K]) * nc * nc, a, b, m[M_W])
+
+
+@jit
+def mem_all_off(s: np.ndarray, m: np.ndarray) -> float:
+    """Cooling reached b0: the memory `m` all off at its current stress on the packed surface
+    `s`; strain 0."""
+    cap = int(m[M_CAP])
+    b0 = s[S_TLO]
+    m[M_N] = 1.0
+    m[M_HEAD] = b0
+    m[M_HEAD + cap] = 0.0
+    m[M_HEAD + 2 * cap] = m[M_SIG]
+    m[M_RISING] = 1.0
+    m[M_X] = b0
+    m[M_XSIG] = m[M_SIG]
+    m[M_XTERM] = 0.0
+    return 0.0
+
+
+@jit
+def mem_forget_least_pair(s: np.ndarray, m: np.ndarray) -> None:
+    """`forget_least_pair` on the stack of the memory `m`, packed surface `s`."""
+    cap = int(m[M_CAP])
+    n = int(m[M_N])
+    e, pr, st = M_HEAD, M_HEAD + cap, M_HEAD + 2 * cap
+    nc = int(s[S_NC])
+    best_p = -1
+    best = 0.0
+    for p in range(1, n - 2):
+        q = p + 2
+        k, w = stress_weights_k(s, m[st + q])
+        if q % 2:
+            term = cell_eval(s, k * nc * nc, m[e + q], m[e + p - 1], w)
+        else:
+            term = -cell_eval(s, k * nc * nc, m[e + p - 1], m[e + q], w)
+        change = m[pr + q] - m[pr + p - 1] - term
+        if best_p < 0 or abs(change) < abs(best):
+            best_p = p
+            best = change
+    p = best_p
+    for q in range(p, n - 2):
+        m[e + q] = m[e + q + 2]
+        m[pr + q] = m[pr + q + 2]
+        m[st + q] = m[st + q + 2]
+    n -= 2
+    for q in range(p, n):
+        m[pr + q] -= best
+    m[M_N] = n
+
+
+@jit
+def mem_record(s: np.ndarray, m: np.ndarray) -> None:
+    """`push_extremum` on the memory `m`, packed surface `s`: record X with its frozen term
+    (``m[M_XTERM]``), bound the stack, turn round."""
+    cap = int(m[M_CAP])
+    n = int(m[M_N])
+    m[M_HEAD + n] = m[M_X]
+    m[M_HEAD + cap + n] = m[M_HEAD + cap + n - 1] + m[M_XTERM]
+    m[M_HEAD + 2 * cap + n] = m[M_XSIG]
+    m[M_N] = n + 1
+    if n + 1 > cap - 1:
+        mem_forget_least_pair(s, m)
+    m[M_RISING] = 0.0 if m[M_RISING] != 0.0 else 1.0
+
+
+@jit
+def mem_step(s: np.ndarray, m: np.ndarray, T: float, sigma: float) -> float:
+    """`PreisachModel.step` of the memory `m` on the packed surface `s`: take `T` [C] and
+    `sigma` [Pa] (clamped without warning), return the strain."""
+    T = clip(T, s[S_TLO], s[S_THI])
+    if sigma != m[M_SIGMA]:
+        mem_set_stress(s, m, sigma)
+    tol = m[M_TOL]
+    cap = int(m[M_CAP])
+    X = m[M_X]
+    if m[M_RISING] != 0.0:
+        if T < X - tol:
+            mem_record(s, m)
+    elif T > X + tol:
+        mem_record(s, m)
+    n = int(m[M_N])
+    if m[M_RISING] != 0.0:
+        if T >= X:
+            X = T
+            while n > 2 and T >= m[M_HEAD + n - 2]:  # wiping-out: a larger maximum
+                n -= 2
+            m[M_N] = n
+        a, b = X, m[M_HEAD + n - 1]
+    else:
+        if T <= X:
+            X = T
+            while T <= m[M_HEAD + n - 2]:  # wiping-out: a smaller minimum
+                if n == 2:
+                    return mem_all_off(s, m)
+                n -= 2
+            m[M_N] = n
+        a, b = m[M_HEAD + n - 1], X
+    f = mem_term(s, m, a, b)
+    if m[M_RISING] == 0.0:
+        f = -f
+    m[M_X] = X
+    m[M_XSIG] = m[M_SIG]
+    m[M_XTERM] = f
+    return m[M_HEAD + cap + n - 1] + f
+
+
+@jit
+def mem_reset(s: np.ndarray, m: np.ndarray, T: float, sigma: float) -> float:
+    """`PreisachModel.reset`: the all-off memory, then `T` [C], `sigma` [Pa]; the strain."""
+    mem_set_stress(s, m, sigma)
+    mem_all_off(s, m)
+    return mem_step(s, m, T, sigma)
+
+
+@jit
+def mem_peek(s: np.ndarray, m: np.ndarray, trial: np.ndarray, T: float, sigma: float) -> float:
+    """`PreisachModel.peek`: the strain `mem_step` would return, `m` unchanged (`trial`, an array
+    of `m`'s size, is overwritten where the step needs a copy)."""
+    if sigma == m[M_SIGMA] and s[S_TLO] <= T <= s[S_THI]:
+        X = m[M_X]
+        n = int(m[M_N])
+        cap = int(m[M_CAP])
+        if m[M_RISING] != 0.0:
+            if T >= X - m[M_TOL] and (T < X or n <= 2 or T < m[M_HEAD + n - 2]):
+                return m[M_HEAD + cap + n - 1] + mem_term(s, m, fmax(X, T), m[M_HEAD + n - 1])
+        elif T <= X + m[M_TOL] and (T > X or T > m[M_HEAD + n - 2]):
+            return m[M_HEAD + cap + n - 1] - mem_term(s, m, m[M_HEAD + n - 1], fmin(X, T))
+    trial[:] = m
+    return mem_step(s, trial, T, sigma)

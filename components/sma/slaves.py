@@ -4,25 +4,29 @@ from __future__ import annotations
 
 import math
 
-from musclesim.components.sma import datasets, ports, smawire, thermal
+import numpy as np
+
+from musclesim.components.sma import (datasets, inversekernel, ports, smawire, surface, thermal,
+                                      wirekernel)
 from musclesim.components.sma.inverse import InverseBases
-from musclesim.components.sma.inverse import PreisachInverse as InverseCore
 from musclesim.components.sma.ports import LOAD_150G
 from musclesim.components.sma.smawire import HYSTERESIS, ZERO_C
 from musclesim.components.sma.surface import Hypersurface, clamp
-from musclesim.fmu import Slave, experiment
+from musclesim.fmu import experiment
+from musclesim.fmu.kernel import KernelSlave
 
 __all__ = ["SmaWire", "PreisachInverse", "LOAD_150G", "HYSTERESIS", "ZERO_C"]
 
-# id(surface) -> (surface, its InverseBases); the surface is held, so ids stay unique
-_BASES: dict[int, tuple[Hypersurface, InverseBases]] = {}
+# id(surface) -> (surface, its InverseBases, the inverse kernel's parameters); the surface is
+# held, so ids stay unique
+_BASES: dict[int, tuple[Hypersurface, InverseBases, np.ndarray]] = {}
 
 
-class SmaWire(Slave):
+class SmaWire(KernelSlave):
     """SMA wire: Joule heating and convection (§thermal-model) drive the modified Preisach model
     (§preisach).
 
-    A thin adapter over `smawire.SmaWireCore`: per communication step, with the inputs held from
+    A thin adapter over `smawire.SmaWireCore`'s compiled kernel (`wirekernel`): per communication step, with the inputs held from
     its start, the temperature advances by the lumped thermal model (resistance from the
     martensite fraction at the start of the step), then the hysteresis model takes the new
     temperature and the stress flange.f / area; its strain gives the martensite fraction for the
@@ -38,6 +42,7 @@ class SmaWire(Slave):
     (docs/model/).
     """
 
+    kernel = wirekernel.KERNEL
     default_experiment = experiment(30.0, 0.0004)  # the SMA bench at 2.5 kHz, §sma-bench
     description = ("SMA wire: lumped thermal model with phase-dependent resistance and modified "
                    "Preisach hysteresis under stress (§thermal-model, §preisach)")
@@ -63,10 +68,11 @@ class SmaWire(Slave):
                                 "xi": "Martensite fraction, 1 - hysteresis strain / its maximum"})
 
     def setup(self) -> None:
-        """Check the parameters and build the wire's core."""
+        """Check the parameters and build the wire's core and its kernel's arrays."""
         params = self.core_params(smawire.SmaWireParams)
         self.core = smawire.SmaWireCore(params, thermal.params_of(self, params.drive),
                                         datasets.shipped(self.resources))
+        self.kp, self.kx = self.core.kp, self.core.kx
         self._warned: set[str] = set()
         self._start()
 
@@ -76,40 +82,48 @@ class SmaWire(Slave):
 
     def _start(self) -> None:
         """Initial state: a new (or drift_cycles_start old) wire heated to T_init."""
-        self.core.start(self.u, self.T_amb - ZERO_C, self.flange_f, self._stress(self.time),
-                        self.time)
-
-    def evaluate(self) -> None:
-        """The outputs of the state after the last step."""
-        core = self.core
-        self.T = core.T_C + ZERO_C
-        self.strain = core.eps
-        self.flange_s = core.eps * self.length
-        self.stress = core.stress_held
-        self.R = core.resistance()
-        self.P = core.P_held
-        self.xi = core.xi
+        sigma = self._stress(self.time)
+        self.core.start(self.u, self.T_amb - ZERO_C, self.flange_f, sigma, self.time)
 
     def advance(self, t: float, dt: float) -> None:
-        """Step the core over [`t`, `t` + `dt`] [s] with the inputs held."""
+        """The kernel's step over [`t`, `t` + `dt`] [s] with the inputs held, its inputs checked
+        first and its first stress clamp logged after (the kernel keeps it in its state)."""
         ports.check_inputs(self.u, self.T_amb, self.flange_f, t)
-        self.core.step(self.u, self.T_amb - ZERO_C, self.flange_f, self._stress(t), t, dt)
+        super().advance(t, dt)
+        self._log_clamp()
+        if self.kx[wirekernel.X_ERROR]:
+            smawire.raise_error(self.kx)
+
+    def restore_kernel(self, x: np.ndarray, u: np.ndarray, y: np.ndarray, time: float,
+                       dirty: bool) -> None:
+        """`KernelSlave.restore_kernel` (the state `x`, inputs `u`, outputs `y`, clock `time`
+        [s] and `dirty` a master reached running the kernel itself), then the first stress clamp
+        the kernel kept in its state logged as `advance` logs it."""
+        super().restore_kernel(x, u, y, time, dirty)
+        self._log_clamp()
 
     def _stress(self, t: float) -> float:
-        """Stress [Pa] for the hysteresis: clamped to the data set's stresses, warned once in the
-        FMU log."""
-        sigma = self.core.stress_seen(self.flange_f)
-        s = self.core.surface
-        if len(s.stresses) > 1 and not s.s_lo <= sigma <= s.s_hi:
-            sigma = self.logged(clamp, self._warned, "stress", sigma, s.s_lo, s.s_hi, "Pa", t)
+        """Stress [Pa] for the hysteresis at the start: the kernel's (`wirekernel.stress`),
+        clamped to the data set's stresses, the clamp logged once."""
+        sigma = wirekernel.stress(self.kp, self.kx, self.flange_f, t)
+        self._log_clamp()
         return sigma
 
+    def _log_clamp(self) -> None:
+        """Log the first clamp of the stress the kernel kept in its state (its value and time) as
+        `clamp` words it, once."""
+        kx = self.kx
+        if kx[wirekernel.X_WARN] == 1.0 and "stress" not in self._warned:
+            s = self.core.surface
+            self.logged(clamp, self._warned, "stress", float(kx[wirekernel.X_WARN_SIGMA]),
+                        s.s_lo, s.s_hi, "Pa", float(kx[wirekernel.X_WARN_T]))
 
-class PreisachInverse(Slave):
+
+class PreisachInverse(KernelSlave):
     """Inverse of the modified Preisach model (§preisach-inverse): reference strain and stress in,
     the temperature reference that makes the wire produce that strain out (feed-forward).
 
-    A thin adapter over `inverse.PreisachInverse`. T_ref is direct feedthrough: at every
+    A thin adapter over `inverse.PreisachInverse`'s compiled kernel (`inversekernel`). T_ref is direct feedthrough: at every
     communication point it is the core's `peek` at the present inputs (memory untouched); each
     step commits that sample with the core's `step`, so the memory sees every sample once, exactly
     as the core stepped by hand (clear at initialization, then one step per communication step =
@@ -118,6 +132,7 @@ class PreisachInverse(Slave):
     Equations: §preisach-inverse.
     """
 
+    kernel = inversekernel.KERNEL
     default_experiment = experiment(550.0, 0.0004)  # sma-position-control, §position-control
     description = ("Feed-forward inverse of the modified Preisach model: reference strain and "
                    "stress in, temperature reference out (§position-control)")
@@ -140,13 +155,15 @@ class PreisachInverse(Slave):
                     depends=["eps_ref", "sigma_ref"])
 
     def setup(self) -> None:
-        """Load the data set's surface and the inverse's bases (once per process), then start."""
+        """Load the data set's surface, the inverse's bases and the kernel's parameters (once per
+        process), then start."""
         self.surface = datasets.surface(self.hysteresis, self.sigma_surface,
                                         datasets.shipped(self.resources))
         key = id(self.surface)
         if key not in _BASES:  # ~0.1-0.3 s per data set: once per process
-            _BASES[key] = (self.surface, InverseBases(self.surface))
-        self.bases = _BASES[key][1]
+            bases = InverseBases(self.surface)
+            _BASES[key] = (self.surface, bases, inversekernel.pack(self.surface, bases))
+        _, self.bases, self.kp = _BASES[key]
         self._start()
 
     def initialize(self) -> None:
@@ -154,21 +171,47 @@ class PreisachInverse(Slave):
         self._start()
 
     def _start(self) -> None:
-        self.core = InverseCore(self.surface, bases=self.bases)
+        """A new memory (and its one-time warnings), cleared at the reference stress."""
+        self.kx = inversekernel.new_state()
+        self.core = inversekernel.InverseState(self.bases, self.kx)
+        self._warned: set[str] = set()
         self._checked(self.time)
-        self.logged(self.core.clear, self.sigma_ref, self.time)
+        inversekernel.clear(self.kp, self.kx, self.sigma_ref, self.time)
+        self._log_clamps()
 
     def evaluate(self) -> None:
-        """T_ref: the core's `peek` at the present inputs, its memory untouched."""
-        t = self.time
-        self._checked(t)
-        self.T_ref = self.logged(self.core.peek, self.eps_ref, self.sigma_ref, t) + ZERO_C
+        """T_ref: the kernel's `peek` at the present inputs, its memory untouched."""
+        self._checked(self.time)
+        super().evaluate()
+        self._log_clamps()
 
     def advance(self, t: float, dt: float) -> None:
-        """Commit the inputs at `t` [s] with the core's `step` (the step `dt` [s] plays no part:
-        the inverse has no dynamics)."""
+        """Commit the inputs at `t` [s] with the kernel's `step` (the step `dt` [s] plays no
+        part: the inverse has no dynamics)."""
         self._checked(t)
-        self.logged(self.core.step, self.eps_ref, self.sigma_ref, t)
+        super().advance(t, dt)
+        self._log_clamps()
+
+    def restore_kernel(self, x: np.ndarray, u: np.ndarray, y: np.ndarray, time: float,
+                       dirty: bool) -> None:
+        """`KernelSlave.restore_kernel` (the state `x`, inputs `u`, outputs `y`, clock `time`
+        [s] and `dirty` a master reached running the kernel itself), then the first clamps the
+        kernel kept in its state logged as `advance` logs them."""
+        super().restore_kernel(x, u, y, time, dirty)
+        self._log_clamps()
+
+    def _log_clamps(self) -> None:
+        """Log the kernel's first clamp of the reference strain and of the stress (kept in its
+        state), as the core's `clamp` words them, each once."""
+        x, k = self.kx, inversekernel
+        if x[k.X_WARN_EPS] == 1.0 and "reference strain" not in self._warned:
+            self.logged(clamp, self._warned, "reference strain", float(x[k.X_WARN_EPS_VALUE]),
+                        0.0, float(self.kp[k.I_EPS_HI]), "", float(x[k.X_WARN_EPS_T]))
+        if x[k.X_WARN_SIGMA] == 1.0 and "stress" not in self._warned:
+            s = self.kp[int(self.kp[k.I_SURFACE]):]
+            self.logged(clamp, self._warned, "stress", float(x[k.X_WARN_SIGMA_VALUE]),
+                        float(s[surface.S_MSLO]), float(s[surface.S_MSHI]), "Pa",
+                        float(x[k.X_WARN_SIGMA_T]))
 
     def _checked(self, t: float) -> None:
         for name, value in (("eps_ref", self.eps_ref), ("sigma_ref", self.sigma_ref)):

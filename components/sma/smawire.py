@@ -13,19 +13,19 @@ Temperatures in degrees C, stresses in Pa. Equations: §thermal-model and §prei
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
-from musclesim.components.sma import datasets, drift, submodels, thermal
-from musclesim.components.sma.preisach import PreisachModel
+import numpy as np
+
+from musclesim.components.sma import datasets, drift, preisach, submodels, thermal, wirekernel
 from musclesim.fmu import Calibration, declare
 
 __all__ = ["HYSTERESIS", "SmaWireParams", "SmaWireCore"]
 
 HYSTERESIS = ("Hysteresis data set: 0 = reference wire (1 C grid, 60-200 MPa); k >= 1 = FORC "
               "data set k of sma/data/forc-sets.toml shipped in the FMU")
-ZERO_C = 273.15  # K; the FMU speaks K, the cores C
+ZERO_C = wirekernel.ZERO_C  # K; the FMU speaks K, the cores C
 _NO_DRIFT = drift.DriftParams()  # the drift's defaults: off, and its pace (§drift)
 
 
@@ -121,6 +121,10 @@ class SmaWireCore:
     the hysteresis data sets below `root` (`datasets.shipped`), checked here (ValueError naming
     the parameter). `start` sets the initial state, `step` advances it; the stress the hysteresis
     takes (`stress_seen`, clamped by the caller to `surface`'s stresses) is an argument of both.
+
+    The submodels it composes (`thermal`, `ends`) are written once as the compiled kernel
+    `wirekernel`: the state lives in its arrays ``kp`` (parameters) and ``kx`` (state), which the
+    SmaWire FMU steps; the attributes below read them.
     """
 
     def __init__(self, params: SmaWireParams, wire: thermal.ThermalParams, root: Path) -> None:
@@ -137,10 +141,44 @@ class SmaWireCore:
         self.ends = submodels.ends_submodel(params.end_cooling, wire.length, wire.diameter,
                                             params.conductivity, wire.h)
         self.thermal = submodels.thermal_submodel(wire)
-        self._eps_max_at: tuple[float | None, float] = (None, 0.0)  # (stress, F(a0, b0; stress))
-        self.T_C = self.cycles = self.xi = self.xi_core = self.eps = 0.0
-        self.stress_held = self.P_held = 0.0
-        self.model = PreisachModel(self.surface)
+        memory = preisach.memory()
+        self.kp = wirekernel.pack(params, wire, self.surface, self.ends.zones, len(memory))
+        self.kx = wirekernel.state(self.kp, memory)
+
+    @property
+    def T_C(self) -> float:
+        """Core temperature [C]."""
+        return float(self.kx[wirekernel.X_T])
+
+    @property
+    def cycles(self) -> float:
+        """Transformation cycles of the drift."""
+        return float(self.kx[wirekernel.X_CYCLES])
+
+    @property
+    def xi(self) -> float:
+        """The wire's martensite fraction."""
+        return float(self.kx[wirekernel.X_XI])
+
+    @property
+    def xi_core(self) -> float:
+        """The core's martensite fraction."""
+        return float(self.kx[wirekernel.X_XI_CORE])
+
+    @property
+    def eps(self) -> float:
+        """The wire's strain."""
+        return float(self.kx[wirekernel.X_EPS])
+
+    @property
+    def stress_held(self) -> float:
+        """Stress f / area [Pa] over the last step."""
+        return float(self.kx[wirekernel.X_STRESS])
+
+    @property
+    def P_held(self) -> float:
+        """Joule power [W] over the last step."""
+        return float(self.kx[wirekernel.X_P])
 
     def stress_seen(self, f: float) -> float:
         """Stress [Pa] the hysteresis takes under the tensile load `f` [N] before clamping:
@@ -155,58 +193,25 @@ class SmaWireCore:
         """Initial state at time `t` [s]: a new (or `drift_cycles_start` old) wire heated to
         `T_init`, under the input `u`, ambient `T_amb` [C], load `f` [N] and hysteresis stress
         `sigma` [Pa]."""
-        self.T_C = self.params.T_init - ZERO_C
-        self.cycles = self.params.drift_cycles_start
-        self.model = PreisachModel(self.surface)
-        self.ends.reset(self.surface)
-        self._strains(self.T_C, T_amb, lambda m, T: m.reset(T, sigma, t), sigma)
-        self.stress_held = f / self.area
-        self.P_held = thermal.joule_power(u, self.xi, self.p)
+        wirekernel.start(self.kp, self.kx, u, T_amb, f, sigma)
 
     def step(self, u: float, T_amb: float, f: float, sigma: float, t: float, dt: float) -> None:
         """Advance over [`t`, `t` + `dt`] [s] with the input `u`, ambient `T_amb` [C], load `f`
         [N] and hysteresis stress `sigma` [Pa] held."""
-        p, model = self.p, self.model
-        eps_max = self._eps_max(sigma)
-        shift = drift.temperature_shift(self.cycles, self.dp)
-        inputs = thermal.ThermalInputs(self.ends.core_drive(u, self.xi_core, self.xi, p), T_amb,
-                                       self.xi_core)
-
-        def xi_at(T: float) -> float:
-            return thermal.martensite_fraction(model.peek(self._seen(T, shift), sigma), eps_max)
-        T_new = self.thermal.step(self.T_C, inputs, dt, p, xi_at)
-        xi_old = self.xi
-        self.P_held = thermal.joule_power(u, xi_old, p)
-        self._strains(T_new, T_amb, lambda m, T: m.step(T, sigma, t + dt), sigma, shift)
-        self.cycles = drift.count_cycles(self.cycles, xi_old, self.xi)
-        self.stress_held = f / self.area
-        self.T_C = T_new
+        wirekernel.step(self.kp, self.kx, u, T_amb, f, sigma, dt)
+        raise_error(self.kx)
 
     def resistance(self) -> float:
         """The wire's electrical resistance R(xi) [Ohm] now (§thermal-model)."""
         return thermal.resistance(self.xi, self.p)
 
-    def _strains(self, T_core: float, T_amb: float, call: Callable[[PreisachModel, float], float],
-                 sigma: float, shift: float = 0.0) -> None:
-        """Step (or reset) the hysteresis memories with `call(model, seen temperature)`: the
-        core's at `T_core`, each cold end zone's at its own temperature; set the strain and the
-        martensite fractions of the core (its heating) and of the wire (its resistance)."""
-        eps_max = self._eps_max(sigma)
-        eps_core = call(self.model, self._seen(T_core, shift))
-        eps = self.ends.strain(eps_core, T_core, T_amb, lambda m, T: call(m, self._seen(T, shift)))
-        self.xi_core = thermal.martensite_fraction(eps_core, eps_max)
-        self.xi = thermal.martensite_fraction(eps, eps_max)
-        self.eps = self.params.strain_scale * drift.strain_scale(self.cycles, self.dp) * eps
 
-    def _seen(self, T: float, shift: float = 0.0) -> float:
-        """Temperature [C] the hysteresis sees: shifted (drift, calibration), saturated at the
-        grid's ends."""
-        return min(max(T - shift - self.params.hysteresis_shift, self.surface.t_lo),
-                   self.surface.t_hi)
-
-    def _eps_max(self, sigma: float) -> float:
-        """Maximum strain F(a0, b0; sigma) of the data set (one F evaluation per new stress)."""
-        if self._eps_max_at[0] != sigma:
-            s = self.surface
-            self._eps_max_at = (sigma, s.F(s.t_hi, s.t_lo, sigma))
-        return self._eps_max_at[1]
+def raise_error(kx: np.ndarray) -> None:
+    """Raise the error the kernel's state `kx` records (the latent heat's root search failed, as
+    scipy's `brentq` raises), clearing it."""
+    code = kx[wirekernel.X_ERROR]
+    if code:
+        kx[wirekernel.X_ERROR] = 0.0
+        if code == 1:
+            raise ValueError("f(a) and f(b) must have different signs")
+        raise RuntimeError("the latent heat's root search did not converge in 100 iterations")

@@ -3,12 +3,15 @@ from __future__ import annotations
 
 import bisect
 import math
+import sys
 import warnings
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import numpy as np
 from numpy.typing import ArrayLike
+
+from musclesim.fmu.compiled import jit
 
 from . import forcfile
 
@@ -280,3 +283,120 @@ def _cell_coefficients(table):
         coeff = np.concatenate([levels[k], levels[k + 1] - levels[k]], axis=-1)
         cells.extend(map(tuple, coeff.reshape(-1, 8).tolist()))
     return cells
+
+
+# --- the surface as one float64 array, for the compiled cores (`musclesim.fmu.compiled`) -------
+# header slots of `pack`'s array; the stress levels, their inverse spacings and the cells follow
+S_TLO, S_THI, S_INVH, S_NC, S_NS, S_SLO, S_SHI, S_MSLO, S_MSHI, S_NLEV = range(10)
+S_HEAD = 10  # the levels start here
+
+
+def stress_grid(surface: Hypersurface) -> tuple[float, float, list[float], list[float], int]:
+    """(lo, hi, levels, 1 / level spacings, last interval) of `surface` for inline stress
+    interpolation.
+
+    A single level ignores stress: its range is every finite value and its weight is 0.
+    """
+    levels = [float(s) for s in surface.stresses]
+    if len(levels) == 1:
+        return -sys.float_info.max, sys.float_info.max, levels * 2, [0.0], 0
+    inv = [1.0 / (hi - lo) for lo, hi in zip(levels, levels[1:])]
+    return levels[0], levels[-1], levels, inv, len(levels) - 2
+
+
+def pack(surface: Hypersurface) -> np.ndarray:
+    """`surface` as one float64 array for the compiled cores: the header [t_lo, t_hi, inv_h,
+    n_cells, number of stresses, s_lo, s_hi, the memory's stress range lo and hi (every finite
+    value for a single level: `stress_grid`), nlev], then the nlev stress levels of
+    the memory's interpolation (a single level twice), their nlev - 1 inverse spacings, then the
+    cells' 8 coefficients each (`_cell_coefficients`, in `Hypersurface.cells`' order)."""
+    m_lo, m_hi, levels, inv, _ = stress_grid(surface)
+    head = [surface.t_lo, surface.t_hi, surface.inv_h, float(surface.n_cells),
+            float(len(surface.stresses)), surface.s_lo, surface.s_hi, m_lo, m_hi,
+            float(len(levels))]
+    cells = np.array(surface.cells, dtype=float).ravel()
+    return np.concatenate([np.array(head + levels + inv, dtype=float), cells])
+
+
+def packed(surface: Hypersurface) -> np.ndarray:
+    """`pack` (`surface`), kept on the (immutable) surface: packed once per process, read-only."""
+    arr: np.ndarray | None = surface.__dict__.get("_packed")
+    if arr is None:
+        arr = pack(surface)
+        arr.flags.writeable = False
+        surface._packed = arr  # type: ignore[attr-defined]
+    return arr
+
+
+@jit
+def fmin(a: float, b: float) -> float:
+    """Python's ``min(a, b)``: `a` unless `b` is smaller."""
+    return b if b < a else a
+
+
+@jit
+def fmax(a: float, b: float) -> float:
+    """Python's ``max(a, b)``: `a` unless `b` is larger."""
+    return b if b > a else a
+
+
+@jit
+def clip(value: float, lo: float, hi: float) -> float:
+    """`clamp`'s arithmetic without its warning: `value` in [`lo`, `hi`] as is, else
+    ``min(max(value, lo), hi)``."""
+    if lo <= value <= hi:
+        return value
+    return fmin(fmax(value, lo), hi)
+
+
+@jit
+def cell_eval(s: np.ndarray, kbase: int, a: float, b: float, w: float) -> float:
+    """F at in-range `a`, `b` [C] of the packed surface `s` (`pack`): bilinear in the cell, cells
+    from `kbase` (stress interval k times n_cells^2), weight `w` on the upper level; no checks
+    (`Hypersurface.eval`)."""
+    nc = int(s[S_NC])
+    t_lo = s[S_TLO]
+    inv_h = s[S_INVH]
+    x = (a - t_lo) * inv_h
+    i = int(x)
+    if i >= nc:
+        i = nc - 1
+    y = (b - t_lo) * inv_h
+    j = int(y)
+    if j >= nc:
+        j = nc - 1
+    u = x - i
+    v = y - j
+    nlev = int(s[S_NLEV])
+    o = S_HEAD + 2 * nlev - 1 + 8 * (kbase + i * nc + j)
+    c0, c1, c2, c3 = s[o], s[o + 1], s[o + 2], s[o + 3]
+    d0, d1, d2, d3 = s[o + 4], s[o + 5], s[o + 6], s[o + 7]
+    return c0 + c1 * u + (c2 + c3 * u) * v + w * (d0 + d1 * u + (d2 + d3 * u) * v)
+
+
+@jit
+def surface_F(s: np.ndarray, a: float, b: float, sigma: float) -> float:
+    """`Hypersurface.F` (`a`, `b`; `sigma`) of the packed surface `s` without its warnings:
+    inputs clamped to the grid, 0 for a <= b, stress weights by division as `stress_weights`."""
+    a = clip(a, s[S_TLO], s[S_THI])
+    b = clip(b, s[S_TLO], s[S_THI])
+    if a <= b:
+        return 0.0
+    if s[S_NS] > 1:
+        sigma = clip(sigma, s[S_SLO], s[S_SHI])
+    k, w = stress_weights_k(s, sigma)
+    nc = int(s[S_NC])
+    return cell_eval(s, k * nc * nc, a, b, w)
+
+
+@jit
+def stress_weights_k(s: np.ndarray, sigma: float) -> tuple[int, float]:
+    """`Hypersurface.stress_weights` of the packed surface `s`: (k, w) of in-range `sigma`."""
+    ns = int(s[S_NS])
+    if ns == 1:
+        return 0, 0.0
+    k = -1
+    while k + 1 < ns and s[S_HEAD + k + 1] <= sigma:  # bisect_right - 1
+        k += 1
+    k = min(max(k, 0), ns - 2)
+    return k, (sigma - s[S_HEAD + k]) / (s[S_HEAD + k + 1] - s[S_HEAD + k])

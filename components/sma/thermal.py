@@ -18,10 +18,13 @@ from collections.abc import Callable
 from dataclasses import dataclass, fields
 from typing import NamedTuple
 
+import numpy as np
 from scipy.optimize import brentq
 
 from musclesim.components.checks import require
+from musclesim.components.sma.surface import fmax, fmin
 from musclesim.fmu import Calibration, declare
+from musclesim.fmu.compiled import jit
 
 DRIVES = ("voltage", "current")
 
@@ -127,44 +130,31 @@ def resistance(xi: float, p: ThermalParams) -> float:
     >>> round(resistance(1.0, p) / p.length, 1), round(resistance(0.0, p) / p.length, 1)
     (63.2, 78.9)
     """
-    rho = xi * p.rho_martensite + (1 - xi) * p.rho_austenite
-    return rho * p.length / cross_section(p)
+    return resistance_k(packed(p), xi)
 
 
 def joule_power(u: float, xi: float, p: ThermalParams) -> float:
     """Joule heating [W] of the input `u` on the wire `p` at martensite fraction `xi`: V^2 / R
     under voltage drive, R I^2 under current drive."""
-    r = resistance(xi, p)
-    return u * u / r if p.drive == "voltage" else r * u * u
+    return joule_power_k(packed(p), u, xi)
 
 
 def convection_coefficient(T: float, T_amb: float, p: ThermalParams) -> float:
     """h(T) [W/(m^2 K)] of the wire `p` at `T` in air at `T_amb` [C]: h, or h (|T - T_amb| /
     dT_ref)^n with the effect on."""
-    if p.h_exponent == 0:
-        return p.h
-    return p.h * (abs(T - T_amb) / p.h_dT_ref) ** p.h_exponent
+    return convection_k(packed(p), T, T_amb)
 
 
 def martensite_fraction(eps: float, eps_max: float) -> float:
     """xi = 1 - `eps` / `eps_max` clipped to [0, 1]: a hysteron switched on is austenite
     (§preisach)."""
-    return min(1.0, max(0.0, 1.0 - eps / eps_max))
+    return martensite_fraction_k(eps, eps_max)
 
 
 def derivative(T: float, inputs: ThermalInputs, p: ThermalParams) -> float:
     """dT/dt [K/s] of the lumped balance of the wire `p` at temperature `T` [C] with `inputs`
     (module equation)."""
-    h = convection_coefficient(T, inputs.T_amb, p)
-    heat = (joule_power(inputs.u, inputs.xi, p)
-            + p.density * cross_section(p) * p.length * p.latent_heat * inputs.xi_rate
-            - h * lateral_surface(p) * (T - inputs.T_amb))
-    return heat / heat_capacity(p)
-
-
-def _phi(x: float) -> float:
-    """(1 - exp(-x)) / x, with its limit 1 at x = 0."""
-    return -math.expm1(-x) / x if x > 1e-12 else 1.0
+    return derivative_k(packed(p), T, inputs.u, inputs.T_amb, inputs.xi, inputs.xi_rate)
 
 
 def step(T: float, inputs: ThermalInputs, dt: float, p: ThermalParams) -> float:
@@ -182,14 +172,7 @@ def step(T: float, inputs: ThermalInputs, dt: float, p: ThermalParams) -> float:
     >>> abs((T - 20.0) / 60.0 - math.exp(-1)) < 1e-12
     True
     """
-    n = 1 if p.h_exponent == 0 else max(1, math.ceil(dt / p.max_substep - 1e-9))
-    dt_s = dt / n
-    mc = heat_capacity(p)
-    for _ in range(n):
-        h = convection_coefficient(T, inputs.T_amb, p)
-        k = (1 + p.h_exponent) * h * lateral_surface(p)
-        T = T + dt_s * derivative(T, inputs, p) * _phi(dt_s * k / mc)
-    return T
+    return step_k(packed(p), T, inputs.u, inputs.T_amb, inputs.xi, inputs.xi_rate, dt)
 
 
 def step_coupled(T: float, inputs: ThermalInputs, dt: float, p: ThermalParams,
@@ -255,3 +238,94 @@ def _root(g, lo, hi, xi_end):
     an end)."""
     T_new = brentq(g, lo, hi, xtol=1e-10)
     return T_new, xi_end(T_new)
+
+
+# --- the lumped model on a float64 array, for the compiled cores (`musclesim.fmu.compiled`) ---
+# slots of `pack`'s array: the parameters and the derived constants the functions above compute
+# per call (same operations, same order, so the same bits)
+(TP_LENGTH, TP_AREA, TP_RHO_M, TP_RHO_A, TP_CURRENT, TP_H, TP_H_EXPONENT, TP_DT_REF,
+ TP_MAX_SUBSTEP, TP_SURFACE, TP_HEAT_CAPACITY, TP_LATENT) = range(12)
+TP_SIZE = 12
+
+
+def packed(p: ThermalParams) -> np.ndarray:
+    """`pack` (`p`), kept on `p` (immutable) so that the functions above pack it once."""
+    try:
+        return p.__dict__["_packed"]
+    except KeyError:
+        object.__setattr__(p, "_packed", pack(p))
+        return p.__dict__["_packed"]
+
+
+def pack(p: ThermalParams) -> np.ndarray:
+    """The thermal parameters `p` as a float64 array (slots ``TP_*``): length, cross-section,
+    resistivities, drive (1 = current), h, its exponent and reference excess, the sub-step,
+    the lateral surface, the heat capacity and the latent factor rho A L L_h (the mass times
+    the latent heat)."""
+    return np.array([p.length, cross_section(p), p.rho_martensite, p.rho_austenite,
+                     0.0 if p.drive == "voltage" else 1.0, p.h, p.h_exponent, p.h_dT_ref,
+                     p.max_substep, lateral_surface(p), heat_capacity(p),
+                     p.density * cross_section(p) * p.length * p.latent_heat], dtype=float)
+
+
+@jit
+def resistance_k(tp: np.ndarray, xi: float) -> float:
+    """`resistance` at martensite fraction `xi` of the packed parameters `tp` (`pack`)."""
+    rho = xi * tp[TP_RHO_M] + (1 - xi) * tp[TP_RHO_A]
+    return rho * tp[TP_LENGTH] / tp[TP_AREA]
+
+
+@jit
+def joule_power_k(tp: np.ndarray, u: float, xi: float) -> float:
+    """`joule_power` of the input `u` at martensite fraction `xi`, packed parameters `tp`."""
+    r = resistance_k(tp, xi)
+    return u * u / r if tp[TP_CURRENT] == 0.0 else r * u * u
+
+
+@jit
+def convection_k(tp: np.ndarray, T: float, T_amb: float) -> float:
+    """`convection_coefficient` at `T` in air at `T_amb` [C], packed parameters `tp`."""
+    if tp[TP_H_EXPONENT] == 0:
+        return tp[TP_H]
+    return tp[TP_H] * (abs(T - T_amb) / tp[TP_DT_REF]) ** tp[TP_H_EXPONENT]
+
+
+@jit
+def martensite_fraction_k(eps: float, eps_max: float) -> float:
+    """`martensite_fraction` of the strain `eps` and the maximum `eps_max`."""
+    return fmin(1.0, fmax(0.0, 1.0 - eps / eps_max))
+
+
+@jit
+def derivative_k(tp: np.ndarray, T: float, u: float, T_amb: float, xi: float,
+                 xi_rate: float) -> float:
+    """`derivative` at `T` [C] of the packed parameters `tp`, the inputs spelled out (`u`,
+    `T_amb`, `xi`, `xi_rate`: `ThermalInputs`)."""
+    h = convection_k(tp, T, T_amb)
+    heat = (joule_power_k(tp, u, xi) + tp[TP_LATENT] * xi_rate
+            - h * tp[TP_SURFACE] * (T - T_amb))
+    return heat / tp[TP_HEAT_CAPACITY]
+
+
+@jit
+def phi_k(x: float) -> float:
+    """(1 - exp(-`x`)) / `x`, with its limit 1 at x = 0."""
+    return -math.expm1(-x) / x if x > 1e-12 else 1.0
+
+
+@jit
+def step_k(tp: np.ndarray, T: float, u: float, T_amb: float, xi: float, xi_rate: float,
+           dt: float) -> float:
+    """`step` from `T` [C] over `dt` [s] of the packed parameters `tp`, the inputs spelled out
+    (`u`, `T_amb`, `xi`, `xi_rate`: `ThermalInputs`)."""
+    n = 1
+    if tp[TP_H_EXPONENT] != 0:
+        n = max(1, int(math.ceil(dt / tp[TP_MAX_SUBSTEP] - 1e-9)))
+    dt_s = dt / n
+    mc = tp[TP_HEAT_CAPACITY]
+    for _ in range(n):
+        h = convection_k(tp, T, T_amb)
+        k = (1 + tp[TP_H_EXPONENT]) * h * tp[TP_SURFACE]
+        T = T + dt_s * derivative_k(tp, T, u, T_amb, xi, xi_rate) * phi_k(dt_s * k / mc)
+    return T
+

@@ -10,7 +10,7 @@ import pytest
 
 from musclesim.components.sma.analytic import sma_like_surface
 from musclesim.components.sma.inverse import InverseBases, PreisachInverse
-from musclesim.components.sma.preisach import PreisachModel, RangeWarning
+from musclesim.components.sma.preisach import MemoryParams, PreisachModel, RangeWarning
 from musclesim.components.sma.profiles import (LOADING_PROFILES, STRAIN_PROFILES, loading_profile,
                                                strain_profile)
 
@@ -178,3 +178,50 @@ def test_random_profiles_are_seeded():
 def test_unknown_profile_is_an_error():
     with pytest.raises(ValueError, match="unknown profile 'SP V'; choose one of SP I, SP II"):
         strain_profile("SP V")
+
+
+# --- the compiled kernel's form (components/sma/inversekernel.py) ------------------------------
+
+@pytest.mark.parametrize("params", [None, MemoryParams(tol=0.0, max_extrema=4),
+                                    MemoryParams(tol=0.2, max_extrema=6)],
+                         ids=["default", "bound-4", "bound-6"])
+@pytest.mark.parametrize("seed", [1, 2])
+def test_kernel_is_the_inverse_bit_for_bit(params, seed):
+    """`inversekernel`'s clear/peek/step on arrays give `PreisachInverse`'s T_out and stack bit
+    for bit, through wipe-outs, reversals within tol, forgotten pairs and changing stress."""
+    from musclesim.components.sma import inversekernel as ik
+    rng = np.random.default_rng(seed)
+    inverse = PreisachInverse(SMA, params, bases=BASES)
+    p, x = ik.pack(SMA, BASES), ik.new_state(params)
+    view = ik.InverseState(BASES, x)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RangeWarning)
+        inverse.clear(125e6)
+        ik.clear(p, x, 125e6, 0.0)
+        eps = np.cumsum(rng.normal(0.0, 0.004, 600)).clip(-0.005, 0.06)  # out of range at times
+        sigma = 125e6 + 25e6 * np.sin(np.arange(600) * 0.05)  # beyond the levels at times
+        for k, (e, s) in enumerate(zip(eps.tolist(), sigma.tolist())):
+            assert ik.peek(p, x, e, s, k) == inverse.peek(e, s)
+            assert ik.step(p, x, ik.blocks(x)[0], e, s, k) == inverse.step(e, s)
+            assert (view.extrema, view.prefix, view.stresses) == (
+                inverse.extrema, inverse.prefix, inverse.stresses), k
+    assert x[ik.X_WARN_EPS] == 1.0 and x[ik.X_WARN_SIGMA] == 1.0  # both clamps were seen
+
+
+def test_compiled_inverse_kernel_is_its_python_bit_for_bit():
+    """The kernel's `evaluate` and `advance` compiled against their plain-Python bodies
+    (`.py_func`) on copies of the same arrays."""
+    from musclesim.components.sma import inversekernel as ik
+    if getattr(ik.advance, "py_func", None) is None:
+        pytest.skip("numba is not installed: the kernel runs as Python")
+    p, x = ik.pack(SMA, BASES), ik.new_state()
+    ik.clear(p, x, 120e6, 0.0)
+    x_py, y, y_py = x.copy(), np.zeros(1), np.zeros(1)
+    eps_r, sigma = strain_profile("SP IV")(TIMES[:2000]), loading_profile("LP V")(TIMES[:2000])
+    for k, (e, s) in enumerate(zip(eps_r.tolist(), sigma.tolist())):
+        u = np.array([e, s])
+        ik.evaluate(p, x, u, k / RATE, y)
+        ik.evaluate.py_func(p, x_py, u, k / RATE, y_py)
+        ik.advance(p, x, u, y, k / RATE, 1 / RATE)
+        ik.advance.py_func(p, x_py, u, y_py, k / RATE, 1 / RATE)
+        assert y.tobytes() == y_py.tobytes() and x.tobytes() == x_py.tobytes(), k

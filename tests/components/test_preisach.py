@@ -278,3 +278,51 @@ def test_bench_reports_per_step_times():
     assert {"forward_us", "inverse_us", "call_us", "forward_ratio", "inverse_ratio"} <= set(report)
     assert all(report[k] > 0 for k in ("forward_us", "inverse_us", "call_us"))
     assert "us/step" in bench.format_preisach(report)
+
+
+# --- the memory as an array (the compiled kernels' form) -------------------------------------
+
+def _pm_state(m):
+    return m.extrema, m.prefix, m.stresses, m.rising, m.X
+
+
+def _mem_state(mem):
+    from musclesim.components.sma import preisach as pr
+    n, cap = int(mem[pr.M_N]), int(mem[pr.M_CAP])
+    return ([*mem[pr.M_HEAD:pr.M_HEAD + n]], [*mem[pr.M_HEAD + cap:pr.M_HEAD + cap + n]],
+            [*mem[pr.M_HEAD + 2 * cap:pr.M_HEAD + 2 * cap + n]], bool(mem[pr.M_RISING]),
+            mem[pr.M_X])
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.lists(st.tuples(temps, stresses), min_size=1, max_size=80),
+       st.sampled_from([MemoryParams(), MemoryParams(tol=0.0, max_extrema=4),
+                        MemoryParams(tol=0.5, max_extrema=6)]),
+       st.sampled_from([SMA, UNIFORM, UNIFORM_5, SMA.at_stress(120e6)]))
+def test_array_memory_is_the_model_bit_for_bit(inputs, params, surface):
+    """`mem_reset`/`mem_step`/`mem_peek` (the kernels' Preisach memory, fixed capacity
+    max_extrema + 1) give the model's strains and stack bit for bit, forgetting pairs included."""
+    from musclesim.components.sma import preisach as pr
+    from musclesim.components.sma.surface import pack
+    s = pack(surface)
+    model = PreisachModel(surface, params)
+    mem, trial = pr.memory(params), pr.memory(params)
+    (T0, s0), rest = inputs[0], inputs[1:]
+    assert pr.mem_reset(s, mem, T0, s0) == model.reset(T0, s0)
+    for T, sigma in rest:
+        assert pr.mem_peek(s, mem, trial, T, sigma) == model.peek(T, sigma)
+        assert pr.mem_step(s, mem, T, sigma) == model.step(T, sigma)
+        assert _mem_state(mem) == _pm_state(model)
+        assert int(mem[pr.M_N]) <= int(mem[pr.M_CAP])
+
+
+def test_array_surface_is_F_bit_for_bit():
+    from musclesim.components.sma.surface import pack, surface_F
+    rng = np.random.default_rng(3)
+    for surface in (SMA, UNIFORM, SMA.at_stress(120e6)):
+        s = pack(surface)
+        for a, b, sigma in zip(rng.uniform(25, 135, 300), rng.uniform(25, 135, 300),
+                               rng.uniform(100e6, 150e6, 300)):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RangeWarning)
+                assert surface_F(s, a, b, sigma) == surface.F(a, b, sigma)

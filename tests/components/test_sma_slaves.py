@@ -317,3 +317,32 @@ def test_no_output_is_direct_feedthrough(fmu_dir):
     # the wire closes loops (temperature controller, spring or magnet load) with no algebraic loop
     md = read_model_description(str(fmu_dir / "SmaWire.fmu"))
     assert md.outputs and all(u.dependencies == [] for u in md.outputs)
+
+
+@pytest.mark.parametrize("params", [
+    {}, {"latent_heat": 20e3, "end_cooling": 0.8, "hysteresis": 1.0},
+    {"latent_heat": 15e3, "h_exponent": 0.1, "sigma_surface": 120e6, "stress_blend": 0.5,
+     "drift_amplitude": 0.1, "drift_shift": 3.0, "drift_settle_cycles": 2.0}],
+    ids=["nominal", "latent-ends", "latent-h(T)-blend-drift"])
+def test_kernel_paths_agree(params):
+    """The SmaWire's compiled kernel gives the bits of its plain-Python source along a run through
+    heating, cooling and a load swinging past the data set's stresses."""
+    from kernel_paths import assert_paths_agree
+
+    def inputs(k):
+        return {"u": 2.2 if k < 700 else 0.0, "flange_f": LOAD_150G * (1 + 0.9 * math.sin(k / 90))}
+    assert_paths_agree(_wire(**params), inputs, DT, 1200)
+
+
+def test_a_failed_root_search_is_the_error_scipy_raises():
+    """The kernel cannot raise: a latent-heat root search that fails (f(a), f(b) of one sign, as
+    scipy's brentq finds it) sets an error flag in the state, which the slave raises after the
+    step, as the Python core raised scipy's error."""
+    from musclesim.components.sma import wirekernel
+    wire = _wire(latent_heat=20e3)
+    wire.exit_initialization_mode()
+    wire.do_step(0.0, DT)
+    wire.kx[wirekernel.X_ERROR] = 1.0  # as _brentq sets it
+    with pytest.raises(ValueError, match="f\\(a\\) and f\\(b\\) must have different signs"):
+        wire.do_step(DT, DT)
+    assert wire.kx[wirekernel.X_ERROR] == 0.0

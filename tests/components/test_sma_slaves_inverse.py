@@ -215,3 +215,17 @@ def test_round_trip_under_time_varying_stress(hysteresis, lp):
     surface = datasets.surface(hysteresis)
     aware_error = rmse_percent(forward(T_ref, sigma, surface), eps_r)
     assert 3 * aware_error < rmse_percent(forward(ignored, sigma, surface), eps_r)
+
+
+@pytest.mark.parametrize("hysteresis, sigma_surface", [(0.0, 0.0), (1.0, 125e6)],
+                         ids=["wire-aware", "set1-ignored"])
+def test_kernel_paths_agree(hysteresis, sigma_surface):
+    """The PreisachInverse's compiled kernel gives the bits of its plain-Python source along the
+    reference profiles."""
+    from kernel_paths import assert_paths_agree
+    eps_r, sigma = strain_profile("SP IV")(TIMES[:1500]), loading_profile("LP V")(TIMES[:1500])
+
+    def inputs(k):
+        return {"eps_ref": float(eps_r[k]), "sigma_ref": float(sigma[k])}
+    assert_paths_agree(_inverse(hysteresis=hysteresis, sigma_surface=sigma_surface), inputs, DT,
+                       1500)

@@ -2,6 +2,7 @@
 checks, and `SmaWireCore` against the thermal and Preisach cores stepped by hand."""
 import dataclasses
 
+import numpy as np
 import pytest
 
 from musclesim.components.sma import datasets, drift, submodels, thermal
@@ -98,3 +99,42 @@ def test_core_is_the_thermal_and_preisach_cores_stepped_by_hand():
         peak = max(peak, c.eps)
     assert peak > 0.5 * eps_max and c.eps < peak  # it transformed, and cooling gave some back
     assert c.stress_held == F / c.area and c.resistance() == thermal.resistance(xi, WIRE)
+
+
+@pytest.mark.parametrize("params, wire", [
+    ({}, WIRE),
+    ({"end_cooling": 0.8, "drift_amplitude": 0.1, "drift_shift": 4.0, "drift_settle_cycles": 2.0},
+     thermal.ThermalParams(latent_heat=20e3)),
+    ({"sigma_surface": 120e6, "stress_blend": 0.5},
+     thermal.ThermalParams(latent_heat=15e3, h_exponent=0.1)),
+], ids=["nominal", "latent-ends-drift", "latent-h(T)-blend"])
+def test_compiled_kernel_is_its_python_bit_for_bit(params, wire):
+    """The kernel's `advance` and `evaluate` compiled against their plain-Python bodies
+    (`.py_func`) on copies of the same arrays, step by step through heating and cooling."""
+    from musclesim.components.sma import wirekernel as wk
+    if getattr(wk.advance, "py_func", None) is None:
+        pytest.skip("numba is not installed: the kernel runs as Python")
+    c = SmaWireCore(SmaWireParams(hysteresis=1.0, **params), wire, ROOT)
+    c.start(0.0, 20.0, F, c.stress_seen(F), 0.0)
+    p, x = c.kp, c.kx
+    x_py = x.copy()
+    y, y_py = np.zeros(len(wk.OUTPUTS)), np.zeros(len(wk.OUTPUTS))
+    for k in range(1500):
+        u = np.array([2.0 if k < 700 else 0.0, 293.15, F * (1 + 0.2 * np.sin(k * 1e-2))])
+        wk.evaluate(p, x, u, k * DT, y)
+        wk.evaluate.py_func(p, x_py, u, k * DT, y_py)
+        assert y.tobytes() == y_py.tobytes(), k
+        wk.advance(p, x, u, y, k * DT, DT)
+        wk.advance.py_func(p, x_py, u, y_py, k * DT, DT)
+        assert x.tobytes() == x_py.tobytes(), k
+    assert 0 < c.eps < 0.05 and x[wk.X_ERROR] == 0
+
+
+def test_the_state_holds_the_stack_bound_of_each_memory():
+    """Each Preisach memory of the state has max_extrema + 1 slots: the most `push_extremum`
+    holds before it forgets a pair."""
+    from musclesim.components.sma import preisach, wirekernel as wk
+    c = core(end_cooling=0.5)
+    size = len(preisach.memory())
+    assert size == preisach.M_HEAD + 3 * (preisach.MemoryParams().max_extrema + 1)
+    assert len(c.kx) == wk.X_MEMORIES + (len(c.ends.zones) + 2) * size
