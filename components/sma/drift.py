@@ -15,7 +15,7 @@ import math
 from dataclasses import dataclass
 
 from musclesim.components.checks import require
-from musclesim.fmu.compiled import jit
+from musclesim.fmu import jit
 
 
 @dataclass(frozen=True)

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from musclesim.components.checks import require
-from musclesim.fmu.compiled import jit
+from musclesim.fmu import jit
 
 from .surface import (GRID_TEMPS, S_HEAD, S_MSHI, S_MSLO, S_NC, S_NLEV, S_THI, S_TLO, STRESSES,
                       Hypersurface, RangeWarning, cell_eval, clamp, clip, fmax, fmin,

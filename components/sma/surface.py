@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import ArrayLike
 
-from musclesim.fmu.compiled import jit
+from musclesim.fmu import jit
 
 from . import forcfile
 

@@ -24,7 +24,7 @@ from scipy.optimize import brentq
 from musclesim.components.checks import require
 from musclesim.components.sma.surface import fmax, fmin
 from musclesim.fmu import Calibration, declare
-from musclesim.fmu.compiled import jit
+from musclesim.fmu import jit
 
 DRIVES = ("voltage", "current")
 
