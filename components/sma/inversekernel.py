@@ -205,10 +205,10 @@ def step(p: np.ndarray, x: np.ndarray, block: np.ndarray, eps_r: float, sigma: f
 @jit
 def peek(p: np.ndarray, x: np.ndarray, eps_r: float, sigma: float, t: float) -> float:
     """`PreisachInverse.peek` of the parameters `p`: `step` of `eps_r` [-], `sigma` [Pa] at `t`
-    [s] on a copy of the state `x`'s memory block (into its scratch block)."""
-    block, scratch = blocks(x)
-    scratch[:] = block
-    return step(p, x, scratch, eps_r, sigma, t)
+    [s] on a copy of the state `x`'s memory block (a new array: the state is left as it was but
+    for a clamp's first warning, as evaluate's rule asks)."""
+    block, _ = blocks(x)
+    return step(p, x, block.copy(), eps_r, sigma, t)
 
 
 @jit

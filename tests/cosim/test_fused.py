@@ -125,3 +125,29 @@ def test_many_cases_in_one_pass_give_each_case_its_own_bits(fmu_dir):
     one_by_one = run_cases([Master(c, fmu_dir, host="fmpy") for c in cases[:2]])
     for a, b in zip(one_by_one, batch):
         assert_same(a, b)
+
+
+def test_a_signal_stops_a_fused_run_between_two_chunks_with_its_rows(fmu_dir, monkeypatch):
+    """A signal caught while a fused loop runs stops it at the end of its chunk of rows:
+    `Interrupted` carries the rows so far, the unfused run's bits, and says when it stopped."""
+    import signal
+
+    from musclesim.cosim import Interrupted, interrupt, master
+
+    monkeypatch.setattr(master, "FUSED_ROWS", 100)
+    s = crawler(stop_time=1.0)
+    full = Master(s, fmu_dir, fuse=False).run()
+
+    def rows(time, data):
+        interrupt.STATE["signum"] = signal.SIGINT  # as the handler records a signal
+
+    monkeypatch.setattr(master, "FLUSH_SECONDS", 0.0)
+    try:
+        with pytest.raises(Interrupted) as stopped:
+            Master(s, fmu_dir).run(on_rows=rows)
+    finally:
+        interrupt.STATE["signum"] = None
+    res = stopped.value.results
+    assert 100 < len(res.time) < len(full.time)
+    assert res.data.tobytes() == full.data[:len(res.time)].tobytes()
+    assert res.error == f"interrupted by SIGINT at t = {res.time[-1]:.6g} s"

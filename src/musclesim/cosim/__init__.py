@@ -7,7 +7,10 @@ one way parameter values reach a scenario. Exporting a scenario for other tools 
 is the layer above, ``musclesim.export``.
 
 The data path of a run is ``load_scenario`` -> ``Master(...).run()`` (`Results`) ->
-``write_results``; ``run_scenario`` does all three (with the freshness check of the FMUs) for the
+``write_results``; where every instance is one of our compiled kernels on the direct host the
+master runs its steps fused, in one compiled loop written for the scenario's wiring
+(``musclesim.cosim.fused``), and ``run_cases`` runs many parameter sets of one scenario in one
+such pass, one thread per case; ``run_scenario`` does all three (with the freshness check of the FMUs) for the
 command line and for every case of a sweep, writing the rows as the run goes. What every layer's
 outputs rely on lives here too: output paths checked before the work (``check_output_dir``,
 ``check_output_file``, ``check_archive``), files replaced whole (``replace_file``,
