@@ -4,8 +4,10 @@ A musclesim FMU is a pythonfmu archive: its resources hold a Python slave class,
 native library calls that class's methods (``get_real``, ``set_real``, ``do_step``...) for every FMI
 call, crossing ctypes, C++ and back into Python per call. The slave is Python already, so a master
 in the same Python process can load the class the archive ships (``resources/slavemodule.txt``
-names its script) and call those same methods itself: the same files, the same code, the same
-calls in the same order, hence the same results to the bit, without the round trip.
+names its script, read from the archive: nothing is unpacked) and call those same methods itself:
+the same code, the same calls in the same order, hence the same results to the bit, without the
+round trip. The slave gets no resources folder: it reads the installed package's data files, of
+which the archive's are copies.
 
 An archive qualifies only where the code it ships is the code this process has imported: the
 folder's ``BUILD.json`` (written by `musclesim.cosim.build_all`) lists the file with its digest,
@@ -18,8 +20,8 @@ one of ours) is hosted by fmpy as before.
 logged as pythonfmu's C layer logs it (an fmi2Error message holding the exception's repr) and
 raised as fmpy's ``FMICallException``, so a failure reads the same on both hosts.
 """
-import importlib.util
-from pathlib import Path
+import types
+import zipfile
 
 from fmpy.fmi1 import FMICallException
 
@@ -28,19 +30,18 @@ ERROR = 3  # fmi2Error
 _CLASSES: dict[bytes, type] = {}  # content of the resources' script -> slave class
 
 
-def slave_class(unzipped, model_identifier):
-    """The slave class an extracted pythonfmu FMU ships, loaded from its resources' script once
-    per process (pythonfmu executes that script the same way)."""
-    resources = Path(unzipped) / "resources"
-    script = resources / ((resources / "slavemodule.txt").read_text().strip() + ".py")
-    key = script.read_bytes()
-    if key not in _CLASSES:
-        spec = importlib.util.spec_from_file_location(f"{script.stem}_direct", script)
-        assert spec is not None and spec.loader is not None  # a .py file always has both
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
-        _CLASSES[key] = getattr(module, model_identifier)
-    return _CLASSES[key]
+def slave_class(fmu_path, model_identifier):
+    """The slave class the pythonfmu FMU at `fmu_path` ships, its resources' script read from the
+    archive (nothing is unpacked) and executed once per process, as pythonfmu executes it."""
+    with zipfile.ZipFile(fmu_path) as zf:
+        name = zf.read("resources/slavemodule.txt").decode().strip()
+        source = zf.read(f"resources/{name}.py")
+    if source not in _CLASSES:
+        module = types.ModuleType(f"{name}_direct")
+        module.__file__ = f"{fmu_path}/resources/{name}.py"
+        exec(compile(source, module.__file__, "exec"), module.__dict__)  # noqa: S102 - ours
+        _CLASSES[source] = getattr(module, model_identifier)
+    return _CLASSES[source]
 
 
 class DirectSlave:
@@ -51,11 +52,13 @@ class DirectSlave:
     fmpy's logger callback delivers them.
     """
 
-    def __init__(self, cls, instance_name, unzipped, log):
+    def __init__(self, cls, instance_name, log):
         self.log = log
         self.name = instance_name
+        # no resources folder: the slave reads this package's data files (the installed ones,
+        # which the archive's are copies of)
         self.slave = self._call("fmi2Instantiate", cls, instance_name=instance_name,
-                                resources=str(Path(unzipped) / "resources"), visible=False)
+                                resources=None, visible=False)
 
     def _call(self, function, method, *args, **kwargs):
         try:

@@ -311,14 +311,19 @@ class Master:
     def _instantiate(self, tmp: Path) -> None:
         s = self.scenario
         gauss_seidel = s.algorithm == "gauss-seidel"
-        unzipped = {}
-        for inst in self.instances.values():
-            self.current = inst
-            path = self.fmu_dir / f"{inst.component}.fmu"
+        unzipped: dict[str, str] = {}
+
+        def unpacked(inst: Loaded, path: Path) -> str:
+            """The folder the FMU at `path` is extracted in (extracted the first time)."""
             if inst.component not in unzipped:
                 unzipped[inst.component] = extracted_fmu(path) or extract_fmu(
                     path, tmp / inst.component)
-            inst.slave = self._load(inst, path, unzipped[inst.component])
+            return unzipped[inst.component]
+
+        for inst in self.instances.values():
+            self.current = inst
+            path = self.fmu_dir / f"{inst.component}.fmu"
+            inst.slave = self._load(inst, path, unpacked)
             inst.get = inst.slave.reader(inst.read_vrs,
                                          self.values[inst.first:inst.first + len(inst.reads)],
                                          inst.read_kinds)
@@ -340,18 +345,19 @@ class Master:
             (inst, inst.every, [c for c in (inst.set_early, inst.get) if c is not None])
             for inst in (self.instances[n] for n in self.exchange_order)]
 
-    def _load(self, inst: Loaded, path: Path, unzipped: str) -> Any:
-        """Instantiate `inst` from the FMU at `path` extracted in `unzipped`, on its host."""
+    def _load(self, inst: Loaded, path: Path, unpacked: Callable[[Loaded, Path], str]) -> Any:
+        """Instantiate `inst` from the FMU at `path` on its host (`unpacked` extracts it where
+        the host needs its files: all but the direct host)."""
         try:  # fmpy raises bare Exceptions for a missing or broken library, a failed instance
             if inst.md.fmiVersion.startswith("3"):  # through the FMI 3.0 C API, always
                 self.hosts[inst.name] = "fmpy"
-                return Fmpy3Slave(inst.md, unzipped, inst.name, inst.log)
+                return Fmpy3Slave(inst.md, unpacked(inst, path), inst.name, inst.log)
             if self.host == "direct" and built_here(path):
-                cls = direct.slave_class(unzipped, inst.md.coSimulation.modelIdentifier)
+                cls = direct.slave_class(path, inst.md.coSimulation.modelIdentifier)
                 self.hosts[inst.name] = "direct"
-                return direct.DirectSlave(cls, inst.name, unzipped, inst.log)
+                return direct.DirectSlave(cls, inst.name, inst.log)
             self.hosts[inst.name] = "fmpy"
-            return FmpySlave(inst.md, unzipped, inst.name, self.callbacks)
+            return FmpySlave(inst.md, unpacked(inst, path), inst.name, self.callbacks)
         except FMICallException:
             raise
         except Exception as exc:
