@@ -11,9 +11,10 @@ faster than real time) and their ratio. Then the same on the direct host with th
 docs/user/scenarios.md): its real-time factor and how far the wire's strain moves from the
 single-rate run (a choice a user makes, not the study's scenario). Then a profiled run of the
 direct host: the time spent in each component's `advance` and `evaluate`, and in the master's
-loop around them (the profiler's overhead inflates all of them; the split is what it is for).
-Goal: at least 10x faster than real time. Run it on a quiet machine; nothing here is part of the
-test suite.
+loop around them, stepped per call (the profiler's overhead inflates all of them; the split is
+what it is for). Every run is timed after an untimed one of the same scenario (the compiled code
+loaded, the hysteresis tables read once per process). Goal: at least 50x faster than real time,
+stepping every point. Run it on a quiet machine; nothing here is part of the test suite.
 """
 import argparse
 import cProfile
@@ -28,7 +29,7 @@ import numpy as np
 from musclesim.cosim import Master, Signal, check_fresh, load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
-GOAL = 10.0  # real-time factor
+GOAL = 50.0  # real-time factor (issue 56: stepping every point, no multi-rate)
 SLOW = ("strain", "loading", "inverse")  # the reference chain: profiles and the inverse
 
 STRAIN = Signal("wire", "strain")  # the signal the runs are compared on
@@ -52,9 +53,10 @@ def multirate(s, every):
 
 
 def split(s, fmu_dir):
-    """{component function: seconds (cumulative, under the profiler)} of one direct run."""
+    """{component function: seconds (cumulative, under the profiler)} of one direct run stepped
+    per call (`fuse=False`: a fused run is one compiled call the profiler cannot look into)."""
     prof = cProfile.Profile()
-    prof.runcall(Master(s, fmu_dir).run)
+    prof.runcall(Master(s, fmu_dir, fuse=False).run)
     stats = pstats.Stats(prof).stats
     return {f"{Path(file).parent.name}/{Path(file).name}:{fn}": cum
             for (file, _, fn), (_, _, _, cum, _) in stats.items()
@@ -71,6 +73,8 @@ def main():
     args = ap.parse_args()
     check_fresh(args.fmus)
     s = load_scenario(ROOT / "scenarios" / "sma-position-control.toml", stop_time=args.stop_time)
+    timed_run(s, args.fmus, "direct")  # compiled, or loaded from the cache, before timing
+    timed_run(multirate(s, args.every), args.fmus, "direct")
     runs = {host: timed_run(s, args.fmus, host) for host in ("direct", "fmpy")}
     wall_m, res_m = timed_run(multirate(s, args.every), args.fmus, "direct")
     walls = {host: wall for host, (wall, _) in runs.items()}
@@ -96,7 +100,7 @@ def main():
     print(f"  direct, {', '.join(SLOW)} every {m['every']} points: {m['wall_s']:.1f} s, real-time "
           f"factor {m['real_time_factor']:.2f}; wire strain moves by at most "
           f"{m['max_strain_change']:.2e} (its range {m['strain_range']:.2e})")
-    print("  profiled, per communication step:")
+    print("  profiled, unfused, per communication step:")
     for k, v in report["profiled_us_per_step"].items():
         print(f"    {k:48s} {v:7.1f} us")
     if args.json:
