@@ -21,8 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from musclesim.components.checks import require
-from musclesim.fmu import declare
-from musclesim.fmu import jit
+from musclesim.fmu import declare, jit
 
 # §temperature-control: 21 operating points of the temperature reference, 30..130 C every 5 C (in
 # K): the GainScheduledPID's default scheduling points, and those its gains are designed at

@@ -18,8 +18,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from musclesim.fmu import declare
-from musclesim.fmu import jit
+from musclesim.fmu import declare, jit
 
 ZERO_C = 273.15
 

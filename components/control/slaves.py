@@ -16,9 +16,7 @@ import numpy as np
 
 from musclesim.components.control import pid, relay
 from musclesim.components.control.pid import SCHEDULE_K
-from musclesim.fmu import experiment
-from musclesim.fmu import jit
-from musclesim.fmu import Kernel, KernelSlave
+from musclesim.fmu import Kernel, KernelSlave, experiment, jit
 
 UNLIMITED = 1e30  # output limits that never act (FMI start values must be finite)
 

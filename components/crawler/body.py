@@ -20,9 +20,7 @@ import numpy as np
 
 from musclesim.components import fixedorder
 from musclesim.components.checks import require
-from musclesim.fmu import Calibration, declare
-from musclesim.fmu import jit
-from musclesim.fmu import Kernel
+from musclesim.fmu import Calibration, Kernel, declare, jit
 
 G = 9.81  # m/s^2
 

@@ -20,9 +20,7 @@ from dataclasses import astuple, dataclass
 import numpy as np
 
 from musclesim.components.checks import require
-from musclesim.fmu import Calibration, declare
-from musclesim.fmu import jit
-from musclesim.fmu import Kernel
+from musclesim.fmu import Calibration, Kernel, declare, jit
 
 
 @dataclass(frozen=True)

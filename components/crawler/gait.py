@@ -29,9 +29,7 @@ from dataclasses import astuple, dataclass
 import numpy as np
 
 from musclesim.components.checks import require
-from musclesim.fmu import declare
-from musclesim.fmu import jit
-from musclesim.fmu import Kernel
+from musclesim.fmu import Kernel, declare, jit, no_state
 
 # s: times within this of a phase boundary count as past it, so that a time accumulated step by
 # step (0.001 + 0.001 + ...) switches on the same sample as the exact time would
@@ -154,12 +152,6 @@ def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarra
     y[0], y[1], y[2], y[3], y[4], y[5] = _references(t, p)
 
 
-@jit
-def advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
-            dt: float) -> None:
-    """Kernel step over [`t`, `t` + `dt`]: the sequencer has no state (`p`, `x`, `u`, `y` do
-    not matter)."""
 
-
-KERNEL = Kernel(evaluate, advance, inputs=(),
+KERNEL = Kernel(evaluate, no_state, inputs=(),
                 outputs=("p_ref1", "p_ref_c", "p_ref2", "phase", "stride_direction", "stride"))

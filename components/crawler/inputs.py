@@ -11,9 +11,7 @@ from dataclasses import astuple, dataclass
 import numpy as np
 
 from musclesim.components.checks import require
-from musclesim.fmu import declare
-from musclesim.fmu import jit
-from musclesim.fmu import Kernel
+from musclesim.fmu import Kernel, declare, jit, no_state
 
 
 @dataclass(frozen=True)
@@ -69,11 +67,5 @@ def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarra
     y[0], y[1], y[2] = signals_core(t, p)
 
 
-@jit
-def advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
-            dt: float) -> None:
-    """Kernel step over [`t`, `t` + `dt`]: the signals have no state (`p`, `x`, `u`, `y` do not
-    matter)."""
 
-
-KERNEL = Kernel(evaluate, advance, inputs=(), outputs=("f_a", "u1", "u2"))
+KERNEL = Kernel(evaluate, no_state, inputs=(), outputs=("f_a", "u1", "u2"))

@@ -4,8 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from musclesim.components.crawler import body, friction, gait, inputs
-from musclesim.fmu import experiment
-from musclesim.fmu import KernelSlave
+from musclesim.fmu import KernelSlave, experiment
 
 
 class CrawlerBody(KernelSlave):

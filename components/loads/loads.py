@@ -20,8 +20,7 @@ import numpy as np
 
 from musclesim.components import fixedorder
 from musclesim.components.checks import require
-from musclesim.fmu import declare
-from musclesim.fmu import jit
+from musclesim.fmu import declare, jit
 
 G = 9.80665  # m/s^2, standard gravity
 AREA = math.pi * 127e-6 ** 2 / 4  # m^2, the 127 um main wire (§sma-bench), as SmaWire computes it

@@ -18,9 +18,7 @@ import math
 import numpy as np
 
 from musclesim.components.loads import loads
-from musclesim.fmu import experiment
-from musclesim.fmu import jit
-from musclesim.fmu import Kernel, KernelSlave
+from musclesim.fmu import Kernel, KernelSlave, experiment, jit, no_state
 
 S_DESCRIPTION = "Contraction of the wire (SmaWire flange.s); positive = the wire shortens"
 
@@ -29,13 +27,6 @@ MASS, G, INERTIA, K_LINK, ZETA, OMEGA = range(6)  # DeadWeight's kp
 X, V, T_LAST, S_LAST, PHI_DT, PHI00, PHI01, PHI10, PHI11 = range(9)  # DeadWeight's kx
 M_CAL, G_MAG, V_SUPPLY, R, L, K_F, NONLINEARITY = range(7)  # Electromagnet's kp; kx = [i]
 
-
-@jit
-def no_state(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
-             dt: float) -> None:
-    """The kernel's advance of a slave without state: nothing (of the parameters `p`, state `x`,
-    inputs `u`, outputs `y`, time `t` and step `dt`)."""
-    pass
 
 
 @jit

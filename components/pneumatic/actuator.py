@@ -19,9 +19,7 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from musclesim.components.checks import require
-from musclesim.fmu import Calibration, declare
-from musclesim.fmu import jit
-from musclesim.fmu import Kernel
+from musclesim.fmu import Calibration, Kernel, declare, jit
 
 P_ATM = 101325.0  # Pa, standard atmosphere (gauge 0)
 RHO_0 = 1.185  # kg/m^3, ISO 6358 reference density

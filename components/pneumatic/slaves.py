@@ -7,8 +7,7 @@ from __future__ import annotations
 from typing import Any
 
 from musclesim.components.pneumatic import actuator
-from musclesim.fmu import Slave, experiment
-from musclesim.fmu import KernelSlave
+from musclesim.fmu import KernelSlave, Slave, experiment
 
 
 class SoftActuator(KernelSlave):

@@ -17,8 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from musclesim.components.checks import require
-from musclesim.fmu import declare
-from musclesim.fmu import COMPILED, jit
+from musclesim.fmu import COMPILED, declare, jit
 
 # kernel parameters `pack` gives (kp) and the state `start_state` gives (kx)
 TAU, GAIN, ORIGIN, BIAS, NOISE_STD, QUANTUM = range(6)

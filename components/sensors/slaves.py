@@ -4,8 +4,7 @@ from __future__ import annotations
 from typing import Any
 
 from musclesim.components.sensors import sensor
-from musclesim.fmu import Calibration, Slave, experiment
-from musclesim.fmu import Kernel, KernelSlave
+from musclesim.fmu import Calibration, Kernel, KernelSlave, Slave, experiment
 
 # the diagnosis's calibration of a load cell's, laser's or pressure sensor's gain
 AMPLIFIER_GAIN = Calibration(0.95, 1.05, True, "the sensor's and its amplifier's "

@@ -22,8 +22,7 @@ from musclesim.components.sma.preisach import (M_CAP, M_HEAD, M_K, M_N, M_RISING
                                                mem_all_off, mem_record, mem_set_stress)
 from musclesim.components.sma.surface import (S_MSHI, S_MSLO, S_NC, cell_eval, fmax, fmin,
                                               stress_weights_k)
-from musclesim.fmu import jit
-from musclesim.fmu import Kernel
+from musclesim.fmu import Kernel, jit
 
 __all__ = ["ZERO_C", "INPUTS", "OUTPUTS", "pack", "state", "clear", "peek", "step", "evaluate",
            "advance", "KERNEL", "InverseState", "blocks", "new_state"]

@@ -12,8 +12,7 @@ from musclesim.components.sma.inverse import InverseBases
 from musclesim.components.sma.ports import LOAD_150G
 from musclesim.components.sma.smawire import HYSTERESIS, ZERO_C
 from musclesim.components.sma.surface import Hypersurface, clamp
-from musclesim.fmu import experiment
-from musclesim.fmu import KernelSlave
+from musclesim.fmu import KernelSlave, experiment
 
 __all__ = ["SmaWire", "PreisachInverse", "LOAD_150G", "HYSTERESIS", "ZERO_C"]
 

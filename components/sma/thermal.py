@@ -23,8 +23,7 @@ from scipy.optimize import brentq
 
 from musclesim.components.checks import require
 from musclesim.components.sma.surface import fmax, fmin
-from musclesim.fmu import Calibration, declare
-from musclesim.fmu import jit
+from musclesim.fmu import Calibration, declare, jit
 
 DRIVES = ("voltage", "current")
 

@@ -31,8 +31,7 @@ from musclesim.components.sma.surface import (S_NS, S_SHI, S_SLO, S_THI, S_TLO, 
                                               surface_F)
 from musclesim.components.sma.thermal import (joule_power_k, martensite_fraction_k,
                                               resistance_k, step_k)
-from musclesim.fmu import jit
-from musclesim.fmu import Kernel
+from musclesim.fmu import Kernel, jit
 
 __all__ = ["ZERO_C", "INPUTS", "OUTPUTS", "pack", "state", "start", "evaluate", "advance",
            "KERNEL"]

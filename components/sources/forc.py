@@ -27,8 +27,7 @@ from dataclasses import dataclass
 from musclesim.components.checks import require
 import numpy as np
 
-from musclesim.fmu import declare
-from musclesim.fmu import jit
+from musclesim.fmu import declare, jit
 
 IDLE, HEATING, COOLING = 0.0, 1.0, -1.0  # values of the phase flag
 

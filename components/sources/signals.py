@@ -24,8 +24,7 @@ from dataclasses import dataclass
 from musclesim.components.checks import require
 import numpy as np
 
-from musclesim.fmu import declare
-from musclesim.fmu import jit
+from musclesim.fmu import declare, jit
 
 KINDS = ("constant", "sine", "square", "triangle", "ramp")
 EDGE = 1e-9  # periods: the rounding of a sample's phase, far below any step a master takes

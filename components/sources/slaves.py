@@ -15,17 +15,8 @@ import numpy as np
 
 from musclesim.components.sma import profiles
 from musclesim.components.sources import forc, signals
-from musclesim.fmu import experiment
-from musclesim.fmu import jit
-from musclesim.fmu import Kernel, KernelSlave
+from musclesim.fmu import Kernel, KernelSlave, experiment, jit, no_state
 
-
-@jit
-def no_state(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
-             dt: float) -> None:
-    """The kernel's advance of a slave without state: nothing (of the parameters `p`, state `x`,
-    inputs `u`, outputs `y`, time `t` and step `dt`)."""
-    pass
 
 
 @jit

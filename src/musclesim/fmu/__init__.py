@@ -16,10 +16,10 @@ installed.
 from musclesim.fmu.declaration import Calibration, Declaration, declare
 from musclesim.fmu.clock import experiment, step_end
 from musclesim.fmu.compiled import CACHE, COMPILED, jit, parallel_jit, range_over_cases
-from musclesim.fmu.kernel import Kernel, KernelSlave
+from musclesim.fmu.kernel import Kernel, KernelSlave, no_state
 from musclesim.fmu.slave import Slave
 from musclesim.fmu.units import UNITS
 
 __all__ = ["Slave", "UNITS", "experiment", "step_end", "declare", "Calibration", "Declaration",
-           "Kernel", "KernelSlave", "jit", "parallel_jit", "range_over_cases", "COMPILED",
+           "Kernel", "KernelSlave", "no_state", "jit", "parallel_jit", "range_over_cases", "COMPILED",
            "CACHE"]

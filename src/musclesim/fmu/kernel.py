@@ -9,8 +9,9 @@ A kernel is two functions in the subset `musclesim.fmu.compiled.jit` compiles, o
   the inputs ``u`` held, ``y`` being the outputs just evaluated at ``t``.
 
 ``u`` holds the inputs named in `Kernel.inputs` (those in `Kernel.clamps` clamped to their range
-before the kernel sees them, the first clamp warned, NaN refused: `Slave.clamped_input`), ``y`` the outputs named in `Kernel.outputs` (every
-output of the slave), in that order. The slave's `setup` fills ``self.kp`` (parameters, packed
+before the kernel sees them, the first clamp warned, NaN refused: `Slave.clamped_input`), ``y``
+the outputs named in `Kernel.outputs` (every output of the slave), in that order; `no_state` is
+the advance of a kernel without state. The slave's `setup` fills ``self.kp`` (parameters, packed
 once) and ``self.kx`` (the state), its `initialize` may set ``self.kx`` from the inputs. Because
 the whole state is in those arrays, the co-simulation master can run many kernels in one compiled
 loop (`musclesim.cosim.fused`) and give the same bits as these per-call adapters.
@@ -23,9 +24,17 @@ from typing import Any, Callable, ClassVar
 
 import numpy as np
 
+from musclesim.fmu.compiled import jit
 from musclesim.fmu.slave import Slave
 
-__all__ = ["Kernel", "KernelSlave"]
+__all__ = ["Kernel", "KernelSlave", "no_state"]
+
+
+@jit
+def no_state(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
+             dt: float) -> None:
+    """The advance of a kernel without state (a source, a sequencer): nothing changes, whatever
+    the parameters `p`, state `x`, inputs `u`, outputs `y`, time `t` and step `dt`."""
 
 
 @dataclass(frozen=True)
@@ -43,7 +52,7 @@ class Kernel:
 
 class KernelSlave(Slave):
     """Base of a slave whose `evaluate` and `advance` are its class's `kernel`: its `setup` sets
-    ``kp`` and ``kx`` (float64 arrays), and may call ``super().setup()`` first for the buffers."""
+    ``kp`` and ``kx`` (float64 arrays)."""
 
     kernel: ClassVar[Kernel]
     # what evaluate writes besides the output variables: the inputs as the kernel took them and
