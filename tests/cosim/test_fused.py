@@ -14,6 +14,7 @@ from musclesim.fmu.compiled import COMPILED
 from musclesim.fmu.kernel import KernelSlave
 
 from conftest import SCENARIOS
+from test_hosts import assert_same  # names, times, data bit for bit, errors, warnings
 
 pytestmark = pytest.mark.skipif(not COMPILED, reason="numba is not installed: nothing is fused")
 
@@ -36,13 +37,6 @@ def runs(s, fmu_dir, **kw):
     m = Master(s, fmu_dir, **kw)
     fused = m.run()
     return fused, Master(s, fmu_dir, fuse=False, **kw).run(), m.fused
-
-
-def assert_same(a, b):
-    assert a.names == b.names
-    assert a.time.tobytes() == b.time.tobytes()
-    assert a.data.tobytes() == b.data.tobytes()  # bit for bit, NaN and signed zeros included
-    assert (a.error, a.warnings) == (b.error, b.warnings)
 
 
 @pytest.mark.parametrize("path", RUNS, ids=lambda p: p.stem)
