@@ -24,7 +24,8 @@ from musclesim.cosim.build import build_all, check_fresh, source_digest
 from musclesim.cosim.graph import Graph, Link
 from musclesim.cosim.host import forget_fmu_resource_paths, read_fmu, reuse_fmus
 from musclesim.cosim.interrupt import Interrupted, interruptible
-from musclesim.cosim.master import Master, run_cases, signal_units
+from musclesim.cosim.cases import run_cases
+from musclesim.cosim.master import Master, signal_units
 from musclesim.cosim.outputs import (check_archive, check_output_dir, check_output_file,
                                      replace_file, replace_zip, save_figure)
 from musclesim.cosim.results import Results, clear_run_outputs, compute_metrics, metric_unit

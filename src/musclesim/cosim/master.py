@@ -40,7 +40,7 @@ import re
 import shutil
 import tempfile
 import time as clock
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -59,7 +59,7 @@ from musclesim.cosim.scenario import Scenario
 from musclesim.cosim.wiring import Loaded
 from musclesim.errors import UserError
 
-__all__ = ["Master", "Results", "run_cases", "signal_units", "HOSTS", "MAX_VALUES", "FLUSH_SECONDS"]
+__all__ = ["Master", "Run", "Results", "signal_units", "HOSTS", "MAX_VALUES", "FLUSH_SECONDS"]
 
 MAX_VALUES = 100_000_000  # recorded values a run keeps in memory (800 MB): rows x columns
 FLUSH_SECONDS = 2.0  # wall time between two hand-overs of new rows to a run's `on_rows`
@@ -69,9 +69,9 @@ Rows = Callable[[np.ndarray, np.ndarray], None]  # on_rows(time, data): rows rec
 
 
 @dataclass
-class _Run:
+class Run:
     """One run's recording (`time`, `data`), its `error`, whether its instances are ready to
-    step, and its `results` once it ended (`Master._session`)."""
+    step, and its `results` once it ended (`Master.session`)."""
 
     time: np.ndarray
     data: np.ndarray
@@ -233,14 +233,15 @@ class Master:
         as the run goes. A signal caught by `interrupt.interruptible` stops the run at its next
         step: `interrupt.Interrupted` is raised with the `Results` so far (rows handed over too).
         """
-        with self._session(on_rows) as run:
+        with self.session(on_rows) as run:
             if run.ready:
-                run.error = self._steps(run)
+                run.error = self.steps(run)
         assert run.results is not None  # set when the session ends
         return run.results
 
-    def _steps(self, run: _Run) -> str | None:
-        """Step the initialized instances to the stop time, fused where they can be."""
+    def steps(self, run: Run) -> str | None:
+        """Step the initialized instances of `run` (a `session`'s, ready) to the stop time,
+        fused where they can be; return an error sentence or None."""
         plan = fused.Fused.plan(self) if self.fuse else None
         self.fused = plan is not None
         if plan is None:
@@ -248,12 +249,13 @@ class Master:
         return self._loop_fused(plan, run.time, run.data)
 
     @contextlib.contextmanager
-    def _session(self, on_rows: Rows | None) -> Iterator[_Run]:
-        """Load and initialize the instances, yield the run (``ready`` unless a signal or a
-        failure came first: the caller then steps it), release everything and set its `Results`
-        (raising `interrupt.Interrupted` with them if a signal stopped it)."""
+    def session(self, on_rows: Rows | None) -> Iterator[Run]:
+        """Load and initialize the instances, yield the `Run` (``ready`` unless a signal or a
+        failure came first: the caller then steps it, `steps` or `musclesim.cosim.cases`),
+        release everything and set its `Results` (raising `interrupt.Interrupted` with them if a
+        signal stopped it); `on_rows` as `run` takes it."""
         s = self.scenario
-        run = _Run(np.empty(s.n_steps + 1), np.empty((s.n_steps + 1, len(self.columns))))
+        run = Run(np.empty(s.n_steps + 1), np.empty((s.n_steps + 1, len(self.columns))))
         self.on_rows, self.flushed = on_rows, 0
         self.callbacks = callbacks(id(self))
         LOG_SINKS[id(self)] = self.instances
@@ -381,27 +383,37 @@ class Master:
         col = next(j for j, x in enumerate(data[row - 1]) if not math.isfinite(x))
         return f"signal {self.columns[col]} became {data[row - 1, col]} at t = {t:.6g} s"
 
+    def replay_rows(self) -> np.ndarray:
+        """The replayed inputs' values, a row per communication point (none: no column)."""
+        if self.replay_table is None:
+            return np.zeros((self.scenario.n_steps + 1, 0))
+        return self.replay_table
+
+    def fused_error(self, plan: fused.Fused, end: int, fault: int, data: np.ndarray, row: int,
+                    t: float) -> str | None:
+        """The error sentence of a fused loop of `plan` that ended `end` (`fused.DONE`, ...) at
+        row `row`, time `t` [s], with instance number `fault` at fault and `data` recorded: the
+        unfused loop's words (None when it ran to the stop time)."""
+        if end == fused.NOT_FINITE:
+            return self._not_finite(data, row, t)
+        if end == fused.NAN_INPUT:
+            inst = self.instances[plan.names[fault]]
+            inst.log.append((3, plan.nan_input(fault)))  # as the slave would log it
+            return self._failure(inst, t)
+        return None
+
     def _loop_fused(self, plan: fused.Fused, time: np.ndarray, data: np.ndarray) -> str | None:
         """`_loop` in compiled chunks of `FUSED_ROWS` rows (`musclesim.cosim.fused`)."""
         s = self.scenario
         n, row, t = s.n_steps, 0, self.t
-        replay = self.replay_table if self.replay_table is not None else np.zeros((n + 1, 0))
         state, due = interrupt.STATE, clock.monotonic() + FLUSH_SECONDS
         try:
             while True:
-                a = plan.arrays
                 row, t, end, fault = plan.module.run_rows(
-                    a["P"], a["X"], a["U"], a["Y"], a["clock"], a["dirty"], a["cl_t"], a["cl_v"],
-                    self.values, replay, time, data, row, t, min(n + 1, row + FUSED_ROWS), n,
-                    s.start_time, s.step)
-                if end == fused.DONE:
-                    return None
-                if end == fused.NOT_FINITE:
-                    return self._not_finite(data, row, t)
-                if end == fused.NAN_INPUT:
-                    inst = self.instances[plan.names[fault]]
-                    inst.log.append((3, plan.nan_input(fault)))  # as the slave would log it
-                    return self._failure(inst, t)
+                    *(plan.arrays[k] for k in fused.PER_CASE), self.values, self.replay_rows(),
+                    time, data, row, t, min(n + 1, row + FUSED_ROWS), n, s.start_time, s.step)
+                if end != fused.PAUSED:
+                    return self.fused_error(plan, end, fault, data, row, t)
                 if state["signum"] is not None:  # the row the unfused loop records, then stop
                     time[row] = t
                     self.values.take(self.record_slots, out=data[row])
@@ -453,52 +465,6 @@ class Master:
                 self._exchange(row)
         finally:
             self.row, self.t = row, t
-
-
-def run_cases(masters: Sequence[Master]) -> list[Results]:
-    """`Results` of every run of the `masters` (of one scenario with other parameter values, as
-    `with_values` makes them): where all of them fuse into arrays of one shape, in one compiled
-    call, the cases on threads (`fused.run_cases`), each case the bits of its own run; else one
-    after the other."""
-    with contextlib.ExitStack() as stack:
-        runs = [stack.enter_context(m._session(None)) for m in masters]
-        plans = [fused.Fused.plan(m) if r.ready and m.fuse else None
-                 for m, r in zip(masters, runs)]
-        if len(masters) > 1 and fused.Fused.batchable(plans):
-            _run_batch(masters, runs, [p for p in plans if p is not None])
-        else:
-            for m, r in zip(masters, runs):
-                if r.ready:
-                    r.error = m._steps(r)
-    return [r.results for r in runs if r.results is not None]
-
-
-def _run_batch(masters: Sequence[Master], runs: list[_Run], plans: list[fused.Fused]) -> None:
-    """Step the initialized `masters` in one `fused.run_cases` call (their `plans` batchable)."""
-    s = masters[0].scenario
-    n = s.n_steps
-    stack = {k: np.stack([p.arrays[k] for p in plans]) for k in fused.PER_CASE}
-    values = np.stack([m.values for m in masters])
-    replay = np.stack([m.replay_table if m.replay_table is not None else np.zeros((n + 1, 0))
-                       for m in masters])
-    time, data = np.stack([r.time for r in runs]), np.stack([r.data for r in runs])
-    rows, ends, faults = (np.zeros(len(masters), dtype=np.intp) for _ in range(3))
-    ts = np.zeros(len(masters))
-    plans[0].module.run_cases(*(stack[k] for k in fused.PER_CASE), values, replay, time, data, n,
-                              s.start_time, s.step, rows, ts, ends, faults)
-    for c, (m, r, plan) in enumerate(zip(masters, runs, plans)):
-        for k in fused.PER_CASE:
-            plan.arrays[k][...] = stack[k][c]
-        m.values[:], r.time[:], r.data[:] = values[c], time[c], data[c]
-        m.fused, m.row = True, int(rows[c])
-        m.t = float(ts[c])
-        plan.finish()
-        if ends[c] == fused.NOT_FINITE:
-            r.error = m._not_finite(r.data, m.row, m.t)
-        elif ends[c] == fused.NAN_INPUT:
-            inst = m.instances[plan.names[faults[c]]]
-            inst.log.append((3, plan.nan_input(int(faults[c]))))
-            r.error = m._failure(inst, m.t)
 
 
 def signal_units(master: Master) -> dict[Signal, str]:
