@@ -48,12 +48,12 @@ __all__ = ["fit_choice", "choice_probabilities", "mondrian_thresholds", "predict
            "conformal_p_value", "reliability", "ReliabilityBin", "Outlyingness"]
 
 # (n + 1)(1 - alpha) is an integer for the usual pairs (n = 19, alpha = 0.05), but in floating
-# point it may land just above it (0.3 is stored below 0.3): this much is taken as rounding
+# point it may land just above it (10 * (1 - 0.7) is 3.0000000000000004): this much is rounding
 _RANK_ROUNDING = 1e-9
 _TENTHS = tuple(round(i / 10, 1) for i in range(11))
 
 
-# ---- conditional logit ------------------------------------------------------------------------
+# ---- conditional logit ---------------------------------------------------------------------------
 
 def _checked_choices(features: np.ndarray, available: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(features with zeros where not available, available as bool), or ValueError."""
@@ -204,7 +204,7 @@ def fit_choice(features: np.ndarray, available: np.ndarray, truth: np.ndarray,
     return np.asarray(result.x, dtype=float)
 
 
-# ---- split-conformal prediction ---------------------------------------------------------------
+# ---- split-conformal prediction ------------------------------------------------------------------
 
 def _checked_alpha(alpha: float) -> None:
     if not 0 < alpha < 1:
@@ -369,7 +369,7 @@ def conformal_p_value(calibration_scores: np.ndarray,
     return float(p)
 
 
-# ---- probabilities judged -----------------------------------------------------------------------
+# ---- probabilities judged ------------------------------------------------------------------------
 
 class ReliabilityBin(TypedDict):
     """One bin of `reliability`: its probability interval, how many cases fell in it, their mean
@@ -442,7 +442,7 @@ def reliability(probabilities: np.ndarray, hits: np.ndarray,
     return out
 
 
-# ---- outlyingness of feature vectors ----------------------------------------------------------
+# ---- outlyingness of feature vectors -------------------------------------------------------------
 
 @dataclass(frozen=True, eq=False)
 class Outlyingness:
