@@ -87,7 +87,8 @@ def expected_coverage(n):
 
     With continuous scores and n calibration cases the coverage of one calibration set is
     C = F(q) = U_(m), the m-th smallest of n uniforms, m = ceil((n + 1)(1 - alpha)):
-    C ~ Beta(m, n + 1 - m), E C = m / (n + 1) (>= 1 - alpha; Angelopoulos & Bates 2021, app. D).
+    C ~ Beta(m, n + 1 - m) (the law Angelopoulos & Bates 2021 give), E C = m / (n + 1)
+    (>= 1 - alpha).
     Each repetition draws T test cases, hits ~ Binomial(T, C); the R repetitions are
     independent, so the pooled frequency has variance (Var C + E[C (1 - C)] / T) / R, where
     E[C (1 - C)] = E C - E C^2 = E C (1 - E C) - Var C.

@@ -7,7 +7,7 @@ whose answer is known (the blind benchmark's), and need no model, FMU or file:
 - split-conformal prediction with Mondrian (per-category) calibration, `mondrian_thresholds` and
   `prediction_set`: a set of candidates that holds the true one with probability at least
   1 - alpha within each category of true answer (Vovk, Gammerman & Shafer 2005, *Algorithmic
-  Learning in a Random World*, ch. 4 on Mondrian predictors; Romano, Sesia & Candès 2020,
+  Learning in a Random World*, their Mondrian conformal predictors; Romano, Sesia & Candès 2020,
   "Classification with valid and adaptive coverage", NeurIPS; Angelopoulos & Bates 2021,
   "A gentle introduction to conformal prediction and distribution-free uncertainty
   quantification", arXiv:2107.07511);
@@ -219,7 +219,8 @@ def mondrian_thresholds(scores: np.ndarray, categories: Sequence[str] | np.ndarr
     ceil((n_k + 1)(1 - alpha))-th smallest of their scores, or +inf when that rank exceeds n_k
     (alpha < 1 / (n_k + 1)). A test case exchangeable with category k's calibration cases then
     has P(score <= q_k | category k) >= 1 - alpha (Vovk et al. 2005; Angelopoulos & Bates 2021,
-    sect. 1 and 4.5), and less than 1 - alpha + 1 / (n_k + 1) if the scores have no ties.
+    sect. 1, applied to each category's cases alone), and, when q_k is finite and the scores
+    have no ties, less than 1 - alpha + 1 / (n_k + 1).
     A product (n_k + 1)(1 - alpha) within 1e-9 above an integer counts as that integer (the
     rounding of alpha in floating point).
 
@@ -324,8 +325,8 @@ def conformal_p_value(calibration_scores: np.ndarray,
                       score: float | np.ndarray) -> float | np.ndarray:
     """The conformal p-value of a score among calibration scores (larger score: stranger).
 
-    ``p = (1 + #{i : s_i >= score}) / (n + 1)``, the non-smoothed ("marginal") p-value of Bates
-    et al. (2023), eq. (4). If the score is exchangeable with the n calibration scores,
+    ``p = (1 + #{i : s_i >= score}) / (n + 1)``, the (marginal, not smoothed) conformal p-value
+    of Bates et al. (2023). If the score is exchangeable with the n calibration scores,
     P(p <= t) <= t for every t in [0, 1] (super-uniform), whatever the scores' distribution;
     with no calibration scores p = 1. For a category's calibration scores, p > alpha exactly when
     ``score <= mondrian_thresholds(...)[category]``.
