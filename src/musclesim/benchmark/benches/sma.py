@@ -19,11 +19,21 @@ representation than the library's, so that model and bench never differ by one e
   the major branch scaled to pass through the reversal point. The contraction is
   ``eps_L (1 - xi) + sigma / E_M - sigma / E(xi) - alpha (T - T_ref)`` averaged over the length,
   E(xi) = E_A + xi (E_M - E_A) (Liang & Rogers' mixture rule).
-- Convection: h constant as the model's, or (a hidden effect) natural convection by the
-  Churchill-Chu correlation (`air_convection`), or a draught that steps h up part-way through;
-  radiation at an emissivity the case draws (the study gives none).
+  Or (``hysteresis``) Tanaka's exponential kinetics, or a grid of relays (a discrete Preisach
+  model); ``band_shift``/``band_scale`` give a case its own material; a training drift moves
+  every band by ``drift_shift`` and scales the transformation strain by ``1 - drift_amplitude``,
+  both settling as ``1 - exp(-t / drift_time)``. ``thermal="lumped"`` makes the wire one volume.
+- Resistivity (``resistivity_law``): linear in the fractions (the model's), with a temperature
+  coefficient, or the phases in parallel (1/rho = xi/rho_M + (1 - xi)/rho_A).
+- Convection: h constant as the model's, or natural convection by the Churchill-Chu
+  correlation (`air_convection`), or gusts (h times 1 + ``gust_level`` times a unit
+  Ornstein-Uhlenbeck process of time constant ``gust_time``), or h growing as
+  (excess / 50 K)^``h_exponent``, or a draught that steps h up part-way through; radiation at
+  an emissivity the case draws (the study gives none).
 - Thermocouple: junction behind a coat, two first-order stages (tau_sheath, tau_junction) on
-  one volume near the middle; gain, offset, bias, noise, quantisation. Strain sensor: a
+  one volume near the middle, or (``tc_form``) one stage, or a three-stage RC ladder whose
+  stages load each other (each of time constant (tau_sheath + tau_junction) / 6, the same
+  total delay); gain, offset, bias, noise, quantisation. Strain sensor: a
   first-order stage, gain, offset (drifting, an outside case), noise, quantisation, an
   acquisition latency in samples.
 - Controller: a PI on the thermocouple reading at the data rate (the voltage held over each
@@ -42,7 +52,8 @@ from typing import Any
 import numpy as np
 from scipy import linalg
 
-from musclesim.benchmark.benches.sma_kinetics import STRESS, Kinetics, contraction
+from musclesim.benchmark.benches.sma_kinetics import (EPS_L, STRESS, Kinetics, Relays, bands,
+                                                      contraction)
 
 ZERO_C = 273.15  # K
 # the wire (§sma-wire, §sma-material)
@@ -109,6 +120,20 @@ class Bench:
     latency: int = 0  # samples the strain log trails the controller's
     slips: tuple = ()
     seed: int = 0  # of the sensors' noise
+    # forms (`musclesim.benchmark.family`): the defaults are the bench above
+    hysteresis: str = "cosine"  # "cosine", "exponential" (kinetics) or "relay"
+    band_shift: float = 0.0  # K: every band of this wire's material moved
+    band_scale: float = 1.0  # every band's width scaled about its middle
+    thermal: str = "conduction"  # or "lumped": one volume
+    resistivity_law: str = "linear"  # or "tempco", "parallel"
+    tempco: float = 0.0  # 1/K: the resistivity's temperature coefficient ("tempco")
+    gust_level: float = 0.0  # relative spread of h in gusts (convection "gusts")
+    gust_time: float = 5.0  # s
+    h_exponent: float = 0.0  # h grows as (excess / 50 K)^h_exponent
+    tc_form: str = "two-pole"  # or "first-order", "ladder"
+    drift_shift: float = 0.0  # K: training drift's settled band shift
+    drift_amplitude: float = 0.0  # training drift's settled relative loss of strain
+    drift_time: float = 30.0  # s
 
 
 def reference(t: Any) -> Any:
@@ -171,15 +196,18 @@ def air_convection(dT: Any, T_amb: float, diameter: float) -> Any:
 
 
 def _extra_loss(bench: Bench, T: np.ndarray, t: float, conv_area: Any,
-                h_ratio: Any = None) -> Any:
+                h_ratio: Any = None, gust: float = 0.0) -> Any:
     """Heat loss [W] per volume beyond the linear part: radiation, the convection law's change
     of h with the excess temperature (`h_ratio`: (excess temperatures, h / h at 50 K), a table of
-    `air_convection`), a draught; `conv_area` the volumes' lateral areas."""
+    `air_convection`; ``h_exponent``), gusts (`gust`: the unit process's value now), a draught;
+    `conv_area` the volumes' lateral areas."""
     dT = T - bench.ambient
     loss = bench.emissivity * SIGMA_SB * conv_area * (T ** 4 - bench.ambient ** 4)
-    h = bench.h
+    h = bench.h * (1 + bench.gust_level * gust)
     if h_ratio is not None:
-        h = bench.h * np.interp(np.abs(dT), *h_ratio)
+        h = h * np.interp(np.abs(dT), *h_ratio)
+    if bench.h_exponent:
+        h = h * (np.maximum(np.abs(dT), 1.0) / 50.0) ** bench.h_exponent
     if bench.draught_time is not None and t >= bench.draught_time:
         h = h * bench.draught_factor
     return loss + (h - bench.h) * conv_area * dT
@@ -206,35 +234,68 @@ def _slipped(bench: Bench, t: float) -> float:
 class _Plant:
     """The wire's state and one internal step of it (heat, kinetics, latent heat)."""
 
-    def __init__(self, bench: Bench, dt: float) -> None:
+    def __init__(self, bench: Bench, dt: float, steps: int = 0) -> None:
         self.b, self.dt = bench, dt
-        A, self.cap, self.conv, clamp = thermal_system(bench)
+        self.cells = 1 if bench.thermal == "lumped" else CELLS
+        A, self.cap, self.conv, clamp = thermal_system(bench, self.cells)
         self.phi, self.gam = propagator(A, dt)
-        self.w = widths(bench.length)
+        self.w = widths(bench.length, self.cells)
         self.area = math.pi * DIAMETER * self.w
         t_clamp = bench.ambient + bench.clamp_offset
         self.b_const = (self.conv * bench.ambient + clamp * t_clamp) / self.cap
         self.ohm = bench.resistivity_factor * self.w / AREA  # Ohm per (Ohm m)
         self.nonlinear = (bench.emissivity > 0 or bench.convection != "constant"
-                          or bench.draught_time is not None)
+                          or bench.draught_time is not None or bench.h_exponent != 0)
+        self.gusts = np.zeros(steps + 1)
+        if bench.convection == "gusts":  # a unit Ornstein-Uhlenbeck process, exact steps
+            a = math.exp(-dt / bench.gust_time)
+            e = np.random.default_rng([bench.seed, 5]).standard_normal(steps + 1)
+            for i in range(1, steps + 1):
+                self.gusts[i] = a * self.gusts[i - 1] + math.sqrt(1 - a * a) * e[i]
+            self.nonlinear = True
+        self.k = 0  # internal steps taken
         self.h_ratio = None
         if bench.convection == "natural":  # scaled to the bench's h at 50 K excess
             excess = np.linspace(0.0, 250.0, 501)
             law = air_convection(excess, bench.ambient, bench.coat_diameter)
             self.h_ratio = (excess, law / air_convection(50.0, bench.ambient, bench.coat_diameter))
         self.latent = bench.latent_heating > 0 or bench.latent_cooling > 0
-        self.T = np.full(CELLS, bench.ambient)
-        self.kin = Kinetics(self.T - ZERO_C, bench.stress)
+        self.T = np.full(self.cells, bench.ambient)
+        mid = [(lo + hi) / 2 for lo, hi in zip(*(iter(bands(bench.stress)),) * 2)]
+        material = tuple(m + bench.band_shift + (b - m) * bench.band_scale
+                         for b, m in zip(bands(bench.stress), [mid[0], mid[0], mid[1], mid[1]]))
+        if bench.hysteresis == "relay":
+            self.kin: Any = Relays(self.T - ZERO_C, bench.stress,
+                                   np.random.default_rng([bench.seed, 3]), bands_at=material)
+        else:
+            self.kin = Kinetics(self.T - ZERO_C, bench.stress, shape=bench.hysteresis,
+                                bands_at=material)
         self.weights = self.w / self.w.sum()
+        self.ramp = 0.0  # the training drift's share settled
+
+    def resistivity(self) -> np.ndarray:
+        """The volumes' resistivity [Ohm m] by the bench's law."""
+        xi, b = self.kin.xi, self.b
+        if b.resistivity_law == "parallel":
+            return 1.0 / (xi / RHO_MARTENSITE + (1 - xi) / RHO_AUSTENITE)
+        rho = RHO_AUSTENITE + (RHO_MARTENSITE - RHO_AUSTENITE) * xi
+        if b.resistivity_law == "tempco":
+            rho = rho * (1 + b.tempco * (self.T - 293.15))
+        return rho
 
     def step(self, u: float, t: float) -> None:
         """Advance one internal step at voltage `u` [V] from time `t` [s]."""
         b = self.b
-        R = (RHO_AUSTENITE + (RHO_MARTENSITE - RHO_AUSTENITE) * self.kin.xi) * self.ohm
+        R = self.resistivity() * self.ohm
         current = u / (R.sum() + b.lead_resistance)
         source = current * current * R
         if self.nonlinear:
-            source = source - _extra_loss(b, self.T, t, self.area, self.h_ratio)
+            source = source - _extra_loss(b, self.T, t, self.area, self.h_ratio,
+                                          self.gusts[min(self.k, len(self.gusts) - 1)])
+        self.k += 1
+        if b.drift_shift or b.drift_amplitude:
+            self.ramp = 1 - math.exp(-max(t + self.dt, 0.0) / b.drift_time)
+            self.kin.shift = b.drift_shift * self.ramp
         T = self.phi @ self.T + self.gam @ (source / self.cap + self.b_const)
         if self.latent:
             T = self._latent(T)
@@ -248,6 +309,11 @@ class _Plant:
         kin.direction_for(T_trial - ZERO_C)
         heat = np.where(kin.heating[:, 0], self.b.latent_heating, self.b.latent_cooling)
         T, xi0 = T_trial, kin.xi
+        if isinstance(kin, Relays):  # relays switch: explicit, their hysteresis keeps it stable
+            x, xi, _ = kin.peek(T - ZERO_C)
+            T = T + heat * (xi - xi0) / SPECIFIC_HEAT
+            kin.commit(T - ZERO_C, x)
+            return T
         for _ in range(6):  # F' = c - L dxi/dT >= c: monotone, two Newton steps converge
             x, xi, slope = kin.peek(T - ZERO_C)
             F = SPECIFIC_HEAT * (T - T_trial) - heat * (xi - xi0)
@@ -259,7 +325,9 @@ class _Plant:
 
     def strain(self) -> float:
         """Mean contraction of the wire (length-weighted over the volumes)."""
-        return float(self.weights @ contraction(self.kin.xi, self.T - ZERO_C, self.b.stress))
+        eps_l = EPS_L * (1 - self.b.drift_amplitude * self.ramp)
+        return float(self.weights @ contraction(self.kin.xi, self.T - ZERO_C, self.b.stress,
+                                                eps_l))
 
 
 def run(bench: Bench, duration: float, substeps: int = SUBSTEPS) -> dict[str, np.ndarray]:
@@ -276,17 +344,18 @@ def run(bench: Bench, duration: float, substeps: int = SUBSTEPS) -> dict[str, np
     """
     rng = np.random.default_rng(bench.seed)
     dt = FRAME / substeps
-    plant = _Plant(bench, dt)
-    j = int(np.argmin(np.abs(centres(bench.length) / bench.length - bench.tc_position)))
-    sheath = junction = bench.ambient
+    n_pre, n = int(round(PREROLL / FRAME)), int(round(duration / FRAME)) + 1
+    plant = _Plant(bench, dt, (n_pre + n) * substeps)
+    j = int(np.argmin(np.abs(centres(bench.length, plant.cells) / bench.length
+                             - bench.tc_position)))
+    tc = _Thermocouple(bench, dt)
     gauge = strain_in = plant.strain()
     integral = 0.0
-    n_pre, n = int(round(PREROLL / FRAME)), int(round(duration / FRAME)) + 1
     log = {k: np.empty(n) for k in ("u", "T_meas", "gauge", "T_mean", "T_tc_volume",
                                     "strain_true")}
     for k in range(-n_pre, n):
         t = k * FRAME
-        celsius = junction - ZERO_C
+        celsius = tc.junction - ZERO_C
         reading = ZERO_C + bench.tc_gain * celsius + bench.tc_offset + bench.tc_bias
         reading = float(_quantise(reading + bench.tc_noise * rng.standard_normal(),
                                   bench.tc_quantum))
@@ -302,13 +371,45 @@ def run(bench: Bench, duration: float, substeps: int = SUBSTEPS) -> dict[str, np
         for i in range(substeps):
             T0 = plant.T[j]
             plant.step(u, t + i * dt)
-            mid = sheath
-            sheath = _stage(sheath, T0, plant.T[j], bench.tc_tau_sheath, dt)
-            junction = _stage(junction, mid, sheath, bench.tc_tau_junction, dt)
+            tc.step(T0, plant.T[j])
             s_new = plant.strain() - _slipped(bench, t + (i + 1) * dt)
             gauge = _stage(gauge, strain_in, s_new, bench.gauge_tau, dt)
             strain_in = s_new
     return _finish(bench, log, n, rng)
+
+
+class _Thermocouple:
+    """The junction's temperature behind its coat, by the bench's ``tc_form``: two first-order
+    stages, one (of both time constants' sum), or a three-stage RC ladder of the same total
+    delay (x' = A x + b T, the stages loading each other; exact steps with the wire's
+    temperature held)."""
+
+    def __init__(self, bench: Bench, dt: float) -> None:
+        self.b, self.dt = bench, dt
+        self.sheath = self.junction = bench.ambient
+        self.ladder = None
+        total = bench.tc_tau_sheath + bench.tc_tau_junction
+        if bench.tc_form == "ladder" and total > 0:
+            tau = total / 6  # the ladder's first moment: (1 + 2 + 3) tau
+            A = np.array([[-2.0, 1.0, 0.0], [1.0, -2.0, 1.0], [0.0, 1.0, -1.0]]) / tau
+            self.ladder = propagator(A, dt)
+            self.b_in = np.array([1.0 / tau, 0.0, 0.0])
+            self.x = np.full(3, bench.ambient)
+
+    def step(self, T0: float, T1: float) -> None:
+        """One internal step, the wire's volume going from `T0` to `T1` [K]."""
+        b = self.b
+        if self.ladder is not None:
+            phi, gam = self.ladder
+            self.x = phi @ self.x + gam @ (self.b_in * T1)
+            self.junction = float(self.x[-1])
+        elif b.tc_form == "first-order":
+            self.junction = _stage(self.junction, T0, T1, b.tc_tau_sheath + b.tc_tau_junction,
+                                   self.dt)
+        else:
+            mid = self.sheath
+            self.sheath = _stage(self.sheath, T0, T1, b.tc_tau_sheath, self.dt)
+            self.junction = _stage(self.junction, mid, self.sheath, b.tc_tau_junction, self.dt)
 
 
 def _finish(bench: Bench, log: Any, n: int, rng: np.random.Generator) -> dict[str, np.ndarray]:
