@@ -116,7 +116,7 @@ def write_case(case: dict[str, Any], folder: Path, time: np.ndarray,
     if case["bench"] == "independent-crawler":
         scenario, inputs, outputs = ip.CRAWLER_SCENARIO, ip.CRAWLER_INPUTS, ip.CRAWLER_OUTPUTS
         what = "the independent crawler bench"
-    elif case["bench"] == ip.BENCH:
+    elif case["bench"] in (ip.BENCH, "family"):
         scenario, inputs, outputs = ip.SCENARIO, ip.INPUTS, ip.OUTPUTS
         what = "the independent SMA bench"
     else:

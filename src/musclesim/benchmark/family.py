@@ -1,0 +1,166 @@
+"""A family of SMA bench forms: the cases the diagnosis's sets are calibrated and scored on.
+
+A real bench differs from the model in form, not only in values; a set calibrated on benches of
+one form says nothing of another. Each case here draws every subsystem of the independent SMA
+bench (`musclesim.benchmark.benches.sma`, physics written apart from the library) from several
+forms (`FORMS`, each with its source), its conditions and noise around the model's values
+(`musclesim.benchmark.plan.conditions`), and one hidden cause: structure is randomised as well
+as parameters, as domain randomisation does (Tobin et al., "Domain randomization for transferring
+deep neural networks from simulation to the real world", IROS 2017).
+
+The causes (`CAUSES`) are the labels the diagnosis's sets are calibrated per: ``calibration
+only`` (nothing hidden), each effect of the SMA wire's library (`LIBRARY`; those with a
+look-alike in the library are the decoys), ``two effects`` (a pair of them) and ``outside the
+library`` (`OUTSIDE`: a change the library does not hold). They come in equal shares. A form is
+the bench's ordinary structure; a cause is a change of the size the library's effect names: the
+natural convection of a bare wire changes h by about +-10 % over the run (a form), the cause
+``convection change`` makes h grow as (excess / 50 K)^n with n of 0.25-0.6 on top of it. A cause
+that needs a structure gets it (cold ends need conduction along the wire: ``clamp heat loss``
+draws the 1-D wire).
+
+The family's version (`VERSION`) changes whenever a form, a draw or a cause changes; a
+calibration records the version it was computed on.
+
+>>> cases = plan(9, 1)
+>>> sorted({c["cause"] for c in cases}) == sorted(CAUSES)
+True
+"""
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from musclesim.benchmark import plan as independent
+from musclesim.benchmark.benches.sma import Bench, run
+from musclesim.diagnosis import CALIBRATION_ONLY, OUTSIDE_LIBRARY, TWO_EFFECTS
+
+VERSION = 1
+BENCH = "family"
+DURATION = independent.DURATION
+# subsystem -> form -> its source
+FORMS: dict[str, dict[str, str]] = {
+    "hysteresis": {
+        "cosine": "phase kinetics, two grain populations, cosine shape (Liang & Rogers, J. "
+                  "Intell. Mater. Syst. Struct. 1, 1990)",
+        "exponential": "phase kinetics, two grain populations, exponential shape (Tanaka, Res "
+                       "Mechanica 18, 1986)",
+        "relay": "a grid of 2000 relays, a discrete Preisach model (Mayergoyz, Mathematical "
+                 "Models of Hysteresis, 1991), thresholds drawn from the same bands"},
+    "thermal": {
+        "conduction": "1-D heat equation along the wire, 18 finite volumes, clamps through a "
+                      "contact conductance (Incropera, Fundamentals of Heat and Mass Transfer, "
+                      "ch. 3, fins)",
+        "lumped": "one volume, the model's own lumped balance (§thermal-model)"},
+    "radiation": {
+        "none": "no radiation",
+        "grey": "grey-body radiation to the room, emissivity 0.05-0.3 (Stefan-Boltzmann)"},
+    "convection": {
+        "constant": "h constant, the model's (§convection)",
+        "natural": "natural convection of a horizontal cylinder (Churchill & Chu, Int. J. Heat "
+                   "Mass Transfer 18, 1975), scaled to h at 50 K",
+        "gusts": "h fluctuating by 3-10 % (an Ornstein-Uhlenbeck process, 2-10 s), a lab with "
+                 "moving air"},
+    "thermocouple": {
+        "two-pole": "sheath and junction, two first-order stages",
+        "first-order": "one first-order stage (§sensors' model)",
+        "ladder": "a three-stage RC ladder, the stages loading each other (a junction in a "
+                  "coat, Doebelin, Measurement Systems, ch. 8)"},
+    "resistivity": {
+        "linear": "linear in the martensite fraction (§sma-material)",
+        "tempco": "times 1 + a (T - 20 C), a of 2e-4-8e-4 1/K (NiTi's, data sheets)",
+        "parallel": "the phases in parallel, 1/rho = xi/rho_M + (1 - xi)/rho_A"},
+}
+LIBRARY = ("thermocouple lag", "thermocouple bias", "latent heat", "convection change",
+           "clamp heat loss", "training drift")
+OUTSIDE = ("clamp slip", "gauge drift", "draught")
+CAUSES = (CALIBRATION_ONLY, *LIBRARY, TWO_EFFECTS, OUTSIDE_LIBRARY)
+QUANTA = (0.05, 0.1, 0.25)  # K: the thermocouple's resolution, by the amplifier
+
+
+def forms(rng: np.random.Generator) -> dict[str, str]:
+    """One form per subsystem of `FORMS`, drawn uniformly from `rng`."""
+    return {sub: str(rng.choice(sorted(options))) for sub, options in FORMS.items()}
+
+
+def _form_fields(form: dict[str, str], rng: np.random.Generator) -> dict[str, Any]:
+    """The `Bench` fields of `form` with the parameters its forms draw from `rng`."""
+    u = rng.uniform
+    fields: dict[str, Any] = {
+        "hysteresis": form["hysteresis"], "thermal": form["thermal"],
+        "band_shift": u(-3.0, 3.0), "band_scale": u(0.9, 1.1),
+        "convection": form["convection"], "tc_form": form["thermocouple"],
+        "resistivity_law": form["resistivity"], "tc_quantum": float(rng.choice(QUANTA))}
+    if form["radiation"] == "none":
+        fields["emissivity"] = 0.0
+    if form["convection"] == "gusts":
+        fields.update(gust_level=u(0.03, 0.1), gust_time=u(2.0, 10.0))
+    if form["resistivity"] == "tempco":
+        fields["tempco"] = u(2e-4, 8e-4)
+    return fields
+
+
+def hidden(cause: str, rng: np.random.Generator, duration: float) -> dict[str, Any]:
+    """{Bench field: value} of a `LIBRARY` or `OUTSIDE` cause at a magnitude drawn from `rng`."""
+    u = rng.uniform
+    if cause == "convection change":
+        return {"h_exponent": u(0.25, 0.6)}
+    if cause == "training drift":  # §drift: the loop moves over the first cycles, then settles
+        return {"drift_shift": float(rng.choice([-1, 1])) * u(2.0, 6.0),
+                "drift_amplitude": u(0.03, 0.08), "drift_time": u(15.0, 40.0)}
+    return independent.hidden(cause, rng, duration)
+
+
+def plan(count: int, seed: int, duration: float = DURATION) -> list[dict[str, Any]]:
+    """`count` family cases drawn from `seed`, the causes of `CAUSES` in equal shares (in turn,
+    then shuffled): dicts as `musclesim.benchmark.plan.plan` makes them, with ``cause`` (the
+    label), ``forms`` and ``form_values`` (the forms' fields) besides."""
+    rng = np.random.default_rng([seed, 19])  # a stream apart from the other plans'
+    causes = [CAUSES[i % len(CAUSES)] for i in range(count)]
+    rng.shuffle(causes)
+    cases = []
+    for i, cause in enumerate(causes):
+        base = independent.conditions(rng)
+        form = forms(rng)
+        case: dict[str, Any] = {
+            "case": f"case-f{i:03d}", "bench": BENCH, "cause": cause, "effect": None,
+            "values": {}, "conditions": base, "duration": duration,
+            "ambient_known": bool(rng.random() < independent.KNOWN_AMBIENT),
+            "ambient_read": base["ambient"] + float(rng.uniform(-0.2, 0.2))}
+        if cause == CALIBRATION_ONLY:
+            case["kind"] = "none"
+        elif cause == TWO_EFFECTS:
+            pair = [str(e) for e in rng.choice(LIBRARY, size=2, replace=False)]
+            values: dict[str, Any] = {}
+            for e in pair:
+                values.update(hidden(e, rng, duration))
+            case.update(kind="pair", pair=pair, values=values)
+        else:
+            pool = OUTSIDE if cause == OUTSIDE_LIBRARY else (cause,)
+            effect = str(pool[rng.integers(len(pool))])
+            case.update(kind="outside" if cause == OUTSIDE_LIBRARY else "effect", effect=effect,
+                        values=hidden(effect, rng, duration))
+        if "clamp heat loss" in (case["effect"], *case.get("pair", ())):
+            form["thermal"] = "conduction"
+        case["forms"] = form
+        case["form_values"] = _form_fields(form, rng)
+        cases.append(case)
+    return cases
+
+
+def bench_of(case: dict[str, Any]) -> Bench:
+    """The `Bench` of family case `case`: conditions, the forms' fields, the hidden values."""
+    fields = {**case["conditions"], **case["form_values"], **case["values"]}
+    if "slips" in fields:
+        fields["slips"] = tuple(tuple(s) for s in fields["slips"])
+    return Bench(**fields)
+
+
+def record(case: dict[str, Any]) -> tuple[np.ndarray, dict, dict]:
+    """Run family case `case`'s bench: (time, {column: values}, {condition: value})."""
+    out = run(bench_of(case), case["duration"])
+    cols = dict(zip(independent.INPUTS + independent.OUTPUTS,
+                    (out["u"], out["T_meas"], out["strain"])))
+    stated = ({independent.AMBIENT: round(case["ambient_read"], 2)} if case["ambient_known"]
+              else {})
+    return out["time"], cols, stated
