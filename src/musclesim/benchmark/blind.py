@@ -32,6 +32,12 @@ With ``bench="independent"`` the cases run instead on an SMA bench written apart
 request on a crawler written apart too (`musclesim.benchmark.benches.crawler`), whose
 conditions are drawn around the model's; its scores go under "independent" in scores.json, next
 to the own bench's (see `score` for what counts there).
+
+With ``bench="family"`` the cases are drawn from the family of bench forms
+(`musclesim.benchmark.family`), a cause of each kind in equal shares, and scored by the
+calibrated sets in their reports (`musclesim.benchmark.calibrate.score`: coverage per cause, set
+sizes, false alarms, the gate), under "family" in scores.json; with `calibration` a file, the
+cases are the pool that calibration is then built from (`musclesim.benchmark.calibrate.build`).
 """
 from __future__ import annotations
 
@@ -42,6 +48,8 @@ from pathlib import Path
 from typing import Any
 
 from musclesim.batch import serial_map
+from musclesim.benchmark import calibrate
+from musclesim.benchmark import family as family_plan
 from musclesim.benchmark import plan as independent_plan
 from musclesim.benchmark.cases import BENCHES, DECOYS, MAGNITUDES, OUTSIDE, plan, plan_multiplier
 from musclesim.benchmark.recording import bench_scenario, make_case, record, write_case
@@ -72,7 +80,8 @@ def _diagnose(args: tuple[Any, Any]) -> dict[str, Any]:
 def run(count: int, seed: int, out: str | Path, fmu_dir: str | Path = "fmus",
         scenarios_dir: str | Path = "scenarios", pmap: Any = None,
         progress: Callable[[str], None] | None = None, bench: str = "own",
-        duration: float | None = None, multiplier: int = 0, crawler: int = 0) -> dict[str, Any]:
+        duration: float | None = None, multiplier: int = 0, crawler: int = 0,
+        calibration: str | Path | None = None) -> dict[str, Any]:
     """Make `count` cases from `seed` into `out`, diagnose them blind, score; return the scores.
 
     `multiplier`: that many extra cases on the capstan multiplier's bench (`plan_multiplier`;
@@ -88,8 +97,11 @@ def run(count: int, seed: int, out: str | Path, fmu_dir: str | Path = "fmus",
     the other's scores in the file. The cases run on `pmap` (a map such as
     `musclesim.batch.serial_map`, the default, or a Dask map); `progress` is told each step.
     """
-    if bench not in ("own", "independent"):
-        raise UserError(f"no bench {bench!r} for the blind benchmark (own or independent)")
+    if bench not in ("own", "independent", "family"):
+        raise UserError(f"no bench {bench!r} for the blind benchmark (own, independent or "
+                        "family)")
+    if calibration is not None and bench != "family":
+        raise UserError("a calibration is built from family cases only (--bench family)")
     if multiplier and bench != "own":
         raise UserError("multiplier cases run on the own bench only (--bench own)")
     if crawler and bench != "independent":
@@ -98,7 +110,7 @@ def run(count: int, seed: int, out: str | Path, fmu_dir: str | Path = "fmus",
     pmap = pmap or serial_map
     say = progress or (lambda text: None)
     top = Path(out)
-    out = top / "independent" if bench == "independent" else top
+    out = top / bench if bench != "own" else top
     out.mkdir(parents=True, exist_ok=True)
     # the workers get the FMUs as bytes and every case as data: they need none of this
     # process's files, and the data sets and reports are written here
@@ -109,6 +121,9 @@ def run(count: int, seed: int, out: str | Path, fmu_dir: str | Path = "fmus",
         cases = plan(count, seed) + plan_multiplier(multiplier, seed)
         recorded = (_record, [(c, bench_scenario(c, scenarios_dir), fmus) for c in cases])
         score_gap = oracle
+    elif bench == "family":
+        cases = family_plan.plan(count, seed, duration or family_plan.DURATION)
+        recorded = (family_plan.record, cases)
     else:
         cases = (independent_plan.plan(count, seed, DECOYS, duration or independent_plan.DURATION)
                  + independent_plan.plan_crawler(crawler, seed))
@@ -129,6 +144,14 @@ def run(count: int, seed: int, out: str | Path, fmu_dir: str | Path = "fmus",
         (dirs[i] / "report.json").write_text(text)
     reports = each(pmap, _diagnose, [(ds, fmus) for ds in sets], written)
     (out / "key.json").write_text(key)
+    if bench == "family":
+        say("scoring the calibrated sets against the key")
+        scores = calibrate.score(cases, reports)
+        write_scores(top / "scores.json", scores, bench)
+        if calibration is not None:
+            say(f"building the calibration from the {len(cases)} cases")
+            calibrate.write(calibration, calibrate.build(out))
+        return scores
     say("scoring against the key and the oracle")
     gaps = pmap(score_gap, [(c, ds, r, fmus) for c, ds, r in zip(cases, sets, reports)])
     scores = score(cases, reports, gaps)

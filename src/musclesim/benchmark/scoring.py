@@ -40,17 +40,17 @@ def oracle(args: tuple[dict[str, Any], Any, dict[str, Any], Any]) -> dict[str, f
 
 def write_scores(path: Path, scores: dict[str, Any], bench: str) -> None:
     """Write `scores` into scores.json at `path`: the own bench's (`bench` "own") at the top,
-    the independent bench's under "independent"; a run replaces its own part and keeps the
-    other's."""
+    another bench's under its name ("independent", "family"); a run replaces its own part and
+    keeps the others'."""
     try:
         old = json.loads(path.read_text())
     except (OSError, ValueError):
         old = {}
+    others = ("independent", "family")
     if bench == "own":
-        new = {**scores, **({"independent": old["independent"]} if "independent" in old else {})}
+        new = {**scores, **{k: old[k] for k in others if k in old}}
     else:
-        new = {**{k: v for k, v in old.items() if k != "independent"},
-               "independent": {"bench": "independent", **scores}}
+        new = {**{k: v for k, v in old.items() if k != bench}, bench: {"bench": bench, **scores}}
     replace_file(path, json.dumps(new, indent=1) + "\n")
 
 

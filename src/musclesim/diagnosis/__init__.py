@@ -14,7 +14,10 @@ simulated against the data), simulate, stats, regimes, fitting, parameters (the 
 parameters), candidates, judging, aliasing, scoring and consistency (the candidates and their
 fits described), evidence and weigh (the candidates' evidence, probabilities and the verdict),
 stages (what the stages hand each other), which (section 4), sections (the `Report`), pipeline
-(`diagnose`), report (the files).
+(`diagnose`), report (the files); conformal (split-conformal sets, conformal p-values, a
+conditional logit: statistics on arrays) and confidence (the sets, probabilities and gate of a
+calibration on a family of benches, applied to a report; ``load_confidence`` reads the one
+shipped for a scenario).
 
 The stages' building blocks are public too, for the blind benchmark above this layer
 (`musclesim.benchmark`), which records cases, fits its oracle and scores the diagnosis with them:
@@ -41,10 +44,19 @@ from musclesim.diagnosis.simulate import Failed, Simulated, residuals
 from musclesim.diagnosis.simulate import simulate as simulate_unit
 from musclesim.diagnosis.stats import HELD_OUT, TRAIN, Part, gap
 from musclesim.diagnosis.weigh import CALIBRATION_ONLY
+from musclesim.diagnosis.confidence import (ANOTHER_PAIR, FEATURES, OUTSIDE_LIBRARY, TWO_EFFECTS,
+                                            Confidence, alternatives, case_features)
+from musclesim.diagnosis.confidence import load as load_confidence
+from musclesim.diagnosis.conformal import (Outlyingness, choice_probabilities,
+                                           conformal_p_value, fit_choice, mondrian_thresholds,
+                                           prediction_set, reliability)
 
 __all__ = ["load_dataset", "DataSet", "write_data_set", "diagnose", "Report", "write_report",
            "calibrate",
            "calibration_markdown", "EFFECTS",
            "REGIMES", "Effect", "find_effect", "Problem", "simulate_unit",
            "residuals", "Failed", "Simulated", "gap", "fit", "Free", "values_of", "calibration", "Part",
-           "TRAIN", "HELD_OUT", "CALIBRATION_ONLY"]
+           "TRAIN", "HELD_OUT", "CALIBRATION_ONLY", "TWO_EFFECTS", "OUTSIDE_LIBRARY",
+           "ANOTHER_PAIR", "FEATURES", "Confidence", "alternatives", "case_features",
+           "load_confidence", "Outlyingness", "choice_probabilities", "conformal_p_value",
+           "fit_choice", "mondrian_thresholds", "prediction_set", "reliability"]

@@ -59,12 +59,15 @@ weighing and verdict in `.weigh`.
 """
 from __future__ import annotations
 
+from dataclasses import replace
+from pathlib import Path
 from typing import Any, Callable
 
 from threadpoolctl import threadpool_limits
 
 from musclesim.batch import serial_map
 from musclesim.cosim import Signal, reuse_fmus
+from musclesim.diagnosis.confidence import load as load_calibration
 from musclesim.diagnosis.fitting import FitJob, fit_all, simulation_task, values_of
 from musclesim.diagnosis.problem import Problem, Unit, affected
 from musclesim.diagnosis.regimes import regime_table, regimes
@@ -93,8 +96,27 @@ def diagnose(ds: Any, fmu_dir: Any = "fmus", pmap: Callable[..., list] | None = 
     # order, hence its last bits, depends on the thread count, and the report must not depend
     # on where the fits ran (measured: serial and Dask reports differed in the 13th digit)
     with reuse_fmus(), threadpool_limits(1, user_api="blas"):
-        return _diagnose(ds, fmu_dir, pmap or serial_map, progress or (lambda text: None),
-                         traces)
+        report = _diagnose(ds, fmu_dir, pmap or serial_map, progress or (lambda text: None),
+                           traces)
+    return with_confidence(report)
+
+
+def with_confidence(report: Report) -> Report:
+    """`report` with the calibrated set, probabilities and gate of its scenario's shipped
+    calibration (`confidence`), unchanged where there is none (a scalar-only or a
+    several-scenario data set, a scenario not calibrated)."""
+    if not isinstance(report.scenario, str) or report.scalar_only:
+        return report
+    cal = load_calibration(Path(report.scenario).stem)
+    if cal is None:
+        return report
+    conf = cal.assess(report.to_json())
+    said = (f"; calibrated on benches of many forms, at {conf['level']:.0%} the cause is one of: "
+            + ", ".join(conf["set"]) if conf["set"] else "")
+    if conf["gate"]["outside"]:
+        said += " (but this bench is outside the calibrated family: no guarantee)"
+    verdict = replace(report.verdict, explanation=report.verdict.explanation + said)
+    return replace(report, confidence=conf, verdict=verdict)
 
 
 def _diagnose(ds, fmu_dir, pmap, say, traces):

@@ -57,10 +57,30 @@ def markdown(report: Report, plots: Sequence[str] = ()) -> str:
          f"held out: {', '.join(report.held_out)}.", "",
          f"## Verdict: **{v.name}**" + ("" if v.complete else " (incomplete)"), "",
          v.explanation + ".", ""]
+    L += _md_confidence(report.confidence)
     L += (_md_gap(report) + _md_calibration(report) + _md_where(report) + _md_which(report)
           + _md_shrinkage(report))
     L += [""] + [f"![{p}]({p})" for p in plots]
     return "\n".join(L) + "\n"
+
+
+def _md_confidence(conf):
+    """The calibrated set, its level, the causes' probabilities and the gate (`conf`, the
+    report's `confidence`, None without a calibration)."""
+    if conf is None:
+        return []
+    gate, cal = conf["gate"], conf["calibration"]
+    probs = ", ".join(f"{k} {p:.2f}" for k, p in sorted(conf["probabilities"].items(),
+                                                          key=lambda kv: -kv[1]) if p >= 0.005)
+    L = [f"**Calibrated set ({conf['level']:.0%}): {', '.join(conf['set']) or 'empty'}.** "
+         f"On benches of the calibrated family ({cal['name']}, {cal['family'].get('cases')} "
+         f"cases), a set made this way holds the true cause at least {conf['level']:.0%} of the "
+         f"time, for every cause. Calibrated probabilities: {probs}.", ""]
+    if gate["outside"]:
+        L += [f"**Outside the calibrated family** (p = {gate['p_value']:.3f}): this bench is "
+              "unlike the benches the set was calibrated on; the set above is the nearest one and "
+              "its guarantee does not hold here.", ""]
+    return L
 
 
 def _md_gap(report):

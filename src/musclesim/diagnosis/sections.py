@@ -150,7 +150,11 @@ class ShrinkageSection:
 class Report:
     """A diagnosis: the data set and model it was made of, and its sections. `isolation` is
     None when there was no gap (verdict ``none``), `evidence` None when no candidate was
-    fitted (``none``, ``recalibration`` by calibration alone)."""
+    fitted (``none``, ``recalibration`` by calibration alone). `confidence` is the set,
+    probabilities and gate of a calibration on a family of benches
+    (`musclesim.diagnosis.confidence`), None where the scenario has none; report.json's
+    ``evidence`` then holds them (``set``, ``level``, ``probabilities``, ``gate``,
+    ``calibration``), beside the candidates' own posterior probabilities."""
 
     data_set: str
     scenario: str | list[str]
@@ -163,6 +167,7 @@ class Report:
     evidence: EvidenceSection | None
     verdict: VerdictSection
     shrinkage: ShrinkageSection
+    confidence: Table | None = None  # the calibrated set, probabilities, gate (`confidence`)
 
     @property
     def effects(self) -> list[Table]:
@@ -196,4 +201,6 @@ class Report:
                            complete=v.complete, noise_floor=v.noise_floor)
         out.update(shrinkage=self.shrinkage.signals,
                    aligned_samples=self.shrinkage.aligned_samples)
+        if self.confidence is not None:  # the calibrated set replaces the credible one
+            out["evidence"] = {**out.get("evidence", {}), **self.confidence}
         return plain(out)
