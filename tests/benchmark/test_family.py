@@ -12,7 +12,9 @@ def test_the_causes_come_in_equal_shares_and_every_form_is_drawn():
     causes = [c["cause"] for c in cases]
     assert {k: causes.count(k) for k in family.CAUSES} == dict.fromkeys(family.CAUSES, 10)
     for sub, options in family.FORMS.items():
-        assert {c["forms"][sub] for c in cases} == set(options), sub
+        assert {c["forms"][sub] for c in cases} == {*options, family.MODEL}, sub
+    on_model = [c for c in cases if c["bench"] == "tracking"]
+    assert 0 < len(on_model) < 0.3 * len(cases)  # MODEL_SHARE, an eighth
     assert family.plan(90, 3) == cases  # a seed gives the same cases
     assert family.plan(90, 4) != cases
 
@@ -24,12 +26,25 @@ def test_each_case_is_labelled_by_its_hidden_change():
         elif c["cause"] == family.TWO_EFFECTS:
             assert len(set(c["pair"])) == 2 and set(c["pair"]) <= set(family.LIBRARY)
         elif c["cause"] == family.OUTSIDE_LIBRARY:
-            assert c["effect"] in family.OUTSIDE and c["values"]
+            assert c["effect"] in family.OUTSIDE
+            assert c["values"] or c.get("slips") or c.get("strain_drift")
         else:
             assert c["effect"] == c["cause"] in family.LIBRARY and c["values"]
+        if c["bench"] == "tracking":  # our own model: the cause in its parameters
+            effects = c.get("pair") or ([c["effect"]] if c["kind"] == "effect" else [])
+            assert {k.split(".")[0] + "." + k.split(".")[1] for k in c["values"]} == {
+                f"{i}.{p}" for e in effects for i, p, *_ in family.MODEL_MAGNITUDES[e]}
+            continue
         if "clamp heat loss" in (c["effect"], *c.get("pair", ())):
             assert c["forms"]["thermal"] == "conduction"  # cold ends need a wire with length
         family.bench_of(c)  # every case makes a bench
+
+
+def test_moving_cases_onto_the_model_leaves_the_others_as_drawn():
+    cases = family.plan(60, 7)
+    assert [c["cause"] for c in cases] == [c["cause"] for c in family.plan(60, 7)]
+    bench = [c for c in cases if c["bench"] == family.BENCH]
+    assert all(set(c["forms"].values()) != {family.MODEL} for c in bench)
 
 
 @pytest.mark.parametrize("fields", [

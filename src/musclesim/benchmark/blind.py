@@ -123,7 +123,7 @@ def run(count: int, seed: int, out: str | Path, fmu_dir: str | Path = "fmus",
         score_gap = oracle
     elif bench == "family":
         cases = family_plan.plan(count, seed, duration or family_plan.DURATION)
-        recorded = (family_plan.record, cases)
+        recorded = (family_plan.record, [(c, scenarios_dir, fmus) for c in cases])
     else:
         cases = (independent_plan.plan(count, seed, DECOYS, duration or independent_plan.DURATION)
                  + independent_plan.plan_crawler(crawler, seed))

@@ -41,7 +41,8 @@ def fingerprint() -> str:
     here = Path(__file__).parent
     files = sorted(p for p in Path(diagnosis.__file__).parent.glob("*.py")
                    if p.name != "report.py")
-    files += [here / "family.py", here / "plan.py", here / "calibrate.py",
+    files += [here / "family.py", here / "plan.py", here / "calibrate.py", here / "cases.py",
+              here / "recording.py",
               here / "benches" / "sma.py", here / "benches" / "sma_kinetics.py"]
     h = hashlib.sha256()
     for p in files:
@@ -117,7 +118,7 @@ def calibrate(rows: list[tuple[dict, dict]], fit: list[int], cal: list[int],
     doc: dict[str, Any] = {
         "name": f"{SCENARIO}-family-{family.VERSION}", "scenario": SCENARIO,
         "alpha": ALPHA, "singles": singles, "causes": list(family.CAUSES),
-        "weights": weights.tolist(), "features": list(FEATURES),
+        "weights": weights.tolist(), "features": diagnosis.confidence_features(singles),
         "thresholds": {}, "gate": {"alpha": GATE_ALPHA, "outlyingness": scale.to_json(),
                                    "scores": []},
         **(meta or {})}
@@ -151,7 +152,7 @@ def build(folder: str | Path) -> dict[str, Any]:
     return doc
 
 
-def _reliability(cal: Confidence, rows: list[tuple[dict, dict]]) -> list[dict[str, Any]]:
+def _reliability(cal: Confidence, rows: list[tuple[dict, dict]]) -> list[Any]:
     """Stated probability against observed frequency over every cause of every row."""
     probs, hits = [], []
     for case, doc in rows:

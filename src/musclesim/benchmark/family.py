@@ -18,6 +18,12 @@ natural convection of a bare wire changes h by about +-10 % over the run (a form
 that needs a structure gets it (cold ends need conduction along the wire: ``clamp heat loss``
 draws the 1-D wire).
 
+Our own model is one member (`MODEL_SHARE` of the cases, drawn from a stream of their own so
+that the other cases stay as drawn): the library's FMUs on the tracking scenario with the cause
+hidden in their parameters (`MODEL_MAGNITUDES`, sized as the bench's causes), the controller in
+the loop and the reference replayed, the sensors' noise and latency of the own blind bench
+(`musclesim.benchmark.recording`); its forms are all ``model``, and it has no draught.
+
 The family's version (`VERSION`) changes whenever a form, a draw or a cause changes; a
 calibration records the version it was computed on.
 
@@ -27,16 +33,32 @@ True
 """
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
+from musclesim.benchmark import cases as own
 from musclesim.benchmark import plan as independent
 from musclesim.benchmark.benches.sma import Bench, run
+from musclesim.benchmark.recording import bench_scenario
+from musclesim.benchmark.recording import record as record_own
 from musclesim.diagnosis import CALIBRATION_ONLY, OUTSIDE_LIBRARY, TWO_EFFECTS
 
-VERSION = 1
+VERSION = 2
 BENCH = "family"
+MODEL_SHARE = 0.125
+MODEL = "model"  # the form of every subsystem of a case on our own model
+# the causes on our own model: (instance, parameter, low, high), the sign drawn for those in
+# `own.SIGNED`; sized as the bench's (`hidden`): a drift loses 3-8 % of the strain
+MODEL_MAGNITUDES: dict[str, list[tuple[str, str, float, float]]] = {
+    "thermocouple lag": [("thermocouple", "tau", 0.1, 0.6)],
+    "thermocouple bias": [("thermocouple", "bias", 1.5, 5.0)],
+    "latent heat": [("wire", "latent_heat", 12e3, 24e3)],
+    "convection change": [("wire", "h_exponent", 0.25, 0.6)],
+    "clamp heat loss": [("wire", "end_cooling", 0.3, 0.9)],
+    "training drift": [("wire", "drift_amplitude", -0.08, -0.03), ("wire", "drift_shift", 2.0, 6.0)],
+}
 DURATION = independent.DURATION
 # subsystem -> form -> its source
 FORMS: dict[str, dict[str, str]] = {
@@ -116,6 +138,7 @@ def plan(count: int, seed: int, duration: float = DURATION) -> list[dict[str, An
     then shuffled): dicts as `musclesim.benchmark.plan.plan` makes them, with ``cause`` (the
     label), ``forms`` and ``form_values`` (the forms' fields) besides."""
     rng = np.random.default_rng([seed, 19])  # a stream apart from the other plans'
+    model_rng = np.random.default_rng([seed, 23])  # which cases run on our own model
     causes = [CAUSES[i % len(CAUSES)] for i in range(count)]
     rng.shuffle(causes)
     cases = []
@@ -144,8 +167,32 @@ def plan(count: int, seed: int, duration: float = DURATION) -> list[dict[str, An
             form["thermal"] = "conduction"
         case["forms"] = form
         case["form_values"] = _form_fields(form, rng)
+        if model_rng.random() < MODEL_SHARE:
+            case = _on_model(case, model_rng)
         cases.append(case)
     return cases
+
+
+def _on_model(case: dict[str, Any], rng: np.random.Generator) -> dict[str, Any]:
+    """`case` moved onto our own model (the own blind bench's tracking scenario), its cause
+    kept, its hidden values drawn from `rng` (`MODEL_MAGNITUDES`, `own.OUTSIDE`)."""
+    case = {k: v for k, v in case.items()
+            if k in ("case", "cause", "kind", "pair", "effect", "duration")}
+    case.update(bench="tracking", forms=dict.fromkeys(FORMS, MODEL), values={},
+                latency_samples=int(rng.integers(0, 2)), seed=int(rng.integers(0, 2**31)))
+    for effect in case.get("pair") or ([case["effect"]] if case["kind"] == "effect" else []):
+        sign = -1.0 if effect in own.SIGNED and rng.random() < 0.5 else 1.0
+        for inst, par, lo, hi in MODEL_MAGNITUDES[effect]:
+            case["values"][f"{inst}.{par}"] = float(sign * rng.uniform(lo, hi))
+    if case["kind"] == "outside":
+        name = str(rng.choice(list(own.OUTSIDE)))
+        case["effect"] = name
+        if name == "clamp slip":  # (fraction of the run, strain lost) per slip
+            case["slips"] = [[float(rng.uniform(0.1, 0.95)), float(rng.uniform(
+                *own.OUTSIDE[name]))] for _ in range(int(rng.integers(2, 5)))]
+        else:
+            case["strain_drift"] = float(rng.choice([-1, 1]) * rng.uniform(*own.OUTSIDE[name]))
+    return case
 
 
 def bench_of(case: dict[str, Any]) -> Bench:
@@ -156,8 +203,17 @@ def bench_of(case: dict[str, Any]) -> Bench:
     return Bench(**fields)
 
 
-def record(case: dict[str, Any]) -> tuple[np.ndarray, dict, dict]:
-    """Run family case `case`'s bench: (time, {column: values}, {condition: value})."""
+def record(args: tuple[dict[str, Any], Any, Any]) -> tuple[np.ndarray, dict, dict]:
+    """Run the bench of family case `case`: (time, {column: values}, {condition: value});
+    `args` is (case, the scenarios' folder, the FMUs' folder), the last two for our own
+    model's cases."""
+    case, scenarios_dir, fmu_dir = args
+    if case["bench"] == "tracking":
+        scenario = bench_scenario(case, scenarios_dir)
+        if case["duration"] != scenario.stop_time:
+            scenario = replace(scenario, stop_time=case["duration"])
+        time, cols = record_own(case, scenario, fmu_dir)
+        return time, cols, {}
     out = run(bench_of(case), case["duration"])
     cols = dict(zip(independent.INPUTS + independent.OUTPUTS,
                     (out["u"], out["T_meas"], out["strain"])))

@@ -46,6 +46,7 @@ from musclesim.diagnosis.stats import HELD_OUT, TRAIN, Part, gap
 from musclesim.diagnosis.weigh import CALIBRATION_ONLY
 from musclesim.diagnosis.confidence import (ANOTHER_PAIR, FEATURES, OUTSIDE_LIBRARY, TWO_EFFECTS,
                                             Confidence, alternatives, case_features)
+from musclesim.diagnosis.confidence import features as confidence_features
 from musclesim.diagnosis.confidence import load as load_confidence
 from musclesim.diagnosis.conformal import (Outlyingness, choice_probabilities,
                                            conformal_p_value, fit_choice, mondrian_thresholds,
@@ -57,6 +58,6 @@ __all__ = ["load_dataset", "DataSet", "write_data_set", "diagnose", "Report", "w
            "REGIMES", "Effect", "find_effect", "Problem", "simulate_unit",
            "residuals", "Failed", "Simulated", "gap", "fit", "Free", "values_of", "calibration", "Part",
            "TRAIN", "HELD_OUT", "CALIBRATION_ONLY", "TWO_EFFECTS", "OUTSIDE_LIBRARY",
-           "ANOTHER_PAIR", "FEATURES", "Confidence", "alternatives", "case_features",
+           "ANOTHER_PAIR", "FEATURES", "confidence_features", "Confidence", "alternatives", "case_features",
            "load_confidence", "Outlyingness", "choice_probabilities", "conformal_p_value",
            "fit_choice", "mondrian_thresholds", "prediction_set", "reliability"]

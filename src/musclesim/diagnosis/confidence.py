@@ -48,7 +48,8 @@ TWO_EFFECTS = "two effects"  # a set's member: two of the library's effects at o
 OUTSIDE_LIBRARY = "outside the library"  # a set's member: a change the library does not hold
 ANOTHER_PAIR = "another pair"  # the alternative of a pair the pipeline did not fit
 FEATURES = ("calibration only", "single", "pair", "outside", "fitted", "log evidence to best",
-            "posterior", "held-out gain", "on a bound", "mimicked by calibration",
+            "posterior", "most probable", "held-out gain", "on a bound",
+            "mimicked by calibration", "effect's gain", "gains clearly", "signature holds",
             "stopped early", "calibrated gap", "gap left", "structured gap left")
 CASE_FEATURES = ("nominal gap", "calibrated gap", "gap left", "calibration on bounds",
                  "regime spread")
@@ -82,10 +83,24 @@ def _left(doc: dict[str, Any]) -> float | None:
     return all_.get("after")
 
 
+def features(singles: list[str]) -> list[str]:
+    """The names of an alternative's features: `FEATURES`, then one per cause of a calibration
+    knowing the single effects `singles` (its intercept: how often the family has that cause
+    given the rest), then the log evidence to the best per cause (how far each cause's
+    evidence is to be trusted)."""
+    causes = causes_of(singles)
+    return [*FEATURES, *(f"is {k}" for k in causes), *(f"evidence of {k}" for k in causes)]
+
+
+def causes_of(singles: list[str]) -> list[str]:
+    """The causes of a calibration knowing the single effects `singles`, in order."""
+    return [CALIBRATION_ONLY, *singles, TWO_EFFECTS, OUTSIDE_LIBRARY]
+
+
 def alternatives(doc: dict[str, Any], singles: list[str]) -> list[tuple[str, str, list[float]]]:
     """The alternatives of a report.json document `doc`: (name, cause, features) with
-    `FEATURES` in order; `singles` the single effects the calibration knows (others the
-    pipeline considered come as their own causes)."""
+    `features`(`singles`) in order; `singles` the single effects the calibration knows (others
+    the pipeline considered come as their own causes, without a cause's features)."""
     ev = doc.get("evidence") or {}
     cands = {c["name"]: c for c in ev.get("candidates", [])}
     best = max((c["log_evidence"] for c in cands.values()), default=0.0)
@@ -98,7 +113,10 @@ def alternatives(doc: dict[str, Any], singles: list[str]) -> list[tuple[str, str
     calibrated = _log_ratio(doc.get("calibration", {}).get("heldout_gap_after"), floor)
     left = _log_ratio(_left(doc), floor)
     structured = float(doc.get("complete") is False)
-    considered = [e["name"] for e in doc.get("effects", [])]
+    effects = {e["name"]: e for e in doc.get("effects", [])}
+    considered = list(effects)
+    top = max(cands, key=lambda n: cands[n]["probability"]) if cands else CALIBRATION_ONLY
+    causes = causes_of(singles)
     names = [CALIBRATION_ONLY] + list(dict.fromkeys(singles + considered))
     names += [n for n in cands if " + " in n] + [ANOTHER_PAIR, OUTSIDE_LIBRARY]
     out = []
@@ -106,7 +124,8 @@ def alternatives(doc: dict[str, Any], singles: list[str]) -> list[tuple[str, str
         kind = ("calibration only" if name == CALIBRATION_ONLY else "outside"
                 if name == OUTSIDE_LIBRARY else "pair" if " + " in name or name == ANOTHER_PAIR
                 else "single")
-        cause = {"pair": TWO_EFFECTS, "outside": OUTSIDE_LIBRARY}.get(kind, name)
+        cause = {"pair": TWO_EFFECTS, "outside": OUTSIDE_LIBRARY, "single": name,
+                 "calibration only": name}[kind]
         c = cands.get(name)
         f = dict.fromkeys(FEATURES, 0.0)
         f[kind] = 1.0
@@ -119,13 +138,22 @@ def alternatives(doc: dict[str, Any], singles: list[str]) -> list[tuple[str, str
                                           if k not in doc.get("calibration", {}).get(
                                               "parameters", {})})
             f["mimicked by calibration"] = float(name in mimic and name != CALIBRATION_ONLY)
+        f["most probable"] = float(name == top)
+        e = effects.get(name)
+        if e is not None:
+            judged = e.get("judged") or {}
+            f["effect's gain"] = float(e.get("shrinkage") or 0.0)
+            f["gains clearly"] = float(bool(judged.get("significant")))
+            f["signature holds"] = float(bool((e.get("signature") or {}).get("consistent")))
         if kind == "calibration only":
             f["stopped early"] = float(early)
             f["calibrated gap"] = calibrated
         if kind == "outside":
             f["gap left"] = left
             f["structured gap left"] = structured
-        out.append((name, cause, [f[k] for k in FEATURES]))
+        onehot = [float(cause == k) for k in causes]
+        out.append((name, cause, [f[k] for k in FEATURES] + onehot
+                    + [x * f["log evidence to best"] for x in onehot]))
     return out
 
 

@@ -203,7 +203,7 @@ def _extra_loss(bench: Bench, T: np.ndarray, t: float, conv_area: Any,
     `conv_area` the volumes' lateral areas."""
     dT = T - bench.ambient
     loss = bench.emissivity * SIGMA_SB * conv_area * (T ** 4 - bench.ambient ** 4)
-    h = bench.h * (1 + bench.gust_level * gust)
+    h: Any = bench.h * (1 + bench.gust_level * gust)
     if h_ratio is not None:
         h = h * np.interp(np.abs(dT), *h_ratio)
     if bench.h_exponent:

@@ -88,14 +88,14 @@ class Kinetics:
         self.shape, self.shift = shape, 0.0
         self.weights = np.array([p[0] for p in POPULATIONS])
         T = np.asarray(T, float)
-        shape = T.shape + (len(POPULATIONS),)
-        self.x = np.full(shape, float(xi))  # per volume and population
+        dims = T.shape + (len(POPULATIONS),)
+        self.x = np.full(dims, float(xi))  # per volume and population
         self.xi = self.x @ self.weights
         self.T = T.copy()
-        self.heating = np.ones(shape, bool)
-        self.lo, self.hi = np.zeros(shape), np.ones(shape)
-        self.offset, self.scale = np.zeros(shape), np.ones(shape)
-        self._branches(np.ones(shape, bool))
+        self.heating = np.ones(dims, bool)
+        self.lo, self.hi = np.zeros(dims), np.ones(dims)
+        self.offset, self.scale = np.zeros(dims), np.ones(dims)
+        self._branches(np.ones(dims, bool))
 
     def _branches(self, new: np.ndarray) -> None:
         """Branches through the present (T, x) for the entries `new` (after a reversal)."""
