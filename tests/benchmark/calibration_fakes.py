@@ -34,6 +34,7 @@ def _doc(cause, pair, rng):
     cands = [{"name": n, "probability": post[n] / total, "log_evidence": logz[n],
               "heldout_gap_all": left * (1.5 if n == CALIBRATION_ONLY else
                                          1.0 if n == lead else 1.3),
+              "heldout_gap": {"thermocouple.T_meas": left, "wire.strain": left},
               "parameters": {}} for n in names]
     return {"verdict": lead, "noise_floor": floor, "complete": cause != OUTSIDE_LIBRARY,
             "gap": {"heldout_gap": floor * rng.uniform(5, 20), "noise_floor": floor},

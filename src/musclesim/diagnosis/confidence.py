@@ -36,6 +36,7 @@ import json
 import math
 from dataclasses import dataclass
 from importlib import resources
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -83,13 +84,18 @@ def _left(doc: dict[str, Any]) -> float | None:
     return all_.get("after")
 
 
-def features(singles: list[str]) -> list[str]:
-    """The names of an alternative's features: `FEATURES`, then one per cause of a calibration
-    knowing the single effects `singles` (its intercept: how often the family has that cause
-    given the rest), then the log evidence to the best per cause (how far each cause's
-    evidence is to be trusted)."""
-    causes = causes_of(singles)
-    return [*FEATURES, *(f"is {k}" for k in causes), *(f"evidence of {k}" for k in causes)]
+INTERACTED = ("log evidence to best", "held-out gain", "effect's gain")
+
+
+def features(singles: list[str], signals: list[str]) -> list[str]:
+    """The names of an alternative's features in a calibration knowing the single effects
+    `singles` and the observed `signals`: `FEATURES`; the held-out gain on each signal; per
+    cause an intercept (how often the family has that cause, the rest given); and per cause
+    each of `INTERACTED` and the gains per signal (how far each cause's evidence is to be
+    trusted, and which signals its signature is on)."""
+    gains = [f"gain on {s}" for s in signals]
+    return [*FEATURES, *gains, *(f"is {k}" for k in causes_of(singles)),
+            *(f"{x} if {k}" for k in causes_of(singles) for x in (*INTERACTED, *gains))]
 
 
 def causes_of(singles: list[str]) -> list[str]:
@@ -97,10 +103,24 @@ def causes_of(singles: list[str]) -> list[str]:
     return [CALIBRATION_ONLY, *singles, TWO_EFFECTS, OUTSIDE_LIBRARY]
 
 
-def alternatives(doc: dict[str, Any], singles: list[str]) -> list[tuple[str, str, list[float]]]:
+def _gains(name: str, cands: dict[str, Any], effect: Any, signals: list[str]) -> list[float]:
+    """The held-out gain (log of the gap before over after) of alternative `name` on each of
+    `signals`: from its candidate's fit against calibration only's, else its effect's own fit."""
+    c, base = cands.get(name), cands.get(CALIBRATION_ONLY)
+    if c is not None and base is not None and name != CALIBRATION_ONLY:
+        return [_log_ratio(base.get("heldout_gap", {}).get(s), c.get("heldout_gap", {}).get(s))
+                for s in signals]
+    per = (effect or {}).get("per_signal") or {}
+    return [_log_ratio(per.get(s, {}).get("before"), per.get(s, {}).get("after"))
+            for s in signals]
+
+
+def alternatives(doc: dict[str, Any], singles: list[str],
+                 signals: Sequence[str] = ()) -> list[tuple[str, str, list[float]]]:
     """The alternatives of a report.json document `doc`: (name, cause, features) with
-    `features`(`singles`) in order; `singles` the single effects the calibration knows (others
-    the pipeline considered come as their own causes, without a cause's features)."""
+    `features`(`singles`, `signals`) in order; `singles` the single effects the calibration
+    knows (others the pipeline considered come as their own causes, without a cause's
+    features), `signals` the observed signals its gains are on."""
     ev = doc.get("evidence") or {}
     cands = {c["name"]: c for c in ev.get("candidates", [])}
     best = max((c["log_evidence"] for c in cands.values()), default=0.0)
@@ -151,9 +171,11 @@ def alternatives(doc: dict[str, Any], singles: list[str]) -> list[tuple[str, str
         if kind == "outside":
             f["gap left"] = left
             f["structured gap left"] = structured
+        gains = _gains(name, cands, e, list(signals))
         onehot = [float(cause == k) for k in causes]
-        out.append((name, cause, [f[k] for k in FEATURES] + onehot
-                    + [x * f["log evidence to best"] for x in onehot]))
+        inter = [f[k] for k in INTERACTED] + gains
+        out.append((name, cause, [f[k] for k in FEATURES] + gains + onehot
+                    + [x * v for x in onehot for v in inter]))
     return out
 
 
@@ -183,7 +205,7 @@ class Confidence:
     def probabilities(self, doc: dict[str, Any]) -> tuple[dict[str, float], dict[str, float]]:
         """({cause: calibrated probability}, {alternative: calibrated probability}) of
         report.json document `doc`."""
-        alts = alternatives(doc, self.data["singles"])
+        alts = alternatives(doc, self.data["singles"], self.data["signals"])
         F = np.array([[a[2] for a in alts]], float)
         p = choice_probabilities(F, np.ones(F.shape[:2], bool),
                                  np.array(self.data["weights"], float))[0]
