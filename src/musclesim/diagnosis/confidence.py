@@ -22,7 +22,8 @@ pool of diagnosed cases whose truth is known, drawn from a family of bench forms
   effect) included, so false alarms are bounded too.
 - The gate: a conformal outlier test (Bates et al., Ann. Statist. 2023) on case-level features
   (`case_features`: the gaps in noise units before and after calibration and after the best
-  candidate, the calibration's parameters on their bounds, the regimes' spread): a p-value at
+  candidate, the calibration's parameters on their bounds, the regimes' spread, the
+  discrepancy's innovations against the noise): a p-value at
   most ``gate_alpha`` says the bench is outside the calibrated family; the set is then the
   nearest one, without its guarantee.
 
@@ -53,7 +54,7 @@ FEATURES = ("calibration only", "single", "pair", "outside", "fitted", "log evid
             "mimicked by calibration", "effect's gain", "gains clearly", "signature holds",
             "stopped early", "calibrated gap", "gap left", "structured gap left")
 CASE_FEATURES = ("nominal gap", "calibrated gap", "gap left", "calibration on bounds",
-                 "regime spread")
+                 "regime spread", "innovation scale")
 BOUND = 1e-3  # share of a parameter's range within which a value sits on its bound
 
 
@@ -108,8 +109,8 @@ def _gains(name: str, cands: dict[str, Any], effect: Any, signals: list[str]) ->
     `signals`: from its candidate's fit against calibration only's, else its effect's own fit."""
     c, base = cands.get(name), cands.get(CALIBRATION_ONLY)
     if c is not None and base is not None and name != CALIBRATION_ONLY:
-        return [_log_ratio(base.get("heldout_gap", {}).get(s), c.get("heldout_gap", {}).get(s))
-                for s in signals]
+        before, after = base.get("heldout_gap", {}), c.get("heldout_gap", {})
+        return [_log_ratio(before.get(s), after.get(s)) for s in signals]
     per = (effect or {}).get("per_signal") or {}
     return [_log_ratio(per.get(s, {}).get("before"), per.get(s, {}).get("after"))
             for s in signals]
@@ -186,9 +187,14 @@ def case_features(doc: dict[str, Any]) -> list[float]:
     gaps = [r["gap"] for r in doc.get("regimes", {}).get("by_regime", {}).values()
             if r.get("gap")]
     spread = math.log(max(gaps) / min(gaps)) if len(gaps) > 1 and min(gaps) > 0 else 0.0
+    signals = doc.get("gap", {}).get("signals", {})
+    disc = (doc.get("evidence") or {}).get("discrepancy", {})
+    scales = [_log_ratio(d.get("sigma"), signals.get(s, {}).get("noise"))
+              for s, d in disc.items()]
     return [_log_ratio(doc.get("gap", {}).get("heldout_gap"), floor),
             _log_ratio(cal.get("heldout_gap_after"), floor), _log_ratio(_left(doc), floor),
-            _on_bounds(cal.get("parameters", {})), spread]
+            _on_bounds(cal.get("parameters", {})), spread,
+            sum(scales) / len(scales) if scales else 0.0]
 
 
 @dataclass(frozen=True)
