@@ -55,6 +55,10 @@ def test_the_alternatives_of_a_report_and_their_features():
     assert bias["gain on tc.T"] == pytest.approx(math.log(2))
     assert bias["is thermocouple bias"] == 1 and bias["is latent heat"] == 0
     assert bias["held-out gain if thermocouple bias"] == pytest.approx(math.log(2))
+    hot = dict(zip(confidence_features(SINGLES, SIGNALS, ["hot"]),
+                   alternatives(doc_with_evidence(), SINGLES, SIGNALS, ["hot"])[1][2]))
+    assert hot["gap hot if thermocouple bias"] == pytest.approx(math.log(2))
+    assert hot["gap hot if latent heat"] == 0
     assert f[CALIBRATION_ONLY]["log evidence to best"] == pytest.approx(-math.log1p(10))
     latent = f["latent heat"]  # not weighed: its own fit describes it
     assert latent["fitted"] == 0 and latent["effect's gain"] == 0.2
@@ -85,7 +89,7 @@ def calibration_doc(thresholds, gate_scores):
                                        [2, 0, 1, 0, 1, 0.5]], float))
     return {"name": "test", "fingerprint": "x", "family": {"cases": 3}, "cases": 3,
             "created": "2026-11-29", "alpha": 0.05, "singles": SINGLES, "signals": SIGNALS,
-            "causes": [CALIBRATION_ONLY, *SINGLES, TWO_EFFECTS, OUTSIDE_LIBRARY],
+            "causes": [CALIBRATION_ONLY, *SINGLES, TWO_EFFECTS, OUTSIDE_LIBRARY], "regimes": [],
             "weights": weights.tolist(), "thresholds": thresholds,
             "gate": {"alpha": 0.3, "outlyingness": scale.to_json(), "scores": gate_scores}}
 

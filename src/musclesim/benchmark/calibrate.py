@@ -34,6 +34,8 @@ FIT_SHARE = 1 / 3  # of each cause's pool cases, to fit the logit and the gate's
 SPLIT_SEED = 57
 SCENARIO = "sma-bench-tracking"
 SIGNALS = ["thermocouple.T_meas", "wire.strain"]  # the family's observed signals
+# the SMA wire's operating regimes (`musclesim.diagnosis.REGIMES`) but "all", their reference
+REGIMES = ["changing", "heating", "cooling", "hot", "transformation", "late"]
 
 
 def fingerprint() -> str:
@@ -82,7 +84,7 @@ def _truth(case: dict[str, Any], names: list[str]) -> str:
 
 def _arrays(rows: list[tuple[dict, dict]], singles: list[str]) -> dict[str, Any]:
     """Padded (features, available, truth index, alternatives' causes) of `rows`."""
-    alts = [alternatives(doc, singles, SIGNALS) for _, doc in rows]
+    alts = [alternatives(doc, singles, SIGNALS, REGIMES) for _, doc in rows]
     width = max(len(a) for a in alts)
     F = np.zeros((len(rows), width, len(alts[0][0][2])))
     avail = np.zeros((len(rows), width), bool)
@@ -119,8 +121,8 @@ def calibrate(rows: list[tuple[dict, dict]], fit: list[int], cal: list[int],
     doc: dict[str, Any] = {
         "name": f"{SCENARIO}-family-{family.VERSION}", "scenario": SCENARIO,
         "alpha": ALPHA, "singles": singles, "causes": list(family.CAUSES),
-        "weights": weights.tolist(), "signals": SIGNALS,
-        "features": diagnosis.confidence_features(singles, SIGNALS),
+        "weights": weights.tolist(), "signals": SIGNALS, "regimes": REGIMES,
+        "features": diagnosis.confidence_features(singles, SIGNALS, REGIMES),
         "thresholds": {}, "gate": {"alpha": GATE_ALPHA, "outlyingness": scale.to_json(),
                                    "scores": []},
         **(meta or {})}

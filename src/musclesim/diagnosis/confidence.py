@@ -88,15 +88,30 @@ def _left(doc: dict[str, Any]) -> float | None:
 INTERACTED = ("log evidence to best", "held-out gain", "effect's gain")
 
 
-def features(singles: list[str], signals: list[str]) -> list[str]:
+def features(singles: list[str], signals: list[str], regimes: Sequence[str] = ()) -> list[str]:
     """The names of an alternative's features in a calibration knowing the single effects
-    `singles` and the observed `signals`: `FEATURES`; the held-out gain on each signal; per
-    cause an intercept (how often the family has that cause, the rest given); and per cause
-    each of `INTERACTED` and the gains per signal (how far each cause's evidence is to be
-    trusted, and which signals its signature is on)."""
+    `singles`, the observed `signals` and the operating `regimes`: `FEATURES`; the held-out
+    gain on each signal; per cause an intercept (how often the family has that cause, the rest
+    given); and per cause each of `INTERACTED`, the gains per signal, the calibrated gap per
+    signal and in each regime against the whole (how far each cause's evidence is to be
+    trusted, which signals its signature is on, where the gap calibration leaves lies)."""
     gains = [f"gain on {s}" for s in signals]
+    where = [f"calibrated gap on {s}" for s in signals] + [f"gap {r}" for r in regimes]
     return [*FEATURES, *gains, *(f"is {k}" for k in causes_of(singles)),
-            *(f"{x} if {k}" for k in causes_of(singles) for x in (*INTERACTED, *gains))]
+            *(f"{x} if {k}" for k in causes_of(singles) for x in (*INTERACTED, *gains, *where))]
+
+
+def _where(doc: dict[str, Any], signals: Sequence[str], regimes: Sequence[str]) -> list[float]:
+    """Where the calibrated gap of report.json document `doc` lies: per signal, its held-out
+    gap against the signal's noise; per regime, its gap against the whole's (logs; 0 where the
+    report has none)."""
+    cal = doc.get("calibration", {}).get("signals", {})
+    noise = doc.get("gap", {}).get("signals", {})
+    table = doc.get("regimes", {}).get("by_regime", {})
+    whole = table.get("all", {}).get("gap")
+    return ([_log_ratio(cal.get(s, {}).get("after"), noise.get(s, {}).get("noise"))
+             for s in signals]
+            + [_log_ratio(table.get(r, {}).get("gap"), whole) for r in regimes])
 
 
 def causes_of(singles: list[str]) -> list[str]:
@@ -116,12 +131,13 @@ def _gains(name: str, cands: dict[str, Any], effect: Any, signals: list[str]) ->
             for s in signals]
 
 
-def alternatives(doc: dict[str, Any], singles: list[str],
-                 signals: Sequence[str] = ()) -> list[tuple[str, str, list[float]]]:
+def alternatives(doc: dict[str, Any], singles: list[str], signals: Sequence[str] = (),
+                 regimes: Sequence[str] = ()) -> list[tuple[str, str, list[float]]]:
     """The alternatives of a report.json document `doc`: (name, cause, features) with
     `features`(`singles`, `signals`) in order; `singles` the single effects the calibration
     knows (others the pipeline considered come as their own causes, without a cause's
-    features), `signals` the observed signals its gains are on."""
+    features), `signals` the observed signals its gains are on, `regimes` the operating regimes
+    where its gap is read."""
     ev = doc.get("evidence") or {}
     cands = {c["name"]: c for c in ev.get("candidates", [])}
     best = max((c["log_evidence"] for c in cands.values()), default=0.0)
@@ -138,6 +154,7 @@ def alternatives(doc: dict[str, Any], singles: list[str],
     considered = list(effects)
     top = max(cands, key=lambda n: cands[n]["probability"]) if cands else CALIBRATION_ONLY
     causes = causes_of(singles)
+    where = _where(doc, signals, regimes)
     names = [CALIBRATION_ONLY] + list(dict.fromkeys(singles + considered))
     names += [n for n in cands if " + " in n] + [ANOTHER_PAIR, OUTSIDE_LIBRARY]
     out = []
@@ -174,7 +191,7 @@ def alternatives(doc: dict[str, Any], singles: list[str],
             f["structured gap left"] = structured
         gains = _gains(name, cands, e, list(signals))
         onehot = [float(cause == k) for k in causes]
-        inter = [f[k] for k in INTERACTED] + gains
+        inter = [f[k] for k in INTERACTED] + gains + where
         out.append((name, cause, [f[k] for k in FEATURES] + gains + onehot
                     + [x * v for x in onehot for v in inter]))
     return out
@@ -211,7 +228,8 @@ class Confidence:
     def probabilities(self, doc: dict[str, Any]) -> tuple[dict[str, float], dict[str, float]]:
         """({cause: calibrated probability}, {alternative: calibrated probability}) of
         report.json document `doc`."""
-        alts = alternatives(doc, self.data["singles"], self.data["signals"])
+        alts = alternatives(doc, self.data["singles"], self.data["signals"],
+                            self.data["regimes"])
         F = np.array([[a[2] for a in alts]], float)
         p = choice_probabilities(F, np.ones(F.shape[:2], bool),
                                  np.array(self.data["weights"], float))[0]
