@@ -61,8 +61,8 @@ def _simulate(pb, pf, pi, step, n, actuator_lead, times, states):
             p, u = pf[i], u1 if i == 0 else u2
             s = u if p[5] <= 0 else contact[i]  # t_switch off: the contact follows u at once
             mu_s, mu_k = friction.coefficients_core(s, p[0], p[1], p[2], p[3], 1.0)
-            if p[8] > 0.0:  # the Stribeck curve, as the FMU's
-                mu_k = friction.stribeck(x[1 + 2 * i], mu_s, mu_k, p[8])
+            if p[8] != 0.0:  # the Stribeck curve, as the FMU's
+                mu_k = friction.stribeck_core(x[1 + 2 * i], mu_s, mu_k, p[8], p[9])
             forces[i] = friction.friction_force(x[1 + 2 * i], f_n[i], pb[body.N1 + i], mu_s,
                                                 mu_k, p[4])
             contact[i] = friction.advance_contact(contact[i], u, step, p[5])
