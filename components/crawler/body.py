@@ -106,11 +106,11 @@ def hardening(x: Sequence[float] | np.ndarray, p: BodyParams, f_a: float = 0.0) 
     >>> hardening([0.0, 0.0, -0.04, 0.0], BodyParams(k_hard=0.1))  # 0.1 * 200 N/m * 4 cm
     0.8
     """
-    return _hardening(np.asarray(x, dtype=float), pack(p), f_a)
+    return hardening_core(np.asarray(x, dtype=float), pack(p), f_a)
 
 
 @jit
-def _hardening(x, p, f_a):
+def hardening_core(x: np.ndarray, p: np.ndarray, f_a: float) -> float:
     """`hardening` of the state `x` at actuator force `f_a` [N], the packed parameters `p`: the
     linear spring's extra force, which acts as the actuator force does (pushing the blocks apart
     when negative)."""
@@ -181,7 +181,7 @@ def nonfriction_core(x: np.ndarray, f_a: float, p: np.ndarray) -> tuple[float, f
     parameters `p` (`pack`)."""
     f_spring = _stiffness(p, f_a) * (x[0] - x[2]) + p[C] * (x[1] - x[3])
     if p[K_HARD] != 0.0:  # the spring's hardening (the branch keeps k_hard = 0 to the bit)
-        f_spring += _hardening(x, p, f_a)
+        f_spring += hardening_core(x, p, f_a)
     slope = p[SLOPE]
     return (-f_spring - f_a - p[M1] * slope - p[C_GROUND] * x[1],
             f_spring + f_a - p[M2] * slope - p[C_GROUND] * x[3])
@@ -261,7 +261,7 @@ def advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float
         x[4], x[5] = dt, f_held
     f_a = u[0]
     if p[K_HARD] != 0.0:
-        f_a += _hardening(x, p, u[0])
+        f_a += hardening_core(x, p, u[0])
     step_state_into(x[:4], f_a, u[1], u[2], Ad, Bd)
 
 

@@ -72,7 +72,7 @@ def _simulate(pb, pf, pi, step, n, actuator_lead, times, states):
         if pb[body.K_SLOPE]:  # the stiffness follows the actuator force held over the step
             body.discretise_into(pb, step, f_held, Ad, Bd)
         if pb[body.K_HARD]:  # the spring's hardening, held over the step like the FMU's
-            f_held += body._hardening(x, pb, f_held)
+            f_held += body.hardening_core(x, pb, f_held)
         body.step_state_into(x, f_held, forces[0], forces[1], Ad, Bd)
         t, f_a = t_next, f_next
 
