@@ -54,10 +54,22 @@ class BodyParams:
                              effect=(-0.04, 0.04))
     c_ground: float = declare(0.0, "N.s/m", "Effect, 0 = off: viscous drag of the ground on "
                               "each block", source="§named-effects", effect=(0.0, 5.0))
+    # a nuisance of the spring's form, calibrated (0 = the study's linear spring)
+    k_hard: float = declare(0.0, "1", "Hardening of the central actuator: its spring force is "
+                            "k d (1 + k_hard (d / 4 cm)^2) at the deflection d = x1 - x2, "
+                            "k_hard the share it is stiffer at 4 cm, about its stroke at the "
+                            "gait's pressure (a silicone tube stiffens as it stretches); the "
+                            "cubic part is taken at the step's start and held over it",
+                            source="§two-mass, bench form (a hardening spring)",
+                            calibrate=Calibration(-0.1, 0.3, False, "the soft actuator's "
+                                                  "stiffening with its deflection: the tensile "
+                                                  "test's line is a secant"))
 
     def check(self) -> None:
         """Raise ValueError naming the first parameter outside its physical range."""
         require(self, positive=("m1", "m2"), non_negative=("k", "c", "c_ground"))
+        if not math.isfinite(self.k_hard):
+            raise ValueError(f"k_hard must be a finite number (got {self.k_hard!r})")
         if not abs(self.theta) < math.pi / 2:
             raise ValueError(f"theta must lie in (-pi/2, pi/2) rad (got {self.theta!r})")
 
@@ -69,18 +81,44 @@ def stiffness(p: BodyParams, f_a: float = 0.0) -> float:
 
 
 # the kernel's parameters (`pack`): the fields, then constants derived from them
-M1, M2, K, C, THETA, K_SLOPE, C_GROUND, N1, N2, SLOPE = range(10)
+M1, M2, K, C, THETA, K_SLOPE, C_GROUND, K_HARD, N1, N2, SLOPE = range(11)
+D_HARD = 0.04  # m: the deflection at which k_hard is the spring's stiffening
 
 
 def pack(p: BodyParams) -> np.ndarray:
     """The kernel's parameters: `p`'s fields in their declared order (m1, m2, k, c, theta,
-    k_slope, c_ground), then the normal forces N1, N2 and g sin(theta)."""
+    k_slope, c_ground, k_hard), then the normal forces N1, N2 and g sin(theta)."""
     return np.array([*astuple(p), *normal_forces(p), G * math.sin(p.theta)], dtype=float)
 
 
 @jit
 def _stiffness(p, f_a):
     return max(0.0, p[K] * (1.0 + p[K_SLOPE] * f_a))
+
+
+def hardening(x: Sequence[float] | np.ndarray, p: BodyParams, f_a: float = 0.0) -> float:
+    """The cubic part k k_hard (d / D_HARD)^2 d [N] of the central actuator's spring force of
+    the body `p` in state `x` (d = x1 - x2), k at actuator force `f_a` (`stiffness`); exactly 0.0
+    with k_hard = 0.
+
+    Examples
+    --------
+    >>> hardening([0.0, 0.0, -0.04, 0.0], BodyParams(k_hard=0.1))  # 0.1 * 200 N/m * 4 cm
+    0.8
+    """
+    return hardening_core(np.asarray(x, dtype=float), pack(p), f_a)
+
+
+@jit
+def hardening_core(x: np.ndarray, p: np.ndarray, f_a: float) -> float:
+    """`hardening` of the state `x` at actuator force `f_a` [N], the packed parameters `p`: the
+    linear spring's extra force, which acts as the actuator force does (pushing the blocks apart
+    when negative)."""
+    if p[K_HARD] == 0.0:
+        return 0.0
+    d = x[0] - x[2]
+    r = d / D_HARD
+    return _stiffness(p, f_a) * p[K_HARD] * r * r * d
 
 
 def state_space(p: BodyParams, f_a: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -142,6 +180,8 @@ def nonfriction_core(x: np.ndarray, f_a: float, p: np.ndarray) -> tuple[float, f
     """`nonfriction_forces` of the state `x` under actuator force `f_a` [N], the packed
     parameters `p` (`pack`)."""
     f_spring = _stiffness(p, f_a) * (x[0] - x[2]) + p[C] * (x[1] - x[3])
+    if p[K_HARD] != 0.0:  # the spring's hardening (the branch keeps k_hard = 0 to the bit)
+        f_spring += hardening_core(x, p, f_a)
     slope = p[SLOPE]
     return (-f_spring - f_a - p[M1] * slope - p[C_GROUND] * x[1],
             f_spring + f_a - p[M2] * slope - p[C_GROUND] * x[3])
@@ -212,13 +252,17 @@ def advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float
     """Kernel step of the state `x` over [`t`, `t` + `dt`] [s] with the inputs `u` held
     (parameters `p`; the outputs `y` are not needed): the hold matrices for this step (made anew
     when the step changes beyond rounding, as an integer clock's steps do, or, with a
-    force-dependent stiffness, the actuator force), then `step_state`."""
+    force-dependent stiffness, the actuator force), then `step_state`; the spring's hardening
+    (k_hard) enters as a force beside the actuator's, taken at the step's start and held."""
     f_held = u[0] if p[K_SLOPE] != 0.0 else 0.0
     Ad, Bd = x[6:22].reshape((4, 4)), x[22:38].reshape((4, 4))
     if math.isnan(x[4]) or abs(dt - x[4]) > 1e-9 * max(abs(dt), abs(x[4])) or f_held != x[5]:
         discretise_into(p, dt, f_held, Ad, Bd)
         x[4], x[5] = dt, f_held
-    step_state_into(x[:4], u[0], u[1], u[2], Ad, Bd)
+    f_a = u[0]
+    if p[K_HARD] != 0.0:
+        f_a += hardening_core(x, p, u[0])
+    step_state_into(x[:4], f_a, u[1], u[2], Ad, Bd)
 
 
 KERNEL = Kernel(evaluate, advance, inputs=("f_a", "flange_a.f", "flange_b.f"),

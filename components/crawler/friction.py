@@ -55,10 +55,25 @@ class FrictionParams:
     mu_decay: float = declare(0.0, "1/s", "Effect, 0 = off: high coefficients scaled by "
                               "exp(-mu_decay t): particles collect on the silicone and lower its "
                               "friction over time", source="§gait", effect=(0.0, 0.02))
+    # a nuisance of the friction law's form, calibrated (stribeck 0 = the study's Karnopp law)
+    stribeck: float = declare(0.0, "1", "Stribeck amplitude, 0 = off: while sliding, the kinetic "
+                              "coefficient is mu_k + stribeck (mu_s - mu_k) exp(-(v / "
+                              "v_stribeck)^2); 1 is LuGre's curve, the static coefficient fading "
+                              "into the kinetic one as the block speeds up; below 0 friction "
+                              "strengthens with speed",
+                              source="§friction, bench form (LuGre's Stribeck curve: Canudas de "
+                              "Wit et al., IEEE TAC 40, 1995)",
+                              calibrate=Calibration(-0.5, 1.0, False, "the ground's Stribeck "
+                                                    "curve: real friction falls from static to "
+                                                    "kinetic over mm/s, not at once"))
+    v_stribeck: float = declare(2e-3, "m/s", "Stribeck velocity of the curve `stribeck` scales "
+                                "(a few mm/s, the order of LuGre's; no effect while stribeck is "
+                                "0, so not calibrated: from there its sensitivity is nil)",
+                                source="§friction, bench form (Canudas de Wit et al. 1995)")
 
     def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
-        require(self, positive=("v_s",),
+        require(self, positive=("v_s", "v_stribeck"),
                 non_negative=("mu_s_high", "mu_k_high", "mu_s_low", "mu_k_low", "t_switch",
                               "bending", "mu_decay"))
 
@@ -98,6 +113,32 @@ def coefficients_core(s: float, mu_s_high: float, mu_k_high: float, mu_s_low: fl
     `mu_s_low`, `mu_k_low`, the high ones times `scale`."""
     mu_s_high, mu_k_high = scale * mu_s_high, scale * mu_k_high
     return mu_s_low + s * (mu_s_high - mu_s_low), mu_k_low + s * (mu_k_high - mu_k_low)
+
+
+def kinetic(v: float, p: FrictionParams, mu_s: float, mu_k: float) -> float:
+    """The kinetic coefficient of `p` at velocity `v` [m/s] between the static `mu_s` and the
+    kinetic `mu_k` (`stribeck_core`): mu_k itself with stribeck = 0.
+
+    Examples
+    --------
+    >>> kinetic(0.01, FrictionParams(), 1.0, 0.75)
+    0.75
+    >>> round(kinetic(-2e-3, FrictionParams(stribeck=1.0), 1.0, 0.75), 12)  # 0.75 + 0.25/e
+    0.841969860293
+    """
+    return stribeck_core(v, mu_s, mu_k, p.stribeck, p.v_stribeck)
+
+
+@jit
+def stribeck_core(v: float, mu_s: float, mu_k: float, amplitude: float,
+                  v_stribeck: float) -> float:
+    """The sliding coefficient at velocity `v` [m/s] of the Stribeck curve mu_k + `amplitude`
+    (`mu_s` - `mu_k`) exp(-(v / `v_stribeck`)^2) (the LuGre model's at amplitude 1; Canudas de
+    Wit et al. 1995); `mu_k` itself at amplitude 0."""
+    if amplitude == 0.0:
+        return mu_k
+    r = v / v_stribeck
+    return mu_k + amplitude * (mu_s - mu_k) * math.exp(-r * r)
 
 
 @jit
@@ -169,7 +210,7 @@ def accumulate_slip(slip: float, v: float, contact: float, dt: float, v_s: float
 
 def pack(p: FrictionParams) -> np.ndarray:
     """The kernel's parameters: `p`'s fields in their declared order (mu_s_high, mu_k_high,
-    mu_s_low, mu_k_low, v_s, t_switch, bending, mu_decay)."""
+    mu_s_low, mu_k_low, v_s, t_switch, bending, mu_decay, stribeck, v_stribeck)."""
     return np.array(astuple(p), dtype=float)
 
 
@@ -179,6 +220,8 @@ def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarra
     f_n, N, u, theta] and time `t` [s] (parameters `p` from `pack`)."""
     contact = u[3] if p[5] <= 0 else x[0]
     mu_s, mu_k = coefficients_core(contact, p[0], p[1], p[2], p[3], _high_scale(u[4], t, p[6], p[7]))
+    if p[8] != 0.0:  # the Stribeck curve (the branch keeps stribeck = 0 to the bit)
+        mu_k = stribeck_core(u[0], mu_s, mu_k, p[8], p[9])
     y[0] = friction_force(u[0], u[1], u[2], mu_s, mu_k, p[4])
     y[1] = contact
     y[2] = 1.0 if abs(u[0]) <= p[4] and abs(u[1]) <= mu_s * u[2] else 0.0

@@ -61,6 +61,8 @@ def _simulate(pb, pf, pi, step, n, actuator_lead, times, states):
             p, u = pf[i], u1 if i == 0 else u2
             s = u if p[5] <= 0 else contact[i]  # t_switch off: the contact follows u at once
             mu_s, mu_k = friction.coefficients_core(s, p[0], p[1], p[2], p[3], 1.0)
+            if p[8] != 0.0:  # the Stribeck curve, as the FMU's
+                mu_k = friction.stribeck_core(x[1 + 2 * i], mu_s, mu_k, p[8], p[9])
             forces[i] = friction.friction_force(x[1 + 2 * i], f_n[i], pb[body.N1 + i], mu_s,
                                                 mu_k, p[4])
             contact[i] = friction.advance_contact(contact[i], u, step, p[5])
@@ -69,6 +71,8 @@ def _simulate(pb, pf, pi, step, n, actuator_lead, times, states):
         f_held = f_next if actuator_lead else f_a
         if pb[body.K_SLOPE]:  # the stiffness follows the actuator force held over the step
             body.discretise_into(pb, step, f_held, Ad, Bd)
+        if pb[body.K_HARD]:  # the spring's hardening, held over the step like the FMU's
+            f_held += body.hardening_core(x, pb, f_held)
         body.step_state_into(x, f_held, forces[0], forces[1], Ad, Bd)
         t, f_a = t_next, f_next
 
