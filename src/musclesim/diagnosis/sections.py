@@ -201,6 +201,8 @@ class Report:
                            complete=v.complete, noise_floor=v.noise_floor)
         out.update(shrinkage=self.shrinkage.signals,
                    aligned_samples=self.shrinkage.aligned_samples)
-        if self.confidence is not None:  # the calibrated set replaces the credible one
-            out["evidence"] = {**out.get("evidence", {}), **self.confidence}
+        if self.confidence is not None:  # the calibrated set, the credible one kept beside
+            ev = out.get("evidence", {})
+            out["evidence"] = {**ev, **({"credible": ev["set"]} if "set" in ev else {}),
+                               **self.confidence}
         return plain(out)
