@@ -111,7 +111,8 @@ def with_confidence(report: Report) -> Report:
     if cal is None:
         return report
     conf = cal.assess(report.to_json())
-    said = (f"; calibrated on benches of many forms, at {conf['level']:.0%} the cause is one of: "
+    level = f"{conf['level'] * 100:.0f} %"
+    said = (f"; calibrated on benches of many forms, at {level} the cause is one of: "
             + ", ".join(conf["set"]) if conf["set"] else "")
     if conf["gate"]["outside"]:
         said += " (but this bench is outside the calibrated family: no guarantee)"

@@ -72,9 +72,10 @@ def _md_confidence(conf):
     gate, cal = conf["gate"], conf["calibration"]
     probs = ", ".join(f"{k} {p:.2f}" for k, p in sorted(conf["probabilities"].items(),
                                                           key=lambda kv: -kv[1]) if p >= 0.005)
-    L = [f"**Calibrated set ({conf['level']:.0%}): {', '.join(conf['set']) or 'empty'}.** "
+    level = f"{conf['level'] * 100:.0f} %"
+    L = [f"**Calibrated set ({level}): {', '.join(conf['set']) or 'empty'}.** "
          f"On benches of the calibrated family ({cal['name']}, {cal['family'].get('cases')} "
-         f"cases), a set made this way holds the true cause at least {conf['level']:.0%} of the "
+         f"cases), a set made this way holds the true cause at least {level} of the "
          f"time, for every cause. Calibrated probabilities: {probs}.", ""]
     if gate["outside"]:
         L += [f"**Outside the calibrated family** (p = {gate['p_value']:.3f}): this bench is "
