@@ -38,8 +38,9 @@ def test_report_md_reads_every_section(lag):
         assert title in md
     for key in doc["calibration"]["parameters"]:  # the calibrated values' table
         assert f"| {key} |" in md
-    assert f"Credible set (90% of the probability): **{', '.join(doc['evidence']['set'])}**" \
-        in md
+    ev = doc["evidence"]
+    assert f"Credible set (90% of the probability): **{', '.join(ev['credible'])}**" in md
+    assert f"**Calibrated set (95 %): {', '.join(ev['set'])}.**" in md
     assert "Cross-signal evidence: " + doc["consistency"] in md
     assert f"Selected: {', '.join(doc['selected'])}." in md
     assert md.rstrip().endswith("![signals.png](signals.png)")

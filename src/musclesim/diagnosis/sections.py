@@ -154,7 +154,8 @@ class Report:
     probabilities and gate of a calibration on a family of benches
     (`musclesim.diagnosis.confidence`), None where the scenario has none; report.json's
     ``evidence`` then holds them (``set``, ``level``, ``probabilities``, ``gate``,
-    ``calibration``), beside the candidates' own posterior probabilities."""
+    ``calibration``), beside the candidates' own posterior probabilities and their credible
+    set (``credible`` at ``credible_level``)."""
 
     data_set: str
     scenario: str | list[str]
@@ -203,6 +204,6 @@ class Report:
                    aligned_samples=self.shrinkage.aligned_samples)
         if self.confidence is not None:  # the calibrated set, the credible one kept beside
             ev = out.get("evidence", {})
-            out["evidence"] = {**ev, **({"credible": ev["set"]} if "set" in ev else {}),
-                               **self.confidence}
+            raw = {"credible": ev["set"], "credible_level": ev.get("level")} if ev else {}
+            out["evidence"] = {**ev, **raw, **self.confidence}
         return plain(out)
