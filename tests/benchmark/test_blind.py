@@ -53,3 +53,28 @@ def test_a_small_blind_run_on_the_independent_bench(fmu_dir, tmp_path, cluster_m
     saved = json.loads((tmp_path / "scores.json").read_text())
     assert schema_errors("scores", saved) == []
     assert saved["independent"]["cases"] == 4
+
+
+def test_a_small_blind_run_on_the_family_scores_the_calibrated_sets(fmu_dir, tmp_path,
+                                                                    cluster_map):
+    """Two family cases of 10 s: their reports carry the calibrated set, scored per cause."""
+    scores = blind.run(2, 7, tmp_path, fmu_dir=fmu_dir, scenarios_dir=ROOT / "scenarios",
+                       pmap=cluster_map, bench="family", duration=10.0)
+    saved = json.loads((tmp_path / "scores.json").read_text())
+    assert schema_errors("scores", saved) == []
+    assert saved["family"]["cases"] == 2 == scores["cases"]
+    key = json.loads((tmp_path / "family" / "key.json").read_text())
+    for row, case in zip(scores["per_case"], key["cases"]):
+        report = json.loads((tmp_path / "family" / "cases" / case["case"]
+                             / "report.json").read_text())
+        assert row["set"] == report["evidence"]["set"] and report["evidence"]["level"] == 0.95
+        assert row["cause"] == case["cause"]
+    assert scores["coverage"] == sum(r["cause"] in r["set"] for r in scores["per_case"]) / 2
+
+
+def test_a_calibration_asked_into_a_missing_folder_is_refused_before_any_work(tmp_path):
+    from musclesim.errors import UserError
+    with pytest.raises(UserError, match="no-such-folder"):
+        blind.run(2, 7, tmp_path / "out", bench="family",
+                  calibration=tmp_path / "no-such-folder" / "c.json")
+    assert not (tmp_path / "out").exists()

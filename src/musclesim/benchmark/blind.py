@@ -94,7 +94,10 @@ def run(count: int, seed: int, out: str | Path, fmu_dir: str | Path = "fmus",
     of ``out/scores.json``); "independent" on `musclesim.benchmark.benches.sma`'s bench,
     `duration` seconds each (default `independent_plan.DURATION`; cases, key in
     ``out/independent``, scores under the key "independent" of ``out/scores.json``). Each keeps
-    the other's scores in the file. The cases run on `pmap` (a map such as
+    the other's scores in the file. "family" draws its cases from `musclesim.benchmark.family` (in
+    ``out/family``; scores under "family": `musclesim.benchmark.calibrate.score`); with
+    `calibration` a file path, the calibration built from those cases
+    (`musclesim.benchmark.calibrate.build`) is written there. The cases run on `pmap` (a map such as
     `musclesim.batch.serial_map`, the default, or a Dask map); `progress` is told each step.
     """
     if bench not in ("own", "independent", "family"):
@@ -102,6 +105,8 @@ def run(count: int, seed: int, out: str | Path, fmu_dir: str | Path = "fmus",
                         "family)")
     if calibration is not None and bench != "family":
         raise UserError("a calibration is built from family cases only (--bench family)")
+    if calibration is not None and not Path(calibration).resolve().parent.is_dir():
+        raise UserError(f"--calibrate {calibration}: its folder does not exist")
     if multiplier and bench != "own":
         raise UserError("multiplier cases run on the own bench only (--bench own)")
     if crawler and bench != "independent":

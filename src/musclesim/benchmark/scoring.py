@@ -55,16 +55,18 @@ def write_scores(path: Path, scores: dict[str, Any], bench: str) -> None:
 
 
 def weighed(report: dict[str, Any]) -> tuple[dict[str, float], list[str]]:
-    """{candidate: probability} and the credible set of `report` (a report.json document): its
-    evidence, or, where the
+    """{candidate: posterior probability} and the credible set of `report` (a report.json
+    document): its evidence (the posterior's credible set, also where a calibrated set of
+    causes stands beside it: `musclesim.benchmark.calibrate.score` judges those), or, where the
     diagnosis stopped before weighing (the model matched, or calibration alone did),
     calibration only, certain."""
-    ev = report.get("evidence")
-    if not ev:
+    ev = report.get("evidence") or {}
+    if "candidates" not in ev:
         if report.get("verdict") in ("none", "recalibration"):
             return {CALIBRATION_ONLY: 1.0}, [CALIBRATION_ONLY]
         return {}, []
-    return {c["name"]: c["probability"] for c in ev["candidates"]}, list(ev["set"])
+    return ({c["name"]: c["probability"] for c in ev["candidates"]},
+            list(ev.get("credible", ev["set"])))
 
 
 def score(cases: list[dict[str, Any]], reports: list[dict[str, Any]],
