@@ -1,7 +1,6 @@
 """The sets' calibration (musclesim.benchmark.calibrate) on synthetic pools, and the shipped
 calibration kept current."""
 import json
-import math
 from importlib import resources
 
 import numpy as np
