@@ -1,10 +1,25 @@
 """The QuadrupedBody and LegSequencer FMUs (components/quadruped/slaves.py): the cores stepped
-by hand."""
+by hand, their kernels compiled and as plain Python, and a NaN input refused."""
 import math
 
-from musclesim.components.quadruped import body, sequencer
+import numpy as np
+import pytest
 
+from musclesim.components.quadruped import body, sequencer
+from musclesim.components.quadruped.slaves import LegSequencer, QuadrupedBody
+
+from conftest import in_process
+from kernel_paths import assert_paths_agree
 from test_bending_slaves import fmu_run
+
+DT = 5e-4  # s, the scenario's communication step
+
+
+def legs(k):
+    """The legs' deflections and rates before step k: 0.1 mm at 4 Hz, each leg 1 rad apart."""
+    return {**{f"leg{i + 1}_s": 1e-4 * math.sin(2 * math.pi * 4 * k * DT + i) for i in range(4)},
+            **{f"leg{i + 1}_v": 8e-4 * math.pi * math.cos(2 * math.pi * 4 * k * DT + i)
+               for i in range(4)}}
 
 
 def test_fmus_are_the_cores_stepped_by_hand(fmu_dir, tmp_path):
@@ -29,3 +44,37 @@ def test_fmus_are_the_cores_stepped_by_hand(fmu_dir, tmp_path):
     p = sequencer.SequencerParams()
     assert [list(r) for r in rows] == [[u for leg in sequencer.voltages(k * dt, p) for u in leg]
                                        for k in range(n + 1)]
+
+
+def test_kernels_compiled_and_plain_give_the_same_bits():
+    """Each kernel, compiled and as its plain-Python source (`.py_func`), over a short run (the
+    body's feet sliding and sticking, every wire of the sequencer pulsed at least once)."""
+    assert_paths_agree(in_process(QuadrupedBody, "body"), legs, DT, 300)
+    assert_paths_agree(in_process(LegSequencer, "seq"), lambda k: None, DT, 500)
+
+
+def test_the_body_step_compiled_and_plain_give_the_same_bits():
+    """The body's sub-stepping (`step_core`, which the kernel's advance calls) compiled and as plain
+    Python, over a run where the feet slide and stick."""
+    step = body.step_core
+    if getattr(step, "py_func", None) is None:
+        pytest.skip("the core is not compiled here (numba absent or MUSCLESIM_COMPILE=0)")
+    p = body.pack(body.QuadrupedParams())
+    x, x_py = np.zeros(body.STATE), np.zeros(body.STATE)
+    stuck = set()
+    for k in range(400):
+        u = np.array([legs(k)[f"leg{i}_{q}"] for i in range(1, 5) for q in "sv"])
+        step(p, x, u, DT)
+        step.py_func(p, x_py, u, DT)
+        assert x.tobytes() == x_py.tobytes(), k
+        stuck.add(x[body.FEET_V] == 0.0)
+    assert stuck == {True, False}
+
+
+def test_a_nan_leg_input_is_refused():
+    slave = in_process(QuadrupedBody, "body")
+    slave.enter_initialization_mode()
+    slave.exit_initialization_mode()
+    slave.leg2_v = float("nan")
+    with pytest.raises(ValueError, match="input leg2.v is NaN at t = 0 s"):
+        slave.do_step(0.0, DT)
