@@ -2,13 +2,17 @@
 by hand, their kernels compiled and as plain Python, and a NaN input refused."""
 import math
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 from musclesim.components.quadruped import body, sequencer
 from musclesim.components.quadruped.slaves import LegSequencer, QuadrupedBody
+from musclesim.cosim import Master, Signal, load_scenario
+from musclesim.fmu.compiled import COMPILED
 
-from conftest import in_process
+from conftest import SCENARIOS, in_process
 from kernel_paths import assert_paths_agree
 from test_bending_slaves import fmu_run
 
@@ -78,3 +82,33 @@ def test_a_nan_leg_input_is_refused():
     slave.leg2_v = float("nan")
     with pytest.raises(ValueError, match="input leg2.v is NaN at t = 0 s"):
         slave.do_step(0.0, DT)
+
+
+@pytest.mark.skipif(not COMPILED, reason="numba is not installed: nothing is fused")
+def test_body_and_sequencer_fuse_with_the_unfused_bits(fmu_dir):
+    """quadruped-walk without its legs (not kernels: the walk itself is not fused), the body
+    driven by replayed leg values: the master fuses the two kernels and gives the unfused bits,
+    and a NaN leg value stops both alike."""
+    walk = load_scenario(SCENARIOS / "quadruped-walk.toml", stop_time=0.25)
+    s = replace(walk, instances={k: walk.instances[k] for k in ("sequencer", "body")},
+                connections=(), metrics={}, plots=(),
+                record=tuple(Signal(i, n) for i, n in (
+                    ("body", "x"), ("body", "v"), ("body", "foot1.s"), ("body", "foot2.f"),
+                    ("body", "foot3.stuck"), ("sequencer", "leg1.uA"), ("sequencer", "leg2.uB"))))
+    k = np.arange(s.n_steps + 1)
+    replayed = {Signal("body", f"leg{i}.{q}"): np.array([legs(j)[f"leg{i}_{q}"] for j in k])
+                for i in range(1, 5) for q in "sv"}
+    spoiled = {**replayed, Signal("body", "leg3.s"): np.where(k == 300, np.nan,
+                                                              replayed[Signal("body", "leg3.s")])}
+    runs = []
+    for inputs in (replayed, spoiled):
+        m = Master(s, fmu_dir, inputs=inputs)
+        fused, unfused = m.run(), Master(s, fmu_dir, inputs=inputs, fuse=False).run()
+        assert m.fused
+        assert fused.names == unfused.names
+        np.testing.assert_array_equal(fused.time, unfused.time)
+        assert fused.data.tobytes() == unfused.data.tobytes()
+        assert (fused.error, fused.warnings) == (unfused.error, unfused.warnings)
+        runs.append(fused)
+    assert runs[0].error is None and len(set(runs[0].data[:, 0])) > s.n_steps / 2  # it moved
+    assert "input leg3.s is NaN" in runs[1].error
