@@ -17,17 +17,25 @@ Numerics: semi-implicit Euler in sub-steps of at most ``max_substep``. A foot in
 whose force stays below static friction stops (velocity 0), and a kinetic step that would reverse a
 foot's velocity stops it there: without these remedies (§stick-slip-numerics) a foot chatters at the
 per-step change of velocity, larger than any band narrow enough for feet moving at mm/s.
+
+The FMU's kernel (`KERNEL`, compiled where numba is installed: `musclesim.fmu.compiled`) and
+`Quadruped` run the same `step_core` on arrays: parameters `pack`; state `STATE` = [x, v, the
+feet's positions (4), their velocities (4), their frictions (4), the legs' held deflections (4)];
+inputs u = [s_1, s_1', s_2, s_2', ...] (`INPUTS`); outputs y = [x, v, then per foot its position,
+friction and stuck flag] (`OUTPUTS`).
 """
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass
+
+import numpy as np
 
 from musclesim.components.bending import actuator, beam
 from musclesim.components.checks import require
 from musclesim.components.crawler import friction
-from musclesim.fmu import declare
+from musclesim.fmu import Kernel, declare, jit
 
 G = 9.81  # m/s^2
 LEGS = 4
@@ -99,6 +107,25 @@ def leg_damping(p: QuadrupedParams) -> float:
     return 2 * p.leg_damping_ratio * math.sqrt(p.leg_stiffness * p.foot_mass)
 
 
+# the kernel's parameters (`pack`): the fields in their declared order, then N and c
+(BODY_MASS, FOOT_MASS, STIFFNESS, DAMPING_RATIO, MU_S_FORWARD, MU_K_FORWARD, MU_S_BACKWARD,
+ MU_K_BACKWARD, V_S, MAX_SUBSTEP, NORMAL, DAMPING) = range(12)
+# the kernel's state (`STATE` values): body position and velocity, then four values per foot each
+X, V, FEET_X, FEET_V, FORCES, S_HELD = 0, 1, 2, 2 + LEGS, 2 + 2 * LEGS, 2 + 3 * LEGS
+STATE = 2 + 4 * LEGS
+INPUTS = tuple(f"leg{i}.{q}" for i in range(1, LEGS + 1) for q in ("s", "v"))
+OUTPUTS = ("x", "v") + tuple(f"foot{i}.{q}" for i in range(1, LEGS + 1)
+                             for q in ("s", "f", "stuck"))
+
+
+def pack(p: QuadrupedParams) -> np.ndarray:
+    """The kernel's parameters: `p`'s fields in their declared order (body_mass, foot_mass,
+    leg_stiffness, leg_damping_ratio, mu_s_forward, mu_k_forward, mu_s_backward, mu_k_backward,
+    v_s, max_substep), then each foot's normal force N (`normal_force`) and the legs' damping c
+    (`leg_damping`)."""
+    return np.array([*astuple(p), normal_force(p), leg_damping(p)], dtype=float)
+
+
 def coefficients(v: float, f_n: float, p: QuadrupedParams) -> tuple[float, float]:
     """(mu_s, mu_k) of a foot of `p` moving at `v` [m/s] under the net force `f_n` [N]: by the
     direction of sliding, or of the force that would start it (+x: forward, easy; -x: backward,
@@ -110,14 +137,79 @@ def coefficients(v: float, f_n: float, p: QuadrupedParams) -> tuple[float, float
     >>> coefficients(0.01, -1.0, p), coefficients(0.0, -1.0, p)
     ((0.2, 0.15), (0.8, 0.6))
     """
-    direction = v if abs(v) > p.v_s else f_n
+    mu_s, mu_k = coefficients_core(float(v), float(f_n), pack(p))
+    return float(mu_s), float(mu_k)
+
+
+@jit
+def coefficients_core(v: float, f_n: float, p: np.ndarray) -> tuple[float, float]:
+    """`coefficients` of a foot moving at `v` [m/s] under the net force `f_n` [N], the packed
+    parameters `p` (`pack`)."""
+    direction = v if abs(v) > p[V_S] else f_n
     if direction > 0:
-        return p.mu_s_forward, p.mu_k_forward
-    return p.mu_s_backward, p.mu_k_backward
+        return p[MU_S_FORWARD], p[MU_K_FORWARD]
+    return p[MU_S_BACKWARD], p[MU_K_BACKWARD]
+
+
+@jit
+def step_core(p: np.ndarray, x: np.ndarray, u: np.ndarray, dt: float) -> None:
+    """Advance the state `x` (`STATE` values) by `dt` [s] in place with the legs' deflections and
+    their rates `u` = [s_1, s_1', s_2, s_2', ...] [m, m/s] at the start of the step, each leg
+    held as s + s' tau over it (parameters `p` from `pack`): `Quadruped.step`."""
+    N, k, c, v_s, m_f = p[NORMAL], p[STIFFNESS], p[DAMPING], p[V_S], p[FOOT_MASS]
+    n = max(1, math.ceil(dt / p[MAX_SUBSTEP] - 1e-9))
+    h = dt / n
+    for j in range(n):
+        tau = j * h
+        push = 0.0
+        for i in range(LEGS):
+            s, s_dot = u[2 * i], u[2 * i + 1]
+            F = k * (x[X] + s + s_dot * tau - x[FEET_X + i]) + c * (x[V] + s_dot - x[FEET_V + i])
+            v = x[FEET_V + i]
+            mu_s, mu_k = coefficients_core(v, F, p)
+            f = friction.friction_force(v, F, N, mu_s, mu_k, v_s)
+            x[FORCES + i] = f
+            if abs(v) <= v_s and abs(F) <= mu_s * N:
+                x[FEET_V + i] = 0.0  # stuck: holds still
+            else:
+                v_new = v + h * (F + f) / m_f
+                x[FEET_V + i] = 0.0 if (abs(v) > v_s and v_new * v < 0) else v_new
+            x[FEET_X + i] += h * x[FEET_V + i]
+            push += F
+        x[V] -= h * push / p[BODY_MASS]
+        x[X] += h * x[V]
+    for i in range(LEGS):
+        x[S_HELD + i] = u[2 * i] + u[2 * i + 1] * dt
+
+
+@jit
+def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """Kernel outputs `y` (`OUTPUTS`: x, v, then per foot its position, its friction over the
+    last sub-step and 1.0 while it holds still, else 0.0) of the state `x` (parameters `p`,
+    inputs `u` and time `t` do not matter)."""
+    y[0], y[1] = x[X], x[V]
+    for i in range(LEGS):
+        y[2 + 3 * i] = x[FEET_X + i]
+        y[3 + 3 * i] = x[FORCES + i]
+        y[4 + 3 * i] = 1.0 if x[FEET_V + i] == 0.0 else 0.0
+
+
+@jit
+def advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
+            dt: float) -> None:
+    """Kernel step of the state `x` over [`t`, `t` + `dt`] [s] with the inputs `u` (`INPUTS`)
+    held (parameters `p`; the outputs `y` are not needed): `step_core`."""
+    step_core(p, x, u, dt)
+
+
+# a NaN deflection or rate is refused ("input leg1.s is NaN at t = ..."): a range without bounds
+KERNEL = Kernel(evaluate, advance, INPUTS, OUTPUTS,
+                clamps=tuple((name, -math.inf, math.inf) for name in INPUTS))
 
 
 class Quadruped:
-    """Body and feet stepped together (module equation); state in plain floats and lists.
+    """Body and feet stepped together (module equation); state in one array (`STATE`), read
+    through the attributes below as plain floats and lists.
 
     Examples
     --------
@@ -136,42 +228,49 @@ class Quadruped:
         self.p = p
         self.N = normal_force(p)
         self.c = leg_damping(p)
+        self.packed = pack(p)
         self.reset()
 
     def reset(self) -> None:
         """Body and feet at rest at x = 0, legs straight."""
-        self.x = self.v = 0.0
-        self.feet_x = [0.0] * LEGS
-        self.feet_v = [0.0] * LEGS
-        self.forces = [0.0] * LEGS  # friction on each foot [N]
-        self.s_held = [0.0] * LEGS
+        self.state = np.zeros(STATE)
+
+    @property
+    def x(self) -> float:
+        """Position of the body [m]."""
+        return float(self.state[X])
+
+    @property
+    def v(self) -> float:
+        """Velocity of the body [m/s]."""
+        return float(self.state[V])
+
+    @property
+    def feet_x(self) -> list[float]:
+        """Position of each foot [m]."""
+        return self.state[FEET_X:FEET_X + LEGS].tolist()
+
+    @property
+    def feet_v(self) -> list[float]:
+        """Velocity of each foot [m/s]."""
+        return self.state[FEET_V:FEET_V + LEGS].tolist()
+
+    @property
+    def forces(self) -> list[float]:
+        """Friction on each foot over the last sub-step [N]."""
+        return self.state[FORCES:FORCES + LEGS].tolist()
+
+    @property
+    def s_held(self) -> list[float]:
+        """Each leg's deflection held to the end of the last step, s + s' dt [m]."""
+        return self.state[S_HELD:S_HELD + LEGS].tolist()
 
     def step(self, dt: float, s: Sequence[float], s_dot: Sequence[float]) -> None:
         """Advance by `dt` [s] with the legs' deflections `s` [m] and their rates `s_dot` [m/s] at
-        the start of the step, each leg held as s + s_dot tau over it."""
-        p, N, k, c = self.p, self.N, self.p.leg_stiffness, self.c
-        n = max(1, math.ceil(dt / p.max_substep - 1e-9))
-        h = dt / n
-        xf, vf, fr = self.feet_x, self.feet_v, self.forces
-        for j in range(n):
-            tau = j * h
-            push = 0.0
-            for i in range(LEGS):
-                F = k * (self.x + s[i] + s_dot[i] * tau - xf[i]) + c * (self.v + s_dot[i] - vf[i])
-                v = vf[i]
-                mu_s, mu_k = coefficients(v, F, p)
-                fr[i] = friction.friction_force(v, F, N, mu_s, mu_k, p.v_s)
-                if abs(v) <= p.v_s and abs(F) <= mu_s * N:
-                    vf[i] = 0.0  # stuck: holds still
-                else:
-                    v_new = v + h * (F + fr[i]) / p.foot_mass
-                    vf[i] = 0.0 if (abs(v) > p.v_s and v_new * v < 0) else v_new
-                xf[i] += h * vf[i]
-                push += F
-            self.v -= h * push / p.body_mass
-            self.x += h * self.v
-        self.s_held = [s[i] + s_dot[i] * dt for i in range(LEGS)]
+        the start of the step, each leg held as s + s_dot tau over it (`step_core`)."""
+        u = np.array([q for i in range(LEGS) for q in (s[i], s_dot[i])], dtype=float)
+        step_core(self.packed, self.state, u, float(dt))
 
     def stuck(self, i: int) -> bool:
         """Whether foot `i` holds still (its velocity is 0)."""
-        return self.feet_v[i] == 0.0
+        return bool(self.state[FEET_V + i] == 0.0)

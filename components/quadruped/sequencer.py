@@ -7,15 +7,21 @@ while its shifted cycle is in the first `duty` of a period, else at 0:
 
     u_iA(t) = V [frac(f t - phi_i) < duty],   u_iB(t) = V [frac(f t - phi_i - wire_delay) < duty]
 
-The pulse is the SignalSource's square wave (`sources.signals.unit_wave`).
+The pulse is the SignalSource's square wave (`sources.signals.wave`, kind 2).
+
+The FMU's kernel (`KERNEL`, compiled where numba is installed: `musclesim.fmu.compiled`) and
+`voltages` run the same `voltages_into`: parameters `pack`; no state, no inputs; outputs y =
+[u_1A, u_1B, u_2A, u_2B, ...] (`OUTPUTS`).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import astuple, dataclass
+
+import numpy as np
 
 from musclesim.components.checks import require
-from musclesim.components.sources.signals import unit_wave
-from musclesim.fmu import declare
+from musclesim.components.sources.signals import KINDS, wave
+from musclesim.fmu import Kernel, declare, jit, no_state
 
 LEGS = 4
 
@@ -55,6 +61,18 @@ def phases(p: SequencerParams) -> tuple[float, float, float, float]:
     return (p.phase1, p.phase2, p.phase3, p.phase4)
 
 
+# the kernel's parameters (`pack`): the fields in their declared order
+FREQUENCY, DUTY, VOLTAGE, WIRE_DELAY, PHASE1 = range(5)  # PHASE1 + i: leg i + 1's phase
+SQUARE = float(KINDS.index("square"))  # the square wave of `sources.signals.wave`
+OUTPUTS = tuple(f"leg{i}.u{w}" for i in range(1, LEGS + 1) for w in "AB")
+
+
+def pack(p: SequencerParams) -> np.ndarray:
+    """The kernel's parameters: `p`'s fields in their declared order (frequency, duty, voltage,
+    wire_delay, phase1, phase2, phase3, phase4)."""
+    return np.array(astuple(p), dtype=float)
+
+
 def voltages(t: float, p: SequencerParams) -> list[tuple[float, ...]]:
     """[(u_A, u_B) per leg] [V] of the sequencer `p` at time `t` [s] (module equation).
 
@@ -64,9 +82,27 @@ def voltages(t: float, p: SequencerParams) -> list[tuple[float, ...]]:
     >>> voltages(0.01, p)[0], voltages(0.135, p)[0], voltages(0.135, p)[1]
     ((5.0, 0.0), (0.0, 5.0), (5.0, 0.0))
     """
-    out = []
-    for phi in phases(p):
-        cycles = p.frequency * t - phi
-        out.append(tuple(p.voltage if unit_wave("square", c, p.duty) > 0 else 0.0
-                         for c in (cycles, cycles - p.wire_delay)))
-    return out
+    y = np.zeros(2 * LEGS)
+    voltages_into(float(t), pack(p), y)
+    u = y.tolist()
+    return [(u[2 * i], u[2 * i + 1]) for i in range(LEGS)]
+
+
+@jit
+def voltages_into(t: float, p: np.ndarray, y: np.ndarray) -> None:
+    """`voltages` at time `t` [s] of the packed parameters `p` (`pack`) into `y` = [u_1A, u_1B,
+    u_2A, u_2B, ...] [V]."""
+    for i in range(LEGS):
+        cycles = p[FREQUENCY] * t - p[PHASE1 + i]
+        y[2 * i] = p[VOLTAGE] if wave(SQUARE, cycles, p[DUTY]) > 0 else 0.0
+        y[2 * i + 1] = p[VOLTAGE] if wave(SQUARE, cycles - p[WIRE_DELAY], p[DUTY]) > 0 else 0.0
+
+
+@jit
+def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """Kernel outputs `y` (`OUTPUTS`) at time `t` [s] of the parameters `p` (`pack`; no state
+    `x`, no inputs `u`): `voltages_into`."""
+    voltages_into(t, p, y)
+
+
+KERNEL = Kernel(evaluate, no_state, (), OUTPUTS)

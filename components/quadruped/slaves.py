@@ -1,14 +1,16 @@
-"""FMU slaves of the quadruped (§quadruped): thin adapters over `body.Quadruped` and
-`sequencer.voltages`."""
+"""FMU slaves of the quadruped (§quadruped): kernels (`musclesim.fmu.kernel`) over the jit cores
+of `body` (`body.KERNEL`, the step `Quadruped` takes) and `sequencer` (`sequencer.KERNEL`, the
+voltages `sequencer.voltages` gives); their packed layouts are `body.pack`'s and
+`sequencer.pack`'s."""
 from __future__ import annotations
 
-import math
+import numpy as np
 
 from musclesim.components.quadruped import body, sequencer
-from musclesim.fmu import Slave, experiment
+from musclesim.fmu import KernelSlave, experiment
 
 
-class QuadrupedBody(Slave):
+class QuadrupedBody(KernelSlave):
     """Quadruped body on four legs with anisotropic-friction feet, moving along x (§quadruped).
 
     Inputs: each leg's unloaded deflection at its foot and its rate (a BendingActuator's tip.s,
@@ -34,34 +36,17 @@ class QuadrupedBody(Slave):
             self.output(f"foot{i}.stuck", "1", f"1 while foot {i} holds still, else 0",
                         type="Boolean")
 
+    kernel = body.KERNEL  # a NaN input is refused ("input leg1.s is NaN at t = ...")
+
     def setup(self) -> None:
-        self.core = body.Quadruped(self.core_params(body.QuadrupedParams))
+        self.kp = body.pack(self.core_params(body.QuadrupedParams))  # checks the parameters
+        self.kx = np.zeros(body.STATE)
 
     def initialize(self) -> None:
-        self.core.reset()
-
-    def evaluate(self) -> None:
-        c = self.core
-        self.x, self.v = c.x, c.v
-        for i in range(body.LEGS):
-            setattr(self, f"foot{i + 1}_s", c.feet_x[i])
-            setattr(self, f"foot{i + 1}_f", c.forces[i])
-            setattr(self, f"foot{i + 1}_stuck", 1.0 if c.stuck(i) else 0.0)
-
-    def advance(self, t: float, dt: float) -> None:
-        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
-        s: list[float] = []
-        v: list[float] = []
-        for i in range(1, body.LEGS + 1):
-            for name, out in ((f"leg{i}.s", s), (f"leg{i}.v", v)):
-                value = getattr(self, name.replace(".", "_"))
-                if not math.isfinite(value):
-                    raise ValueError(f"input {name} is {value!r} at t = {t:g} s")
-                out.append(value)
-        self.core.step(dt, s, v)
+        self.kx[:] = 0.0  # at rest at x = 0, legs straight
 
 
-class LegSequencer(Slave):
+class LegSequencer(KernelSlave):
     """Pulse voltages of the quadruped's eight wires: which leg's wire is pulsed when
     (§quadruped)."""
 
@@ -76,10 +61,7 @@ class LegSequencer(Slave):
             self.output(f"leg{i}.uA", "V", f"Voltage on leg {i}'s wire A")
             self.output(f"leg{i}.uB", "V", f"Voltage on leg {i}'s wire B")
 
-    def setup(self) -> None:
-        self.p = self.core_params(sequencer.SequencerParams)
+    kernel = sequencer.KERNEL
 
-    def evaluate(self) -> None:
-        for i, (uA, uB) in enumerate(sequencer.voltages(self.time, self.p), start=1):
-            setattr(self, f"leg{i}_uA", uA)
-            setattr(self, f"leg{i}_uB", uB)
+    def setup(self) -> None:
+        self.kp = sequencer.pack(self.core_params(sequencer.SequencerParams))
