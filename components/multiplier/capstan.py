@@ -14,9 +14,10 @@ current drive the same current. The end displacement is the sum of the segments'
 
     s = sum_i eps_i L_i.
 
-The cores are the straight wire's (`musclesim.components.sma.thermal`, `.preisach`; its thermal
-submodel `submodels.Lumped`, no end zones); with one segment and mu_f = 0 a step is the SmaWire
-FMU's step exactly. Equations and every assumption:
+The cores are the straight wire's compiled ones (`musclesim.components.sma.thermal`'s lumped
+step, no end zones; `.preisach`'s array memory), composed here into one compiled kernel
+(`KERNEL`, on float64 arrays: layout at the ``P_*``, ``X_*`` and ``G_*`` slots); with one segment
+and mu_f = 0 a step is the SmaWire FMU's step exactly. Equations and every assumption:
 §capstan-multiplier (docs/model/multiplier.md).
 """
 from __future__ import annotations
