@@ -23,12 +23,15 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from musclesim.components.checks import require
-from musclesim.components.sma import thermal
-from musclesim.components.sma.preisach import PreisachModel
+from musclesim.components.sma import preisach, surface as hypersurface, thermal
+from musclesim.components.sma.preisach import mem_reset, mem_step
 from musclesim.components.sma.reference_wire import ReferenceWire, WireParams, wire_table
-from musclesim.components.sma.surface import Hypersurface
-from musclesim.fmu import declare
+from musclesim.components.sma.surface import S_THI, S_TLO, Hypersurface, fmax, fmin
+from musclesim.components.sma.thermal import TP_SIZE, martensite_fraction_k, resistance_k, step_k
+from musclesim.fmu import Kernel, declare, jit
 
 from . import beam
 
@@ -154,38 +157,79 @@ class WireLayout:
                 non_negative=("series_resistance",))
 
 
+# the wires' layout as a float64 array for the compiled functions below (`layout_array`): the
+# moduli, the pretension, the offset, the wires' length and cross-section
+L_EM, L_EA, L_PRETENSION, L_OFFSET, L_LENGTH, L_AREA = range(6)
+
+
+def layout_array(layout: WireLayout, area: float) -> np.ndarray:
+    """The `layout` of wires of cross-section `area` [m^2] as the compiled functions take it
+    (slots ``L_*``)."""
+    return np.array([layout.modulus_martensite, layout.modulus_austenite, layout.pretension,
+                     layout.offset, layout.length, area], dtype=float)
+
+
 def modulus(xi: float, layout: WireLayout) -> float:
     """Young's modulus of a wire of `layout` at martensite fraction `xi` (Reuss mix) [Pa]."""
-    return 1.0 / (xi / layout.modulus_martensite + (1.0 - xi) / layout.modulus_austenite)
+    return float(modulus_k(layout_array(layout, 1.0), xi))
+
+
+@jit
+def modulus_k(lp: np.ndarray, xi: float) -> float:
+    """`modulus` at martensite fraction `xi` of the layout array `lp`."""
+    return 1.0 / (xi / lp[L_EM] + (1.0 - xi) / lp[L_EA])
 
 
 def wire_terms(eps: float, xi: float, area: float, layout: WireLayout) -> tuple[float, float]:
     """(a, b) of a taut wire's tension a - s b theta [N, N/rad] (module equation), the wire of
     `layout` and cross-section `area` at strain `eps` and martensite fraction `xi`."""
-    E = modulus(xi, layout)
-    eps0 = layout.pretension / (layout.modulus_martensite * area)
-    return E * area * (eps + eps0), E * area * layout.offset / layout.length
+    a, b = wire_terms_k(layout_array(layout, area), eps, xi)
+    return float(a), float(b)
+
+
+@jit
+def wire_terms_k(lp: np.ndarray, eps: float, xi: float) -> tuple[float, float]:
+    """`wire_terms` at strain `eps` and martensite fraction `xi` of the layout array `lp`."""
+    E = modulus_k(lp, xi)
+    area = lp[L_AREA]
+    eps0 = lp[L_PRETENSION] / (lp[L_EM] * area)
+    return E * area * (eps + eps0), E * area * lp[L_OFFSET] / lp[L_LENGTH]
 
 
 def tensions(theta: float, eps: Sequence[float], xi: Sequence[float], area: float,
              layout: WireLayout) -> tuple[float, ...]:
     """Tensions (T_A, T_B) [N] of the wires at cap rotation `theta` (0 when slack), at strains
     `eps` and martensite fractions `xi`, of cross-section `area` and `layout`."""
-    out = []
-    for s, e_i, x_i in zip((1.0, -1.0), eps, xi):
-        a, b = wire_terms(e_i, x_i, area, layout)
-        out.append(max(0.0, a - s * b * theta))
-    return tuple(out)
+    lp = layout_array(layout, area)
+    return tuple(float(tension_k(lp, s, theta, e_i, x_i))
+                 for s, e_i, x_i in zip((1.0, -1.0), eps, xi))
+
+
+@jit
+def tension_k(lp: np.ndarray, s: float, theta: float, eps: float, xi: float) -> float:
+    """Tension [N] of the wire on side `s` (A +1, B -1) of the layout array `lp` at cap rotation
+    `theta`, strain `eps` and martensite fraction `xi` (0 when slack)."""
+    a, b = wire_terms_k(lp, eps, xi)
+    return fmax(0.0, a - s * b * theta)
 
 
 def moment_terms(theta: float, eps: Sequence[float], xi: Sequence[float], area: float,
                  layout: WireLayout) -> tuple[float, ...]:
     """(M0, K_w): the wires' moment on the cap is M0 - K_w theta near `theta` [N m, N m/rad];
     a wire slack at theta contributes nothing (`eps`, `xi`, `area`, `layout` as in `tensions`)."""
+    M0, K = moment_terms_k(layout_array(layout, area), theta, eps[0], eps[1], xi[0], xi[1])
+    return float(M0), float(K)
+
+
+@jit
+def moment_terms_k(lp: np.ndarray, theta: float, eps_a: float, eps_b: float, xi_a: float,
+                   xi_b: float) -> tuple[float, float]:
+    """`moment_terms` of the layout array `lp` at `theta`, wire A at (`eps_a`, `xi_a`), wire B
+    at (`eps_b`, `xi_b`)."""
     M0 = K = 0.0
-    e = layout.offset
-    for s, e_i, x_i in zip((1.0, -1.0), eps, xi):
-        a, b = wire_terms(e_i, x_i, area, layout)
+    e = lp[L_OFFSET]
+    for s in (1.0, -1.0):
+        a, b = wire_terms_k(lp, eps_a, xi_a) if s > 0 else wire_terms_k(lp, eps_b, xi_b)
         if a - s * b * theta > 0:
             M0 += s * e * a
             K += e * b
@@ -204,10 +248,18 @@ def static_rotation(eps: Sequence[float], xi: Sequence[float], area: float, layo
     >>> static_rotation((0.0, 0.0), (1.0, 1.0), area, w, p)
     0.0
     """
-    K_beam = beam.rotational_stiffness(beam_p)
+    return float(static_rotation_k(layout_array(layout, area), beam.rotational_stiffness(beam_p),
+                                   eps[0], eps[1], xi[0], xi[1]))
+
+
+@jit
+def static_rotation_k(lp: np.ndarray, K_beam: float, eps_a: float, eps_b: float, xi_a: float,
+                      xi_b: float) -> float:
+    """`static_rotation` of the layout array `lp` against the beams' stiffness `K_beam` [N
+    m/rad], wire A at (`eps_a`, `xi_a`), wire B at (`eps_b`, `xi_b`)."""
     theta = 0.0
     for _ in range(4):  # at most one wire goes slack: two passes settle it
-        M0, K_w = moment_terms(theta, eps, xi, area, layout)
+        M0, K_w = moment_terms_k(lp, theta, eps_a, eps_b, xi_a, xi_b)
         new = M0 / (K_beam + K_w)
         if new == theta:
             break
@@ -222,7 +274,9 @@ class BendingActuator:
     model (resistance at its martensite fraction at the start of the step) and its hysteresis
     takes the new temperature; then the first mode advances in sub-steps of at most
     ``max_substep``, each exact for the wires' moment linearised there (slack and moduli as at
-    the sub-step's start).
+    the sub-step's start). The physics is the compiled kernel below (`reset_k`, `step_bending`):
+    the state lives in its arrays ``kp`` (`pack`) and ``kx`` (`state`), which the FMU steps;
+    the attributes read them.
 
     Parameters
     ----------
@@ -232,10 +286,12 @@ class BendingActuator:
         One wire's thermal data (both wires alike), under current drive (`wire_thermal`).
     surface : sma.surface.Hypersurface
         The wires' hysteresis at their pretension's stress (`hysteresis_surface`).
+    z_tip : float
+        Height [m] of the FMU's output tip.s (the study's laser, 17 mm).
     """
 
     def __init__(self, beam_p: beam.BeamParams, layout: WireLayout, wire: thermal.ThermalParams,
-                 surface: Hypersurface) -> None:
+                 surface: Hypersurface, z_tip: float = 17e-3) -> None:
         beam_p.check()
         layout.check()
         wire.check()
@@ -249,6 +305,9 @@ class BendingActuator:
         self.c = beam.damping_coefficient(self.cold_stiffness(), beam_p)
         self.sigma = layout.pretension / self.area  # Pa, the stress the hysteresis is taken at
         self.eps_max = surface.F(surface.t_hi, surface.t_lo, self.sigma)
+        memory = preisach.memory()
+        self.kp = pack(self, z_tip, len(memory))
+        self.kx = state(self.kp, memory)
         self.reset(20.0)
 
     def cold_stiffness(self) -> float:
@@ -257,40 +316,61 @@ class BendingActuator:
 
     def reset(self, T_init: float) -> None:
         """Both wires at `T_init` [C] (heated there from martensite), the cap at rest in balance."""
-        s = self.surface
-        self.T = [T_init, T_init]
-        self.models = [PreisachModel(s), PreisachModel(s)]
-        self.eps = [model.reset(self._seen(T_init), self.sigma) for model in self.models]
-        self.xi = [thermal.martensite_fraction(e, self.eps_max) for e in self.eps]
-        self.power = [0.0, 0.0]
-        self.theta = static_rotation(self.eps, self.xi, self.area, self.layout, self.beam)
-        self.omega = 0.0
-        self.tension = list(tensions(self.theta, self.eps, self.xi, self.area, self.layout))
-
-    def _seen(self, T):
-        """Temperature [C] the hysteresis sees: saturated at its grid's ends (§sma-wire)."""
-        return min(max(T, self.surface.t_lo), self.surface.t_hi)
+        reset_k(self.kp, self.kx, T_init)
 
     def step(self, dt: float, u: Sequence[float], T_amb: float, t: float | None = None) -> None:
         """Advance by `dt` [s] from `t` [s] with the voltages `u` = (u_A, u_B) [V] and ambient
         `T_amb` [C] held."""
-        R_s = self.layout.series_resistance
-        for i, model in enumerate(self.models):
-            R = thermal.resistance(self.xi[i], self.wire)
-            current = u[i] / (R + R_s)
-            self.power[i] = R * current * current
-            self.T[i] = thermal.step(self.T[i], thermal.ThermalInputs(current, T_amb, self.xi[i]),
-                                     dt, self.wire)
-            self.eps[i] = model.step(self._seen(self.T[i]), self.sigma, t)
-            self.xi[i] = thermal.martensite_fraction(self.eps[i], self.eps_max)
-        n = max(1, math.ceil(dt / self.layout.max_substep - 1e-9))
-        h = dt / n
-        for _ in range(n):
-            M0, K_w = moment_terms(self.theta, self.eps, self.xi, self.area, self.layout)
-            K = self.K_beam + K_w
-            self.theta, self.omega = beam.oscillator_step(self.theta, self.omega, M0 / K, K,
-                                                          self.c, self.J, h)
-        self.tension = list(tensions(self.theta, self.eps, self.xi, self.area, self.layout))
+        step_bending(self.kp, self.kx, dt, u[0], u[1], T_amb)
+
+    def _wires(self, slot: int) -> list[float]:
+        return [float(self.kx[X_WIRES + i * self._stride() + slot]) for i in range(2)]
+
+    def _stride(self) -> int:
+        return W_MEMORY + int(self.kp[P_MEMORY])
+
+    @property
+    def T(self) -> list[float]:
+        """The wires' temperatures [C], A then B."""
+        return self._wires(W_T)
+
+    @property
+    def eps(self) -> list[float]:
+        """The wires' strains (contraction, positive = shorter)."""
+        return self._wires(W_EPS)
+
+    @property
+    def xi(self) -> list[float]:
+        """The wires' martensite fractions."""
+        return self._wires(W_XI)
+
+    @property
+    def power(self) -> list[float]:
+        """The wires' Joule powers [W] over the last step."""
+        return self._wires(W_P)
+
+    @property
+    def tension(self) -> list[float]:
+        """The wires' tensions [N] (0 when slack)."""
+        return self._wires(W_TENSION)
+
+    @property
+    def theta(self) -> float:
+        """Rotation of the top cap [rad]."""
+        return float(self.kx[X_THETA])
+
+    @theta.setter
+    def theta(self, value: float) -> None:
+        self.kx[X_THETA] = value
+
+    @property
+    def omega(self) -> float:
+        """Its rate [rad/s]."""
+        return float(self.kx[X_OMEGA])
+
+    @omega.setter
+    def omega(self, value: float) -> None:
+        self.kx[X_OMEGA] = value
 
     def deflection(self, z: float) -> float:
         """Lateral deflection [m] at height `z` [m] (toward wire A positive)."""
@@ -299,3 +379,145 @@ class BendingActuator:
     def velocity(self, z: float) -> float:
         """Lateral velocity [m/s] at height `z` [m]."""
         return beam.deflection(self.omega, z, self.beam)
+
+
+# --- the compiled kernel (`musclesim.fmu.kernel`): `BendingActuator`'s reset and step on float64
+# arrays, operation for operation, so that it gives the same bits compiled or as Python ----------
+ZERO_C = 273.15  # K; the FMU speaks K, the cores C
+INPUTS = ("wireA.u", "wireB.u", "T_amb")
+OUTPUTS = ("tip.s", "tip.v", "theta") + tuple(
+    f"wire{side}.{v}" for side in SIDES for v in ("T", "strain", "f", "stress", "P"))
+
+# parameter slots (`pack`): the layout array (``L_*``), then the series resistance, the longest
+# sub-step, the beams' stiffness, the damping, the modal inertia, the hysteresis' stress and its
+# maximum strain, the beams' length, the height of tip.s, the size of one Preisach memory; the
+# wires' thermal parameters (`thermal.pack`) from P_THERMAL; the surface (`surface.pack`) from
+# P_HEAD
+(P_RS, P_MAX_SUBSTEP, P_K_BEAM, P_C, P_J, P_SIGMA, P_EPS_MAX, P_BEAM_LENGTH, P_Z_TIP,
+ P_MEMORY) = range(6, 16)
+P_THERMAL = 16
+P_HEAD = P_THERMAL + TP_SIZE
+
+# state slots (`state`): the cap's rotation and rate, then one block per wire (A, B): its
+# temperature [C], strain, martensite fraction, power, tension, then its Preisach memory
+X_THETA, X_OMEGA = range(2)
+X_WIRES = 2
+W_T, W_EPS, W_XI, W_P, W_TENSION = range(5)
+W_MEMORY = 5
+
+
+def pack(core: BendingActuator, z_tip: float, memory_size: int) -> np.ndarray:
+    """The kernel's parameters of the actuator `core` (its beams, layout, wire and surface, and
+    the constants it derives from them), tip.s read at `z_tip` [m], Preisach memories of
+    `memory_size` floats (layout: the ``P_*`` slots)."""
+    head = np.zeros(P_HEAD)
+    head[:P_RS] = layout_array(core.layout, core.area)
+    head[P_RS:P_THERMAL] = [core.layout.series_resistance, core.layout.max_substep, core.K_beam,
+                            core.c, core.J, core.sigma, core.eps_max, core.beam.length, z_tip,
+                            memory_size]
+    head[P_THERMAL:P_HEAD] = thermal.pack(core.wire)
+    return np.concatenate([head, hypersurface.packed(core.surface)])
+
+
+def state(p: np.ndarray, memory: np.ndarray) -> np.ndarray:
+    """A state array for the parameters `p` (`pack`), each wire's Preisach memory a copy of the
+    new `memory` (`preisach.memory`); `reset_k` sets it."""
+    stride = W_MEMORY + len(memory)
+    x = np.zeros(X_WIRES + 2 * stride)
+    for i in range(2):
+        x[X_WIRES + i * stride + W_MEMORY:X_WIRES + (i + 1) * stride] = memory
+    return x
+
+
+@jit
+def _wire(p: np.ndarray, x: np.ndarray, i: int) -> np.ndarray:
+    """Wire `i`'s block (0 A, 1 B) of the state `x`, parameters `p`."""
+    stride = W_MEMORY + int(p[P_MEMORY])
+    return x[X_WIRES + i * stride:X_WIRES + (i + 1) * stride]
+
+
+@jit
+def _seen(s: np.ndarray, T: float) -> float:
+    """`BendingActuator._seen`: temperature [C] the hysteresis (packed surface `s`) sees,
+    saturated at its grid's ends."""
+    return fmin(fmax(T, s[S_TLO]), s[S_THI])
+
+
+@jit
+def _tensions(p: np.ndarray, x: np.ndarray) -> None:
+    """The wires' tensions at the state `x`'s rotation."""
+    a, b = _wire(p, x, 0), _wire(p, x, 1)
+    a[W_TENSION] = tension_k(p, 1.0, x[X_THETA], a[W_EPS], a[W_XI])
+    b[W_TENSION] = tension_k(p, -1.0, x[X_THETA], b[W_EPS], b[W_XI])
+
+
+@jit
+def reset_k(p: np.ndarray, x: np.ndarray, T_init: float) -> None:
+    """`BendingActuator.reset` of the parameters `p` into the state `x`: both wires at `T_init`
+    [C] (heated there from martensite), the cap at rest in balance."""
+    s = p[P_HEAD:]
+    for i in range(2):
+        g = _wire(p, x, i)
+        g[W_T] = T_init
+        eps = mem_reset(s, g[W_MEMORY:], _seen(s, T_init), p[P_SIGMA])
+        g[W_EPS] = eps
+        g[W_XI] = martensite_fraction_k(eps, p[P_EPS_MAX])
+        g[W_P] = 0.0
+    a, b = _wire(p, x, 0), _wire(p, x, 1)
+    x[X_THETA] = static_rotation_k(p, p[P_K_BEAM], a[W_EPS], b[W_EPS], a[W_XI], b[W_XI])
+    x[X_OMEGA] = 0.0
+    _tensions(p, x)
+
+
+@jit
+def step_bending(p: np.ndarray, x: np.ndarray, dt: float, u_a: float, u_b: float,
+                 T_amb: float) -> None:
+    """`BendingActuator.step` of the parameters `p`: advance the state `x` by `dt` [s] with the
+    voltages `u_a`, `u_b` [V] and ambient `T_amb` [C] held."""
+    s = p[P_HEAD:]
+    tp = p[P_THERMAL:P_HEAD]
+    R_s = p[P_RS]
+    for i in range(2):
+        g = _wire(p, x, i)
+        R = resistance_k(tp, g[W_XI])
+        current = (u_a if i == 0 else u_b) / (R + R_s)
+        g[W_P] = R * current * current
+        g[W_T] = step_k(tp, g[W_T], current, T_amb, g[W_XI], 0.0, dt)
+        g[W_EPS] = mem_step(s, g[W_MEMORY:], _seen(s, g[W_T]), p[P_SIGMA])
+        g[W_XI] = martensite_fraction_k(g[W_EPS], p[P_EPS_MAX])
+    n = max(1, int(math.ceil(dt / p[P_MAX_SUBSTEP] - 1e-9)))
+    h = dt / n
+    a, b = _wire(p, x, 0), _wire(p, x, 1)
+    for _ in range(n):
+        M0, K_w = moment_terms_k(p, x[X_THETA], a[W_EPS], b[W_EPS], a[W_XI], b[W_XI])
+        K = p[P_K_BEAM] + K_w
+        x[X_THETA], x[X_OMEGA] = beam.oscillator_step_k(x[X_THETA], x[X_OMEGA], M0 / K, K,
+                                                        p[P_C], p[P_J], h)
+    _tensions(p, x)
+
+
+@jit
+def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """The outputs `y` (`OUTPUTS`) of the state `x` after the last step, parameters `p` (the
+    inputs `u` and the time `t` play no part: no direct feedthrough)."""
+    y[0] = beam.deflection_k(x[X_THETA], p[P_Z_TIP], p[P_BEAM_LENGTH])
+    y[1] = beam.deflection_k(x[X_OMEGA], p[P_Z_TIP], p[P_BEAM_LENGTH])
+    y[2] = x[X_THETA]
+    for i in range(2):
+        g = _wire(p, x, i)
+        y[3 + 5 * i] = g[W_T] + ZERO_C
+        y[4 + 5 * i] = g[W_EPS]
+        y[5 + 5 * i] = g[W_TENSION]
+        y[6 + 5 * i] = g[W_TENSION] / p[L_AREA]
+        y[7 + 5 * i] = g[W_P]
+
+
+@jit
+def advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
+            dt: float) -> None:
+    """Step the actuator of parameters `p`, state `x`, over [`t`, `t` + `dt`] [s] with the
+    inputs `u` (`INPUTS`) held (the outputs `y` play no part)."""
+    step_bending(p, x, dt, u[0], u[1], u[2] - ZERO_C)
+
+
+KERNEL = Kernel(evaluate, advance, INPUTS, OUTPUTS)

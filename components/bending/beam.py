@@ -19,7 +19,7 @@ import math
 from dataclasses import dataclass
 
 from musclesim.components.checks import require
-from musclesim.fmu import declare
+from musclesim.fmu import declare, jit
 
 
 @dataclass(frozen=True)
@@ -88,7 +88,13 @@ def deflection(theta: float, z: float, p: BeamParams) -> float:
     >>> round(deflection(0.01, 0.017, p), 9), round(deflection(0.01, 0.01, p), 9)
     (0.00012, 5e-05)
     """
-    L = p.length
+    return float(deflection_k(theta, z, p.length))
+
+
+@jit
+def deflection_k(theta: float, z: float, L: float) -> float:
+    """`deflection` at height `z` [m] for a cap rotation `theta` [rad] of beams of length `L`
+    [m]."""
     if z >= L:
         return theta * (z - L / 2)
     return theta * z * z / (2 * L)
@@ -137,6 +143,15 @@ def oscillator_step(x: float, v: float, x_eq: float, K: float, c: float, J: floa
     >>> round(x, 12), round(v, 12)
     (1.0, 0.0)
     """
+    x_new, v_new = oscillator_step_k(x, v, x_eq, K, c, J, dt)
+    return float(x_new), float(v_new)
+
+
+@jit
+def oscillator_step_k(x: float, v: float, x_eq: float, K: float, c: float, J: float,
+                      dt: float) -> tuple[float, float]:
+    """`oscillator_step`: (x, v) of `J` x'' + `c` x' + `K` (x - `x_eq`) = 0 after `dt` from
+    (`x`, `v`)."""
     y = x - x_eq
     w = math.sqrt(K / J)
     zeta = c / (2 * math.sqrt(K * J))

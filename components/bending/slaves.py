@@ -1,25 +1,28 @@
-"""FMU slave of the bending actuator (§bending-actuator): a thin adapter over
-`actuator.BendingActuator`."""
+"""FMU slave of the bending actuator (§bending-actuator): a thin adapter over the compiled kernel
+of `actuator.BendingActuator`."""
 from __future__ import annotations
 
 import math
 
 from musclesim.components.bending import actuator, beam
 from musclesim.components.sma import datasets, reference_wire, thermal
-from musclesim.fmu import Slave, experiment
+from musclesim.fmu import KernelSlave, experiment
 
-ZERO_C = 273.15  # K; the FMU speaks K, the cores C
+ZERO_C = actuator.ZERO_C  # K; the FMU speaks K, the cores C
 LASER_HEIGHT = 17e-3  # m, where the study's laser reads the deflection (§bending-actuator)
 
 
-class BendingActuator(Slave):
+class BendingActuator(KernelSlave):
     """Bending actuator: two 50 um SMA wires beside a carbon-fibre beam pair (§bending-actuator).
 
     Per communication step, inputs held from its start: each wire's temperature (lumped thermal
     model, voltage through a series resistance), its hysteresis (at the pretension's stress),
     then the beams' first bending mode in exact sub-steps. No output depends directly on an input.
-    Equations, parameters and their reasons: §bending-actuator (docs/model/bending.md).
+    Equations, parameters and their reasons: §bending-actuator (docs/model/bending.md). The
+    physics is `actuator.BendingActuator`'s compiled kernel (`actuator.KERNEL`).
     """
+
+    kernel = actuator.KERNEL
 
     default_experiment = experiment(4.0, 0.0005)  # bending-one-wire, §bending-actuator
     description = ("Bending actuator: two antagonistic 50 um SMA wires (thermal model, modified "
@@ -90,26 +93,15 @@ class BendingActuator(Slave):
         params = reference_wire.load_params(
             datasets.shipped(self.resources) / datasets.WIRE_PARAMS)
         surface = actuator.hysteresis_surface(params, sigma)
-        self.core = self.logged(actuator.BendingActuator, b, layout, wire_p, surface)
+        self.core = self.logged(actuator.BendingActuator, b, layout, wire_p, surface, self.z_tip)
+        self.kp, self.kx = self.core.kp, self.core.kx
         self._start()
 
     def initialize(self) -> None:
         self._start()
 
-    def _start(self):
+    def _start(self) -> None:
         self.logged(self.core.reset, self.T_init - ZERO_C)
-
-    def evaluate(self) -> None:
-        core = self.core
-        self.tip_s = core.deflection(self.z_tip)
-        self.tip_v = core.velocity(self.z_tip)
-        self.theta = core.theta
-        for i, side in enumerate(actuator.SIDES):
-            setattr(self, f"wire{side}_T", core.T[i] + ZERO_C)
-            setattr(self, f"wire{side}_strain", core.eps[i])
-            setattr(self, f"wire{side}_f", core.tension[i])
-            setattr(self, f"wire{side}_stress", core.tension[i] / core.area)
-            setattr(self, f"wire{side}_P", core.power[i])
 
     def advance(self, t: float, dt: float) -> None:
         """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
@@ -117,4 +109,4 @@ class BendingActuator(Slave):
                             ("T_amb", self.T_amb)):
             if not math.isfinite(value):
                 raise ValueError(f"input {name} is {value!r} at t = {t:g} s")
-        self.logged(self.core.step, dt, (self.wireA_u, self.wireB_u), self.T_amb - ZERO_C, t)
+        super().advance(t, dt)

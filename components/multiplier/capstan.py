@@ -14,9 +14,10 @@ current drive the same current. The end displacement is the sum of the segments'
 
     s = sum_i eps_i L_i.
 
-The cores are the straight wire's (`musclesim.components.sma.thermal`, `.preisach`; its thermal
-submodel `submodels.Lumped`, no end zones); with one segment and mu_f = 0 a step is the SmaWire
-FMU's step exactly. Equations and every assumption:
+The cores are the straight wire's compiled ones (`musclesim.components.sma.thermal`'s lumped
+step, no end zones; `.preisach`'s array memory), composed here into one compiled kernel
+(`KERNEL`, on float64 arrays: layout at the ``P_*``, ``X_*`` and ``G_*`` slots); with one segment
+and mu_f = 0 a step is the SmaWire FMU's step exactly. Equations and every assumption:
 §capstan-multiplier (docs/model/multiplier.md).
 """
 from __future__ import annotations
@@ -25,11 +26,16 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from musclesim.components.checks import require
-from musclesim.components.sma import submodels, thermal
-from musclesim.components.sma.preisach import PreisachModel
-from musclesim.components.sma.surface import Hypersurface, clamp
-from musclesim.fmu import declare
+from musclesim.components.sma import preisach, surface as hypersurface, thermal
+from musclesim.components.sma.preisach import mem_reset, mem_step
+from musclesim.components.sma.surface import (S_NS, S_SHI, S_SLO, S_THI, S_TLO, Hypersurface,
+                                              clamp, fmax, fmin, surface_F)
+from musclesim.components.sma.thermal import (TP_CURRENT, TP_SIZE, joule_power_k,
+                                              martensite_fraction_k, resistance_k, step_k)
+from musclesim.fmu import Kernel, declare, jit
 
 MAX_SEGMENTS = 6  # variables the FMU declares per segment (§capstan-multiplier suggests three)
 WRAP = math.pi  # rad, sweep per turning tube: a ratio 1.060-1.085 fits about pi
@@ -169,27 +175,33 @@ def segment_voltages(u: float, resistances: Sequence[float]) -> list[float]:
 
 
 class Segment:
-    """One segment's state: temperature [C], hysteresis memory, martensite fraction, strain."""
+    """One segment's state as the kernel keeps it (a view of `Multiplier.kx`): temperature [C],
+    martensite fraction, strain and stress [Pa]."""
 
-    def __init__(self, params: thermal.ThermalParams, surface: Hypersurface) -> None:
-        """A segment of thermal `params` (this segment's length) on the hysteresis `surface`."""
+    def __init__(self, params: thermal.ThermalParams, x: np.ndarray) -> None:
+        """The segment of thermal `params` (this segment's length) whose state block is `x`."""
         self.p = params  # ThermalParams with this segment's length
-        # the straight wire's thermal submodel, without its effects: lumped, ends none
-        self.thermal = submodels.Lumped()
-        self.surface = surface
-        self.model = PreisachModel(surface)
-        self.T_C = 0.0
-        self.xi = 1.0
-        self.eps = 0.0
-        self.sigma = 0.0
-        self._eps_max_at: tuple[float | None, float] = (None, 0.0)
+        self.x = x
 
-    def eps_max(self, sigma: float) -> float:
-        """F(a0, b0; `sigma`): the strain of a fully transformed segment (one F per new stress)."""
-        if self._eps_max_at[0] != sigma:
-            s = self.surface
-            self._eps_max_at = (sigma, s.F(s.t_hi, s.t_lo, sigma))
-        return self._eps_max_at[1]
+    @property
+    def T_C(self) -> float:
+        """Temperature [C]."""
+        return float(self.x[G_T])
+
+    @property
+    def xi(self) -> float:
+        """Martensite fraction."""
+        return float(self.x[G_XI])
+
+    @property
+    def eps(self) -> float:
+        """Strain (contraction / this segment's length)."""
+        return float(self.x[G_EPS])
+
+    @property
+    def sigma(self) -> float:
+        """Stress [Pa], capstan-scaled from the load end (unclamped)."""
+        return float(self.x[G_SIGMA])
 
 
 class Multiplier:
@@ -199,7 +211,9 @@ class Multiplier:
     T_amb, f, t, dt)`` advances all segments over [t, t + dt] with the heating input u (V or A per
     ``wire.drive``), ambient T_amb [C] and the load's tension f [N]. Stresses outside the data
     set's stresses are clamped with one `RangeWarning` per segment (a single-surface data set
-    takes any stress).
+    takes any stress). The physics is the compiled kernel below (`start_k`, `step_k`): the state
+    lives in its arrays ``kp`` (`pack`) and ``kx`` (`state`), which the FMU steps; the
+    attributes read them.
 
     Examples
     --------
@@ -222,10 +236,18 @@ class Multiplier:
         self.shares = [L / params.length for L in self.lengths]
         self.ratios = tension_ratios(params)
         self.area = thermal.cross_section(params.wire)
-        self.segments = [Segment(_with_length(params.wire, L, h), surface)
-                         for L, h in zip(self.lengths, segment_h(params, self.lengths))]
+        memory = preisach.memory()
+        self.kp = pack(params, surface, len(memory))
+        self.kx = state(self.kp, memory)
+        self.segments = [Segment(_with_length(params.wire, L, h), block(self.kp, self.kx, i))
+                         for i, (L, h) in enumerate(zip(self.lengths,
+                                                        segment_h(params, self.lengths)))]
         self._warned: set[str] = set()
-        self.power = 0.0
+
+    @property
+    def power(self) -> float:
+        """Joule power [W] over the last step (input held, resistances at its start)."""
+        return float(self.kx[X_P])
 
     def stresses(self, f: float, t: float | None = None) -> list[float]:
         """Stress [Pa] of each segment under the load's tension `f` [N] at `t` [s], as the
@@ -243,61 +265,44 @@ class Multiplier:
     def start(self, T_init: float, f: float, t: float = 0.0, u: float = 0.0) -> None:
         """Every segment at `T_init` [C], all-off memory then T_init (a new wire heated to it),
         under the load `f` [N] at `t` [s], the power that of the input `u`."""
-        for seg, sigma, r in zip(self.segments, self.stresses(f, t), self.ratios):
-            seg.T_C = T_init
-            seg.model = PreisachModel(self.surface)
-            eps = seg.model.reset(self._seen(T_init), sigma, t)
-            seg.xi = thermal.martensite_fraction(eps, seg.eps_max(sigma))
-            seg.eps = eps
-            seg.sigma = f * r / self.area
-        self.power = self.joule_power(u)
+        start_fold(self.kp, self.kx, T_init, u, f, t)
+        self.warn_clamps()
 
     def step(self, u: float, T_amb: float, f: float, t: float, dt: float) -> None:
         """Advance every segment over [`t`, `t` + `dt`] [s] with `u`, `T_amb` [C] and `f` [N]
         held."""
-        sigmas = self.stresses(f, t)
-        drives = self._drives(u)
-        self.power = self.joule_power(u)
-        for seg, sigma, ui in zip(self.segments, sigmas, drives):
-            eps_max = seg.eps_max(sigma)
-            T_new = seg.thermal.step(seg.T_C, thermal.ThermalInputs(ui, T_amb, seg.xi), dt, seg.p)
-            eps = seg.model.step(self._seen(T_new), sigma, t + dt)
-            seg.xi = thermal.martensite_fraction(eps, eps_max)
-            seg.eps = eps
-            seg.T_C = T_new
-        for seg, r in zip(self.segments, self.ratios):
-            seg.sigma = f * r / self.area
+        step_fold(self.kp, self.kx, u, T_amb, f, t, dt)
+        self.warn_clamps()
 
-    def _drives(self, u):
-        """Each segment's electrical input: its share of the voltage, or the series current."""
-        if self.params.wire.drive == "current":
-            return [u] * len(self.segments)
-        return segment_voltages(u, [thermal.resistance(s.xi, s.p) for s in self.segments])
-
-    def _seen(self, T):
-        """Temperature [C] the hysteresis sees: composition-shifted, saturated at the grid."""
-        return min(max(T - self.params.composition_shift, self.surface.t_lo), self.surface.t_hi)
+    def warn_clamps(self) -> None:
+        """Warn (`clamp`'s `RangeWarning`, once per segment) of each segment's first stress
+        clamp the kernel kept in its state, in the order of their times, as `stresses` warns."""
+        s = self.surface
+        met = sorted((seg.x[G_WARN_T], i) for i, seg in enumerate(self.segments, start=1)
+                     if seg.x[G_WARN] == 1.0 and f"stress of segment {i}" not in self._warned)
+        for t, i in met:
+            sigma = float(self.segments[i - 1].x[G_WARN_SIGMA])
+            clamp(self._warned, f"stress of segment {i}", sigma, s.s_lo, s.s_hi, "Pa", float(t))
 
     def resistance(self) -> float:
         """Series resistance [Ohm] of the segments at their present martensite fractions."""
-        return sum(thermal.resistance(s.xi, s.p) for s in self.segments)
+        return float(resistance_sum(self.kp, self.kx))
 
     def joule_power(self, u: float) -> float:
         """Joule power [W] of input `u` over all segments at their present resistances."""
-        return sum(thermal.joule_power(ui, s.xi, s.p)
-                   for s, ui in zip(self.segments, self._drives(u)))
+        return float(joule_power_sum(self.kp, self.kx, u))
 
     def displacement(self) -> float:
         """End displacement [m]: the sum of the segments' contractions eps_i L_i."""
-        return sum(s.eps * L for s, L in zip(self.segments, self.lengths))
+        return float(weighted_sum(self.kp, self.kx, P_LENGTHS, G_EPS))
 
     def mean_temperature(self) -> float:
         """Length-weighted mean temperature [C] of the segments."""
-        return sum(s.T_C * w for s, w in zip(self.segments, self.shares))
+        return float(weighted_sum(self.kp, self.kx, P_SHARES, G_T))
 
     def mean_strain(self) -> float:
         """Length-weighted mean strain of the segments (the displacement over the length)."""
-        return sum(s.eps * w for s, w in zip(self.segments, self.shares))
+        return float(weighted_sum(self.kp, self.kx, P_SHARES, G_EPS))
 
 
 def _with_length(wire: thermal.ThermalParams, length: float, h: float) -> thermal.ThermalParams:
@@ -305,3 +310,230 @@ def _with_length(wire: thermal.ThermalParams, length: float, h: float) -> therma
     fields = {name: getattr(wire, name) for name in wire.__dataclass_fields__}
     fields.update(length=length, h=h)
     return thermal.ThermalParams(**fields)
+
+
+# --- the compiled kernel (`musclesim.fmu.kernel`): `Multiplier`'s start and step on float64 arrays,
+# operation for operation, so that it gives the same bits compiled or as Python -----------------
+ZERO_C = 273.15  # K; the FMU speaks K, the cores C
+INPUTS = ("u", "T_amb", "flange.f")
+OUTPUTS = ("flange.s", "strain", "T", "stress", "R", "P") + tuple(
+    f"segment[{i}].{v}" for i in range(1, MAX_SEGMENTS + 1) for v in ("T", "strain", "stress"))
+
+# parameter slots (`pack`): the number of segments, the cross-section, the composition shift, the
+# drive (1 = current), the size of one Preisach memory; then per segment (MAX_SEGMENTS slots each)
+# the lengths, the length shares, the tension ratios, the thermal parameters (`thermal.pack`,
+# TP_SIZE each); then the hysteresis surface (`surface.pack`) from P_HEAD
+P_N, P_AREA, P_SHIFT, P_CURRENT, P_MEMORY = range(5)
+P_LENGTHS = 5
+P_SHARES = P_LENGTHS + MAX_SEGMENTS
+P_RATIOS = P_SHARES + MAX_SEGMENTS
+P_THERMAL = P_RATIOS + MAX_SEGMENTS
+P_HEAD = P_THERMAL + MAX_SEGMENTS * TP_SIZE
+
+# state slots (`state`): the Joule power and the held stress f / area, then one block per segment
+X_P, X_STRESS = range(2)
+X_SEGMENTS = 2
+# a segment's block: temperature [C], martensite fraction, strain, stress (unclamped), the stress
+# of the last maximum strain and its value, the stress-clamp flag (0 none, 1 clamped; the value
+# and time of the first clamp, which `Multiplier.warn_clamps` warns of), then its Preisach memory
+(G_T, G_XI, G_EPS, G_SIGMA, G_EPS_MAX_SIGMA, G_EPS_MAX, G_WARN, G_WARN_SIGMA,
+ G_WARN_T) = range(9)
+G_MEMORY = 9
+
+
+def pack(params: CapstanParams, hysteresis: Hypersurface, memory_size: int) -> np.ndarray:
+    """The kernel's parameters of the fold `params` on the `hysteresis` surface, its Preisach
+    memories of `memory_size` floats (layout: the ``P_*`` slots)."""
+    n = int(params.n_segments)
+    lengths = segment_lengths(params)
+    head = np.zeros(P_HEAD)
+    head[P_N] = n
+    head[P_AREA] = thermal.cross_section(params.wire)
+    head[P_SHIFT] = params.composition_shift
+    head[P_CURRENT] = 1.0 if params.wire.drive == "current" else 0.0
+    head[P_MEMORY] = memory_size
+    for i, (L, h, r) in enumerate(zip(lengths, segment_h(params, lengths),
+                                      tension_ratios(params))):
+        head[P_LENGTHS + i] = L
+        head[P_SHARES + i] = L / params.length
+        head[P_RATIOS + i] = r
+        head[P_THERMAL + i * TP_SIZE:P_THERMAL + (i + 1) * TP_SIZE] = thermal.pack(
+            _with_length(params.wire, L, h))
+    return np.concatenate([head, hypersurface.packed(hysteresis)])
+
+
+def state(p: np.ndarray, memory: np.ndarray) -> np.ndarray:
+    """A state array for the parameters `p` (`pack`), each segment's Preisach memory a copy of
+    the new `memory` (`preisach.memory`); `start_fold` sets it."""
+    n, stride = int(p[P_N]), G_MEMORY + len(memory)
+    x = np.zeros(X_SEGMENTS + n * stride)
+    for i in range(n):
+        g = block(p, x, i)
+        g[G_EPS_MAX_SIGMA] = math.nan  # no maximum strain yet
+        g[G_MEMORY:] = memory
+    return x
+
+
+def block(p: np.ndarray, x: np.ndarray, i: int) -> np.ndarray:
+    """Segment `i`'s block (0 at the clamp) of the state `x`, parameters `p`: a view (`_segment`
+    from Python)."""
+    stride = G_MEMORY + int(p[P_MEMORY])
+    return x[X_SEGMENTS + i * stride:X_SEGMENTS + (i + 1) * stride]
+
+
+@jit
+def _segment(p: np.ndarray, x: np.ndarray, i: int) -> np.ndarray:
+    """Segment `i`'s block (0 at the clamp) of the state `x`, parameters `p`."""
+    stride = G_MEMORY + int(p[P_MEMORY])
+    return x[X_SEGMENTS + i * stride:X_SEGMENTS + (i + 1) * stride]
+
+
+@jit
+def _thermal(p: np.ndarray, i: int) -> np.ndarray:
+    """Segment `i`'s thermal parameters (`thermal.pack`) of `p`."""
+    return p[P_THERMAL + i * TP_SIZE:P_THERMAL + (i + 1) * TP_SIZE]
+
+
+@jit
+def _stress(p: np.ndarray, g: np.ndarray, i: int, f: float, t: float) -> float:
+    """`Multiplier.stresses`' stress [Pa] of segment `i` (block `g`) under the load `f` [N] at `t`
+    [s]: clamped to the data set's stresses, the first clamp kept in `g` (G_WARN 1, its value and
+    time)."""
+    s = p[P_HEAD:]
+    sigma = f * p[P_RATIOS + i] / p[P_AREA]
+    if s[S_NS] > 1 and not s[S_SLO] <= sigma <= s[S_SHI]:
+        if g[G_WARN] == 0.0:
+            g[G_WARN], g[G_WARN_SIGMA], g[G_WARN_T] = 1.0, sigma, t
+        sigma = fmin(fmax(sigma, s[S_SLO]), s[S_SHI])
+    return sigma
+
+
+@jit
+def _eps_max(s: np.ndarray, g: np.ndarray, sigma: float) -> float:
+    """F(a0, b0; `sigma`) on the packed surface `s`, evaluated once per new stress (block
+    `g`)."""
+    if g[G_EPS_MAX_SIGMA] != sigma:
+        g[G_EPS_MAX_SIGMA] = sigma
+        g[G_EPS_MAX] = surface_F(s, s[S_THI], s[S_TLO], sigma)
+    return g[G_EPS_MAX]
+
+
+@jit
+def _seen(p: np.ndarray, s: np.ndarray, T: float) -> float:
+    """`Multiplier._seen`: temperature [C] the hysteresis sees, composition-shifted, saturated at
+    the grid."""
+    return fmin(fmax(T - p[P_SHIFT], s[S_TLO]), s[S_THI])
+
+
+@jit
+def resistance_sum(p: np.ndarray, x: np.ndarray) -> float:
+    """`Multiplier.resistance`: the segments' series resistance [Ohm]."""
+    acc = 0.0
+    for i in range(int(p[P_N])):
+        acc += resistance_k(_thermal(p, i), _segment(p, x, i)[G_XI])
+    return acc
+
+
+@jit
+def _drive(p: np.ndarray, x: np.ndarray, i: int, u: float, total: float) -> float:
+    """Segment `i`'s electrical input: the series current `u`, or its share u R_i / `total` of
+    the voltage (`segment_voltages`)."""
+    if p[P_CURRENT] != 0.0:
+        return u
+    return u * (resistance_k(_thermal(p, i), _segment(p, x, i)[G_XI]) / total)
+
+
+@jit
+def joule_power_sum(p: np.ndarray, x: np.ndarray, u: float) -> float:
+    """`Multiplier.joule_power` of the input `u`."""
+    total = resistance_sum(p, x) if p[P_CURRENT] == 0.0 else 0.0
+    acc = 0.0
+    for i in range(int(p[P_N])):
+        acc += joule_power_k(_thermal(p, i), _drive(p, x, i, u, total), _segment(p, x, i)[G_XI])
+    return acc
+
+
+@jit
+def weighted_sum(p: np.ndarray, x: np.ndarray, weights: int, field: int) -> float:
+    """Sum over the segments of their state slot `field` times the parameter slot `weights` + i
+    (`displacement`, `mean_temperature`, `mean_strain`)."""
+    acc = 0.0
+    for i in range(int(p[P_N])):
+        acc += _segment(p, x, i)[field] * p[weights + i]
+    return acc
+
+
+@jit
+def start_fold(p: np.ndarray, x: np.ndarray, T_init: float, u: float, f: float,
+               t: float) -> None:
+    """`Multiplier.start` of the parameters `p` into the state `x`: every segment at `T_init`
+    [C], all-off memory then T_init, under the load `f` [N] at `t` [s], the power that of the
+    input `u`."""
+    s = p[P_HEAD:]
+    for i in range(int(p[P_N])):
+        g = _segment(p, x, i)
+        sigma = _stress(p, g, i, f, t)
+        g[G_T] = T_init
+        eps = mem_reset(s, g[G_MEMORY:], _seen(p, s, T_init), sigma)
+        g[G_XI] = martensite_fraction_k(eps, _eps_max(s, g, sigma))
+        g[G_EPS] = eps
+        g[G_SIGMA] = f * p[P_RATIOS + i] / p[P_AREA]
+    x[X_P] = joule_power_sum(p, x, u)
+    x[X_STRESS] = f / p[P_AREA]
+
+
+@jit
+def step_fold(p: np.ndarray, x: np.ndarray, u: float, T_amb: float, f: float, t: float,
+              dt: float) -> None:
+    """`Multiplier.step` of the parameters `p`: advance the state `x` over [`t`, `t` + `dt`] [s]
+    with the input `u`, ambient `T_amb` [C] and load `f` [N] held."""
+    s = p[P_HEAD:]
+    total = resistance_sum(p, x) if p[P_CURRENT] == 0.0 else 0.0
+    x[X_P] = joule_power_sum(p, x, u)
+    for i in range(int(p[P_N])):
+        g = _segment(p, x, i)
+        sigma = _stress(p, g, i, f, t)
+        ui = _drive(p, x, i, u, total)
+        eps_max = _eps_max(s, g, sigma)
+        T_new = step_k(_thermal(p, i), g[G_T], ui, T_amb, g[G_XI], 0.0, dt)
+        eps = mem_step(s, g[G_MEMORY:], _seen(p, s, T_new), sigma)
+        g[G_XI] = martensite_fraction_k(eps, eps_max)
+        g[G_EPS] = eps
+        g[G_T] = T_new
+        g[G_SIGMA] = f * p[P_RATIOS + i] / p[P_AREA]
+    x[X_STRESS] = f / p[P_AREA]
+
+
+@jit
+def evaluate(p: np.ndarray, x: np.ndarray, u: np.ndarray, t: float, y: np.ndarray) -> None:
+    """The outputs `y` (`OUTPUTS`) of the state `x` after the last step, parameters `p` (the
+    inputs `u` and the time `t` play no part: no direct feedthrough); a segment beyond
+    n_segments gives 0."""
+    y[0] = weighted_sum(p, x, P_LENGTHS, G_EPS)
+    y[1] = weighted_sum(p, x, P_SHARES, G_EPS)
+    y[2] = weighted_sum(p, x, P_SHARES, G_T) + ZERO_C
+    y[3] = x[X_STRESS]
+    y[4] = resistance_sum(p, x)
+    y[5] = x[X_P]
+    n = int(p[P_N])
+    for i in range(MAX_SEGMENTS):
+        if i < n:
+            g = _segment(p, x, i)
+            y[6 + 3 * i] = g[G_T] + ZERO_C
+            y[7 + 3 * i] = g[G_EPS]
+            y[8 + 3 * i] = g[G_SIGMA]
+        else:
+            y[6 + 3 * i] = 0.0
+            y[7 + 3 * i] = 0.0
+            y[8 + 3 * i] = 0.0
+
+
+@jit
+def advance(p: np.ndarray, x: np.ndarray, u: np.ndarray, y: np.ndarray, t: float,
+            dt: float) -> None:
+    """Step the fold of parameters `p`, state `x`, over [`t`, `t` + `dt`] [s] with the inputs
+    `u` (`INPUTS`) held (the outputs `y` play no part)."""
+    step_fold(p, x, u[0], u[1] - ZERO_C, u[2], t, dt)
+
+
+KERNEL = Kernel(evaluate, advance, INPUTS, OUTPUTS)

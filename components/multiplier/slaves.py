@@ -1,25 +1,30 @@
-"""FMU slave of the capstan multiplier: a thin adapter over
+"""FMU slave of the capstan multiplier: a thin adapter over the compiled kernel of
 musclesim.components.multiplier.capstan."""
 from __future__ import annotations
 
+import numpy as np
+
 from musclesim.components.multiplier import capstan
 from musclesim.components.sma import datasets, ports, thermal
-from musclesim.fmu import Slave, experiment
+from musclesim.fmu import KernelSlave, experiment
 
 __all__ = ["CapstanMultiplier", "ZERO_C", "N"]
 
-ZERO_C = 273.15  # K; the FMU speaks K, the cores C
+ZERO_C = capstan.ZERO_C  # K; the FMU speaks K, the cores C
 N = capstan.MAX_SEGMENTS
 
 
-class CapstanMultiplier(Slave):
+class CapstanMultiplier(KernelSlave):
     """SMA wire folded over fixed capstans into segments, each with its own temperature, stress
     (capstan equation) and Preisach memory; one electrical element; end displacement = sum of the
     segments' contractions (§capstan-multiplier). Equations: §capstan-multiplier.
 
     Outputs depend on no input directly (like SmaWire), so loads and controllers close loops
-    around it without an algebraic loop. Per-segment outputs beyond ``n_segments`` stay 0.
+    around it without an algebraic loop. Per-segment outputs beyond ``n_segments`` stay 0. The
+    physics is `capstan.Multiplier`'s compiled kernel (`capstan.KERNEL`).
     """
+
+    kernel = capstan.KERNEL
 
     default_experiment = experiment(20.0, 0.0004)  # §multiplier-experiments (bang-bang)
     description = ("Capstan multiplier: one SMA wire folded over fixed capstans into segments with "
@@ -98,27 +103,24 @@ class CapstanMultiplier(Slave):
     def initialize(self) -> None:
         self._start()  # the inputs (ambient, load) are known now
 
-    def _start(self):
+    def _start(self) -> None:
+        """A new fold (its one-time warnings too) started at T_init under the present inputs."""
         self.core = capstan.Multiplier(self.p, self.surface)
+        self.kp, self.kx = self.core.kp, self.core.kx
         self.logged(self.core.start, self.T_init - ZERO_C, self.flange_f, self.time, self.u)
-        self.stress_held = self.flange_f / self.core.area
-
-    def evaluate(self) -> None:
-        core = self.core
-        s = core.displacement()
-        self.flange_s = s
-        self.strain = core.mean_strain()
-        self.T = core.mean_temperature() + ZERO_C
-        self.stress = self.stress_held
-        self.R = core.resistance()
-        self.P = core.power
-        for i, seg in enumerate(core.segments, start=1):
-            setattr(self, f"segment[{i}]_T", seg.T_C + ZERO_C)
-            setattr(self, f"segment[{i}]_strain", seg.eps)
-            setattr(self, f"segment[{i}]_stress", seg.sigma)
 
     def advance(self, t: float, dt: float) -> None:
-        """Advance the state over [`t`, `t` + `dt`] [s] with the inputs held."""
+        """The kernel's step over [`t`, `t` + `dt`] [s] with the inputs held, its inputs checked
+        first and the stress clamps it met warned of after (the kernel keeps them in its
+        state)."""
         ports.check_inputs(self.u, self.T_amb, self.flange_f, t)
-        self.logged(self.core.step, self.u, self.T_amb - ZERO_C, self.flange_f, t, dt)
-        self.stress_held = self.flange_f / self.core.area
+        super().advance(t, dt)
+        self.logged(self.core.warn_clamps)
+
+    def restore_kernel(self, x: np.ndarray, u: np.ndarray, y: np.ndarray, time: float,
+                       dirty: bool) -> None:
+        """`KernelSlave.restore_kernel` (the state `x`, inputs `u`, outputs `y`, clock `time`
+        [s] and `dirty` a master reached running the kernel itself), then the stress clamps the
+        kernel kept in its state warned of as `advance` warns."""
+        super().restore_kernel(x, u, y, time, dirty)
+        self.logged(self.core.warn_clamps)

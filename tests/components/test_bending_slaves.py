@@ -57,3 +57,17 @@ def test_fmu_is_the_core_stepped_by_hand(fmu_dir, tmp_path):
         expected.append((core.deflection(0.017), core.T[0] + 273.15, core.tension[1]))
     assert [tuple(r) for r in rows] == expected
     assert max(r[0] for r in rows) > 1e-5 and min(r[0] for r in rows) < -1e-5
+
+
+@pytest.mark.parametrize("params", [{}, {"damping_ratio": 1.0}, {"damping_ratio": 1.5,
+                                                                  "max_substep": 1e-4}],
+                         ids=["nominal", "critical", "overdamped"])
+def test_kernel_paths_agree(params):
+    """The compiled kernel gives the bits of its plain-Python source along the study's alternating
+    pulses (each wire heated, cooling, slack), with the mode under-, critically and over-damped."""
+    from kernel_paths import assert_paths_agree
+
+    def inputs(k):
+        return {"wireA_u": 5.0 if k % 500 < 25 else 0.0,
+                "wireB_u": 5.0 if (k - 250) % 500 < 25 else 0.0}
+    assert_paths_agree(in_process(BendingActuator, "act", **params), inputs, 5e-4, 1200)
