@@ -427,7 +427,8 @@ def _seen(p: np.ndarray, s: np.ndarray, T: float) -> float:
 
 @jit
 def resistance_sum(p: np.ndarray, x: np.ndarray) -> float:
-    """`Multiplier.resistance`: the segments' series resistance [Ohm]."""
+    """`Multiplier.resistance`: the segments' series resistance [Ohm] of the kernel's
+    parameters `p` (`pack`) and state `x` (`state`)."""
     acc = 0.0
     for i in range(int(p[P_N])):
         acc += resistance_k(_thermal(p, i), _segment(p, x, i)[G_XI])
@@ -445,7 +446,8 @@ def _drive(p: np.ndarray, x: np.ndarray, i: int, u: float, total: float) -> floa
 
 @jit
 def joule_power_sum(p: np.ndarray, x: np.ndarray, u: float) -> float:
-    """`Multiplier.joule_power` of the input `u`."""
+    """`Multiplier.joule_power` of the input `u` (a voltage, or a current where the
+    parameters `p` say so), the state `x`."""
     total = resistance_sum(p, x) if p[P_CURRENT] == 0.0 else 0.0
     acc = 0.0
     for i in range(int(p[P_N])):
@@ -455,8 +457,9 @@ def joule_power_sum(p: np.ndarray, x: np.ndarray, u: float) -> float:
 
 @jit
 def weighted_sum(p: np.ndarray, x: np.ndarray, weights: int, field: int) -> float:
-    """Sum over the segments of their state slot `field` times the parameter slot `weights` + i
-    (`displacement`, `mean_temperature`, `mean_strain`)."""
+    """Sum over the segments of their state slot `field` (of the state `x`) times the
+    parameter slot `weights` + i (of the parameters `p`): `displacement`, `mean_temperature`,
+    `mean_strain`."""
     acc = 0.0
     for i in range(int(p[P_N])):
         acc += _segment(p, x, i)[field] * p[weights + i]
