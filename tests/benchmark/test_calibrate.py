@@ -86,7 +86,7 @@ def test_the_shipped_calibration_is_the_method_s_own():
     """Fails when the method (the diagnosis, the family, the calibration's code) changes and
     the calibration is not recomputed: `musclesim benchmark-diagnosis --bench family --cases
     720 --seed 500 --calibrate src/musclesim/diagnosis/calibrations/sma-bench-tracking.json`
-    (about 45 minutes on 2 cores)."""
+    (36 minutes on 2 cores)."""
     text = (resources.files("musclesim.diagnosis") / "calibrations"
             / "sma-bench-tracking.json").read_text()
     doc = json.loads(text)

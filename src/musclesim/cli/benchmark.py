@@ -47,7 +47,7 @@ def add_benchmark_diagnosis(sub: "argparse._SubParsersAction[argparse.ArgumentPa
     q.add_argument("--calibrate", metavar="FILE", default=None,
                    help="family bench: build the sets' calibration from these cases and write "
                         "it to FILE (the shipped one: src/musclesim/diagnosis/calibrations/"
-                        "sma-bench-tracking.json; 720 cases take about 45 min on 2 cores)")
+                        "sma-bench-tracking.json; its 720 cases took 36 min on 2 cores)")
     q.add_argument("--duration", type=duration, default=None,
                    help="independent or family bench: seconds recorded per SMA case "
                         "(default 120)")
