@@ -31,9 +31,9 @@ import numpy as np
 from musclesim.components.checks import require
 from musclesim.components.sma import preisach, surface as hypersurface, thermal
 from musclesim.components.sma.preisach import mem_reset, mem_step
-from musclesim.components.sma.surface import (S_NS, S_SHI, S_SLO, S_THI, S_TLO, Hypersurface,
-                                              clamp, fmax, fmin, surface_F)
-from musclesim.components.sma.thermal import (TP_CURRENT, TP_SIZE, joule_power_k,
+from musclesim.components.sma.surface import (S_THI, S_TLO, Hypersurface, clamp, fmax, fmin,
+                                              stress_in_range, surface_F)
+from musclesim.components.sma.thermal import (TP_SIZE, joule_power_k,
                                               martensite_fraction_k, resistance_k, step_k)
 from musclesim.fmu import Kernel, declare, jit
 
@@ -399,13 +399,7 @@ def _stress(p: np.ndarray, g: np.ndarray, i: int, f: float, t: float) -> float:
     """`Multiplier.stresses`' stress [Pa] of segment `i` (block `g`) under the load `f` [N] at `t`
     [s]: clamped to the data set's stresses, the first clamp kept in `g` (G_WARN 1, its value and
     time)."""
-    s = p[P_HEAD:]
-    sigma = f * p[P_RATIOS + i] / p[P_AREA]
-    if s[S_NS] > 1 and not s[S_SLO] <= sigma <= s[S_SHI]:
-        if g[G_WARN] == 0.0:
-            g[G_WARN], g[G_WARN_SIGMA], g[G_WARN_T] = 1.0, sigma, t
-        sigma = fmin(fmax(sigma, s[S_SLO]), s[S_SHI])
-    return sigma
+    return stress_in_range(p[P_HEAD:], f * p[P_RATIOS + i] / p[P_AREA], g, G_WARN, t)
 
 
 @jit

@@ -350,6 +350,18 @@ def clip(value: float, lo: float, hi: float) -> float:
 
 
 @jit
+def stress_in_range(s: np.ndarray, sigma: float, log: np.ndarray, at: int, t: float) -> float:
+    """The stress `sigma` [Pa] clamped to the stresses of the packed surface `s` (where it has
+    more than one level); the first clamp is kept in `log` at `at`, `at` + 1, `at` + 2 (1, the
+    stress, the time `t` [s]) for the slave to warn of."""
+    if s[S_NS] > 1 and not s[S_SLO] <= sigma <= s[S_SHI]:
+        if log[at] == 0.0:
+            log[at], log[at + 1], log[at + 2] = 1.0, sigma, t
+        sigma = fmin(fmax(sigma, s[S_SLO]), s[S_SHI])
+    return sigma
+
+
+@jit
 def cell_eval(s: np.ndarray, kbase: int, a: float, b: float, w: float) -> float:
     """F at in-range `a`, `b` [C] of the packed surface `s` (`pack`): bilinear in the cell, cells
     from `kbase` (stress interval k times n_cells^2), weight `w` on the upper level; no checks

@@ -27,7 +27,7 @@ from musclesim.components.sma import preisach, surface, thermal
 from musclesim.components.sma.drift import (count_cycles_k, strain_scale_k,
                                             temperature_shift_k)
 from musclesim.components.sma.preisach import mem_peek, mem_reset, mem_step
-from musclesim.components.sma.surface import (S_NS, S_SHI, S_SLO, S_THI, S_TLO, fmax, fmin,
+from musclesim.components.sma.surface import (S_THI, S_TLO, fmax, fmin, stress_in_range,
                                               surface_F)
 from musclesim.components.sma.thermal import (joule_power_k, martensite_fraction_k,
                                               resistance_k, step_k)
@@ -132,12 +132,7 @@ def stress(p: np.ndarray, x: np.ndarray, f: float, t: float) -> float:
     sigma = f / p[P_AREA]
     if p[P_BLEND] != 0.0:
         sigma = p[P_SIGMA_SURFACE] + p[P_STRESS_BLEND] * (sigma - p[P_SIGMA_SURFACE])
-    s = p[int(p[P_SURFACE]):]
-    if s[S_NS] > 1 and not s[S_SLO] <= sigma <= s[S_SHI]:
-        if x[X_WARN] == 0.0:
-            x[X_WARN], x[X_WARN_SIGMA], x[X_WARN_T] = 1.0, sigma, t
-        sigma = fmin(fmax(sigma, s[S_SLO]), s[S_SHI])
-    return sigma
+    return stress_in_range(p[int(p[P_SURFACE]):], sigma, x, X_WARN, t)
 
 
 @jit
