@@ -9,12 +9,12 @@ import statistics
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from musclesim.cosim import ParamRef, replace_file
 from musclesim.diagnosis import (CALIBRATION_ONLY, HELD_OUT, Failed, Problem, gap, residuals,
                                  simulate_unit)
-
-BINS = 10  # reliability: the probabilities in tenths
-
+from musclesim.diagnosis import reliability as diagnosis_reliability
 
 def oracle(args: tuple[dict[str, Any], Any, dict[str, Any], Any]) -> dict[str, float]:
     """Held-out gap of the model with every measured signal replayed (the report's section 4):
@@ -154,19 +154,15 @@ def _rates(table: list[dict[str, Any]]) -> dict[str, Any]:
 def reliability(table: list[dict[str, Any]]) -> list[dict[str, Any]]:
     """Predicted probability against observed frequency, per tenth: over every candidate of every
     keyed case of per-case `table`, [{"bin", "predicted" (mean), "observed" (share true),
-    "count"}]."""
+    "count"}] of the bins that hold any (`musclesim.diagnosis.reliability`'s table)."""
     pairs = []
     for t in table:
         if "in_set" not in t:
             continue
         truth = t["truth"] if t["kind"] != "none" else CALIBRATION_ONLY
         pairs += [(p, name == truth) for name, p in t["probabilities"].items()]
-    out = []
-    for b in range(BINS):
-        inside = [(p, hit) for p, hit in pairs if b / BINS <= p < (b + 1) / BINS
-                  or (b == BINS - 1 and p == 1.0)]
-        if inside:
-            out.append({"bin": [b / BINS, (b + 1) / BINS], "count": len(inside),
-                        "predicted": sum(p for p, _ in inside) / len(inside),
-                        "observed": sum(h for _, h in inside) / len(inside)})
-    return out
+    if not pairs:
+        return []
+    bins = diagnosis_reliability(np.array([p for p, _ in pairs]), np.array([h for _, h in pairs]))
+    return [{"bin": [b["lower"], b["upper"]], "count": b["count"], "predicted": b["stated"],
+             "observed": b["observed"]} for b in bins if b["count"]]
