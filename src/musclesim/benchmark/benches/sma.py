@@ -261,9 +261,10 @@ class _Plant:
             self.h_ratio = (excess, law / air_convection(50.0, bench.ambient, bench.coat_diameter))
         self.latent = bench.latent_heating > 0 or bench.latent_cooling > 0
         self.T = np.full(self.cells, bench.ambient)
-        mid = [(lo + hi) / 2 for lo, hi in zip(*(iter(bands(bench.stress)),) * 2)]
+        As, Af, Ms, Mf = bands(bench.stress)  # the case's material: bands moved and scaled
+        heat, cool = (As + Af) / 2, (Ms + Mf) / 2  # about their middles
         material = tuple(m + bench.band_shift + (b - m) * bench.band_scale
-                         for b, m in zip(bands(bench.stress), [mid[0], mid[0], mid[1], mid[1]]))
+                         for b, m in ((As, heat), (Af, heat), (Ms, cool), (Mf, cool)))
         if bench.hysteresis == "relay":
             self.kin: Any = Relays(self.T - ZERO_C, bench.stress,
                                    np.random.default_rng([bench.seed, 3]), bands_at=material)
