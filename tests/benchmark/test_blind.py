@@ -70,6 +70,19 @@ def test_a_small_blind_run_on_the_family_scores_the_calibrated_sets(fmu_dir, tmp
         assert row["set"] == report["evidence"]["set"] and report["evidence"]["level"] == 0.95
         assert row["cause"] == case["cause"]
     assert scores["coverage"] == sum(r["cause"] in r["set"] for r in scores["per_case"]) / 2
+    # a run that stopped goes on: the case diagnosed before is kept, the other diagnosed again
+    kept, lost = (tmp_path / "family" / "cases" / c["case"] / "report.json"
+                  for c in key["cases"])
+    before, stamp = lost.read_text(), kept.stat().st_mtime_ns
+    lost.unlink()
+    (tmp_path / "family" / "key.json").unlink()
+    again = blind.run(2, 7, tmp_path, fmu_dir=fmu_dir, scenarios_dir=ROOT / "scenarios",
+                      pmap=cluster_map, bench="family", duration=10.0, resume=True)
+    assert kept.stat().st_mtime_ns == stamp and lost.read_text() == before
+    assert again == scores
+    from musclesim.errors import UserError
+    with pytest.raises(UserError, match="--resume: .* holds no run of these cases"):
+        blind.run(2, 8, tmp_path, bench="family", duration=10.0, resume=True)
 
 
 def test_a_calibration_asked_into_a_missing_folder_is_refused_before_any_work(tmp_path):

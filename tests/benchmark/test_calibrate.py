@@ -82,19 +82,24 @@ def test_the_gate_fires_on_few_family_cases_and_on_a_bench_far_from_them(calibra
     assert Confidence(doc).assess(far)["gate"]["outside"]
 
 
-def test_the_shipped_calibration_is_the_method_s_own():
-    """Fails when the method (the diagnosis, the family, the calibration's code) changes and
-    the calibration is not recomputed: `musclesim benchmark-diagnosis --bench family --cases
-    720 --seed 500 --calibrate src/musclesim/diagnosis/calibrations/sma-bench-tracking.json`
-    (36 minutes on 2 cores)."""
-    text = (resources.files("musclesim.diagnosis") / "calibrations"
-            / "sma-bench-tracking.json").read_text()
-    doc = json.loads(text)
-    assert doc["family"]["version"] == family.VERSION
-    assert doc["fingerprint"] == calibrate.fingerprint(), (
-        "the diagnosis's method changed since its calibration: recompute it (see docstring)")
-    causes = [k for k, v in doc["scores"].items() for _ in v]
-    q = mondrian_thresholds(np.array([s for v in doc["scores"].values() for s in v]),
-                            np.array(causes), doc["alpha"])
-    assert {k: min(v, 1.0) for k, v in q.items()} == doc["thresholds"]
-    assert doc["alpha"] <= 0.05
+def test_the_shipped_calibrations_are_the_method_s_own():
+    """Fails when the method (the diagnosis, a family and its bench, the calibration's code)
+    changes and a shipped calibration is not recomputed: for the SMA, `musclesim
+    benchmark-diagnosis --bench family --cases 720 --seed 500 --calibrate
+    src/musclesim/diagnosis/calibrations/sma-bench-tracking.json` (36 minutes on 2 cores)."""
+    shipped = resources.files("musclesim.diagnosis") / "calibrations"
+    found = [f for f in calibrate.FAMILIES.values()
+             if (shipped / f"{f.scenario}.json").is_file()]
+    assert family.SMA in found
+    for fam in found:
+        doc = json.loads((shipped / f"{fam.scenario}.json").read_text())
+        assert doc["family"]["version"] == fam.version
+        assert doc["causes"] == list(fam.causes)
+        assert doc["fingerprint"] == calibrate.fingerprint(fam), (
+            f"the diagnosis's method changed since the calibration of {fam.bench}: recompute "
+            "it (see docstring)")
+        causes = [k for k, v in doc["scores"].items() for _ in v]
+        q = mondrian_thresholds(np.array([s for v in doc["scores"].values() for s in v]),
+                                np.array(causes), doc["alpha"])
+        assert {k: min(v, 1.0) for k, v in q.items()} == doc["thresholds"]
+        assert doc["alpha"] <= 0.05

@@ -10,7 +10,9 @@ hidden effects, decoys, the plan), recording (the own benches' virtual hardware,
 a data set), scoring (the oracle, the scores against the key, scores.json), plan (the independent
 benches' cases: conditions, hidden causes, the oracle), benches.sma (with its hysteresis,
 benches.sma_kinetics) and benches.crawler (an SMA tracking bench and a pneumatic crawler written
-apart from the library, numpy and scipy only).
+apart from the library, numpy and scipy only), family and family_crawler (those benches' families
+of forms, with our own model a member), calibrate (the diagnosis's sets calibrated on a family's
+pool of cases, and their scores).
 """
 from musclesim.benchmark.blind import run as run_blind_benchmark
 

@@ -33,11 +33,15 @@ request on a crawler written apart too (`musclesim.benchmark.benches.crawler`), 
 conditions are drawn around the model's; its scores go under "independent" in scores.json, next
 to the own bench's (see `score` for what counts there).
 
-With ``bench="family"`` the cases are drawn from the family of bench forms
-(`musclesim.benchmark.family`), a cause of each kind in equal shares, and scored by the
-calibrated sets in their reports (`musclesim.benchmark.calibrate.score`: coverage per cause, set
-sizes, false alarms, the gate), under "family" in scores.json; with `calibration` a file, the
-cases are the pool that calibration is then built from (`musclesim.benchmark.calibrate.build`).
+With ``bench="family"`` (or ``"crawler-family"``) the cases are drawn from the SMA (crawler)
+family of bench forms (`musclesim.benchmark.family`, `musclesim.benchmark.family_crawler`), a
+cause of each kind in equal shares, and scored by the calibrated sets in their reports
+(`musclesim.benchmark.calibrate.score`: coverage per cause, set sizes, false alarms, the gate),
+under the family's name in scores.json; with `calibration` a file, the cases are the pool that
+calibration is then built from (`musclesim.benchmark.calibrate.build`).
+
+A run that stopped (a pool takes hours) goes on with ``resume``: the same cases (the sealed
+key's hash must match) are kept where their report is written, the rest recorded and diagnosed.
 """
 from __future__ import annotations
 
@@ -49,11 +53,11 @@ from typing import Any
 
 from musclesim.batch import serial_map
 from musclesim.benchmark import calibrate
-from musclesim.benchmark import family as family_plan
 from musclesim.benchmark import plan as independent_plan
 from musclesim.benchmark.cases import BENCHES, DECOYS, MAGNITUDES, OUTSIDE, plan, plan_multiplier
 from musclesim.benchmark.recording import bench_scenario, make_case, record, write_case
 from musclesim.benchmark.scoring import oracle, reliability, score, weighed, write_scores
+from musclesim.cosim import replace_file
 from musclesim.diagnosis import diagnose, load_dataset
 from musclesim.errors import UserError
 
@@ -81,7 +85,7 @@ def run(count: int, seed: int, out: str | Path, fmu_dir: str | Path = "fmus",
         scenarios_dir: str | Path = "scenarios", pmap: Any = None,
         progress: Callable[[str], None] | None = None, bench: str = "own",
         duration: float | None = None, multiplier: int = 0, crawler: int = 0,
-        calibration: str | Path | None = None) -> dict[str, Any]:
+        calibration: str | Path | None = None, resume: bool = False) -> dict[str, Any]:
     """Make `count` cases from `seed` into `out`, diagnose them blind, score; return the scores.
 
     `multiplier`: that many extra cases on the capstan multiplier's bench (`plan_multiplier`;
@@ -94,17 +98,20 @@ def run(count: int, seed: int, out: str | Path, fmu_dir: str | Path = "fmus",
     of ``out/scores.json``); "independent" on `musclesim.benchmark.benches.sma`'s bench,
     `duration` seconds each (default `independent_plan.DURATION`; cases, key in
     ``out/independent``, scores under the key "independent" of ``out/scores.json``). Each keeps
-    the other's scores in the file. "family" draws its cases from `musclesim.benchmark.family` (in
-    ``out/family``; scores under "family": `musclesim.benchmark.calibrate.score`); with
-    `calibration` a file path, the calibration built from those cases
-    (`musclesim.benchmark.calibrate.build`) is written there. The cases run on `pmap` (a map such as
-    `musclesim.batch.serial_map`, the default, or a Dask map); `progress` is told each step.
+    the other's scores in the file. "family" and "crawler-family" draw their cases from a
+    family of bench forms (`musclesim.benchmark.calibrate.FAMILIES`; in ``out/<bench>``, scores
+    under its name: `musclesim.benchmark.calibrate.score`); with `calibration` a file path, the
+    calibration built from those cases (`musclesim.benchmark.calibrate.build`) is written there.
+    With `resume`, `out` holds a run of the same cases that stopped: the cases whose report is
+    written are kept. The cases run on `pmap` (a map such as `musclesim.batch.serial_map`, the
+    default, or a Dask map); `progress` is told each step.
     """
-    if bench not in ("own", "independent", "family"):
-        raise UserError(f"no bench {bench!r} for the blind benchmark (own, independent or "
-                        "family)")
-    if calibration is not None and bench != "family":
-        raise UserError("a calibration is built from family cases only (--bench family)")
+    benches = ("own", "independent", *calibrate.FAMILIES)
+    if bench not in benches:
+        raise UserError(f"no bench {bench!r} for the blind benchmark ({', '.join(benches)})")
+    if calibration is not None and bench not in calibrate.FAMILIES:
+        raise UserError("a calibration is built from a family's cases only (--bench "
+                        f"{' or '.join(calibrate.FAMILIES)})")
     if calibration is not None and not Path(calibration).resolve().parent.is_dir():
         raise UserError(f"--calibrate {calibration}: its folder does not exist")
     if multiplier and bench != "own":
@@ -126,36 +133,51 @@ def run(count: int, seed: int, out: str | Path, fmu_dir: str | Path = "fmus",
         cases = plan(count, seed) + plan_multiplier(multiplier, seed)
         recorded = (_record, [(c, bench_scenario(c, scenarios_dir), fmus) for c in cases])
         score_gap = oracle
-    elif bench == "family":
-        cases = family_plan.plan(count, seed, duration or family_plan.DURATION)
-        recorded = (family_plan.record, [(c, scenarios_dir, fmus) for c in cases])
+    elif bench in calibrate.FAMILIES:
+        fam = calibrate.FAMILIES[bench]
+        cases = fam.plan(count, seed, duration or fam.duration)
+        recorded = (fam.record, [(c, scenarios_dir, fmus) for c in cases])
     else:
         cases = (independent_plan.plan(count, seed, DECOYS, duration or independent_plan.DURATION)
                  + independent_plan.plan_crawler(crawler, seed))
         recorded = (independent_plan.record, cases)
         score_gap = independent_plan.oracle
-    say(f"recording {len(cases)} cases on the {bench} virtual hardware")
     dirs = [out / "cases" / c["case"] for c in cases]
-    for case, folder, (time, cols, *stated) in zip(cases, dirs, pmap(*recorded)):
-        write_case(case, folder, time, cols, (stated or [None])[0], scenarios_dir)
     key = json.dumps({"seed": seed, "cases": cases}, indent=1, sort_keys=True) + "\n"
+    digest = hashlib.sha256(key.encode()).hexdigest()
+    todo = list(range(len(cases)))
+    if resume:
+        sealed = out / "key.sha256"
+        if not sealed.is_file() or sealed.read_text().split()[:1] != [digest]:
+            raise UserError(f"--resume: {out} holds no run of these cases (none at all, or "
+                            "another --seed, --cases, --bench or --duration)")
+        todo = [i for i, d in enumerate(dirs) if not (d / "report.json").is_file()]
+        say(f"resuming: {len(cases) - len(todo)} of {len(cases)} cases diagnosed before")
+    say(f"recording {len(todo)} cases on the {bench} virtual hardware")
+    fn, items = recorded
+    for i, (time, cols, *stated) in zip(todo, pmap(fn, [items[i] for i in todo])):
+        write_case(cases[i], dirs[i], time, cols, (stated or [None])[0], scenarios_dir)
     # sealed: `sha256sum -c key.sha256` checks key.json once it is written, after the diagnosis
-    (out / "key.sha256").write_text(hashlib.sha256(key.encode()).hexdigest() + "  key.json\n")
+    (out / "key.sha256").write_text(digest + "  key.json\n")
     say("diagnosing blind")
     sets = [load_dataset(d, fmu_dir=fmu_dir).loaded() for d in dirs]
+    count_done = [len(cases) - len(todo)]
 
-    def written(i: int, report: dict[str, Any]) -> None:  # each report as its case ends
-        text = json.dumps(report, indent=1, default=float) + "\n"
-        (dirs[i] / "report.json").write_text(text)
-    reports = each(pmap, _diagnose, [(ds, fmus) for ds in sets], written)
+    def written(j: int, report: dict[str, Any]) -> None:  # each report as its case ends
+        replace_file(dirs[todo[j]] / "report.json",
+                     json.dumps(report, indent=1, default=float) + "\n")
+        count_done[0] += 1
+        say(f"{cases[todo[j]]['case']} diagnosed ({count_done[0]} of {len(cases)})")
+    each(pmap, _diagnose, [(sets[i], fmus) for i in todo], written)
+    reports = [json.loads((d / "report.json").read_text()) for d in dirs]
     (out / "key.json").write_text(key)
-    if bench == "family":
+    if bench in calibrate.FAMILIES:
         say("scoring the calibrated sets against the key")
-        scores = calibrate.score(cases, reports)
+        scores = calibrate.score(cases, reports, fam=fam)
         write_scores(top / "scores.json", scores, bench)
         if calibration is not None:
             say(f"building the calibration from the {len(cases)} cases")
-            calibrate.write(calibration, calibrate.build(out))
+            calibrate.write(calibration, calibrate.build(out, fam))
         return scores
     say("scoring against the key and the oracle")
     gaps = pmap(score_gap, [(c, ds, r, fmus) for c, ds, r in zip(cases, sets, reports)])

@@ -1,14 +1,16 @@
 """The diagnosis's sets calibrated on a pool of family cases, and the sets' scores.
 
 `build` turns a pool (a folder of family cases diagnosed, with its key.json, as
-``musclesim benchmark-diagnosis --bench family`` writes it) into a calibration document
+``musclesim benchmark-diagnosis --bench family`` (or ``crawler-family``) writes it) of one
+family of bench forms (a `musclesim.benchmark.family.Family`, `FAMILIES` by name) into a
+calibration document
 (`musclesim.diagnosis.confidence.Confidence`): the pool is split per cause, a third to fit
 the conditional logit and the gate's scale, two thirds to calibrate the per-cause thresholds and
 the gate's scores. It also reports leave-one-form-out coverage (`lofo`: calibrated without
 every case of one form, scored on those) and a reliability table. `score` scores diagnosed
 cases' sets against their key. `fingerprint` is the method's: the source of everything that
-makes a case's features (the diagnosis, the family, this module), docstrings and comments left
-out; a calibration made with another is stale (a test checks the shipped one).
+makes a case's features (the diagnosis, the family and its bench, this module), docstrings and
+comments left out; a calibration made with another is stale (a test checks the shipped ones).
 """
 from __future__ import annotations
 
@@ -23,7 +25,8 @@ from typing import Any
 import numpy as np
 
 from musclesim import diagnosis
-from musclesim.benchmark import family
+from musclesim.benchmark import family, family_crawler
+from musclesim.benchmark.family import Family
 from musclesim.diagnosis import (ANOTHER_PAIR, CALIBRATION_ONLY, TWO_EFFECTS, Confidence,
                                  Outlyingness, alternatives, case_features, fit_choice,
                                  mondrian_thresholds, reliability)
@@ -35,21 +38,19 @@ SPLIT_SEED = 57
 # the logit's ridge, chosen by five-fold cross-validation of the log loss on the fit part of the
 # pool only (1e-2: 1.53, 1e-3: 1.36, 3e-4: 1.33, 1e-4: 1.34, 3e-5: 1.38; uniform 2.20)
 L2 = 3e-4
-SCENARIO = "sma-bench-tracking"
-SIGNALS = ["thermocouple.T_meas", "wire.strain"]  # the family's observed signals
-# the SMA wire's operating regimes (`musclesim.diagnosis.REGIMES`) but "all", their reference
-REGIMES = ["changing", "heating", "cooling", "hot", "transformation", "late"]
+FAMILIES: dict[str, Family] = {f.bench: f for f in (family.SMA, family_crawler.CRAWLER)}
+# the benchmark's modules every family's cases pass through, besides its own `Family.sources`
+SHARED = ("family.py", "plan.py", "calibrate.py", "cases.py", "recording.py")
 
 
-def fingerprint() -> str:
-    """sha256 of the method's source (`diagnosis` but its report writer, the family and its
-    bench, this module), each module's syntax tree without docstrings."""
+def fingerprint(fam: Family = family.SMA) -> str:
+    """sha256 of the method's source for family `fam` (`diagnosis` but its report writer, the
+    benchmark's shared modules, the family and its bench), each module's syntax tree without
+    docstrings."""
     here = Path(__file__).parent
     files = sorted(p for p in Path(diagnosis.__file__).parent.glob("*.py")
                    if p.name != "report.py")
-    files += [here / "family.py", here / "plan.py", here / "calibrate.py", here / "cases.py",
-              here / "recording.py",
-              here / "benches" / "sma.py", here / "benches" / "sma_kinetics.py"]
+    files += [here / name for name in dict.fromkeys(SHARED + fam.sources)]
     h = hashlib.sha256()
     for p in files:
         tree = ast.parse(p.read_text())
@@ -85,9 +86,9 @@ def _truth(case: dict[str, Any], names: list[str]) -> str:
     return cause
 
 
-def _arrays(rows: list[tuple[dict, dict]], singles: list[str]) -> dict[str, Any]:
-    """Padded (features, available, truth index, alternatives' causes) of `rows`."""
-    alts = [alternatives(doc, singles, SIGNALS, REGIMES) for _, doc in rows]
+def _arrays(rows: list[tuple[dict, dict]], fam: Family) -> dict[str, Any]:
+    """Padded (features, available, truth index, alternatives' causes) of `rows` of `fam`."""
+    alts = [alternatives(doc, list(fam.library), fam.signals, fam.regimes) for _, doc in rows]
     width = max(len(a) for a in alts)
     F = np.zeros((len(rows), width, len(alts[0][0][2])))
     avail = np.zeros((len(rows), width), bool)
@@ -100,11 +101,13 @@ def _arrays(rows: list[tuple[dict, dict]], singles: list[str]) -> dict[str, Any]
     return {"F": F, "available": avail, "truth": truth, "alternatives": alts}
 
 
-def _split(rows: list[tuple[dict, dict]]) -> tuple[list[int], list[int]]:
-    """(fit, calibration) indices: `FIT_SHARE` of each cause's cases to fit, at random."""
+def _split(rows: list[tuple[dict, dict]],
+           fam: Family = family.SMA) -> tuple[list[int], list[int]]:
+    """(fit, calibration) indices: `FIT_SHARE` of each of `fam`'s causes' cases to fit, at
+    random."""
     rng = np.random.default_rng(SPLIT_SEED)
     fit, cal = [], []
-    for cause in family.CAUSES:
+    for cause in fam.causes:
         idx = [i for i, (c, _) in enumerate(rows) if c["cause"] == cause]
         idx = [idx[j] for j in rng.permutation(len(idx))]
         k = int(round(FIT_SHARE * len(idx)))
@@ -114,18 +117,18 @@ def _split(rows: list[tuple[dict, dict]]) -> tuple[list[int], list[int]]:
 
 
 def calibrate(rows: list[tuple[dict, dict]], fit: list[int], cal: list[int],
-              meta: dict[str, Any] | None = None) -> dict[str, Any]:
-    """A calibration document from pool `rows`: the logit and the gate's scale fitted on the
-    rows `fit`, the thresholds and the gate's scores on the rows `cal`."""
-    singles = list(family.LIBRARY)
-    a = _arrays([rows[i] for i in fit], singles)
+              meta: dict[str, Any] | None = None, fam: Family = family.SMA) -> dict[str, Any]:
+    """A calibration document from pool `rows` of family `fam`: the logit and the gate's scale
+    fitted on the rows `fit`, the thresholds and the gate's scores on the rows `cal`."""
+    singles = list(fam.library)
+    a = _arrays([rows[i] for i in fit], fam)
     weights = fit_choice(a["F"], a["available"], a["truth"], L2)
     scale = Outlyingness.fit(np.array([case_features(rows[i][1]) for i in fit]))
     doc: dict[str, Any] = {
-        "name": f"{SCENARIO}-family-{family.VERSION}", "scenario": SCENARIO,
-        "alpha": ALPHA, "singles": singles, "causes": list(family.CAUSES),
-        "weights": weights.tolist(), "signals": SIGNALS, "regimes": REGIMES,
-        "features": diagnosis.confidence_features(singles, SIGNALS, REGIMES),
+        "name": f"{fam.scenario}-{fam.bench}-{fam.version}", "scenario": fam.scenario,
+        "alpha": ALPHA, "singles": singles, "causes": list(fam.causes),
+        "weights": weights.tolist(), "signals": fam.signals, "regimes": fam.regimes,
+        "features": diagnosis.confidence_features(singles, fam.signals, fam.regimes),
         "thresholds": {}, "gate": {"alpha": GATE_ALPHA, "outlyingness": scale.to_json(),
                                    "scores": []},
         **(meta or {})}
@@ -136,26 +139,26 @@ def calibrate(rows: list[tuple[dict, dict]], fit: list[int], cal: list[int],
                             ALPHA)
     doc["thresholds"] = {k: (v if math.isfinite(v) else 1.0) for k, v in q.items()}
     doc["scores"] = {k: sorted(s for s, (c, _) in zip(scores, cal_rows) if c["cause"] == k)
-                     for k in family.CAUSES}
+                     for k in fam.causes}
     doc["gate"]["scores"] = scale.score(
         np.array([case_features(d) for _, d in cal_rows])).tolist()
     return doc
 
 
-def build(folder: str | Path) -> dict[str, Any]:
-    """The calibration document of the diagnosed pool in `folder`, with its reliability
-    table and leave-one-form-out coverage (``lofo``)."""
+def build(folder: str | Path, fam: Family = family.SMA) -> dict[str, Any]:
+    """The calibration document of the diagnosed pool of family `fam` in `folder`, with its
+    reliability table and leave-one-form-out coverage (``lofo``)."""
     rows = pool(folder)
-    fit, cal = _split(rows)
+    fit, cal = _split(rows, fam)
     key = json.loads((Path(folder) / "key.json").read_text())
-    meta = {"fingerprint": fingerprint(),
-            "family": {"version": family.VERSION, "seed": key["seed"], "cases": len(rows)},
+    meta = {"fingerprint": fingerprint(fam),
+            "family": {"version": fam.version, "seed": key["seed"], "cases": len(rows)},
             "cases": {"fit": len(fit), "calibration": len(cal)},
             "created": datetime.date.today().isoformat()}
-    doc = calibrate(rows, fit, cal, meta)
+    doc = calibrate(rows, fit, cal, meta, fam)
     cal_obj = Confidence(doc)
     doc["reliability"] = _reliability(cal_obj, [rows[i] for i in cal])
-    doc["lofo"] = lofo(rows, fit, cal)
+    doc["lofo"] = lofo(rows, fit, cal, fam)
     return doc
 
 
@@ -170,11 +173,13 @@ def _reliability(cal: Confidence, rows: list[tuple[dict, dict]]) -> list[Any]:
     return reliability(np.array(probs), np.array(hits))
 
 
-def lofo(rows: list[tuple[dict, dict]], fit: list[int], cal: list[int]) -> dict[str, Any]:
-    """Leave one form out: per subsystem and form, the coverage on the pool's cases of that
-    form of a calibration made without any of them; and over all forms, per subsystem."""
+def lofo(rows: list[tuple[dict, dict]], fit: list[int], cal: list[int],
+         fam: Family = family.SMA) -> dict[str, Any]:
+    """Leave one form out: per subsystem of family `fam` and form, the coverage on the pool's
+    cases of that form of a calibration made without any of them; and over all forms, per
+    subsystem."""
     out: dict[str, Any] = {}
-    for sub, options in family.FORMS.items():
+    for sub, options in fam.forms.items():
         per: dict[str, Any] = {}
         hit_all = n_all = 0
         for form in options:
@@ -182,9 +187,9 @@ def lofo(rows: list[tuple[dict, dict]], fit: list[int], cal: list[int]) -> dict[
             test = [rows[i] for i in range(len(rows)) if rows[i][0]["forms"][sub] == form]
             if not test:
                 continue
-            doc = calibrate(rows, keep(fit), keep(cal))
+            doc = calibrate(rows, keep(fit), keep(cal), fam=fam)
             doc.update(fingerprint="", family={}, cases={}, created="")
-            s = score([c for c, _ in test], [d for _, d in test], Confidence(doc))
+            s = score([c for c, _ in test], [d for _, d in test], Confidence(doc), fam)
             per[form] = {"cases": s["cases"], "coverage": s["coverage"],
                          "mean_set_size": s["mean_set_size"]}
             hit_all += round(s["coverage"] * s["cases"])
@@ -194,8 +199,8 @@ def lofo(rows: list[tuple[dict, dict]], fit: list[int], cal: list[int]) -> dict[
 
 
 def score(cases: list[dict[str, Any]], docs: list[dict[str, Any]],
-          cal: Confidence | None = None) -> dict[str, Any]:
-    """The sets' scores over family `cases` and their report.json `docs`: coverage overall
+          cal: Confidence | None = None, fam: Family = family.SMA) -> dict[str, Any]:
+    """The sets' scores over `cases` of family `fam` and their report.json `docs`: coverage overall
     and per cause, set sizes (mean and distribution), false alarms (no effect hidden, yet
     calibration only left out), the gate's firing rate, a reliability table. With `cal` the
     sets are made here from the documents; without, read from their ``evidence``."""
@@ -214,9 +219,9 @@ def score(cases: list[dict[str, Any]], docs: list[dict[str, Any]],
     sizes = [len(r["set"]) for r in rows]
     per = {k: {"cases": sum(r["cause"] == k for r in rows),
                "coverage": _mean([c for c, r in zip(covered, rows) if r["cause"] == k])}
-           for k in family.CAUSES}
-    probs = [r["probabilities"].get(k, 0.0) for r in rows for k in family.CAUSES]
-    hits = [r["cause"] == k for r in rows for k in family.CAUSES]
+           for k in fam.causes}
+    probs = [r["probabilities"].get(k, 0.0) for r in rows for k in fam.causes]
+    hits = [r["cause"] == k for r in rows for k in fam.causes]
     none = [r for r in rows if r["cause"] == CALIBRATION_ONLY]
     return {"cases": n, "coverage": _mean(covered), "per_cause": per,
             "mean_set_size": _mean(sizes),
@@ -237,4 +242,4 @@ def write(path: str | Path, doc: dict[str, Any]) -> None:
 
 
 __all__ = ["build", "calibrate", "lofo", "score", "fingerprint", "pool", "write", "ALPHA",
-           "GATE_ALPHA", "L2"]
+           "GATE_ALPHA", "L2", "FAMILIES"]

@@ -123,14 +123,14 @@ def plan(count: int, seed: int) -> list[dict[str, Any]]:
             pool = BENCHES[bench][3] if kind == "effect" else [d[0] for d in DECOYS]
             effect = pool[rng.integers(len(pool))]
             case["effect"] = effect
-            case["values"] = _draw(effect, rng)
+            case["values"] = draw_values(effect, rng)
         if kind == "effect":  # moved to a load bench, then (the later draw wins) the crawler
             for benches, share, stream in ((LOAD_BENCHES, LOAD_SHARE, load_rng),
                                            (("crawler",), CRAWLER_SHARE, crawler_rng)):
                 if stream.random() < share:
                     moves = [(b, e) for b in benches for e in BENCHES[b][3]]
                     bench, effect = moves[stream.integers(len(moves))]
-                    case.update(bench=bench, effect=effect, values=_draw(effect, stream))
+                    case.update(bench=bench, effect=effect, values=draw_values(effect, stream))
         elif kind == "outside":
             name = list(OUTSIDE)[rng.integers(len(OUTSIDE))]
             case["effect"] = name
@@ -164,12 +164,12 @@ def plan_multiplier(count: int, seed: int) -> list[dict[str, Any]]:
             "seed": int(rng.integers(0, 2**31))}
         if kind == "effect":
             effect = effects_[rng.integers(len(effects_))]
-            case.update(effect=effect, values=_draw(effect, rng))
+            case.update(effect=effect, values=draw_values(effect, rng))
         cases.append(case)
     return cases
 
 
-def _draw(effect: str, rng: np.random.Generator) -> dict[str, float]:
+def draw_values(effect: str, rng: np.random.Generator) -> dict[str, float]:
     """{"instance.parameter": value} of `effect` at a random magnitude (and sign if signed)."""
     sign = -1.0 if effect in SIGNED and rng.random() < 0.5 else 1.0
     values = {}

@@ -25,7 +25,9 @@ the loop and the reference replayed, the sensors' noise and latency of the own b
 (`musclesim.benchmark.recording`); its forms are all ``model``, and it has no draught.
 
 The family's version (`VERSION`) changes whenever a form, a draw or a cause changes; a
-calibration records the version it was computed on.
+calibration records the version it was computed on. `SMA` is this family as the calibration
+(`musclesim.benchmark.calibrate`) sees it: a `Family`, the type every family of bench forms
+(also `musclesim.benchmark.family_crawler`) is described by.
 
 >>> cases = plan(9, 1)
 >>> sorted({c["cause"] for c in cases}) == sorted(CAUSES)
@@ -33,7 +35,8 @@ True
 """
 from __future__ import annotations
 
-from dataclasses import replace
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -98,6 +101,44 @@ LIBRARY = ("thermocouple lag", "thermocouple bias", "latent heat", "convection c
 OUTSIDE = ("clamp slip", "gauge drift", "draught")
 CAUSES = (CALIBRATION_ONLY, *LIBRARY, TWO_EFFECTS, OUTSIDE_LIBRARY)
 QUANTA = (0.05, 0.1, 0.25)  # K: the thermocouple's resolution, by the amplifier
+
+
+SCENARIO = independent.SCENARIO
+SIGNALS = ["thermocouple.T_meas", "wire.strain"]  # the family's observed signals
+# the SMA wire's operating regimes (`musclesim.diagnosis.REGIMES`) but "all", their reference
+REGIMES = ["changing", "heating", "cooling", "hot", "transformation", "late"]
+
+
+@dataclass(frozen=True)
+class Family:
+    """A family of bench forms as its calibration sees it: the blind benchmark's name for it
+    (`bench`, also its folder and its key in scores.json), its `version`, the `scenario` its
+    data sets name (the calibration is shipped under that name), its `forms` (subsystem ->
+    form -> source), the single effects of the library it hides (`library`) and those outside
+    it (`outside`), the observed `signals` and operating `regimes` the sets' features read,
+    the modules besides the shared ones whose source makes its cases (`sources`, relative to
+    `musclesim.benchmark`; the calibration's fingerprint), and how its cases are drawn
+    (`plan`: count, seed, duration) and recorded (`record`: (case, scenarios folder, FMU
+    folder) -> (time, columns, stated conditions)) for `duration` seconds by default."""
+
+    bench: str
+    version: int
+    scenario: str
+    forms: dict[str, dict[str, str]]
+    library: tuple[str, ...]
+    outside: tuple[str, ...]
+    signals: list[str]
+    regimes: list[str]
+    sources: tuple[str, ...]
+    plan: Callable[..., list[dict[str, Any]]]
+    record: Callable[[tuple[dict[str, Any], Any, Any]], tuple[np.ndarray, dict, dict]]
+    duration: float
+
+    @property
+    def causes(self) -> tuple[str, ...]:
+        """The labels the sets are calibrated per, in order: calibration only, each single
+        effect, two effects, outside the library."""
+        return (CALIBRATION_ONLY, *self.library, TWO_EFFECTS, OUTSIDE_LIBRARY)
 
 
 def forms(rng: np.random.Generator) -> dict[str, str]:
@@ -220,3 +261,9 @@ def record(args: tuple[dict[str, Any], Any, Any]) -> tuple[np.ndarray, dict, dic
     stated = ({independent.AMBIENT: round(case["ambient_read"], 2)} if case["ambient_known"]
               else {})
     return out["time"], cols, stated
+
+
+SMA = Family(bench=BENCH, version=VERSION, scenario=SCENARIO, forms=FORMS, library=LIBRARY,
+             outside=OUTSIDE, signals=SIGNALS, regimes=REGIMES,
+             sources=("family.py", "benches/sma.py", "benches/sma_kinetics.py"), plan=plan,
+             record=record, duration=DURATION)

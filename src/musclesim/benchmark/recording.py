@@ -113,7 +113,7 @@ def write_case(case: dict[str, Any], folder: Path, time: np.ndarray,
     """Write `case`'s recording (`time`, `cols`) as a data set in `folder`, naming its model's
     scenario (in `scenarios_dir`) and the conditions the bench `stated`."""
     ip = independent_plan
-    if case["bench"] == "independent-crawler":
+    if case["bench"] in ("independent-crawler", "crawler-family"):
         scenario, inputs, outputs = ip.CRAWLER_SCENARIO, ip.CRAWLER_INPUTS, ip.CRAWLER_OUTPUTS
         what = "the independent crawler bench"
     elif case["bench"] in (ip.BENCH, "family"):

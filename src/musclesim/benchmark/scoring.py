@@ -40,13 +40,13 @@ def oracle(args: tuple[dict[str, Any], Any, dict[str, Any], Any]) -> dict[str, f
 
 def write_scores(path: Path, scores: dict[str, Any], bench: str) -> None:
     """Write `scores` into scores.json at `path`: the own bench's (`bench` "own") at the top,
-    another bench's under its name ("independent", "family"); a run replaces its own part and
-    keeps the others'."""
+    another bench's under its name ("independent", "family", "crawler-family"); a run replaces
+    its own part and keeps the others'."""
     try:
         old = json.loads(path.read_text())
     except (OSError, ValueError):
         old = {}
-    others = ("independent", "family")
+    others = ("independent", "family", "crawler-family")
     if bench == "own":
         new = {**scores, **{k: old[k] for k in others if k in old}}
     else:

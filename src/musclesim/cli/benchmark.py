@@ -22,7 +22,7 @@ def _cmd_benchmark_diagnosis(args: argparse.Namespace) -> int:
                                      lambda text: print(f"musclesim: {text}", file=sys.stderr),
                                      bench=args.bench, duration=args.duration,
                                      multiplier=args.multiplier, crawler=args.crawler,
-                                     calibration=args.calibrate)
+                                     calibration=args.calibrate, resume=args.resume)
     print(json.dumps({k: v for k, v in scores.items() if k != "per_case"}, indent=2))
     print(f"wrote {Path(args.out) / 'scores.json'} (per-case table inside)")
     if args.calibrate:
@@ -39,18 +39,24 @@ def add_benchmark_diagnosis(sub: "argparse._SubParsersAction[argparse.ArgumentPa
     q.add_argument("--seed", type=int, default=1, help="seed of the hidden truths (default 1)")
     q.add_argument("--out", required=True, help="folder for the cases, key and scores.json")
     q.add_argument("--scenarios", default="scenarios", help="folder of the bench scenarios")
-    q.add_argument("--bench", choices=["own", "independent", "family"], default="own",
+    q.add_argument("--bench", choices=["own", "independent", "family", "crawler-family"],
+                   default="own",
                    help="own: the library's FMUs with hidden effects (default); independent: "
                         "an SMA bench written apart from the library (scores under "
-                        "'independent' in scores.json); family: SMA benches of many forms, "
-                        "scored by the calibrated sets (under 'family')")
+                        "'independent' in scores.json); family, crawler-family: SMA or crawler "
+                        "benches of many forms, scored by the calibrated sets (under the "
+                        "bench's name)")
     q.add_argument("--calibrate", metavar="FILE", default=None,
-                   help="family bench: build the sets' calibration from these cases and write "
-                        "it to FILE (the shipped one: src/musclesim/diagnosis/calibrations/"
-                        "sma-bench-tracking.json; its 720 cases took 36 min on 2 cores)")
+                   help="family benches: build the sets' calibration from these cases and "
+                        "write it to FILE (the shipped ones: src/musclesim/diagnosis/"
+                        "calibrations/<scenario>.json; the SMA's 720 cases took 36 min on 2 "
+                        "cores)")
+    q.add_argument("--resume", action="store_true",
+                   help="go on with a run in --out that stopped, the same --seed, --cases, "
+                        "--bench and --duration: cases already diagnosed are kept")
     q.add_argument("--duration", type=duration, default=None,
-                   help="independent or family bench: seconds recorded per SMA case "
-                        "(default 120)")
+                   help="independent or family benches: seconds recorded per case (default "
+                        "120 for SMA, 12 for the crawler)")
     q.add_argument("--multiplier", type=positive, default=0, metavar="N",
                    help="own bench: N extra cases on the capstan multiplier's bench "
                         "(default none)")
