@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from musclesim.benchmark.benches import crawler as ic
+from musclesim.benchmark.benches import crawler_air as air
 
 ROOT = Path(__file__).resolve().parents[2]
 NOMINAL = ic.Crawler()  # the model's values, ideal sensors
@@ -55,12 +56,11 @@ def test_pwm_open_share_and_delays():
 
 
 def test_a_closed_chamber_compressed_relaxes_from_adiabatic_to_isothermal():
-    bench = replace(NOMINAL, tau_wall=0.5)
-    ch = ic._Chamber(1e-5)
-    ch.step(bench, 1e-5, 0.0, 0.0, ic.P_ATM, 0.9e-5)  # a fast 10 % squeeze
+    ch = air.Chamber(1e-5, air.Air(tau_wall=0.5))
+    ch.step(1e-5, 0.0, 0.0, ic.P_ATM, 0.9e-5)  # a fast 10 % squeeze
     assert ch.p == pytest.approx(ic.P_ATM * (1 / 0.9) ** ic.KAPPA, rel=2e-3)
     for _ in range(5000):  # 5 s, ten wall time constants
-        ch.step(bench, 1e-3, 0.0, 0.0, ic.P_ATM, 0.9e-5)
+        ch.step(1e-3, 0.0, 0.0, ic.P_ATM, 0.9e-5)
     assert ch.p == pytest.approx(ic.P_ATM / 0.9, rel=1e-4)
     assert ch.T == pytest.approx(ic.T_ROOM, abs=1e-3)
 
@@ -70,9 +70,9 @@ def test_lugre_block_sticks_below_the_static_force_and_slides_above():
     # reached over 0.5 s, then held 0.5 s; between the kinetic and the static force LuGre's
     # breakaway depends on the force's rate (Canudas de Wit et al. 1995), so not tested there
     for push, sticks in ((1.4, True), (2.1, False)):
-        block, x, v = ic._Block(), 0.0, 0.0
+        block, x, v = ic.FRICTIONS["lugre"](), 0.0, 0.0
         for i in range(5000):
-            f = block.force(v, normal, mu_s, mu_k, NOMINAL, dt)
+            f = block.force(v, normal, mu_s, mu_k, 0.0, NOMINAL, dt)
             v += (push * min(i / 2500, 1.0) + f) / m * dt
             x += v * dt
         if sticks:  # presliding only: about the bristles' deflection push / sigma0
@@ -122,10 +122,12 @@ def test_hidden_effects_act_as_named(walk):
 
 
 def test_the_crawler_bench_imports_nothing_of_the_library():
-    tree = ast.parse((ROOT / "src/musclesim/benchmark/benches/crawler.py").read_text())
-    modules = [a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names]
-    modules += [n.module or "" for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)]
-    assert not [m for m in modules if m.startswith("musclesim")]  # numpy only
+    for name in ("crawler.py", "crawler_air.py"):  # numpy and scipy only, and each other
+        tree = ast.parse((ROOT / "src/musclesim/benchmark/benches" / name).read_text())
+        modules = [a.name for n in ast.walk(tree) if isinstance(n, ast.Import) for a in n.names]
+        modules += [n.module or "" for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)]
+        assert not [m for m in modules if m.startswith("musclesim")
+                    and m != "musclesim.benchmark.benches.crawler_air"]
 
 
 def digest(out):
