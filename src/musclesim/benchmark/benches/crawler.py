@@ -16,18 +16,18 @@ library's:
   wall over ``tau_wall``; isothermal; polytropic with ``polytropic_n``. The central chamber grows
   with the elongation and bulges with its pressure; an extremal chamber grows as its silicone
   spreads on the ground.
-- Contact (``contact``): an extremal actuator's share of silicone on the ground about its own
-  threshold (the front one's higher, §gait), reached over a spreading time ``tau_contact``:
-  ``"logistic"`` in the pressure (width ``contact_width``); ``"threshold"``, all or nothing
-  (the library's switch, §friction's switched coefficients); ``"bulging"``, linear from
+- Contact (``contact``; §contact: firm contact past a least pressure, the front one's higher,
+  §gait): an extremal actuator's share of silicone on the ground about its own threshold, reached
+  over a spreading time ``tau_contact`` (a lag, not §contact's ramp): ``"logistic"`` in the
+  pressure (width ``contact_width``); ``"threshold"``, all or nothing; ``"bulging"``, linear from
   3 ``contact_width`` below the threshold to 3 above (the silicone bulging onto the ground).
 - Friction (§friction; ``friction``): per block, its coefficients blended by the contact share:
   ``"lugre"``, the LuGre model (Canudas de Wit et al., IEEE TAC 40, 1995), the bristles' stiffness
   proportional to the normal force; ``"dahl"``, Dahl's model (Dahl, "A solid friction model",
-  Aerospace Corp. TOR-158, 1968; as in Canudas de Wit et al. 1995 without Stribeck: kinetic
-  friction, static grip only by the presliding stiffness); ``"coulomb"``, switching Coulomb
-  friction with stiction (Karnopp, ASME J. Dyn. Syst. Meas. Control 107, 1985), a block inside
-  `V_STICK` held while the other forces stay below ``mu_s N``.
+  Aerospace Corp. TOR-158, 1968; AIAA J. 14, 1976; as in Canudas de Wit et al. 1995 without
+  Stribeck: kinetic friction, static grip only by the presliding stiffness); ``"coulomb"``,
+  switching Coulomb friction with stiction (Karnopp, ASME J. Dyn. Syst. Meas. Control 107, 1985),
+  a block inside `V_STICK` held while the other forces stay below ``mu_s N``.
 - Body (§two-mass): two masses, the central actuator a spring ``k d (1 + k3 d^2)`` (linear at
   ``k3 = 0``, stiffening above) and a damper, its force on an effective area of its own; the
   board's incline as drawn.
@@ -56,9 +56,8 @@ from typing import Any
 
 import numpy as np
 
-from musclesim.benchmark.benches.crawler_air import (CHAMBERS, KAPPA, P_ATM, R_AIR, R_CRIT,
-                                                     SPOOLS, T_ROOM, VALVE_LAWS, Air, Chamber,
-                                                     nozzle_flow, valve_flow)
+from musclesim.benchmark.benches.crawler_air import (CHAMBERS, P_ATM, R_AIR, SPOOLS, T_ROOM,
+                                                     VALVE_LAWS, Air, Chamber, valve_flow)
 
 G = 9.81  # m/s^2
 S_A = 9.62e-4  # m^2: the central actuator's 35 mm section (§two-mass)
