@@ -57,7 +57,7 @@ def test_pwm_open_share_and_delays():
 
 
 def test_a_closed_chamber_compressed_relaxes_from_adiabatic_to_isothermal():
-    ch = air.Chamber(1e-5, air.Air(tau_wall=0.5))
+    ch = air.Chamber(1e-5, ic.air_settings(replace(NOMINAL, tau_wall=0.5)))
     ch.step(1e-5, 0.0, 0.0, ic.P_ATM, 0.9e-5)  # a fast 10 % squeeze
     assert ch.p == pytest.approx(ic.P_ATM * (1 / 0.9) ** air.KAPPA, rel=2e-3)
     for _ in range(5000):  # 5 s, ten wall time constants
@@ -205,7 +205,7 @@ def test_iso6358_chokes_as_the_nozzle_and_the_orifice_follows_bernoulli():
 def test_isothermal_and_polytropic_chambers_keep_their_laws():
     V0, dt = 1e-5, 1e-4
     for form, n in (("isothermal", 1.0), ("polytropic", 1.3)):
-        ch = air.Chamber(V0, air.Air(chamber=form, polytropic_n=n))
+        ch = air.Chamber(V0, ic.air_settings(replace(NOMINAL, chamber=form, polytropic_n=n)))
         mass = ic.P_ATM * V0 / (air.R_AIR * ic.T_ROOM)
         invariant = ic.P_ATM * V0 ** n / mass ** n
         for i in range(200):  # 10 ms filling, then 10 ms squeezed by 10 % without flow
@@ -260,7 +260,7 @@ def test_a_coulomb_block_with_full_grip_stays_still_on_the_incline_and_a_slick_o
     # the blocks uncoupled (no spring, damper or pressure): each on the incline alone; the back
     # one on its silicone (mu_s 1), the front one on its casing (mu_s 0.13 < tan 7.5 deg)
     bench = replace(NOMINAL, friction="coulomb", k=0.0, c=0.0)
-    chambers = [air.Chamber(ic.V_EXTREMAL, air.Air()) for _ in range(3)]
+    chambers = [air.Chamber(ic.V_EXTREMAL, ic.air_settings(bench)) for _ in range(3)]
     chambers[0].contact = 1.0
     blocks = [ic.FRICTIONS["coulomb"]() for _ in range(2)]
     x, v, masses = [0.0, 0.0], [0.05, 0.0], (bench.m1, bench.m2)  # the back one pushed uphill

@@ -163,8 +163,8 @@ class Crawler:
                              "in [0, 1)")
 
 
-def _air(bench: Crawler) -> Air:
-    """The settings of `bench`'s air (`crawler_air.Air`)."""
+def air_settings(bench: Crawler) -> Air:
+    """The settings of `bench`'s air (`musclesim.benchmark.benches.crawler_air.Air`)."""
     return Air(valve_law=bench.valve_law, valve_b=bench.valve_b, valve_area=bench.valve_area,
                spool=bench.spool, tau_valve=bench.tau_valve, spool_zeta=bench.spool_zeta,
                chamber=bench.chamber, polytropic_n=bench.polytropic_n, tau_wall=bench.tau_wall,
@@ -376,7 +376,7 @@ def run(bench: Crawler, duration: float, substeps: int = SUBSTEPS) -> dict[str, 
     rng = np.random.default_rng(bench.seed)
     dt = DAQ / substeps
     n = int(round(duration / DAQ)) + 1
-    air = _air(bench)
+    air = air_settings(bench)
     chambers = [Chamber(V_EXTREMAL, air), Chamber(V_CENTRAL, air), Chamber(V_EXTREMAL, air)]
     blocks = [FRICTIONS[bench.friction]() for _ in range(2)]
     x = [0.0, 0.0]  # m, positions from rest

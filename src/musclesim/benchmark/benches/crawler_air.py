@@ -24,8 +24,8 @@ library: numpy and scipy only.
   whatever the flows; the temperature only follows from the ideal gas, ``T = p V / (m R)``, for
   the air leaving the chamber (no state of its own).
 
->>> ch = Chamber(1e-5, Air())
->>> ch.step(1e-4, 1.0, 0.0, 2 * P_ATM, 1e-5) > 0  # an open inlet fills it
+>>> air = Air("nozzle", 0.3, 2.5e-7, "first-order", 0.002, 0.7, "energy", 1.2, 1.0, 0.0, -20e3)
+>>> Chamber(1e-5, air).step(1e-4, 1.0, 0.0, 2 * P_ATM, 1e-5) > 0  # an open inlet fills it
 True
 """
 from __future__ import annotations
@@ -54,20 +54,22 @@ CHOKED = math.sqrt(KAPPA / R_AIR) * (2 / (KAPPA + 1)) ** ((KAPPA + 1) / (2 * (KA
 
 @dataclass(frozen=True)
 class Air:
-    """The air's forms and settings of one bench (`musclesim.benchmark.benches.crawler.Crawler`
-    names them the same); the defaults are the bench's."""
+    """The air's forms and settings of one bench, as its
+    `musclesim.benchmark.benches.crawler.Crawler` names them (and declares their defaults):
+    `valve_law`, `valve_b`, `valve_area` [m^2], `spool`, `tau_valve` [s], `spool_zeta`,
+    `chamber`, `polytropic_n`, `tau_wall` [s], `leak` [kg/(s Pa)], `p_exhaust` [Pa gauge]."""
 
-    valve_law: str = "nozzle"
-    valve_b: float = 0.3  # ISO 6358's critical ratio (§valves)
-    valve_area: float = 2.5e-7  # m^2: effective area of an open valve
-    spool: str = "first-order"
-    tau_valve: float = 0.002  # s
-    spool_zeta: float = 0.7  # damping of the second-order spool
-    chamber: str = "energy"
-    polytropic_n: float = 1.2  # between isothermal and adiabatic (§chamber)
-    tau_wall: float = 1.0  # s: the air's heat exchange with the silicone
-    leak: float = 0.0  # kg/(s Pa): laminar, in (p^2 - p_atm^2) / p_atm
-    p_exhaust: float = -20e3  # Pa gauge
+    valve_law: str
+    valve_b: float
+    valve_area: float
+    spool: str
+    tau_valve: float
+    spool_zeta: float
+    chamber: str
+    polytropic_n: float
+    tau_wall: float
+    leak: float
+    p_exhaust: float
 
 
 def nozzle_flow(p_up: Any, p_down: Any, area: Any, T_up: Any) -> Any:
