@@ -1,30 +1,42 @@
-"""A pneumatic crawler bench written apart from the library: chambers with heat exchange, LuGre
-friction, a nonlinear actuator, slow video.
+"""A pneumatic crawler bench written apart from the library, each subsystem in several forms:
+valves, spools and chambers (`musclesim.benchmark.benches.crawler_air`), contact, friction, the
+body's spring, the camera.
 
 The independent virtual hardware of the crawler cases of the blind benchmark
-(`musclesim.benchmark.plan` draws them). Nothing here comes from
-`musclesim.components`; each part is another representation than the library's:
+(`musclesim.benchmark.plan` draws them). Nothing here comes from `musclesim.components`; the
+defaults (the first form named in each field of `FORMS`) are other representations than the
+library's:
 
 - Valves (§crawler-hardware, §valves): PWM on a carrier of its own phase; the spool's opening
-  follows the command with a first-order lag; flow by the isentropic nozzle law
-  (Saint-Venant-Wantzel, critical ratio ``(2 / (kappa + 1)) ** (kappa / (kappa - 1))``, laminar
-  within 0.1 % of equal pressures), not the ISO 6358 conductance.
-- Chambers: mass and energy balances of the air (kappa 1.4) with heat exchange to the silicone
-  wall over ``tau_wall``, not a polytropic law; the central chamber grows with the elongation and
-  bulges with its pressure; an extremal chamber grows as its silicone spreads on the ground.
-- Contact: an extremal actuator's share of silicone on the ground is a logistic function of its
-  pressure about its own threshold (the front one's higher, §gait), reached over a spreading
-  time, not a ramp at a threshold.
-- Friction (§friction): the LuGre model (Canudas de Wit et al., IEEE TAC 40, 1995) per block, its
-  coefficients blended by the contact share, the bristles' stiffness proportional to the normal
-  force; not Karnopp.
-- Body (§two-mass): two masses, the central actuator a hardening spring ``k d (1 + k3 d^2)`` and a
-  damper, its force on an effective area of its own; the board's incline as drawn.
+  follows the command (``spool``: a first-order lag; a damped second-order armature; a coil's dead
+  time then a lag); flow by a ``valve_law``: the isentropic nozzle (Saint-Venant-Wantzel), the
+  incompressible orifice, or ISO 6358's conductance and critical ratio ``valve_b`` (sources in
+  `crawler_air`).
+- Chambers (``chamber``): mass and energy balances of the air with heat exchange to the silicone
+  wall over ``tau_wall``; isothermal; polytropic with ``polytropic_n``. The central chamber grows
+  with the elongation and bulges with its pressure; an extremal chamber grows as its silicone
+  spreads on the ground.
+- Contact (``contact``; §contact: firm contact past a least pressure, the front one's higher,
+  §gait): an extremal actuator's share of silicone on the ground about its own threshold, reached
+  over a spreading time ``tau_contact`` (a lag, not §contact's ramp): ``"logistic"`` in the
+  pressure (width ``contact_width``); ``"threshold"``, all or nothing; ``"bulging"``, linear from
+  3 ``contact_width`` below the threshold to 3 above (the silicone bulging onto the ground).
+- Friction (§friction; ``friction``): per block, its coefficients blended by the contact share:
+  ``"lugre"``, the LuGre model (Canudas de Wit et al., IEEE TAC 40, 1995), the bristles' stiffness
+  proportional to the normal force; ``"dahl"``, Dahl's model (Dahl, "A solid friction model",
+  Aerospace Corp. TOR-158, 1968; AIAA J. 14, 1976; as in Canudas de Wit et al. 1995 without
+  Stribeck: kinetic friction, static grip only by the presliding stiffness); ``"coulomb"``,
+  switching Coulomb friction with stiction (Karnopp, ASME J. Dyn. Syst. Meas. Control 107, 1985),
+  a block inside `V_STICK` held while the other forces stay below ``mu_s N``.
+- Body (§two-mass): two masses, the central actuator a spring ``k d (1 + k3 d^2)`` (linear at
+  ``k3 = 0``, stiffening above) and a damper, its force on an effective area of its own; the
+  board's incline as drawn.
 - Controller: a PI per actuator on its sensor at 1 kHz (the duties logged, as the diagnosis
   replays them) following §gait's four-phase gait.
 - Sensors: pressure sensors behind a short tube (a first-order lag), gain, noise,
-  quantisation; the blocks' positions from video at `VIDEO_FPS`, scaled by the camera, tracked to
-  a pixel with noise, delayed, and interpolated onto the DAQ's clock.
+  quantisation; the blocks' positions from video at ``video_fps`` frames/s, scaled by the camera,
+  tracked to a pixel with noise, delayed, and interpolated onto the DAQ's clock, or
+  (``video_hold``) the last frame held, as a frame grabber gives it.
 
 Hidden effects, each written here without the library's version: valve delay (the PWM windows
 shifted), supply-pressure drop (a reservoir the pump refills through its curve), chamber leakage
@@ -44,14 +56,10 @@ from typing import Any
 
 import numpy as np
 
+from musclesim.benchmark.benches.crawler_air import (CHAMBERS, P_ATM, R_AIR, SPOOLS, T_ROOM,
+                                                     VALVE_LAWS, Air, Chamber, valve_flow)
+
 G = 9.81  # m/s^2
-P_ATM = 101325.0  # Pa
-R_AIR = 287.05  # J/(kg K)
-KAPPA = 1.4  # air, adiabatic
-CV = R_AIR / (KAPPA - 1)  # J/(kg K)
-CP = KAPPA * CV
-T_ROOM = 293.15  # K
-R_CRIT = (2 / (KAPPA + 1)) ** (KAPPA / (KAPPA - 1))  # 0.528
 S_A = 9.62e-4  # m^2: the central actuator's 35 mm section (§two-mass)
 V_CENTRAL = 5.87e-5  # m^3: 30 mm bore x 83 mm (§crawler-hardware)
 V_EXTREMAL = 1.41e-5  # m^3: 30 mm bore x 20 mm (§crawler-hardware: 26 mm with the connector)
@@ -66,14 +74,24 @@ DAQ = 1e-3  # s: the controllers' and the log's period (§crawler-hardware)
 SUBSTEPS = 5  # internal steps per DAQ period
 VIDEO_FPS = 30.0
 V_STRIBECK = 2e-3  # m/s: the static coefficient fades above it (LuGre's Stribeck velocity)
+V_STICK = 1e-4  # m/s: Karnopp's band, a block slower than this may stick
 ACTUATORS = ("back", "central", "front")
+# each form field's allowed values, its default first
+FORMS = {"friction": ("lugre", "coulomb", "dahl"), "valve_law": tuple(VALVE_LAWS),
+         "spool": SPOOLS, "chamber": CHAMBERS, "contact": ("logistic", "threshold", "bulging")}
 
 
 @dataclass(frozen=True)
 class Crawler:
     """Every condition of one crawler bench run; the defaults are the model's values, ideal
-    sensors. Pressures gauge [Pa]; ``surface_change`` is (time [s], factor on every friction
-    coefficient) or None."""
+    sensors, each subsystem's first form (`FORMS`). Pressures gauge [Pa]; ``surface_change`` is
+    (time [s], factor on every friction coefficient) or None.
+
+    Raises
+    ------
+    ValueError
+        A form field not one of its `FORMS`, or ``valve_b`` outside [0, 1).
+    """
 
     theta: float = THETA
     m1: float = 0.2  # kg, back block (§ideal-actuation)
@@ -89,16 +107,19 @@ class Crawler:
     bristle: float = 2e4  # 1/m: LuGre stiffness per newton of normal force
     p_contact_back: float = 8e3  # Pa: half the silicone on the ground
     p_contact_front: float = 8e3
-    contact_width: float = 1e3  # Pa: of the logistic
+    contact_width: float = 1e3  # Pa: of the logistic; the bulging ramp spans six
     tau_contact: float = 0.05  # s: the silicone spreading
     dv_contact: float = 3e-6  # m^3: an extremal chamber's growth at full contact
     p_supply: float = 40e3
     p_exhaust: float = -20e3
     valve_area: float = VALVE_AREA
     tau_valve: float = 0.002  # s: the spool
+    spool_zeta: float = 0.7  # the second-order spool's damping: well damped (an assumption)
     f_pwm: float = 50.0  # Hz
     pwm_phase: float = 0.0  # of a period
     tau_wall: float = 1.0  # s: the air's heat exchange with the silicone
+    polytropic_n: float = 1.2  # the polytropic chamber's exponent (§chamber: 1 to 1.4)
+    valve_b: float = 0.3  # ISO 6358's critical ratio (§valves)
     kp_central: float = 1.386e-3  # duty/Pa: the bench's PIs (about the scenarios' design)
     ki_central: float = 6.93e-3
     kp_extremal: float = 5.9e-5
@@ -112,6 +133,14 @@ class Crawler:
     video_noise: float = 0.0  # m
     video_quantum: float = 0.0  # m: a pixel
     video_delay: float = 0.0  # s
+    video_fps: float = VIDEO_FPS
+    video_hold: bool = False  # the last frame held, not frames interpolated
+    # the subsystems' forms (FORMS)
+    friction: str = "lugre"
+    valve_law: str = "nozzle"
+    spool: str = "first-order"
+    chamber: str = "energy"
+    contact: str = "logistic"
     # hidden effects, off by default
     open_delay: float = 0.0  # s
     close_delay: float = 0.0  # s
@@ -123,6 +152,23 @@ class Crawler:
     decay_time: float = 5.0  # s
     surface_change: tuple | None = None
     seed: int = 0
+
+    def __post_init__(self) -> None:
+        for name, allowed in FORMS.items():
+            if getattr(self, name) not in allowed:
+                raise ValueError(f"Crawler.{name} = {getattr(self, name)!r}: not a form of the "
+                                 f"bench; allowed: {', '.join(allowed)}")
+        if not 0.0 <= self.valve_b < 1.0:
+            raise ValueError(f"Crawler.valve_b = {self.valve_b}: ISO 6358's critical ratio is "
+                             "in [0, 1)")
+
+
+def air_settings(bench: Crawler) -> Air:
+    """The settings of `bench`'s air (`musclesim.benchmark.benches.crawler_air.Air`)."""
+    return Air(valve_law=bench.valve_law, valve_b=bench.valve_b, valve_area=bench.valve_area,
+               spool=bench.spool, tau_valve=bench.tau_valve, spool_zeta=bench.spool_zeta,
+               chamber=bench.chamber, polytropic_n=bench.polytropic_n, tau_wall=bench.tau_wall,
+               leak=bench.leak, p_exhaust=bench.p_exhaust)
 
 
 def gait(t: float) -> Any:
@@ -140,29 +186,6 @@ def gait(t: float) -> Any:
     if s < 2 * d + T_PROTRUSION:
         return P_ANCHOR, P_CENTRAL, P_ANCHOR
     return 0.0, 0.0, P_ANCHOR
-
-
-def nozzle_flow(p_up: Any, p_down: Any, area: Any, T_up: Any) -> Any:
-    """Mass flow [kg/s] from `p_up` to `p_down` (absolute [Pa]; the upstream air at `T_up` [K])
-    through a nozzle of effective area `area`: isentropic, choked below `R_CRIT`, linear within
-    0.1 % of equal pressures.
-
-    >>> round(nozzle_flow(200e3, 100e3, 2.5e-7, 293.15) * 1e5, 4)  # choked
-    11.8023
-    >>> nozzle_flow(100e3, 100e3, 2.5e-7, 293.15)
-    0.0
-    """
-    if p_down >= p_up or area <= 0:
-        return 0.0
-    scale = area * p_up * math.sqrt(2 * KAPPA / ((KAPPA - 1) * R_AIR * T_up))
-
-    def psi(r: Any) -> Any:
-        return math.sqrt(max(r ** (2 / KAPPA) - r ** ((KAPPA + 1) / KAPPA), 0.0))
-
-    r = max(p_down / p_up, R_CRIT)
-    if r > 0.999:
-        return scale * psi(0.999) * (1 - r) / 0.001
-    return scale * psi(r)
 
 
 def open_share(a: float, b: float, duty: float, period: float, phase: float, delay_on: float,
@@ -187,44 +210,19 @@ def open_share(a: float, b: float, duty: float, period: float, phase: float, del
                for k in range(k0, k1 + 1)) / (b - a)
 
 
-class _Chamber:
-    """One actuator's air (absolute pressure, temperature), valves and contact."""
-
-    def __init__(self, volume: float) -> None:
-        self.p, self.T, self.V = P_ATM, T_ROOM, volume
-        self.spool_in = self.spool_out = 0.0
-        self.contact = 0.0
-
-    def step(self, bench: Crawler, dt: float, share_in: float, share_out: float, supply: float,
-             V_new: float) -> Any:
-        a = math.exp(-dt / bench.tau_valve)
-        self.spool_in = share_in + (self.spool_in - share_in) * a
-        self.spool_out = share_out + (self.spool_out - share_out) * a
-        exhaust = P_ATM + bench.p_exhaust
-        m_in = nozzle_flow(supply, self.p, bench.valve_area * self.spool_in, T_ROOM)
-        back = nozzle_flow(self.p, supply, bench.valve_area * self.spool_in, self.T)
-        m_out = nozzle_flow(self.p, exhaust, bench.valve_area * self.spool_out, self.T)
-        leak = bench.leak * (self.p ** 2 - P_ATM ** 2) / P_ATM
-        mass = self.p * self.V / (R_AIR * self.T)
-        heat = mass * CV * (T_ROOM - self.T) / bench.tau_wall
-        power = CP * T_ROOM * m_in - CP * self.T * (back + m_out + leak) + heat
-        # the volume's change adiabatic (exact over the step), then the flows' and wall's energy
-        p = self.p * (self.V / V_new) ** KAPPA + dt * (KAPPA - 1) / V_new * power
-        mass += dt * (m_in - back - m_out - leak)
-        self.p, self.V = max(p, 0.1 * P_ATM), V_new
-        self.T = self.p * self.V / (R_AIR * max(mass, 1e-12))
-        return m_in - back
-
-
-class _Block:
+class _LuGre:
     """One block's LuGre bristles."""
+
+    holds = False  # never stops the block itself
 
     def __init__(self) -> None:
         self.z = 0.0
 
-    def force(self, v: float, normal: float, mu_s: float, mu_k: float, bench: Crawler,
-              dt: float) -> float:
-        """Friction force on the block over a step of dt at velocity v; advances the bristles."""
+    def force(self, v: float, normal: float, mu_s: float, mu_k: float, push: float,
+              bench: Crawler, dt: float) -> float:
+        """Friction force on the block over a step of `dt` at velocity `v` on `normal` with
+        coefficients `mu_s`, `mu_k` (`push`: the other forces, unused; `bench`: the bristles);
+        advances the bristles."""
         sigma0 = bench.bristle * normal
         stribeck = math.exp(-(v / V_STRIBECK) ** 2)
         sigma1 = 2 * 0.7 * math.sqrt(sigma0 * 0.2) * stribeck  # damped presliding
@@ -237,6 +235,46 @@ class _Block:
         return -(sigma0 * self.z + sigma1 * dz)
 
 
+class _Dahl(_LuGre):
+    """One block's Dahl bristles: LuGre's without Stribeck nor damping, toward ``mu_k N``."""
+
+    def force(self, v: float, normal: float, mu_s: float, mu_k: float, push: float,
+              bench: Crawler, dt: float) -> float:
+        """Friction force ``-sigma0 z`` on the block over a step of `dt` at velocity `v` on
+        `normal` (`mu_k` the kinetic coefficient; `mu_s`, `push` unused; `bench`: the
+        stiffness); the bristles ``dz/dx = 1 - z / g sgn v`` advanced exactly at constant v."""
+        sigma0 = bench.bristle * normal
+        g = mu_k * normal / sigma0  # the bristles' deflection at full slide
+        if g <= 0.0:
+            self.z = 0.0
+        elif abs(v) > 1e-12:
+            target = math.copysign(g, v)
+            self.z = target + (self.z - target) * math.exp(-abs(v) * dt / g)
+        return -sigma0 * self.z
+
+
+class _Coulomb:
+    """One block's switching Coulomb friction with stiction (Karnopp): held inside `V_STICK`
+    while the other forces stay within ``mu_s N``."""
+
+    holds = True  # stops the block: a stuck one, or one friction would turn round
+
+    def __init__(self) -> None:
+        self.stuck = False
+
+    def force(self, v: float, normal: float, mu_s: float, mu_k: float, push: float,
+              bench: Crawler, dt: float) -> float:
+        """Friction force on the block at velocity `v` on `normal` under the other forces `push`
+        with coefficients `mu_s`, `mu_k` (`bench`, `dt` unused); sets `stuck`."""
+        self.stuck = abs(v) < V_STICK and abs(push) <= mu_s * normal
+        if self.stuck:
+            return -push
+        return -math.copysign(mu_k * normal, v if abs(v) >= V_STICK else push)
+
+
+FRICTIONS = {"lugre": _LuGre, "dahl": _Dahl, "coulomb": _Coulomb}
+
+
 def _grip(bench: Crawler, t: float) -> Any:
     """Factor on the silicone's coefficients (decay) and on all (surface change) at time t."""
     silicone = 1.0 - bench.decay * (1.0 - math.exp(-t / bench.decay_time))
@@ -244,6 +282,17 @@ def _grip(bench: Crawler, t: float) -> Any:
     if bench.surface_change is not None and t >= bench.surface_change[0]:
         everything = bench.surface_change[1]
     return silicone, everything
+
+
+def _contact(bench: Crawler, p_gauge: float, threshold: float) -> float:
+    """The share of an extremal actuator's silicone on the ground that `bench`'s contact form
+    gives at `p_gauge` [Pa] about its `threshold` [Pa], once spread."""
+    if bench.contact == "threshold":
+        return 1.0 if p_gauge > threshold else 0.0
+    if bench.contact == "bulging":
+        ramp = 6 * bench.contact_width
+        return min(max((p_gauge - threshold) / ramp + 0.5, 0.0), 1.0)
+    return 1.0 / (1.0 + math.exp(-(p_gauge - threshold) / bench.contact_width))
 
 
 def _control(bench: Crawler, t: float, reading: list[float], kp: tuple[float, ...],
@@ -261,7 +310,7 @@ def _control(bench: Crawler, t: float, reading: list[float], kp: tuple[float, ..
     return duty
 
 
-def _blow(bench: Crawler, chambers: list[_Chamber], duty: list[float], x: list[float],
+def _blow(bench: Crawler, chambers: list[Chamber], duty: list[float], x: list[float],
           thresholds: tuple[Any, ...], period: float, ts: float, dt: float,
           source: float) -> float:
     """One internal step `dt` at time `ts` of `bench`'s `chambers` through their PWM valves
@@ -279,34 +328,37 @@ def _blow(bench: Crawler, chambers: list[_Chamber], duty: list[float], x: list[f
         if i == 1:
             V_new = V_CENTRAL * (1 + bench.bulge * p_gauge) + S_A * (x[1] - x[0])
         else:
-            w = 1.0 / (1.0 + math.exp(-(p_gauge - thresholds[i]) / bench.contact_width))
+            w = _contact(bench, p_gauge, thresholds[i])
             ch.contact = w + (ch.contact - w) * math.exp(-dt / bench.tau_contact)
             V_new = V_EXTREMAL + bench.dv_contact * ch.contact
-        draw += ch.step(bench, dt, share_in, share_out, source, max(V_new, 0.1 * V_EXTREMAL))
+        draw += ch.step(dt, share_in, share_out, source, max(V_new, 0.1 * V_EXTREMAL))
     return draw
 
 
-def _move(bench: Crawler, chambers: list[_Chamber], blocks: list[_Block], x: list[float],
+def _move(bench: Crawler, chambers: list[Chamber], blocks: list[Any], x: list[float],
           v: list[float], masses: tuple[float, float], normals: list[float], ts: float,
           dt: float) -> None:
     """One internal step `dt` at time `ts` of `bench`'s body and friction: the blocks' positions
     `x` and velocities `v` advanced in place under the central `chambers`' pressure, the spring,
-    the damper and each block's grip (`blocks`, of `masses` on `normals`)."""
+    the damper and each block's grip (`blocks`, of `masses` on `normals`). A block whose friction
+    `holds` it stops when stuck or where its velocity would change sign within the step (Karnopp's
+    band is narrower than a step's change of velocity)."""
     p_c = chambers[1].p - P_ATM
     k = bench.k * (1 + bench.stiffening * p_c / 1e4)
     d = x[1] - x[0]
     inner = k * d * (1 + bench.k3 * d * d) + bench.c * (v[1] - v[0]) - bench.area * p_c
     silicone, everything = _grip(bench, ts)
-    forces = []
-    for b, ch in enumerate((chambers[0], chambers[2])):
+    for b, (ch, sign) in enumerate(((chambers[0], 1.0), (chambers[2], -1.0))):
         share = ch.contact * (1.0 - bench.bending)
         mu_s = everything * (bench.mu_s_low + share * (silicone * bench.mu_s_high
                                                        - bench.mu_s_low))
-        f = blocks[b].force(v[b], normals[b], mu_s, bench.mu_ratio * mu_s, bench, dt)
-        forces.append(f)
-    for b, sign in ((0, 1.0), (1, -1.0)):
-        a = (sign * inner + forces[b]) / masses[b] - G * math.sin(bench.theta)
-        v[b] += a * dt
+        push = sign * inner - masses[b] * G * math.sin(bench.theta)  # all but friction
+        f = blocks[b].force(v[b], normals[b], mu_s, bench.mu_ratio * mu_s, push, bench, dt)
+        a = (sign * inner + f) / masses[b] - G * math.sin(bench.theta)
+        v_new = v[b] + a * dt
+        if blocks[b].holds and (blocks[b].stuck or v_new * v[b] < 0.0):
+            v_new = 0.0
+        v[b] = v_new
         x[b] += v[b] * dt
 
 
@@ -324,8 +376,9 @@ def run(bench: Crawler, duration: float, substeps: int = SUBSTEPS) -> dict[str, 
     rng = np.random.default_rng(bench.seed)
     dt = DAQ / substeps
     n = int(round(duration / DAQ)) + 1
-    chambers = [_Chamber(V_EXTREMAL), _Chamber(V_CENTRAL), _Chamber(V_EXTREMAL)]
-    blocks = [_Block(), _Block()]
+    air = air_settings(bench)
+    chambers = [Chamber(V_EXTREMAL, air), Chamber(V_CENTRAL, air), Chamber(V_EXTREMAL, air)]
+    blocks = [FRICTIONS[bench.friction]() for _ in range(2)]
     x = [0.0, 0.0]  # m, positions from rest
     v = [0.0, 0.0]
     masses = (bench.m1, bench.m2)
@@ -338,8 +391,8 @@ def run(bench: Crawler, duration: float, substeps: int = SUBSTEPS) -> dict[str, 
     sensed = [0.0] * 3
     log = {k: np.empty((n, w)) for k, w in (("duty", 3), ("p_meas", 3), ("p_true", 3),
                                             ("x_true", 2))}
-    # the pump's free flow: a reserve over one open valve's choked flow at the supply
-    pump = bench.pump_reserve * nozzle_flow(supply, P_ATM, bench.valve_area, T_ROOM)
+    # the pump's free flow: a reserve over one open valve's flow from the supply to the room
+    pump = bench.pump_reserve * valve_flow(air)(supply, P_ATM, bench.valve_area, T_ROOM)
     reservoir = supply
     period = 1.0 / bench.f_pwm
     for j in range(n):
@@ -373,14 +426,19 @@ def run(bench: Crawler, duration: float, substeps: int = SUBSTEPS) -> dict[str, 
 
 def _video(bench: Crawler, time: np.ndarray, x_true: np.ndarray,
            rng: np.random.Generator) -> np.ndarray:
-    """The blocks' positions as the camera gives them on the DAQ's clock: frames at
-    `VIDEO_FPS` (each `video_delay` late), scaled, noisy, to a pixel, linearly interpolated."""
-    frames = np.arange(0.0, time[-1] + 1e-9, 1.0 / VIDEO_FPS)
+    """The blocks' positions `x_true` as `bench`'s camera gives them on the DAQ's clock `time`:
+    frames at ``video_fps`` (each ``video_delay`` late), scaled, noisy (from `rng`), to a pixel,
+    linearly interpolated or, ``video_hold``, the last frame held."""
+    frames = np.arange(0.0, time[-1] + 1e-9, 1.0 / bench.video_fps)
     out = np.empty_like(x_true)
     for b in range(x_true.shape[1]):
         seen = bench.video_scale * np.interp(frames, time, x_true[:, b])
         seen = seen + bench.video_noise * rng.standard_normal(len(frames))
         if bench.video_quantum:
             seen = bench.video_quantum * np.round(seen / bench.video_quantum)
-        out[:, b] = np.interp(time, frames + bench.video_delay, seen, left=seen[0])
+        if bench.video_hold:  # the newest frame arrived by each sample (1 ns spares rounding)
+            arrived = np.searchsorted(frames + bench.video_delay, time + 1e-9, side="right")
+            out[:, b] = seen[np.maximum(arrived - 1, 0)]
+        else:
+            out[:, b] = np.interp(time, frames + bench.video_delay, seen, left=seen[0])
     return out
