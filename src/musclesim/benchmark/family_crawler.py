@@ -188,5 +188,5 @@ def record(args: tuple[dict[str, Any], Any, Any]) -> tuple[np.ndarray, dict, dic
 
 CRAWLER = Family(bench=BENCH, version=VERSION, scenario=SCENARIO, forms=FORMS, library=LIBRARY,
                  outside=OUTSIDE, signals=SIGNALS, regimes=REGIMES,
-                 sources=("family_crawler.py", "benches/crawler.py"), plan=plan, record=record,
-                 duration=DURATION)
+                 sources=("family_crawler.py", "benches/crawler.py", "benches/crawler_air.py"),
+                 plan=plan, record=record, duration=DURATION)
