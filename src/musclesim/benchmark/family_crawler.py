@@ -75,7 +75,8 @@ FORMS: dict[str, dict[str, str]] = {
     "contact": {
         "logistic": "the share of silicone on the ground logistic in the pressure about a "
                     "threshold",
-        "threshold": "the silicone on the ground once the pressure passes a threshold (§gait)",
+        "threshold": "the silicone on the ground once the pressure passes a threshold, reached "
+                     "through a lag (the model reaches it at a constant rate, §contact)",
         "bulging": "the share growing linearly with the pressure as the silicone bulges"},
     "camera": {
         "interpolated": "video frames linearly interpolated onto the DAQ's clock",
