@@ -18,7 +18,7 @@ def test_table_runs_the_position_matrix_by_default(capsys):
     parsed = parse(analysis.add_table, "table", "sma-position", "--out", "o", "--only",
                    "stress-aware")
     assert (parsed.scenario, parsed.only, parsed.no_run, parsed.stop_time, parsed.fmus) == (
-        "scenarios/sma-position-control.toml", ["stress-aware"], False, None, "fmus")
+        "sma-position-control", ["stress-aware"], False, None, "fmus")
     with pytest.raises(SystemExit):
         parse(analysis.add_table, "table", "sma-position", "--out", "o", "--only", "fast")
     assert "invalid choice: 'fast'" in capsys.readouterr().err
@@ -27,7 +27,7 @@ def test_table_runs_the_position_matrix_by_default(capsys):
 def test_characterise_defaults():
     parsed = parse(analysis.add_characterise, "characterise", "--set", "body.k=190")
     assert (parsed.scenario, parsed.out, parsed.write, parsed.set) == (
-        "scenarios/crawler-characterisation.toml", "results/crawler-characterisation", None,
+        "crawler-characterisation", "results/crawler-characterisation", None,
         ["body.k=190"])
 
 

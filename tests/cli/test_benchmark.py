@@ -18,7 +18,7 @@ def test_forty_own_cases_from_seed_1_by_default():
     parsed = parse(benchmark.add_benchmark_diagnosis, "benchmark-diagnosis", "--out", "o")
     assert (parsed.cases, parsed.seed, parsed.bench, parsed.duration, parsed.multiplier,
             parsed.crawler, parsed.scenarios, parsed.fmus) == (40, 1, "own", None, 0, 0,
-                                                               "scenarios", "fmus")
+                                                               None, "fmus")
 
 
 def test_refused_counts_and_durations(capsys, tmp_path):

@@ -27,7 +27,7 @@ def test_loops_needs_a_stress_and_bands(capsys):
 def test_drift_compares_tests_1_13_and_25_of_25_rounds_by_default(capsys):
     parsed = parse(hysteresis.add_drift, "drift")
     assert (parsed.scenario, parsed.rounds, parsed.cycles, parsed.samples_per_cycle,
-            parsed.compare) == ("scenarios/sma-drift.toml", 25, 20, 200, [1, 13, 25])
+            parsed.compare) == ("sma-drift", 25, 20, 200, [1, 13, 25])
     assert parse(hysteresis.add_drift, "drift", "--compare", "2", "4").compare == [2, 4]
     with pytest.raises(SystemExit):
         parse(hysteresis.add_drift, "drift", "--rounds", "0")

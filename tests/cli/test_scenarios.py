@@ -58,3 +58,28 @@ def test_build_picks_its_folder_by_fmi_version(monkeypatch, capsys):
     monkeypatch.setattr("musclesim.cli._check_outputs", lambda args: None)
     assert main(["build", "--fmi", "3"]) == 0 and main(["build"]) == 0
     assert seen == [("fmus3", 3), ("fmus", 2)]
+
+
+def test_main_runs_a_shipped_scenario_by_name(monkeypatch, tmp_path, capsys):
+    """`musclesim run NAME`: a name that is no file is the shipped scenario of that name; an
+    unknown one ends in one sentence naming the nearest (exit status 2, before any work)."""
+    from conftest import SCENARIOS
+
+    class Ran(Exception):
+        """The run started (the run itself is not this test's)."""
+
+    def run_scenario(path, *args, **kwargs):
+        seen.append(path)
+        raise Ran
+
+    seen = []
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr("musclesim.cosim.run_scenario", run_scenario)
+    with pytest.raises(Ran):
+        main(["run", "crawler-ideal", "--out", "o"])
+    assert seen == [str(SCENARIOS / "crawler-ideal.toml")]
+    assert main(["run", "crawler-idael", "--out", "o"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("musclesim: scenario crawler-idael is neither a file nor the name of a "
+                          "shipped scenario; the nearest shipped ones are crawler-ideal")
+    assert err.count("\n") == 1 and seen == [str(SCENARIOS / "crawler-ideal.toml")]

@@ -15,7 +15,7 @@ from musclesim.components import fixedorder
 from musclesim.errors import UserError
 
 PNEUMATIC_DESIGN = {
-    "scenario": "scenarios/pneumatic-identification.toml",
+    "scenario": "pneumatic-identification",  # a scenario file, or a shipped one's name
     "p_op": 12e3,  # Pa, operating point: the gait's working range, above the contact threshold
     # per actuator kind: the duty that inflates the chamber to p_op (and full contact) before the
     # PRBS, and the PRBS duty amplitude around 0 (valves closed: the chamber holds); the central
@@ -62,21 +62,21 @@ def identify_pneumatic(fmu_dir: str | Path = "fmus", design: dict[str, Any] | No
                        ) -> dict[str, tuple[Any, dict[str, Any]]]:
     """Discrete models duty -> measured pressure of the central and the extremal actuator.
 
-    Runs scenarios/pneumatic-identification.toml on the FMUs of `fmu_dir` twice (`design`
-    overrides settings of `PNEUMATIC_DESIGN`) with the duties replayed: once inflating at
-    ``fill_duty`` to find when each chamber reaches ``p_op`` with its contact full, then inflating
-    until then and applying a seeded PRBS of +-``amplitude`` (each bit followed by its opposite). A
+    Runs the shipped scenario pneumatic-identification on the FMUs of `fmu_dir` twice
+    (`design` overrides settings of `PNEUMATIC_DESIGN`) with the duties replayed: once inflating
+    at ``fill_duty`` to find when each chamber reaches ``p_op`` with its contact full, then
+    inflating until then and applying a seeded PRBS of +-``amplitude`` (each bit followed by its opposite). A
     first-order ARX model with input delay is fitted to the PRBS part. Returns ``{actuator:
     (python-control discrete system, fit dict)}``.
     """
-    from musclesim.cosim import Master, Signal, load_scenario
+    from musclesim.cosim import Master, Signal, load_scenario, locate_scenario
 
     d = {**PNEUMATIC_DESIGN, **(design or {})}
     n_bit = round(d["bit"] / d["step"])
     # each random bit is followed by its opposite, so that the integrating chamber stays near p_op
     signs = np.where(np.random.default_rng(d["seed"]).integers(0, 2, d["bits"] // 2) > 0, 1.0, -1.0)
     prbs = np.column_stack([signs, -signs]).ravel().repeat(n_bit)
-    s = load_scenario(d["scenario"], stop_time=d["fill_time"])
+    s = load_scenario(locate_scenario(d["scenario"]), stop_time=d["fill_time"])
     res = Master(s, fmu_dir, {Signal(a, "duty"): np.full(s.n_steps + 1, d["fill_duty"][a])
                               for a in ACTUATORS}).run()
     fill = {}
@@ -89,7 +89,7 @@ def identify_pneumatic(fmu_dir: str | Path = "fmus", design: dict[str, Any] | No
                             f"full contact within {d['fill_time']:g} s at duty {d['fill_duty'][a]:g}")
         fill[a] = int(reached[0])
     n = max(fill.values()) + len(prbs)
-    s = load_scenario(d["scenario"], stop_time=n * d["step"])
+    s = load_scenario(locate_scenario(d["scenario"]), stop_time=n * d["step"])
     duties = {a: np.concatenate([np.full(fill[a], d["fill_duty"][a]), d["amplitude"][a] * prbs,
                                  np.zeros(n + 1 - fill[a] - len(prbs))]) for a in ACTUATORS}
     res = Master(s, fmu_dir, {Signal(a, "duty"): u for a, u in duties.items()}).run()

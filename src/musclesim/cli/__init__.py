@@ -76,8 +76,10 @@ def main(argv: list[str] | None = None) -> int:
     if getattr(args, "cases", None) == 0 and not args.crawler:  # benchmark-diagnosis
         args.subparser.error("argument --cases: 0 must be at least 1 (0 only with --crawler)")
     try:
-        from musclesim.cosim import Interrupted, interruptible
+        from musclesim.cosim import Interrupted, interruptible, locate_scenario
 
+        if isinstance(getattr(args, "scenario", None), str):  # a file, or a shipped one's name
+            args.scenario = str(locate_scenario(args.scenario))
         with interruptible():
             _check_outputs(args)
             return args.func(args)

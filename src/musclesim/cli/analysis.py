@@ -94,8 +94,9 @@ def add_table(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> Non
                                      "matrix, on Dask)")
     q.add_argument("table", choices=["sma-position"], help="which tables")
     q.add_argument("--out", required=True, help="folder for the cases, tables and figures")
-    q.add_argument("--scenario", default="scenarios/sma-position-control.toml",
-                   help="the position-control scenario the cases override")
+    q.add_argument("--scenario", default="sma-position-control",
+                   help="the position-control scenario the cases override (default: the shipped "
+                   "%(default)s)")
     q.add_argument("--stop-time", type=float, help="shorter runs than the scenario's 550 s")
     q.add_argument("--only", action="append", choices=["constant-stress", "stress-aware",
                                                        "stress-ignored"],
@@ -111,8 +112,8 @@ def add_characterise(sub: "argparse._SubParsersAction[argparse.ArgumentParser]")
     """The command `characterise` in subparsers `sub`."""
     q = sub.add_parser("characterise", help="the crawler's characterisation: the gait's pressure "
                                             "references")
-    q.add_argument("scenario", nargs="?", default="scenarios/crawler-characterisation.toml",
-                   help="the characterisation scenario (default: %(default)s)")
+    q.add_argument("scenario", nargs="?", default="crawler-characterisation",
+                   help="the characterisation scenario (default: the shipped %(default)s)")
     q.add_argument("--out", default="results/crawler-characterisation",
                    help="folder for the run's results (default: %(default)s)")
     q.add_argument("--write", metavar="FILE", help="write the references (TOML) the gait "

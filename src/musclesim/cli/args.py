@@ -13,7 +13,8 @@ def add_fmus(q: argparse.ArgumentParser) -> None:
 
 def add_scenario_args(q: argparse.ArgumentParser) -> None:
     """Give parser `q` a scenario, --set, --stop-time and --fmus."""
-    q.add_argument("scenario", help="scenario TOML file (for sweep: or a sweep file)")
+    q.add_argument("scenario", help="scenario TOML file (for sweep: or a sweep file), or the "
+                   "name of a shipped one (e.g. crawler-ideal)")
     q.add_argument("--set", action="append", default=[], metavar="INST.PARAM=VALUE",
                    help="override a parameter (repeatable)")
     q.add_argument("--stop-time", type=float, help="replace the scenario's stop time [s]")

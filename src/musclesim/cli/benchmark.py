@@ -12,12 +12,13 @@ from musclesim.cli.args import add_dask_args, add_fmus, count, duration, positiv
 
 def _cmd_benchmark_diagnosis(args: argparse.Namespace) -> int:
     from musclesim.batch import dask_client, dask_map
-    from musclesim.cosim import check_fresh
+    from musclesim.cosim import check_fresh, shipped_scenarios
     from musclesim.benchmark import run_blind_benchmark
 
     check_fresh(args.fmus)
     with dask_client(args.scheduler, args.workers) as client:
-        scores = run_blind_benchmark(args.cases, args.seed, args.out, args.fmus, args.scenarios,
+        scores = run_blind_benchmark(args.cases, args.seed, args.out, args.fmus,
+                                     args.scenarios or shipped_scenarios(),
                                      dask_map(client),
                                      lambda text: print(f"musclesim: {text}", file=sys.stderr),
                                      bench=args.bench, duration=args.duration,
@@ -38,7 +39,8 @@ def add_benchmark_diagnosis(sub: "argparse._SubParsersAction[argparse.ArgumentPa
                    help="number of cases (default 40; 0 with --crawler: crawler cases only)")
     q.add_argument("--seed", type=int, default=1, help="seed of the hidden truths (default 1)")
     q.add_argument("--out", required=True, help="folder for the cases, key and scores.json")
-    q.add_argument("--scenarios", default="scenarios", help="folder of the bench scenarios")
+    q.add_argument("--scenarios", help="folder of the bench scenarios (default: the shipped "
+                   "ones)")
     q.add_argument("--bench", choices=["own", "independent", "family", "crawler-family"],
                    default="own",
                    help="own: the library's FMUs with hidden effects (default); independent: "

@@ -61,9 +61,9 @@ def add_drift(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> Non
     """The command `drift` in subparsers `sub`."""
     q = sub.add_parser("drift", help="the long-duration drift test: RMSE between the "
                                      "averaged loops of tests 1, 13 and 25 per stress")
-    q.add_argument("scenario", nargs="?", default="scenarios/sma-drift.toml",
-                   help="scenario whose instance 'wire' sets the drift (default: "
-                        "scenarios/sma-drift.toml)")
+    q.add_argument("scenario", nargs="?", default="sma-drift",
+                   help="scenario whose instance 'wire' sets the drift (default: the shipped "
+                        "%(default)s)")
     q.add_argument("--rounds", type=positive, default=25, help="rounds of the five stresses")
     q.add_argument("--cycles", type=positive, default=20, help="cycles per test")
     q.add_argument("--samples-per-cycle", type=positive, default=200,

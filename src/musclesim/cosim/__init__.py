@@ -1,5 +1,5 @@
 """One co-simulation run: build the FMUs, host them in this process, read and check a scenario
-file, step it with the master algorithm, write its results, read time series. Addresses are
+file (or one shipped with musclesim, found by its name: ``locate_scenario``), step it with the master algorithm, write its results, read time series. Addresses are
 typed: a `Signal` (instance, variable) and a `ParamRef` (instance, parameter), parsed once from
 the files' ``"instance.name"`` strings; a scenario's data flow (`Scenario.graph`, a `Graph` of
 `Link`\\ s: which instance feeds which) serves the master and the diagnosis; `with_values` is the
@@ -35,12 +35,15 @@ from musclesim.cosim.scenario import (Instance, Metric, Panel, Scenario, apply_o
                                       with_values)
 from musclesim.cosim.scenario import load as load_scenario
 from musclesim.cosim.scenario_files import FORMAT, format_problem, renamed_signals
+from musclesim.cosim.scenario_files import locate as locate_scenario
+from musclesim.cosim.scenario_files import shipped_dir as shipped_scenarios
 from musclesim.cosim.timeseries import read_time_series
 
 __all__ = ["Signal", "ParamRef", "with_values",
            "build_all", "check_fresh", "source_digest",
            "forget_fmu_resource_paths", "read_fmu", "reuse_fmus",
            "FORMAT", "Instance", "Metric", "Panel", "Scenario", "load_scenario", "apply_overrides",
+           "locate_scenario", "shipped_scenarios",
            "format_problem", "renamed_signals", "Graph", "Link",
            "Master", "Results", "KINDS", "run_scenario", "run_cases",
            "compute_metrics", "metric_unit", "signal_units", "write_results", "clear_run_outputs",

@@ -5,10 +5,15 @@ other's, its connections, recorded signals and plots are added to the other's, i
 replace them. ``format = 2`` (`FORMAT`) declares that a file uses the port names of the Modelica
 Standard Library; a format-1 file may use none of the names format 2 changed
 (`musclesim.components.RENAMED`). `musclesim.cosim.scenario` parses the merged table.
+
+The scenarios shipped with musclesim are package data (``musclesim.scenarios``: the repository's
+scenarios/ folder, installed with the package); `locate` finds one by its name where a file of
+that name does not exist.
 """
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
+import difflib
 from pathlib import Path
 import tomllib
 from typing import Any
@@ -44,6 +49,55 @@ def read(path: Path, chain: tuple[Path, ...] = ()) -> dict[str, Any]:
     if fmt < 2:
         _old_names(path, data, merged)
     return merged
+
+
+def shipped_dir() -> Path:
+    """The folder of the scenarios shipped with musclesim: the clone's scenarios/ under an
+    editable install, the installed package's ``musclesim/scenarios`` otherwise."""
+    import musclesim.scenarios
+
+    return Path(musclesim.scenarios.__file__).parent
+
+
+def locate(scenario: str | Path) -> Path:
+    """The scenario file `scenario` names: a file that exists, as given (a user's own file always
+    wins); else, for a bare name without a folder (``.toml`` optional), the shipped scenario of
+    that name (`shipped_dir`), as a path relative to the current folder when it lies there.
+
+    Parameters
+    ----------
+    scenario : str or Path
+        A scenario or sweep file, or the name of a shipped one.
+
+    Returns
+    -------
+    Path
+
+    Raises
+    ------
+    UserError
+        For a bare name that is no file and no shipped scenario, naming the nearest shipped ones;
+        a path with a folder is returned as given (loading it says what is wrong with it).
+
+    Examples
+    --------
+    >>> locate("crawler-ideal").name
+    'crawler-ideal.toml'
+    """
+    path = Path(scenario)
+    if path.exists() or len(path.parts) != 1 or path.name in ("", ".", ".."):
+        return path
+    name = path.name.removesuffix(".toml")
+    shipped = shipped_dir()
+    found = shipped / f"{name}.toml"
+    if found.is_file():
+        return found.relative_to(Path.cwd()) if found.is_relative_to(Path.cwd()) else found
+    names = sorted(p.stem for p in shipped.glob("*.toml"))
+    nearest = difflib.get_close_matches(name, names, n=3, cutoff=0.6)
+    hint = (f"the nearest shipped ones are {', '.join(nearest)}" if nearest else
+            f"the shipped ones are the files in {shipped}")
+    raise UserError(f"scenario {scenario} is neither a file nor the name of a shipped scenario; "
+                    + hint)
 
 
 def _signals(data: Mapping[str, Any]) -> list[Signal]:
