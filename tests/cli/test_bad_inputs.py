@@ -318,7 +318,8 @@ REFUSED = {
         [f"--out {ws.afile / 'sub'} cannot be written", f"{ws.afile} is a file"]),
     "run-out-in-proc": lambda ws: (
         ["run", IDEAL, "--out", "/proc/musclesim-x", "--fmus", ws.fmus_dir],
-        ["--out /proc/musclesim-x cannot be written", "/proc is not writable"]),
+        ["--out /proc/musclesim-x: cannot create /proc/musclesim-x",
+         "(No such file or directory)"]),
     "diagnose-out-is-a-file": lambda ws: (
         ["diagnose", MEASURED, "--out", ws.afile, "--fmus", ws.fmus_dir],
         [f"--out {ws.afile} is a file"]),
