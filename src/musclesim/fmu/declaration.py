@@ -40,7 +40,9 @@ class Declaration:
     effect off; `calibrate`: its `Calibration`; `source`: the model reference section the value
     comes from (``§label``); `depends`: the inputs an output depends on directly (None for other
     variables); `plausible`: the values it plausibly takes (`declare`'s, read with
-    `plausible_range`)."""
+    `plausible_range`); `same_unit_as`: for a variable of unit "1" that carries the quantity of
+    another of the component (a signal source's offset, its output's; a controller's reference,
+    its measurement's), that variable's name: a scenario's wiring gives them their unit."""
 
     name: str
     causality: str  # "parameter", "input" or "output"
@@ -53,6 +55,7 @@ class Declaration:
     depends: tuple[str, ...] | None = None
     type: str = "Real"
     plausible: PlausibleSpec = None
+    same_unit_as: str | None = None
 
     def plausible_range(self) -> Plausible | None:
         """The `Plausible` values of this variable, or None where neither its declaration nor its
@@ -77,7 +80,8 @@ def resolve(plausible: PlausibleSpec, unit: str) -> Plausible | None:
 
 def declare(default: float, unit: str, description: str, *, source: str = "",
             effect: tuple[float, float] | None = None, calibrate: Calibration | None = None,
-            type: str = "Real", plausible: PlausibleSpec = None) -> Any:
+            type: str = "Real", plausible: PlausibleSpec = None,
+            same_unit_as: str | None = None) -> Any:
     """A field of a core's parameter dataclass declaring the parameter once: its `default`, SI
     `unit` (a key of `UNITS`), `description`, `source` (a ``§label`` of the model reference),
     FMI `type` ("Real", "Integer" or "Boolean", the last two of unit "1"), role: an effect's
@@ -87,9 +91,11 @@ def declare(default: float, unit: str, description: str, *, source: str = "",
     unit's `musclesim.fmu.units.PLAUSIBLE` range (a temperature above 150 K, a positive
     length...), "difference" for a bias, shift or amplitude (its unit's `DIFFERENCES` range),
     a quantity of `musclesim.fmu.units.QUANTITIES` ("gauge pressure", which may be negative;
-    "wire stress") or (lo, hi) where its physics says otherwise.
-    `musclesim.fmu.Slave.parameters_of` declares such fields as the FMU's parameters. The field (a ``dataclasses.Field``) is typed Any, as
-    ``dataclasses.field`` is, so that ``m: float = declare(...)`` type-checks.
+    "wire stress") or (lo, hi) where its physics says otherwise; where the unit is "1" but the
+    value is of the quantity another variable carries, `same_unit_as` names that variable (see
+    `Declaration`). `musclesim.fmu.Slave.parameters_of` declares such fields as the FMU's
+    parameters. The field (a ``dataclasses.Field``) is typed Any, as ``dataclasses.field`` is, so
+    that ``m: float = declare(...)`` type-checks.
 
     Examples
     --------
@@ -105,4 +111,4 @@ def declare(default: float, unit: str, description: str, *, source: str = "",
     return dataclasses.field(default=default, metadata={
         "unit": unit, "description": description, "source": source, "type": type,
         "effect": tuple(effect) if effect is not None else None, "calibrate": calibrate,
-        "plausible": plausible})
+        "plausible": plausible, "same_unit_as": same_unit_as})

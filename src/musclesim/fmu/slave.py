@@ -144,8 +144,8 @@ class Slave(Fmi2Slave):
                   **role: Any) -> None:
         """Declare a fixed parameter `name` (set before initialization), stored as attribute, with
         its `default`, `unit` and `description`; `**role`: `musclesim.fmu.declare`'s type,
-        source, effect, calibrate or plausible, for a parameter no core dataclass holds (another
-        keyword raises TypeError)."""
+        source, effect, calibrate, plausible or same_unit_as, for a parameter no core dataclass
+        holds (another keyword raises TypeError)."""
         self._declare(name, default, unit, description, Fmi2Causality.parameter,
                       Fmi2Variability.fixed, Fmi2Initial.exact, None, **role)
 
@@ -155,22 +155,22 @@ class Slave(Fmi2Slave):
         their order, but not those in `skip`. A core shared by several components (the sensors')
         has per-component units, defaults or roles: `overrides`, ``overrides[name]``, is a dict
         replacing any of the field's declared default, unit, description, source, type, effect,
-        calibrate or plausible (ValueError for a name `cls` does not declare)."""
+        calibrate, plausible or same_unit_as (ValueError for a name `cls` does not declare)."""
         overrides = dict(overrides or {})
         for f in dataclasses.fields(cls):
             if "unit" in f.metadata and f.name not in skip:
                 m = {**f.metadata, "default": f.default, **overrides.pop(f.name, {})}
                 self.parameter(f.name, m["default"], m["unit"], m["description"], type=m["type"],
                                source=m["source"], effect=m["effect"], calibrate=m["calibrate"],
-                               plausible=m["plausible"])
+                               plausible=m["plausible"], same_unit_as=m["same_unit_as"])
         if overrides:
             raise ValueError(f"{cls.__name__} declares no {', '.join(overrides)}")
 
     def input(self, name: str, start: float, unit: str, description: str, **role: Any) -> None:
         """Declare a continuous Real input `name` with its `start` value, `unit` and
         `description` (`**role`: a `Calibration` of an input held constant, such as the ambient
-        temperature; `declare`'s source or plausible, the values a scenario may hold it at;
-        another keyword raises TypeError)."""
+        temperature; `declare`'s source, plausible (the values a scenario may hold it at) or
+        same_unit_as; another keyword raises TypeError)."""
         self._declare(name, start, unit, description, Fmi2Causality.input,
                       Fmi2Variability.continuous, None, None, **role)
 

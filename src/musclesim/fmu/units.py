@@ -83,7 +83,7 @@ PLAUSIBLE: dict[str, Plausible] = {
     "s": Plausible(0.0, 1e6, "a time"),  # up to 11 days
     "Hz": Plausible(0.0, 1e6, "a frequency"),
     "Pa": Plausible(1e3, 1e12, "a stress or modulus"),  # kPa of soft matter to TPa (diamond)
-    "kg/m3": Plausible(1.0, 3e4, "a density"),  # air to osmium
+    "kg/m3": Plausible(100.0, 3e4, "a density"),  # a foam to osmium: no gas here
     "J/(kg.K)": Plausible(10.0, 2e4, "a specific heat"),
     "m/s2": Plausible(0.0, 1e3, "an acceleration"),
 }
