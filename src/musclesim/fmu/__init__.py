@@ -25,4 +25,5 @@ from musclesim.fmu.units import (CELSIUS, DIFFERENCES, PLAUSIBLE, QUANTITIES, SL
 
 __all__ = ["Slave", "UNITS", "experiment", "step_end", "declare", "Calibration", "Declaration",
            "Kernel", "KernelSlave", "no_state", "jit", "parallel_jit", "range_over_cases", "COMPILED",
-           "CACHE", "PlausibleSpec", "Plausible", "PLAUSIBLE", "DIFFERENCES", "QUANTITIES", "SLIPS", "CELSIUS"]
+           "CACHE", "PlausibleSpec", "Plausible", "PLAUSIBLE", "DIFFERENCES", "QUANTITIES",
+           "SLIPS", "CELSIUS"]
