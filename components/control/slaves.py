@@ -95,7 +95,8 @@ class _PIDBase(KernelSlave):
         # the core's limits are infinite by default; an FMU's start values must be finite
         self.parameter("u_min", -UNLIMITED, "1", "Lower output limit (-1e30: none)")
         self.parameter("u_max", UNLIMITED, "1", "Upper output limit (1e30: none)")
-        self.input("u_s", 0.0, "1", "Reference (set point)")
+        # the reference in the measurement's unit, which the scenario's wiring gives
+        self.input("u_s", 0.0, "1", "Reference (set point)", same_unit_as="u_m")
         self.input("u_m", 0.0, "1", "Measurement")
         self.output("y", "1", "Controller output", depends=["u_s", "u_m"])
         self.output("e", "1", "Control error u_s - u_m", depends=["u_s", "u_m"])
@@ -143,7 +144,7 @@ class GainScheduledPID(_PIDBase):
         # the scheduled gains are tables, not the core's single gains
         for i, x in enumerate(SCHEDULE_K, start=1):
             self.parameter(f"x[{i}]", x, "1", f"Scheduling point {i} of the reference",
-                           source="§temperature-control")
+                           source="§temperature-control", same_unit_as="u_s")
         for name, what in (("Kp", "Proportional gain"), ("Ki", "Integral gain [1/s]"),
                            ("Kd", "Derivative gain [s]")):
             for i in range(1, 22):

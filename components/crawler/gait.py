@@ -55,12 +55,15 @@ class GaitParams:
     p_central: float = declare(10e3, "Pa", "Central actuator reference while protruding (a "
                                "placeholder: the scenarios set the characterisation's, "
                                "scenarios/params/crawler-gait-references.toml)",
-                               source="§pressure-control")
+                               source="§pressure-control", plausible="inflating pressure")
     p_anchor1: float = declare(10e3, "Pa", "Back extremal actuator reference while anchoring (a "
-                               "placeholder, as p_central)", source="§pressure-control")
+                               "placeholder, as p_central)", source="§pressure-control",
+                               plausible="inflating pressure")
     p_anchor2: float = declare(10e3, "Pa", "Front extremal actuator reference while anchoring (a "
-                               "placeholder, as p_central)", source="§pressure-control")
-    p_off: float = declare(0.0, "Pa", "Reference of a deflated actuator")
+                               "placeholder, as p_central)", source="§pressure-control",
+                               plausible="inflating pressure")
+    p_off: float = declare(0.0, "Pa", "Reference of a deflated actuator",
+                           plausible="gauge pressure")
 
     def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""

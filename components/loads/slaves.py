@@ -92,7 +92,7 @@ class BiasSpring(KernelSlave):
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         self.parameters_of(loads.SpringParams)
-        self.input("flange.s", 0.0, "m", S_DESCRIPTION)
+        self.input("flange.s", 0.0, "m", S_DESCRIPTION, plausible="difference")
         self.output("flange.f", "N", "Tension of the spring on the wire", depends=["flange.s"])
 
     def setup(self) -> None:
@@ -112,7 +112,8 @@ class DeadWeight(KernelSlave):
     def __init__(self, **kwargs: object) -> None:
         super().__init__(**kwargs)
         self.parameters_of(loads.WeightParams)
-        self.input("flange.s", 0.0, "m", S_DESCRIPTION + ", lifting the weight")
+        self.input("flange.s", 0.0, "m", S_DESCRIPTION + ", lifting the weight",
+                   plausible="difference")
         self.output("flange.f", "N", "Tension of the weight on the wire", depends=["flange.s"])
         self.output("lift", "m", "Lift of the weight (= flange.s unless its inertia is on)",
                     depends=["flange.s"])
@@ -143,7 +144,8 @@ class Electromagnet(KernelSlave):
         self.parameters_of(loads.MagnetParams)
         self.input("duty", 0.0, "1", "PWM duty of the coil voltage, 0..1 (clamped, with one "
                    "warning)")
-        self.input("flange.s", 0.0, "m", S_DESCRIPTION + " (the force does not depend on it)")
+        self.input("flange.s", 0.0, "m", S_DESCRIPTION + " (the force does not depend on it)",
+                   plausible="difference")
         self.output("flange.f", "N", "Tension on the wire: calibration weight plus the coil's pull")
         self.output("i", "A", "Coil current")
 

@@ -70,7 +70,7 @@ class CapstanParams:
     composition_shift: float = declare(0.0, "K", "Effect, 0 = off: composition difference, the "
                                        "wire's hysteresis sees T - shift and transforms shift "
                                        "hotter", source="§capstan-multiplier, §named-effects",
-                                       effect=(-10.0, 10.0))
+                                       effect=(-10.0, 10.0), plausible="difference")
     contact_conductance: float = declare(0.0, "W/K", "Effect, 0 = off: capstan heat loss, the "
                                          "heat conductance of each wire-on-PTFE contact to the "
                                          "room, shared by the two segments it joins",

@@ -49,10 +49,11 @@ class ActuatorParams:
     # not calibrated: the effect "supply-pressure drop" scales it by a constant, so calibrating it
     # would absorb the effect exactly
     p_supply: float = declare(40e3, "Pa", "Gauge pressure of the inflation pump (assumption: "
-                              "above the 20.7 kPa the study reaches)", source="§ideal-actuation")
+                              "above the 20.7 kPa the study reaches)", source="§ideal-actuation",
+                              plausible="inflating pressure")
     p_exhaust: float = declare(-20e3, "Pa", "Gauge pressure of the exhaust pump, in "
                                "(-101.3 kPa, 0] (assumption: a small vacuum pump)",
-                               source="§crawler-hardware",
+                               source="§crawler-hardware", plausible="gauge pressure",
                                calibrate=Calibration(0.7, 1.3, True, "the exhaust pump's vacuum"))
     C_in: float = declare(5e-10, "m3/(s.Pa)", "Sonic conductance of the inflation valve (ISO "
                           "6358; assumption: a miniature solenoid valve of 3 l/(min bar), about "
@@ -77,7 +78,8 @@ class ActuatorParams:
                               "data's clock", period=1.0))
     p_contact: float = declare(8e3, "Pa", "Gauge pressure above which the silicone makes firm "
                                "ground contact (assumption; the study found it by eye)",
-                               source="§crawler-hardware, §gait", calibrate=Calibration(
+                               source="§crawler-hardware, §gait",
+                               plausible="inflating pressure", calibrate=Calibration(
                                    0.7, 1.25, True, "the pressure above which an extremal "
                                    "actuator's silicone grips the ground"))
     t_contact: float = declare(0.2, "s", "Time of the contact's 0 -> 1 change; <= 0: at once "

@@ -27,9 +27,10 @@ class SoftActuator(KernelSlave):
         self.input("duty", 0.0, "1", "PWM duty, -1..1 (clamped, with one warning): > 0 drives the "
                    "inflation valve, < 0 the exhaust valve with duty -duty")
         self.input("flange_a.s", 0.0, "m", "Position of the rear block (central actuator; "
-                   "variation from rest)")
+                   "variation from rest)", plausible="difference")
         self.input("flange_b.s", 0.0, "m", "Position of the front block (central actuator; "
-                   "variation from rest); elongation = flange_b.s - flange_a.s")
+                   "variation from rest); elongation = flange_b.s - flange_a.s",
+                   plausible="difference")
         self.output("p", "Pa", "Gauge pressure of the chamber")
         self.output("f_a", "N", "Actuator force s_a p pushing the blocks apart (§two-mass)")
         self.output("u", "1", "Contact of the extremal actuator with the ground, 0 (casing) .. 1 "

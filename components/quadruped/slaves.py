@@ -26,7 +26,7 @@ class QuadrupedBody(KernelSlave):
         self.parameters_of(body.QuadrupedParams)
         for i in range(1, body.LEGS + 1):
             self.input(f"leg{i}.s", 0.0, "m", f"Unloaded deflection of leg {i} at its foot, +x "
-                       "forward")
+                       "forward", plausible="difference")
             self.input(f"leg{i}.v", 0.0, "m/s", f"Rate of leg {i}'s deflection")
         self.output("x", "m", "Position of the body along the walking axis")
         self.output("v", "m/s", "Velocity of the body")

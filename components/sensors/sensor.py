@@ -37,11 +37,13 @@ class SensorParams:
     gain: float = declare(1.0, "1", "Reading gain about the sensor's origin (0 C for a "
                           "thermocouple, 0 for the others; 1 = exact)", source="§sensors")
     origin: float = 0.0  # signal value the gain leaves as it is (a thermocouple's 0 C)
-    bias: float = declare(0.0, "1", "Reading bias (0 = off)", source="§sensors")
+    # differences of the signal's unit, plausible as such (a thermocouple's bias is no temperature)
+    bias: float = declare(0.0, "1", "Reading bias (0 = off)", source="§sensors",
+                          plausible="difference")
     noise_std: float = declare(0.0, "1", "Standard deviation of the reading's Gaussian noise "
-                               "(0 = off)", source="§sensors")
+                               "(0 = off)", source="§sensors", plausible="difference")
     quantum: float = declare(0.0, "1", "Quantisation step of the reading (0 = off)",
-                             source="§sensors")
+                             source="§sensors", plausible="difference")
     seed: float = declare(0.0, "1", "Seed of the noise generator (>= 0)", type="Integer")
 
     def check(self) -> None:

@@ -23,6 +23,7 @@ class _ScalarSensor(KernelSlave):
 
     signal = measured = unit = element = signal_description = ""
     start = origin = 0.0
+    signal_plausible: str | None = None  # `declare`'s plausible of the input: its unit's range
     roles: dict[str, dict[str, object]] = {}
 
     def __init__(self, **kwargs: Any) -> None:
@@ -34,7 +35,8 @@ class _ScalarSensor(KernelSlave):
                **{name: {"unit": u} for name in ("bias", "noise_std", "quantum")}}
         self.parameters_of(sensor.SensorParams, overrides={
             name: {**own.get(name, {}), **self.roles.get(name, {})} for name in own | self.roles})
-        self.input(self.signal, self.start, u, self.signal_description)
+        self.input(self.signal, self.start, u, self.signal_description,
+                   plausible=self.signal_plausible)
         self.output(self.measured, u, f"Measured {self.signal_description[0].lower()}"
                     f"{self.signal_description[1:]}", depends=[self.signal])
 
@@ -100,6 +102,7 @@ class LaserSensor(_ScalarSensor):
     description = ("Laser displacement sensor: wire contraction with first-order lag, bias, "
                    "seeded noise, quantisation (§sma-bench, §named-effects)")
     signal, measured, unit = "s", "s_meas", "m"
+    signal_plausible = "difference"  # a contraction, negative where the wire lengthens
     kernel = _kernel(signal, measured)
     element, signal_description = "sensor's filter", "Contraction of the wire (SmaWire flange.s)"
     roles = {"noise_std": {"source": "§sma-bench, §named-effects", "effect": (0.0, 2e-5)},
@@ -115,6 +118,7 @@ class PressureSensor(_ScalarSensor):
     description = ("Pressure sensor: chamber gauge pressure with first-order lag, bias, seeded "
                    "noise, quantisation (§crawler-hardware, §named-effects)")
     signal, measured, unit = "p", "p_meas", "Pa"
+    signal_plausible = "gauge pressure"
     kernel = _kernel(signal, measured)
     element, signal_description = "pressure sensor", "Gauge pressure of the chamber"
     roles = {"gain": {"source": "§crawler-hardware", "calibrate": AMPLIFIER_GAIN}}

@@ -144,12 +144,14 @@ class PreisachInverse(KernelSlave):
                        "0 = stress-aware inverse over the hypersurface; > 0 = the single surface "
                        "at this stress for every stress, stress ignored, the study's comparison "
                        "inverse (within the data set's stresses: 105-145 MPa for data sets 1 and "
-                       "2, 60-200 MPa for 0)", source="§position-control")
+                       "2, 60-200 MPa for 0)", source="§position-control",
+                       plausible="wire stress")
         self.input("eps_ref", 0.0, "1", "Reference strain: contraction / length, positive = "
                    "contraction, within [0, maximum strain of the data set] (start: a cold "
                    "wire)")
         self.input("sigma_ref", LOAD_150G / thermal.cross_section(thermal.ThermalParams()), "Pa",
-                   "Reference stress (start: the 150 g weight on the 127 um wire, 116 MPa)")
+                   "Reference stress (start: the 150 g weight on the 127 um wire, 116 MPa)",
+                   plausible="wire stress")
         self.output("T_ref", "K", "Temperature reference for the wire's temperature controller",
                     depends=["eps_ref", "sigma_ref"])
 

@@ -49,7 +49,8 @@ class SmaWireParams:
     sigma_surface: float = declare(0.0, "Pa", "Stress ignored, 0 = off: > 0 uses the single "
                                    "constant-stress surface at this stress (within the data set's "
                                    "stresses) for every stress, as the study's comparison "
-                                   "controller did", source="§position-control")
+                                   "controller did", source="§position-control",
+                                   plausible="wire stress")
     stress_blend: float = declare(0.0, "1", "Effect, 0 = off: with sigma_surface > 0, how much "
                                   "the hysteresis follows the stress: it sees sigma_surface + "
                                   "stress_blend (stress - sigma_surface) on the stress-aware data "
@@ -68,7 +69,8 @@ class SmaWireParams:
                                      effect=(-0.2, 0.2))
     drift_shift: float = declare(_NO_DRIFT.shift, "K", "Effect, 0 = off: training/fatigue drift, "
                                  "the settled shift of the transformation temperatures (the study "
-                                 "gives no magnitude)", source="§drift", effect=(-10.0, 10.0))
+                                 "gives no magnitude)", source="§drift", effect=(-10.0, 10.0),
+                                 plausible="difference")
     drift_settle_cycles: float = declare(_NO_DRIFT.cycles_to_settle, "1", "Training/fatigue "
                                          "drift: e-folding number of cycles (95 % of the drift "
                                          "after the study's 13 tests of 20 cycles, read as 13 "
@@ -79,6 +81,7 @@ class SmaWireParams:
     hysteresis_shift: float = declare(0.0, "K", "Static shift of the transformation temperatures: "
                                       "the hysteresis sees T - shift (composition, heat "
                                       "treatment, a core hotter than the temperature measured)",
+                                      plausible="difference",
                                       source="§preisach, §named-effects, §sma-material",
                                       calibrate=Calibration(-8.0, 8.0, False, "transformation "
                                                             "temperatures shift with composition "

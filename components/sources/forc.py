@@ -43,7 +43,8 @@ class ForcParams:
     T_high: float = declare(403.15, "K", "Peak of the last run a0 (the study's 130 C, a "
                             "saturation temperature)", source="§forc-identification")
     T_step: float = declare(5.0, "K", "Grid step between the runs' peaks (the study's grid); "
-                            "T_high - T_low must be a whole number of it", source="§preisach")
+                            "T_high - T_low must be a whole number of it", source="§preisach",
+                            plausible="difference")
     period: float = declare(20.0, "s", "Duration of one run, heating half and cooling half "
                             "(assumption: the shortest period free cooling can follow, 16.2 s, "
                             "with a margin for the temperature loop)",

@@ -37,8 +37,9 @@ class SignalParams:
 
     kind: float = declare(0.0, "1", "Wave: 0 constant, 1 sine, 2 square, 3 triangle, 4 ramp "
                           "(rises by amplitude over 1/frequency s, then holds)", type="Integer")
-    offset: float = declare(0.0, "1", "Offset (the value before t_start)")
-    amplitude: float = declare(0.0, "1", "Amplitude")
+    # of the quantity the output carries, whose unit the scenario's wiring gives
+    offset: float = declare(0.0, "1", "Offset (the value before t_start)", same_unit_as="y")
+    amplitude: float = declare(0.0, "1", "Amplitude", same_unit_as="y", plausible="difference")
     frequency: float = declare(0.0, "Hz", "Frequency")
     phase: float = declare(0.0, "rad", "Phase")
     t_start: float = declare(0.0, "s", "Start of the wave")

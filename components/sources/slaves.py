@@ -15,7 +15,7 @@ import numpy as np
 
 from musclesim.components.sma import profiles
 from musclesim.components.sources import forc, signals
-from musclesim.fmu import Kernel, KernelSlave, experiment, jit, no_state
+from musclesim.fmu import Kernel, KernelSlave, PlausibleSpec, experiment, jit, no_state
 
 
 
@@ -99,16 +99,19 @@ class _ProfileSlave(KernelSlave):
     # profiles.strain_profile or profiles.loading_profile
     make: Callable[..., profiles.Profile] | None = None
 
-    def __init__(self, lo: float, hi: float, unit: str, **kwargs: object) -> None:
+    def __init__(self, lo: float, hi: float, unit: str, plausible: PlausibleSpec,
+                 **kwargs: object) -> None:
+        """A profile of `unit` from `lo` to `hi` by default, whose bounds plausibly take the
+        values `plausible` says (`musclesim.fmu.declare`'s); `**kwargs`: pythonfmu's."""
         super().__init__(**kwargs)
         self.parameter("profile", 1.0, "1", "Profile number: " + ", ".join(
             f"{i} = {n}" for i, n in enumerate(self.names, 1)), source="§reference-profiles",
             type="Integer")
         # the profiles are functions (components/sma/profiles.py), no parameter dataclass
         self.parameter("lo", lo, unit, "Bottom of the profile's range",
-                       source="§reference-profiles")
+                       source="§reference-profiles", plausible=plausible)
         self.parameter("hi", hi, unit, "Top of the profile's range (= lo: constant)",
-                       source="§reference-profiles")
+                       source="§reference-profiles", plausible=plausible)
         self.parameter("duration", profiles.DURATION, "s", "Length of the run the profile is laid "
                        "out over (the study's runs of about 550 s)", source="§reference-profiles")
         self.parameter("seed", 0.0, "1", "Seed of the random peaks and troughs",
@@ -141,7 +144,7 @@ class StrainProfile(_ProfileSlave):
     kernel = Kernel(strain_evaluate, no_state, (), ("eps_ref",))
 
     def __init__(self, **kwargs: object) -> None:
-        super().__init__(0.0, profiles.EPS_MAX, "1", **kwargs)
+        super().__init__(0.0, profiles.EPS_MAX, "1", (0.0, 1.0), **kwargs)  # a share of length
         self.output("eps_ref", "1", "Reference strain (contraction / length)")
 
 
@@ -155,7 +158,7 @@ class LoadingProfile(_ProfileSlave):
     kernel = Kernel(loading_evaluate, no_state, (), ("sigma_ref", "f_ref"))
 
     def __init__(self, **kwargs: object) -> None:
-        super().__init__(profiles.SIGMA_LO, profiles.SIGMA_HI, "Pa", **kwargs)
+        super().__init__(profiles.SIGMA_LO, profiles.SIGMA_HI, "Pa", "wire stress", **kwargs)
         self.parameter("area", AREA_127UM, "m2", "Wire cross-section the force reference is for "
                        "(127 um diameter)", source="§sma-wire")
         self.output("sigma_ref", "Pa", "Reference stress")

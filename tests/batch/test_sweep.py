@@ -131,17 +131,17 @@ def test_resume_skips_finished_cases(fmu_dir, tmp_path, scheduler):
 
 def test_failing_case_is_recorded_and_the_others_complete(fmu_dir, tmp_path, scheduler):
     out = tmp_path / "out"
-    summary = sweep.run(IDEAL, ["body.m1=-1,0.2"], out, fmu_dir=fmu_dir, scheduler=scheduler,
+    summary = sweep.run(IDEAL, ["body.c=-1,1.3"], out, fmu_dir=fmu_dir, scheduler=scheduler,
                         stop_time=STOP)
-    assert list(summary["failed"]) == ["body.m1=-1"]
-    assert "m1 must be positive" in summary["failed"]["body.m1=-1"]
+    assert list(summary["failed"]) == ["body.c=-1"]
+    assert "c must be non-negative" in summary["failed"]["body.c=-1"]
     assert summary["completed"] == 1
     rows = _rows(out)
-    assert rows["body.m1=-1"]["completed"] == "False" and rows["body.m1=-1"]["error"]
-    assert rows["body.m1=0.2"]["completed"] == "True"
-    again = sweep.run(IDEAL, ["body.m1=-1,0.2"], out, fmu_dir=fmu_dir, scheduler=scheduler,
+    assert rows["body.c=-1"]["completed"] == "False" and rows["body.c=-1"]["error"]
+    assert rows["body.c=1.3"]["completed"] == "True"
+    again = sweep.run(IDEAL, ["body.c=-1,1.3"], out, fmu_dir=fmu_dir, scheduler=scheduler,
                       stop_time=STOP)
-    assert (again["skipped"], again["ran"], list(again["failed"])) == (1, 1, ["body.m1=-1"])
+    assert (again["skipped"], again["ran"], list(again["failed"])) == (1, 1, ["body.c=-1"])
 
 
 def test_cli_sweep_file_with_grid_override(fmu_dir, tmp_path, scheduler, capsys):

@@ -318,7 +318,8 @@ REFUSED = {
         [f"--out {ws.afile / 'sub'} cannot be written", f"{ws.afile} is a file"]),
     "run-out-in-proc": lambda ws: (
         ["run", IDEAL, "--out", "/proc/musclesim-x", "--fmus", ws.fmus_dir],
-        ["--out /proc/musclesim-x cannot be written", "/proc is not writable"]),
+        ["--out /proc/musclesim-x: cannot create /proc/musclesim-x",
+         "(No such file or directory)"]),
     "diagnose-out-is-a-file": lambda ws: (
         ["diagnose", MEASURED, "--out", ws.afile, "--fmus", ws.fmus_dir],
         [f"--out {ws.afile} is a file"]),
@@ -630,8 +631,8 @@ def test_extract_fmu_refuses_an_entry_and_leaves_nothing(entry, problem, tmp_pat
 # id -> (--set overrides, the sentence naming the culprit, rows written before it)
 FAILED = {
     "fmu-fails-at-initialization": (
-        ["--set", "body.m1=-0.2"], "instance 'body' (CrawlerBody) failed during initialization at "
-        "t = 0 s: m1 must be positive (got -0.2)", 0),
+        ["--set", "body.c=-1.3"], "instance 'body' (CrawlerBody) failed during initialization at "
+        "t = 0 s: c must be non-negative (got -1.3)", 0),
     "signal-overflows-mid-run": (
         ["--set", "inputs.f_mean=1.7e308", "--set", "inputs.f_amp=1e308"],
         "signal inputs.f_a became inf at t = 0.016 s", 17),

@@ -102,10 +102,10 @@ def test_problems_are_collected_not_first_only(fmu_dir, tmp_path, capsys):
 
 def test_fmu_error_during_initialization_names_instance_and_cause(fmu_dir, tmp_path, capsys):
     code, _, err = run(capsys, "run", IDEAL, "--out", tmp_path / "o", "--fmus", fmu_dir,
-                       "--set", "body.m1=-0.2")
+                       "--set", "body.c=-1.3")
     assert code == 1
     assert "instance 'body' (CrawlerBody) failed during initialization at t = 0 s" in err
-    assert "m1 must be positive (got -0.2)" in err
+    assert "c must be non-negative (got -1.3)" in err
 
 
 def test_failure_mid_run_keeps_results_up_to_then(fmu_dir, tmp_path, capsys):

@@ -88,10 +88,10 @@ def test_a_warning_logged_during_a_step_reaches_the_run_as_on_fmi2(fmu_dir, fmu3
 
 
 def test_a_failure_on_fmi3_names_the_instance_and_the_parameter(fmu3_dir):
-    s = load_scenario(SCENARIOS / "crawler-ideal.toml", ["body.m1=-0.2"], stop_time=0.1)
+    s = load_scenario(SCENARIOS / "crawler-ideal.toml", ["body.c=-1.3"], stop_time=0.1)
     res = Master(s, fmu3_dir).run()
     assert res.error.startswith("instance 'body' (CrawlerBody) failed during initialization at "
-                                "t = 0 s: ") and "m1" in res.error
+                                "t = 0 s: ") and "c must be non-negative" in res.error
 
 
 def test_a_saved_fmi3_state_restores_in_a_fresh_instance_to_the_same_bits(fmu3_dir, tmp_path):

@@ -191,15 +191,23 @@ def _check(sweep: Sweep, path: str | Path, fmu_dir: str | Path, overrides: Seque
     scenario every case starts from (with `overrides` and `stop_time`), the scenario of the first
     case, the metrics' units and the plot to draw.
     """
-    from musclesim.cosim import Master, check_fresh, load_scenario, metric_unit, signal_units
+    from musclesim.cosim import (Master, check_fresh, implausible, load_scenario, metric_unit,
+                                 signal_units, unknown_instance)
 
     base = load_scenario(sweep.scenario, overrides, stop_time)
     instances = base.instances
     for axis in sweep.axes:
         inst = ParamRef.parse(axis).instance
         if inst not in instances:
-            raise UserError(f"grid axis {axis!r}: no instance {inst!r} in "
-                            f"{sweep.scenario} (instances: {', '.join(instances)})")
+            raise UserError(f"grid axis {axis!r}: "
+                            f"{unknown_instance(inst, instances, f'{sweep.scenario} declares')}")
+    # every value of the grid, before the first case runs (not as many failed cases)
+    implausibles = [next(filter(None, (implausible(base, ParamRef.parse(axis), v,
+                                                   f"grid axis {axis!r}: {axis}")
+                                       for v in values)), None)
+                    for axis, values in sweep.axes.items()]
+    if any(implausibles):
+        raise UserError(f"grid of {path}: " + "; ".join(p for p in implausibles if p))
     s = load_scenario(sweep.scenario, [*overrides, *point], stop_time)
     check_fresh(fmu_dir)
     sig_units = signal_units(Master(s, fmu_dir))

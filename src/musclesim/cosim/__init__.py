@@ -3,7 +3,9 @@ file (or one shipped with musclesim, found by its name: ``locate_scenario``), st
 typed: a `Signal` (instance, variable) and a `ParamRef` (instance, parameter), parsed once from
 the files' ``"instance.name"`` strings; a scenario's data flow (`Scenario.graph`, a `Graph` of
 `Link`\\ s: which instance feeds which) serves the master and the diagnosis; `with_values` is the
-one way parameter values reach a scenario. Exporting a scenario for other tools (SSP, one FMU)
+one way parameter values reach a scenario, `implausible` says which of them a component declares
+implausible (a temperature in Celsius), and `unknown_instance` answers a name no instance has
+with the nearest one. Exporting a scenario for other tools (SSP, one FMU)
 is the layer above, ``musclesim.export``.
 
 The data path of a run is ``load_scenario`` -> ``Master(...).run()`` (`Results`) ->
@@ -32,7 +34,7 @@ from musclesim.cosim.results import Results, clear_run_outputs, compute_metrics,
 from musclesim.cosim.results import write_all as write_results
 from musclesim.cosim.run import run_scenario
 from musclesim.cosim.scenario import (Instance, Metric, Panel, Scenario, apply_overrides,
-                                      with_values)
+                                      implausible, unknown_instance, with_values)
 from musclesim.cosim.scenario import load as load_scenario
 from musclesim.cosim.scenario_files import FORMAT, format_problem, renamed_signals
 from musclesim.cosim.scenario_files import locate as locate_scenario
@@ -43,7 +45,7 @@ __all__ = ["Signal", "ParamRef", "with_values",
            "build_all", "check_fresh", "source_digest",
            "forget_fmu_resource_paths", "read_fmu", "reuse_fmus",
            "FORMAT", "Instance", "Metric", "Panel", "Scenario", "load_scenario", "apply_overrides",
-           "locate_scenario", "shipped_scenarios",
+           "locate_scenario", "shipped_scenarios", "implausible", "unknown_instance",
            "format_problem", "renamed_signals", "Graph", "Link",
            "Master", "Results", "KINDS", "run_scenario", "run_cases",
            "compute_metrics", "metric_unit", "signal_units", "write_results", "clear_run_outputs",

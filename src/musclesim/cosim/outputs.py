@@ -12,29 +12,43 @@ from pathlib import Path
 from musclesim.errors import UserError
 
 
-def _writable_ancestor(path: Path, what: str) -> None:
-    """Raise unless the nearest existing ancestor of `path` is a folder we can create files in."""
-    parent = path.parent
-    while not parent.exists() and parent != parent.parent:
-        parent = parent.parent
-    if not parent.is_dir():
-        raise UserError(f"{what} {path} cannot be written: {parent} is a file, not a folder")
-    try:  # a real probe: permissions, read-only file systems and root alike
-        fd, probe = tempfile.mkstemp(prefix=".musclesim-probe-", dir=parent)
+def _can_write_in(folder: Path, path: Path, what: str) -> None:
+    """Raise unless `folder` (for the output `path`, named as `what`) exists as a folder we can
+    create files in, or can be made. A real probe, leaving nothing behind: a file created in it,
+    or its first missing folder made, then removed; a refusal gives the reason the system gave
+    and the path it gave it for."""
+    top = folder
+    while not top.parent.exists() and top.parent != top.parent.parent:
+        top = top.parent
+    base = top.parent if not top.exists() else top
+    if not base.is_dir():
+        raise UserError(f"{what} {path} cannot be written: {base} is a file, not a folder")
+    try:
+        if top.exists():
+            fd, probe = tempfile.mkstemp(prefix=".musclesim-probe-", dir=top)
+            os.close(fd)
+            os.unlink(probe)
+        else:
+            os.mkdir(top)
+            try:
+                os.rmdir(top)
+            except OSError:  # something else wrote into it meanwhile: it stays
+                pass
+    except FileExistsError:  # made meanwhile by another process: as good as made
+        return
     except OSError as exc:
-        raise UserError(f"{what} {path} cannot be written: {parent} is not writable "
+        made = f"a file in {top}" if top.exists() else str(exc.filename or top)
+        raise UserError(f"{what} {path}: cannot create {made} "
                         f"({exc.strerror or type(exc).__name__})") from None
-    os.close(fd)
-    os.unlink(probe)
 
 
 def check_output_dir(path: str | Path, what: str = "--out") -> None:
     """Refuse (UserError naming it as `what`), before any work, an output folder `path` that
-    exists as a file or cannot be made."""
+    exists as a file or cannot be made or written into."""
     path = Path(path)
     if path.exists() and not path.is_dir():
         raise UserError(f"{what} {path} is a file, not a folder")
-    _writable_ancestor(path / "x" if path.is_dir() else path, what)
+    _can_write_in(path, path, what)
 
 
 def check_output_file(path: str | Path, what: str = "--out") -> None:
@@ -43,7 +57,7 @@ def check_output_file(path: str | Path, what: str = "--out") -> None:
     path = Path(path)
     if path.is_dir():
         raise UserError(f"{what} {path} is a folder, not a file")
-    _writable_ancestor(path, what)
+    _can_write_in(path.parent, path, what)
 
 
 def replace_file(path: str | Path, data: str | bytes) -> None:

@@ -8,14 +8,18 @@ time, the master algorithm, the signals to record, the metrics to compute and th
 A file may ``extends = "other.toml"``, and declares its ``format`` (`musclesim.cosim.FORMAT`):
 how its files are read and merged is `musclesim.cosim.scenario_files`'s. Each signal is parsed
 once, here, into a `Signal`; the scenario's data flow is its `Scenario.graph`. Checks collect
-every problem and raise once with the whole list. No message repeats a value read from a
-parameters file (it may hold what is not ours to print), only its key.
+every problem and raise once with the whole list: among them an instance no table declares
+(named once, with the declared name nearest it: `unknown_instance`) and a value its component
+declares implausible (`implausible`: a temperature in Celsius, a length in mm), before any FMU
+is read. No message repeats a value read from a parameters file (it may hold what is not ours to
+print), only its key.
 
 Limits: a step of at least `MIN_STEP`, at most `MAX_STEPS` communication steps, times of at most
 `MAX_TIME` in magnitude, ``every`` at most `MAX_EVERY`.
 """
 from __future__ import annotations
 
+import difflib
 import math
 import re
 import tomllib
@@ -25,6 +29,7 @@ from functools import cached_property
 from pathlib import Path
 from typing import Any, NamedTuple
 
+from musclesim.cosim import plausible
 from musclesim.cosim.address import ParamRef, Signal
 from musclesim.cosim.graph import Graph
 from musclesim.cosim.scenario_files import read
@@ -152,9 +157,18 @@ def load(path: str | Path, overrides: Iterable[str] = (), stop_time: float | Non
         raise UserError(f"scenario file {path} does not exist")
     data = read(path)
     problems: list[str] = []
-    scenario = _parse(data, path, problems)
+    from_files: dict[ParamRef, Path] = {}  # values read from a parameters file, and which
+    scenario = _parse(data, path, problems, from_files)
     if scenario is not None:
-        scenario = apply_overrides(scenario, overrides, problems)
+        values = _overrides(scenario, overrides, problems)
+        for name, spec in scenario.instances.items():
+            for par, value in spec.parameters.items():
+                ref = ParamRef(name, par)
+                if ref not in values:  # an override replaces it (and is checked itself)
+                    where = from_files.get(ref)
+                    problem = implausible(scenario, ref, value, where=where)
+                    problems += [problem] if problem else []
+        scenario = with_values(scenario, values)
         if stop_time is not None:
             stop_time = float(stop_time)
             if not math.isfinite(stop_time):
@@ -181,10 +195,13 @@ def _signals(items: object) -> list[Signal] | None:
     return [s for s in signals if s is not None] if None not in signals else None
 
 
-def _parse(data: dict[str, Any], path: Path, problems: list[str]) -> Scenario | None:
+def _parse(data: dict[str, Any], path: Path, problems: list[str],
+           from_files: dict[ParamRef, Path]) -> Scenario | None:
+    """The scenario of the merged table `data` read from `path`, or None with `problems`;
+    `from_files` gets the values read from a parameters file, each with that file."""
     for key in sorted(set(data) - _TOP_KEYS):
         problems.append(f"unknown key {key!r} (known: {', '.join(sorted(_TOP_KEYS))})")
-    instances = _instances(data, path, problems)
+    instances = _instances(data, path, problems, from_files)
     connections = []
     for item in data.get("connections", []):
         src, dst = map(_signal, item) if isinstance(item, list) and len(item) == 2 else (None, None)
@@ -205,6 +222,12 @@ def _parse(data: dict[str, Any], path: Path, problems: list[str]) -> Scenario | 
             problems.append(f"plot panel {panel!r} needs a 'signals' list")
             continue
         plots.append(Panel(str(panel.get("title", "")), tuple(parsed)))
+    declared = data.get("instances")
+    if isinstance(declared, dict) and declared:
+        _unknown_instances(list(declared), {
+            "connections": [sig for pair in connections for sig in pair], "record": record,
+            "metrics": [sig for m in metrics.values() for sig in (m.signal, m.over) if sig],
+            "plots": [sig for panel in plots for sig in panel.signals]}, problems)
     algorithm = data.get("algorithm", "gauss-seidel")
     if algorithm not in ALGORITHMS:
         problems.append(f"algorithm {algorithm!r} is not one of {ALGORITHMS}")
@@ -224,8 +247,43 @@ def _parse(data: dict[str, Any], path: Path, problems: list[str]) -> Scenario | 
         description=str(data.get("description", "")), reference=str(data.get("reference", "")))
 
 
-def _instances(data: dict[str, Any], path: Path, problems: list[str]) -> dict[str, Instance]:
-    """The scenario's ``[instances.NAME]`` tables, checked."""
+def unknown_instance(name: str, names: Iterable[str], declares: str = "the file declares"
+                     ) -> str:
+    """The sentence for an instance `name` that is not one of `names`: the declared name
+    nearest it, where one is near (a typo), after `declares` (who declares it: "the file
+    declares"), else them all.
+
+    Examples
+    --------
+    >>> unknown_instance("friction2", ["body", "fricton2"])
+    "no instance 'friction2'; the file declares 'fricton2'"
+    >>> unknown_instance("robot", ["body", "inputs"])
+    "no instance 'robot' (instances: body, inputs)"
+    """
+    names = list(names)
+    near = difflib.get_close_matches(name, names, n=1)
+    if near:
+        return f"no instance {name!r}; {declares} {near[0]!r}"
+    return f"no instance {name!r} (instances: {', '.join(names)})"
+
+
+def _unknown_instances(names: list[str], signals: Mapping[str, Iterable[Signal]],
+                       problems: list[str]) -> None:
+    """One problem per instance the `signals` (by the part of the file naming them) name that is
+    not one of the declared `names`, however often it is named."""
+    where: dict[str, list[str]] = {}
+    for part, sigs in signals.items():
+        for sig in sigs:
+            if sig.instance not in names and part not in where.setdefault(sig.instance, []):
+                where[sig.instance].append(part)
+    for name, parts in where.items():
+        problems.append(f"{', '.join(parts)}: {unknown_instance(name, names)}")
+
+
+def _instances(data: dict[str, Any], path: Path, problems: list[str],
+               from_files: dict[ParamRef, Path]) -> dict[str, Instance]:
+    """The scenario's ``[instances.NAME]`` tables, checked; `from_files` gets the values read
+    from a parameters file (and not set inline), each with that file."""
     instances = {}
     raw = data.get("instances")
     if not isinstance(raw, dict) or not raw:
@@ -241,8 +299,11 @@ def _instances(data: dict[str, Any], path: Path, problems: list[str]) -> dict[st
             problems.append(f"instance {name!r}: component {spec['component']!r} must be the name "
                             "of an FMU in the FMU folder (letters, digits, '_', '-'), not a path")
             continue
-        params = {**_parameters_file(path, name, spec.get("parameters_file"), problems),
-                  **spec.get("parameters", {})}
+        in_file = _parameters_file(path, name, spec.get("parameters_file"), problems)
+        params = {**in_file, **spec.get("parameters", {})}
+        file = spec.get("parameters_file")
+        from_files.update({ParamRef(name, k): path.parent / str(file) for k in in_file
+                           if k not in spec.get("parameters", {})})
         for key in sorted(set(spec) - {"component", "parameters", "parameters_file", "every"}):
             problems.append(f"instance {name!r}: unknown key {key!r} "
                             "(known: component, parameters, parameters_file, every)")
@@ -329,11 +390,36 @@ def with_values(scenario: Scenario, values: Mapping[ParamRef, float]) -> Scenari
     return replace(scenario, instances=instances)
 
 
+def implausible(scenario: Scenario, ref: ParamRef, value: float, label: str | None = None,
+                where: Path | None = None) -> str | None:
+    """Why `value` is implausible for parameter (or held input) `ref` of `scenario`, as its
+    component declares it (`musclesim.cosim.plausible`), or None (also for an instance or a name
+    it does not know, which other checks report). The sentence names it `label` (default: `ref`);
+    a value read from the parameters file `where` is not repeated, the file is named instead."""
+    inst = scenario.instances.get(ref.instance)
+    if inst is None:
+        return None
+    label = label or str(ref)
+    if where is not None:
+        label = f"{label} in {where}"
+    unit = plausible.signal_unit({n: i.component for n, i in scenario.instances.items()},
+                                 scenario.connections, Signal(ref.instance, ref.name))
+    return plausible.problem(inst.component, label, ref.name, value, show=where is None,
+                             unit=unit)
+
+
 def apply_overrides(scenario: Scenario, overrides: Iterable[str], problems: list[str]
                     ) -> Scenario:
     """Return `scenario` with `overrides`, ``instance.parameter=value`` strings (``--set``),
-    parsed with `ParamRef.parse` and applied with `with_values`; what is wrong with one is
-    appended to `problems`."""
+    parsed with `ParamRef.parse`, checked (`implausible`) and applied with `with_values`; what is
+    wrong with one is appended to `problems`."""
+    return with_values(scenario, _overrides(scenario, overrides, problems))
+
+
+def _overrides(scenario: Scenario, overrides: Iterable[str], problems: list[str]
+               ) -> dict[ParamRef, float]:
+    """The values `overrides` (``--set``) give `scenario`'s parameters; what is wrong with one is
+    appended to `problems` (it is left out)."""
     values = {}
     for text in overrides:
         target, sep, value = text.partition("=")
@@ -345,8 +431,8 @@ def apply_overrides(scenario: Scenario, overrides: Iterable[str], problems: list
             problems.append(f"--set {text!r} is not of the form instance.parameter=value")
             continue
         if ref.instance not in scenario.instances:
-            problems.append(f"--set {text!r}: no instance {ref.instance!r} "
-                            f"(instances: {', '.join(scenario.instances)})")
+            problems.append(f"--set {text!r}: "
+                            f"{unknown_instance(ref.instance, scenario.instances)}")
             continue
         try:
             number = float(value)
@@ -356,8 +442,11 @@ def apply_overrides(scenario: Scenario, overrides: Iterable[str], problems: list
         if not math.isfinite(number):
             problems.append(f"--set {text!r}: the value must be finite")
             continue
+        if problem := implausible(scenario, ref, number):
+            problems.append(f"--set {text!r}: {problem}")
+            continue
         values[ref] = number
-    return with_values(scenario, values)
+    return values
 
 
 def _check_times(s: Scenario, problems: list[str]) -> None:

@@ -1,6 +1,7 @@
 """The wiring of a scenario checked against its FMUs' model descriptions, before a run.
 
-Every problem is collected (unknown instance or variable, a port renamed by format 2, wrong
+Every problem is collected (unknown instance or variable, answered with the nearest declared
+name, a port renamed by format 2, wrong
 causality, types or units that do not join, an input connected twice or also replayed, a value
 a parameter cannot take, a recorded signal that does not exist) and returned as sentences for
 `musclesim.cosim.master.Master` to raise once. `Loaded` is an instance of the scenario with the
@@ -8,6 +9,7 @@ model description of its FMU, and later the tables of the master's loop.
 """
 from __future__ import annotations
 
+import difflib
 from collections.abc import Callable, Mapping
 from typing import Any
 
@@ -16,7 +18,7 @@ import numpy as np
 from musclesim.components import renamed
 from musclesim.cosim.address import Signal
 from musclesim.cosim.adapters import KINDS
-from musclesim.cosim.scenario import Scenario
+from musclesim.cosim.scenario import Scenario, unknown_instance
 
 Call = Callable[[], None]  # a get or set of the master's loop, made once
 
@@ -71,7 +73,8 @@ def variable(instances: Mapping[str, Loaded], signal: Signal, problems: list[str
     `problems` (the signal called `what`: "connection source", "parameter", ...)."""
     inst, var = signal.instance, signal.variable
     if inst not in instances:
-        problems.append(f"{what} {str(signal)!r}: no instance {inst!r}")
+        problems.append(f"{what} {str(signal)!r}: "
+                        f"{unknown_instance(inst, instances, 'the scenario declares')}")
         return None
     v = instances[inst].vars.get(var)
     now = renamed(instances[inst].component, var)
@@ -79,8 +82,10 @@ def variable(instances: Mapping[str, Loaded], signal: Signal, problems: list[str
         problems.append(f"{what} {str(signal)!r}: {instances[inst].component}'s {var} has "
                         f"been renamed {now} (the Modelica Standard Library's port names)")
     elif v is None:
+        near = difflib.get_close_matches(var, instances[inst].vars, n=1)
         problems.append(f"{what} {str(signal)!r}: {instances[inst].component} has no variable "
-                        f"{var!r} (variables: {', '.join(instances[inst].vars)})")
+                        f"{var!r}" + (f"; it declares {near[0]!r}" if near else
+                                      f" (variables: {', '.join(instances[inst].vars)})"))
     elif v.type not in KINDS:
         problems.append(f"{what} {str(signal)!r}: only Real, Integer and Boolean (FMI 2.0) and "
                         f"Float64, Int32 and Boolean (FMI 3.0) variables are supported, not "

@@ -1,7 +1,9 @@
 """What ships inside every FMU: the project's pythonfmu base class `Slave`, the SI `UNITS` it
 declares, `experiment`, a component's default experiment, `step_end`, the clock every slave
-keeps, and `declare`, one declaration of a core's parameter (its unit, description, source and
-role: an effect's bounds or a `Calibration`) that the slave, the docs and the diagnosis read.
+keeps, and `declare`, one declaration of a core's parameter (its unit, description, source,
+role: an effect's bounds or a `Calibration`, and its `Plausible` values, by default its unit's in
+`PLAUSIBLE`, `DIFFERENCES` for a difference, with the `SLIPS` a value is likely written in) that
+the slave, the docs, the diagnosis and the scenario checks read.
 
 Modules: `slave` (the base class), `kernel` (`KernelSlave`, a slave whose physics is a compiled
 `Kernel`), `compiled` (`jit`: numba where installed, plain Python where not), `declaration` (a
@@ -13,13 +15,15 @@ only).
 standard library, numpy and pythonfmu: an FMU must run where only Python, numpy and scipy are
 installed.
 """
-from musclesim.fmu.declaration import Calibration, Declaration, declare
+from musclesim.fmu.declaration import Calibration, Declaration, PlausibleSpec, declare
 from musclesim.fmu.clock import experiment, step_end
 from musclesim.fmu.compiled import CACHE, COMPILED, jit, parallel_jit, range_over_cases
 from musclesim.fmu.kernel import Kernel, KernelSlave, no_state
 from musclesim.fmu.slave import Slave
-from musclesim.fmu.units import UNITS
+from musclesim.fmu.units import (CELSIUS, DIFFERENCES, PLAUSIBLE, QUANTITIES, SLIPS, UNITS,
+                                 Plausible)
 
 __all__ = ["Slave", "UNITS", "experiment", "step_end", "declare", "Calibration", "Declaration",
            "Kernel", "KernelSlave", "no_state", "jit", "parallel_jit", "range_over_cases", "COMPILED",
-           "CACHE"]
+           "CACHE", "PlausibleSpec", "Plausible", "PLAUSIBLE", "DIFFERENCES", "QUANTITIES",
+           "SLIPS", "CELSIUS"]

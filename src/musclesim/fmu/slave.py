@@ -40,7 +40,7 @@ from pythonfmu import (Boolean, Fmi2Causality, Fmi2Initial, Fmi2Slave, Fmi2Varia
                        Real)
 from pythonfmu.enums import Fmi2Status
 
-from musclesim.fmu.declaration import Declaration
+from musclesim.fmu.declaration import Declaration, resolve
 from musclesim.fmu.clock import experiment, step_end
 from musclesim.fmu.units import UNITS, unit_definitions
 
@@ -119,6 +119,7 @@ class Slave(Fmi2Slave):
                 Fmi2Variability.discrete
             if value != _TYPES[type][1](value):
                 raise ValueError(f"variable {name}: {value!r} is not {type}")
+        resolve(role.get("plausible"), unit)  # ValueError for a `plausible` it does not take
         # the FMU's description names the section its value comes from
         source = role.get("source")
         attr = name.replace(".", "_")
@@ -143,8 +144,8 @@ class Slave(Fmi2Slave):
                   **role: Any) -> None:
         """Declare a fixed parameter `name` (set before initialization), stored as attribute, with
         its `default`, `unit` and `description`; `**role`: `musclesim.fmu.declare`'s type,
-        source, effect or calibrate, for a parameter no core dataclass holds (another keyword
-        raises TypeError)."""
+        source, effect, calibrate, plausible or same_unit_as, for a parameter no core dataclass
+        holds (another keyword raises TypeError)."""
         self._declare(name, default, unit, description, Fmi2Causality.parameter,
                       Fmi2Variability.fixed, Fmi2Initial.exact, None, **role)
 
@@ -153,21 +154,23 @@ class Slave(Fmi2Slave):
         """Declare as parameters the fields of the core's dataclass `cls` made with `declare`, in
         their order, but not those in `skip`. A core shared by several components (the sensors')
         has per-component units, defaults or roles: `overrides`, ``overrides[name]``, is a dict
-        replacing any of the field's declared default, unit, description, source, type, effect
-        or calibrate (ValueError for a name `cls` does not declare)."""
+        replacing any of the field's declared default, unit, description, source, type, effect,
+        calibrate, plausible or same_unit_as (ValueError for a name `cls` does not declare)."""
         overrides = dict(overrides or {})
         for f in dataclasses.fields(cls):
             if "unit" in f.metadata and f.name not in skip:
                 m = {**f.metadata, "default": f.default, **overrides.pop(f.name, {})}
                 self.parameter(f.name, m["default"], m["unit"], m["description"], type=m["type"],
-                               source=m["source"], effect=m["effect"], calibrate=m["calibrate"])
+                               source=m["source"], effect=m["effect"], calibrate=m["calibrate"],
+                               plausible=m["plausible"], same_unit_as=m["same_unit_as"])
         if overrides:
             raise ValueError(f"{cls.__name__} declares no {', '.join(overrides)}")
 
     def input(self, name: str, start: float, unit: str, description: str, **role: Any) -> None:
         """Declare a continuous Real input `name` with its `start` value, `unit` and
         `description` (`**role`: a `Calibration` of an input held constant, such as the ambient
-        temperature; `declare`'s source; another keyword raises TypeError)."""
+        temperature; `declare`'s source, plausible (the values a scenario may hold it at) or
+        same_unit_as; another keyword raises TypeError)."""
         self._declare(name, start, unit, description, Fmi2Causality.input,
                       Fmi2Variability.continuous, None, None, **role)
 
