@@ -573,20 +573,48 @@ def test_fmu_without_binaries_is_one_sentence_and_a_stopped_run(ws, capsys):
     assert run_folders() == []
 
 
-@pytest.mark.xfail(strict=True, reason="pythonfmu's fmi2Instantiate dereferences the missing "
-                   "resources and crashes the host process (SIGSEGV): an FMU's native code runs "
-                   "in this process, so only hosting FMUs out of process would catch this")
-def test_fmu_without_resources_is_one_sentence(ws):
+def test_fmu_without_resources_is_one_sentence_when_isolated(ws):
+    """pythonfmu's fmi2Instantiate dereferences the missing resources and crashes its process
+    (SIGSEGV); isolated, that process is a child of the run's: the run ends in one sentence."""
     foreign = ws.fmus(lambda name, data: None if name.startswith("resources/") else data)
     proc = subprocess.Popen(
         [sys.executable, "-m", "musclesim.cli", *map(str, run_argv(
-            ws, IDEAL, "--stop-time", "0.05", fmus=foreign))],
+            ws, IDEAL, "--stop-time", "0.05", "--isolate", fmus=foreign))],
         cwd=ws.root, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     out, err = proc.communicate(timeout=120)
-    for folder in run_folders(proc.pid):  # a crashed run cannot remove its own
-        shutil.rmtree(folder)
-    assert proc.returncode == 2, proc.returncode
-    assert_one_sentence(err, out, [foreign / "FrictionBlock.fmu"])
+    assert proc.returncode == 1, err
+    assert run_folders(proc.pid) == []  # the run removed its own folder
+    assert_one_sentence(err, out, ["instance 'friction1' (FrictionBlock) failed while loading",
+                                   "at t = 0 s", "SIGSEGV"])
+    summary = json.loads((ws.out / "summary.json").read_text())
+    assert summary["status"] == "stopped" and "SIGSEGV" in summary["error"]
+
+
+def test_a_crash_mid_run_keeps_the_rows_recorded_before_it(ws, capsys):
+    """An isolated FMU that dies in a step at 0.02 s: one sentence naming it and the time, the
+    20 rows before it kept, nothing half-written, no child process left."""
+    crash = ("import ctypes as _c\n\n\nclass FrictionBlock(_Slave):\n"
+             "    def do_step(self, t, dt):\n"
+             "        if t >= 0.0195:\n"
+             "            _c.string_at(0)  # reads address 0: SIGSEGV\n"
+             "        return super().do_step(t, dt)\n")
+
+    def edit(name, data):
+        if name != "resources/musclesim_fmu_FrictionBlock.py":
+            return data
+        return data.replace(b"class FrictionBlock(_Slave):\n    pass\n", crash.encode())
+    foreign = ws.fmus(edit)
+    scenario = ws.scenario("[instances.friction1]\n", "[instances.friction1]\nisolate = true\n")
+    code, out, err = run(capsys, *run_argv(ws, scenario, "--stop-time", "0.05", fmus=foreign))
+    assert code == 1, err
+    assert "instance 'friction1' (FrictionBlock) failed in a step at t = 0.02 s" in err
+    assert "SIGSEGV" in err and "Traceback" not in err
+    summary = json.loads((ws.out / "summary.json").read_text())
+    assert summary["status"] == "stopped" and summary["end_time"] == pytest.approx(0.02)
+    assert len((ws.out / "results.csv").read_text().splitlines()) == 1 + 21  # t = 0 ... 0.02
+    assert half_written(ws.out) == [] and run_folders() == []
+    import multiprocessing
+    assert multiprocessing.active_children() == []
 
 
 def test_fmu_unpacking_past_the_cap_is_refused_as_it_is_written(ws, capsys, monkeypatch):

@@ -22,7 +22,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     from musclesim.cosim import run_scenario
 
     summary, res = run_scenario(args.scenario, args.out, args.fmus, args.set, args.stop_time,
-                                host=args.host)
+                                host=args.host, isolate=args.isolate)
     out = Path(args.out)
     if summary["description"]:  # the file's words: overrides may have changed what it says
         print(summary["description"] + (f" (with --set {', '.join(args.set)})" if args.set else ""))
@@ -83,6 +83,10 @@ def add_run(sub: "argparse._SubParsersAction[argparse.ArgumentParser]") -> None:
                    help="who calls the FMUs `musclesim build` made: this process directly "
                    "(default) or fmpy, through the FMI C API; the results are the same bits "
                    "(other FMUs always run on fmpy)")
+    q.add_argument("--isolate", action="store_true",
+                   help="run every instance in a child process of its own (FMUs you do not "
+                   "trust: a crash ends the run with one sentence, the results so far kept; "
+                   "slower). One instance: isolate = true in its scenario table")
     q.set_defaults(func=_cmd_run)
 
 

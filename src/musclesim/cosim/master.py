@@ -29,7 +29,10 @@ instance and phase. Two hosts make those calls: the FMUs musclesim built from th
 sources are called directly in this process (`musclesim.cosim.direct`, the default), every other
 FMU through fmpy with preallocated ctypes arrays (`musclesim.cosim.adapters`; ``host="fmpy"``
 sends ours that way too). Both
-call the same slave code in the same order: the results agree to the bit.
+call the same slave code in the same order: the results agree to the bit. An instance the
+scenario isolates (``isolate = true``), or every one with ``isolate=True``, runs on fmpy in a
+child process of its own (`musclesim.cosim.isolated`): its crash ends the run with one sentence,
+the rows so far kept; its results are fmpy's bits.
 """
 from __future__ import annotations
 
@@ -52,6 +55,7 @@ from musclesim.cosim import direct, fused, interrupt, wiring
 from musclesim.cosim.adapters import KINDS, Fmpy3Slave, FmpySlave
 from musclesim.cosim.address import Signal
 from musclesim.cosim.build import built_here
+from musclesim.cosim.isolated import IsolatedSlave
 from musclesim.cosim.host import (LOG_SINKS, callbacks, extract_fmu, extracted_fmu,
                                   forget_fmu_resource_paths, read_fmu, remove_orphan_runs)
 from musclesim.cosim.results import Results
@@ -99,6 +103,10 @@ class Master:
     fuse : bool
         Where every instance is a compiled kernel on the direct host, run the steps in one
         compiled loop (`musclesim.cosim.fused`; default): the same bits, without Python per step.
+    isolate : bool
+        Run every instance on fmpy in a child process of its own (`musclesim.cosim.isolated`:
+        a crash ends the run with an error sentence, the rows so far kept); without it, only the
+        instances the scenario isolates (``isolate = true``) run so.
 
     Raises
     ------
@@ -110,12 +118,13 @@ class Master:
 
     def __init__(self, scenario: Scenario, fmu_dir: str | os.PathLike[str] = "fmus",
                  inputs: Mapping[Signal, Any] | None = None, host: str = "direct",
-                 fuse: bool = True) -> None:
+                 fuse: bool = True, isolate: bool = False) -> None:
         """Read the FMUs of `scenario` from `fmu_dir`, check the wiring (with the replayed
-        `inputs`), plan the run on `host`, fused or not (see the class docstring)."""
+        `inputs`), plan the run on `host`, fused or not, every instance in a child process of
+        its own if `isolate` (else those the scenario isolates; see the class docstring)."""
         if host not in HOSTS:
             raise UserError(f"host {host!r} is not one of {', '.join(HOSTS)}")
-        self.scenario, self.host, self.fuse = scenario, host, fuse
+        self.scenario, self.host, self.fuse, self.isolate = scenario, host, fuse, isolate
         self.fused: bool | None = None  # whether the last run's steps ran fused
         self.current: Any = None  # the Loaded instance being called, named if it fails
         self.hosts: dict[str, str] = {}  # instance -> the host that ran it, once loaded
@@ -291,6 +300,8 @@ class Master:
                 # Python objects without forgetting them, and freeing it would release them again.
                 if inst.slave is not None and inst is not failed:
                     inst.slave.terminate()
+                elif isinstance(inst.slave, IsolatedSlave):
+                    inst.slave.close()  # its child process, alive or not, is ended
                 inst.slave = None
             shutil.rmtree(tmp, ignore_errors=True)
             del LOG_SINKS[id(self)]
@@ -351,6 +362,10 @@ class Master:
         """Instantiate `inst` from the FMU at `path` on its host (`unpacked` extracts it where
         the host needs its files: all but the direct host)."""
         try:  # fmpy raises bare Exceptions for a missing or broken library, a failed instance
+            if self.isolate or self.scenario.instances[inst.name].isolate:
+                self.hosts[inst.name] = "isolated"
+                return IsolatedSlave(unpacked(inst, path), inst.name, inst.log,
+                                     inst.md.fmiVersion.startswith("3"))
             if inst.md.fmiVersion.startswith("3"):  # through the FMI 3.0 C API, always
                 self.hosts[inst.name] = "fmpy"
                 return Fmpy3Slave(inst.md, unpacked(inst, path), inst.name, inst.log)

@@ -13,11 +13,12 @@ from musclesim.errors import UserError
 
 def run_scenario(path: str | Path, out: str | Path, fmu_dir: str | Path = "fmus",
                  overrides: Iterable[str] = (), stop_time: float | None = None,
-                 with_plot: bool = True, host: str = "direct"
+                 with_plot: bool = True, host: str = "direct", isolate: bool = False
                  ) -> tuple[dict[str, Any], results.Results]:
     """Load the scenario at `path` (with the ``--set`` `overrides` and `stop_time`), run it on
-    the FMUs in `fmu_dir` on `host` (`master.HOSTS`) and write it into `out` (the plot only
-    `with_plot`); return (summary, results).
+    the FMUs in `fmu_dir` on `host` (`master.HOSTS`; every instance in a child process of its
+    own if `isolate`) and write it into `out` (the plot only `with_plot`); return (summary,
+    results).
 
     The rows reach `out`/results.csv as the run goes (`results.RunWriter`). When a signal stops
     the run, its rows so far are kept, the summary says ``completed: false`` with the signal and
@@ -27,7 +28,7 @@ def run_scenario(path: str | Path, out: str | Path, fmu_dir: str | Path = "fmus"
     """
     s = scenario.load(path, overrides, stop_time)
     build.check_fresh(fmu_dir)
-    m = master.Master(s, fmu_dir, host=host)
+    m = master.Master(s, fmu_dir, host=host, isolate=isolate)
     writer = results.RunWriter(out, s, m.columns, master.signal_units(m), with_plot)
     writer.start()
 

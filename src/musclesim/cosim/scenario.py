@@ -2,8 +2,9 @@
 
 A scenario names instances (a component: the name of an FMU in the FMU folder, parameter
 values, inline or from a TOML file given as ``parameters_file`` relative to the scenario and
-inside its folder, inline values winning, and ``every``: how many communication steps the
-instance takes at once), connections ``"a.y" -> "b.u"``, the communication step, start and stop
+inside its folder, inline values winning, ``every``: how many communication steps the
+instance takes at once, and ``isolate``: whether it runs in a child process of its own),
+connections ``"a.y" -> "b.u"``, the communication step, start and stop
 time, the master algorithm, the signals to record, the metrics to compute and the plot panels.
 A file may ``extends = "other.toml"``, and declares its ``format`` (`musclesim.cosim.FORMAT`):
 how its files are read and merged is `musclesim.cosim.scenario_files`'s. Each signal is parsed
@@ -77,12 +78,14 @@ class Panel:
 class Instance:
     """One FMU instance: its `name`, the `component` (FMU) it instantiates, its `parameters`'
     values and `every`: it steps at every ``every``-th communication point, by ``every`` steps at
-    once (multi-rate; 1 = at every point)."""
+    once (multi-rate; 1 = at every point); `isolate`: it runs in a child process of its own (an
+    FMU one does not trust: `musclesim.cosim.isolated`)."""
 
     name: str
     component: str
     parameters: dict[str, float] = field(default_factory=dict)
     every: int = 1
+    isolate: bool = False
 
 
 @dataclass(frozen=True)
@@ -304,9 +307,14 @@ def _instances(data: dict[str, Any], path: Path, problems: list[str],
         file = spec.get("parameters_file")
         from_files.update({ParamRef(name, k): path.parent / str(file) for k in in_file
                            if k not in spec.get("parameters", {})})
-        for key in sorted(set(spec) - {"component", "parameters", "parameters_file", "every"}):
-            problems.append(f"instance {name!r}: unknown key {key!r} "
-                            "(known: component, parameters, parameters_file, every)")
+        known = ("component", "parameters", "parameters_file", "every", "isolate")
+        for key in sorted(set(spec) - set(known)):
+            problems.append(f"instance {name!r}: unknown key {key!r} (known: "
+                            f"{', '.join(known)})")
+        isolate = spec.get("isolate", False)
+        if not isinstance(isolate, bool):
+            problems.append(f"instance {name!r}: isolate = {isolate!r} must be true or false")
+            isolate = False
         every = spec.get("every", 1)
         if not isinstance(every, int) or isinstance(every, bool) or not 1 <= every <= MAX_EVERY:
             problems.append(f"instance {name!r}: every = {every!r} must be a whole number of "
@@ -318,7 +326,7 @@ def _instances(data: dict[str, Any], path: Path, problems: list[str],
                             f"{type(params[k]).__name__})")
         instances[name] = Instance(name, spec["component"],
                                    {k: float(v) for k, v in params.items() if k not in bad},
-                                   every)
+                                   every, isolate)
     return instances
 
 
