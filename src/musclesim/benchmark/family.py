@@ -35,7 +35,7 @@ True
 """
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -141,9 +141,39 @@ class Family:
         return (CALIBRATION_ONLY, *self.library, TWO_EFFECTS, OUTSIDE_LIBRARY)
 
 
-def forms(rng: np.random.Generator) -> dict[str, str]:
-    """One form per subsystem of `FORMS`, drawn uniformly from `rng`."""
-    return {sub: str(rng.choice(sorted(options))) for sub, options in FORMS.items()}
+def forms(rng: np.random.Generator, table: dict[str, dict[str, str]] | None = None
+          ) -> dict[str, str]:
+    """One form per subsystem of `table` (default `FORMS`), drawn uniformly from `rng`."""
+    return {sub: str(rng.choice(sorted(options))) for sub, options in (table or FORMS).items()}
+
+
+def in_turn(causes: Sequence[str], count: int, rng: np.random.Generator) -> list[str]:
+    """`count` labels of `causes` in equal shares (in turn), shuffled by `rng`."""
+    out = [causes[i % len(causes)] for i in range(count)]
+    rng.shuffle(out)
+    return out
+
+
+def hide(case: dict[str, Any], library: Sequence[str], outside: Sequence[str],
+         hidden: Callable[[str, np.random.Generator, float], dict[str, Any]],
+         rng: np.random.Generator) -> None:
+    """Give family `case` the hidden change of its ``cause``, drawn from `rng` (in place):
+    ``kind``, and ``effect`` or ``pair`` with their ``values`` (`hidden`(effect, rng,
+    duration) of an effect of `library` or `outside`)."""
+    cause, duration = case["cause"], case["duration"]
+    if cause == CALIBRATION_ONLY:
+        case["kind"] = "none"
+    elif cause == TWO_EFFECTS:
+        pair = [str(e) for e in rng.choice(library, size=2, replace=False)]
+        values: dict[str, Any] = {}
+        for e in pair:
+            values.update(hidden(e, rng, duration))
+        case.update(kind="pair", pair=pair, values=values)
+    else:
+        pool = outside if cause == OUTSIDE_LIBRARY else (cause,)
+        effect = str(pool[int(rng.integers(len(pool)))])
+        case.update(kind="outside" if cause == OUTSIDE_LIBRARY else "effect", effect=effect,
+                    values=hidden(effect, rng, duration))
 
 
 def _form_fields(form: dict[str, str], rng: np.random.Generator) -> dict[str, Any]:
@@ -180,10 +210,8 @@ def plan(count: int, seed: int, duration: float = DURATION) -> list[dict[str, An
     label), ``forms`` and ``form_values`` (the forms' fields) besides."""
     rng = np.random.default_rng([seed, 19])  # a stream apart from the other plans'
     model_rng = np.random.default_rng([seed, 23])  # which cases run on our own model
-    causes = [CAUSES[i % len(CAUSES)] for i in range(count)]
-    rng.shuffle(causes)
     cases = []
-    for i, cause in enumerate(causes):
+    for i, cause in enumerate(in_turn(CAUSES, count, rng)):
         base = independent.conditions(rng)
         form = forms(rng)
         case: dict[str, Any] = {
@@ -191,19 +219,7 @@ def plan(count: int, seed: int, duration: float = DURATION) -> list[dict[str, An
             "values": {}, "conditions": base, "duration": duration,
             "ambient_known": bool(rng.random() < independent.KNOWN_AMBIENT),
             "ambient_read": base["ambient"] + float(rng.uniform(-0.2, 0.2))}
-        if cause == CALIBRATION_ONLY:
-            case["kind"] = "none"
-        elif cause == TWO_EFFECTS:
-            pair = [str(e) for e in rng.choice(LIBRARY, size=2, replace=False)]
-            values: dict[str, Any] = {}
-            for e in pair:
-                values.update(hidden(e, rng, duration))
-            case.update(kind="pair", pair=pair, values=values)
-        else:
-            pool = OUTSIDE if cause == OUTSIDE_LIBRARY else (cause,)
-            effect = str(pool[rng.integers(len(pool))])
-            case.update(kind="outside" if cause == OUTSIDE_LIBRARY else "effect", effect=effect,
-                        values=hidden(effect, rng, duration))
+        hide(case, LIBRARY, OUTSIDE, hidden, rng)
         if "clamp heat loss" in (case["effect"], *case.get("pair", ())):
             form["thermal"] = "conduction"
         case["forms"] = form

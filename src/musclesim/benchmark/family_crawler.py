@@ -34,7 +34,7 @@ import numpy as np
 
 from musclesim.benchmark import cases as own
 from musclesim.benchmark import plan as independent
-from musclesim.benchmark.family import MODEL, Family
+from musclesim.benchmark.family import MODEL, Family, forms, hide, in_turn
 from musclesim.benchmark.recording import bench_scenario
 from musclesim.benchmark.recording import record as record_own
 from musclesim.diagnosis import CALIBRATION_ONLY, OUTSIDE_LIBRARY, TWO_EFFECTS
@@ -92,11 +92,6 @@ REGIMES = ["late", "stress_extremes", "stick", "slip", "high_force", "load_chang
            "pressure_changing", "pressurised"]
 
 
-def forms(rng: np.random.Generator) -> dict[str, str]:
-    """One form per subsystem of `FORMS`, drawn uniformly from `rng`."""
-    return {sub: str(rng.choice(sorted(options))) for sub, options in FORMS.items()}
-
-
 def form_fields(form: dict[str, str], rng: np.random.Generator) -> dict[str, Any]:
     """The `Crawler` fields of `form` with the parameters its forms draw from `rng`."""
     u = rng.uniform
@@ -122,28 +117,14 @@ def plan(count: int, seed: int, duration: float = DURATION) -> list[dict[str, An
     crawler cases are (bench "crawler")."""
     rng = np.random.default_rng([seed, 29])  # streams apart from the other plans'
     model_rng = np.random.default_rng([seed, 31])
-    causes = [CAUSES[i % len(CAUSES)] for i in range(count)]
-    rng.shuffle(causes)
     cases = []
-    for i, cause in enumerate(causes):
+    for i, cause in enumerate(in_turn(CAUSES, count, rng)):
         case: dict[str, Any] = {
             "case": f"case-k{i:03d}", "bench": BENCH, "cause": cause, "effect": None,
             "values": {}, "conditions": independent.crawler_conditions(rng),
             "duration": duration}
-        if cause == CALIBRATION_ONLY:
-            case["kind"] = "none"
-        elif cause == TWO_EFFECTS:
-            pair = [str(e) for e in rng.choice(LIBRARY, size=2, replace=False)]
-            values: dict[str, Any] = {}
-            for e in pair:
-                values.update(independent.crawler_hidden(e, rng, duration))
-            case.update(kind="pair", pair=pair, values=values)
-        else:
-            pool = OUTSIDE if cause == OUTSIDE_LIBRARY else (cause,)
-            effect = str(pool[rng.integers(len(pool))])
-            case.update(kind="outside" if cause == OUTSIDE_LIBRARY else "effect", effect=effect,
-                        values=independent.crawler_hidden(effect, rng, duration))
-        form = forms(rng)
+        hide(case, LIBRARY, OUTSIDE, independent.crawler_hidden, rng)
+        form = forms(rng, FORMS)
         case["forms"] = form
         case["form_values"] = form_fields(form, rng)
         if model_rng.random() < MODEL_SHARE and case["kind"] != "outside":
