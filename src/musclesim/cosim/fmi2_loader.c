@@ -1,0 +1,269 @@
+/* The Linux binary of a musclesim FMI 2.0 FMU: starts the Python interpreter the FMU was built
+ * with when the host process has none, then loads pythonfmu's binary (beside this one) and
+ * forwards every FMI 2.0 call to it unchanged.
+ *
+ * pythonfmu's binary is not linked to libpython: it expects the host to have Python in its
+ * process (FMPy, libcosimpy) and fails to load elsewhere (undefined symbol _Py_NoneStruct). This
+ * binary needs no libpython to load; at fmi2Instantiate, in a process without Python, it loads
+ * the build interpreter's libpython with its symbols global (pythonfmu's binary and numpy's
+ * extensions resolve against them) and initialises it with that interpreter's prefix as its home
+ * (an embedded interpreter would otherwise look for its standard library beside the host's
+ * executable) and the build environment's site-packages on its path. A process that already has
+ * Python (a Python host, or another musclesim FMU loaded first) is left as it is: pythonfmu's
+ * binary finds that interpreter as it always did, and every value is the same.
+ *
+ * musclesim.cosim.loader compiles this file per build with loader_config.h, which defines
+ * MUSCLESIM_LIBPYTHON, MUSCLESIM_PYTHONHOME, MUSCLESIM_SITE_SCRIPT (Python run once after
+ * initialisation: the build environment's site folders) and MUSCLESIM_REAL_SUFFIX (pythonfmu's
+ * binary is <this binary without .so><suffix>).
+ */
+#define _GNU_SOURCE
+#include <Python.h>
+#include <dlfcn.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "fmi2Functions.h"
+#include "loader_config.h"
+
+static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
+static void *real;          /* pythonfmu's binary, once loaded (never unloaded: nor is Python) */
+static char failure[8192];  /* why loading failed, for the host's logger */
+static long live;           /* instances not yet freed */
+/* pythonfmu 0.7 resets its interpreter handle at exit from an ELF destructor that runs after the
+   handle's own C++ destructor: a use-after-free that aborts the host as it ends ("free():
+   corrupted unsorted chunks"). The handle never owns the interpreter behind this loader (Python
+   was running before pythonfmu's binary loaded), so resetting it once the last instance is
+   freed is safe and makes both later resets no-ops. */
+static void (*real_finalize)(void);
+
+#define REAL_FUNCTIONS(X) \
+    X(SetDebugLogging) X(Instantiate) X(FreeInstance) X(SetupExperiment) \
+    X(EnterInitializationMode) X(ExitInitializationMode) X(Terminate) X(Reset) \
+    X(GetReal) X(GetInteger) X(GetBoolean) X(GetString) \
+    X(SetReal) X(SetInteger) X(SetBoolean) X(SetString) \
+    X(GetFMUstate) X(SetFMUstate) X(FreeFMUstate) X(SerializedFMUstateSize) \
+    X(SerializeFMUstate) X(DeSerializeFMUstate) X(GetDirectionalDerivative) \
+    X(SetRealInputDerivatives) X(GetRealOutputDerivatives) X(DoStep) X(CancelStep) \
+    X(GetStatus) X(GetRealStatus) X(GetIntegerStatus) X(GetBooleanStatus) X(GetStringStatus)
+
+#define DECLARE(name) static fmi2##name##TYPE *real_##name;
+REAL_FUNCTIONS(DECLARE)
+
+/* Look up `name` in `lib` (`what`, for the message), or record why not. */
+#define FIND(var, lib, what, name) \
+    ((*(void **)&(var) = dlsym((lib), (name))) != NULL \
+     || (snprintf(failure, sizeof failure, "%s has no %s", (what), (name)), 0))
+
+/* Start the build interpreter in a process that has none; 0 on success. */
+static int start_python(void)
+{
+    if (dlsym(RTLD_DEFAULT, "Py_IsInitialized") != NULL)
+        return 0;  /* the host's (or an earlier FMU's) Python: pythonfmu uses it as it is */
+    void *py = dlopen(MUSCLESIM_LIBPYTHON, RTLD_NOW | RTLD_GLOBAL);
+    if (py == NULL) {
+        snprintf(failure, sizeof failure, "cannot load the Python this FMU was built with "
+                 "(%s): %s", MUSCLESIM_LIBPYTHON, dlerror());
+        return -1;
+    }
+    __typeof__(PyConfig_InitPythonConfig) *init_config;
+    __typeof__(PyConfig_SetBytesString) *set_string;
+    __typeof__(Py_InitializeFromConfig) *initialize;
+    __typeof__(PyConfig_Clear) *clear;
+    __typeof__(PyStatus_Exception) *failed;
+    __typeof__(PyRun_SimpleString) *run;
+    __typeof__(PyEval_SaveThread) *release_gil;
+    const char *lp = MUSCLESIM_LIBPYTHON;
+    if (!(FIND(init_config, py, lp, "PyConfig_InitPythonConfig")
+          && FIND(set_string, py, lp, "PyConfig_SetBytesString")
+          && FIND(initialize, py, lp, "Py_InitializeFromConfig")
+          && FIND(clear, py, lp, "PyConfig_Clear") && FIND(failed, py, lp, "PyStatus_Exception")
+          && FIND(run, py, lp, "PyRun_SimpleString")
+          && FIND(release_gil, py, lp, "PyEval_SaveThread")))
+        return -1;
+    PyConfig config;
+    init_config(&config);
+    config.install_signal_handlers = 0;  /* the host's signals stay the host's */
+    PyStatus status = set_string(&config, &config.home, MUSCLESIM_PYTHONHOME);
+    if (!failed(status))
+        status = initialize(&config);
+    clear(&config);
+    if (failed(status)) {
+        snprintf(failure, sizeof failure, "cannot start the Python at %s: %s",
+                 MUSCLESIM_PYTHONHOME, status.err_msg ? status.err_msg : "no reason given");
+        return -1;
+    }
+    if (run(MUSCLESIM_SITE_SCRIPT) != 0) {
+        snprintf(failure, sizeof failure, "the Python at %s failed to add the build "
+                 "environment's site-packages", MUSCLESIM_PYTHONHOME);
+        return -1;
+    }
+    release_gil();  /* pythonfmu takes the GIL per call, from whichever thread the host calls */
+    return 0;
+}
+
+/* Load pythonfmu's binary, the file beside this one named <this name without .so><suffix>. */
+static int load_real(void)
+{
+    Dl_info self;
+    if (!dladdr((void *)&load_real, &self) || self.dli_fname == NULL) {
+        snprintf(failure, sizeof failure, "cannot tell where this FMU's binary is");
+        return -1;
+    }
+    char path[4096];
+    size_t stem = strlen(self.dli_fname);
+    if (stem > 3 && strcmp(self.dli_fname + stem - 3, ".so") == 0)
+        stem -= 3;
+    if (snprintf(path, sizeof path, "%.*s%s", (int)stem, self.dli_fname, MUSCLESIM_REAL_SUFFIX)
+        >= (int)sizeof path) {
+        snprintf(failure, sizeof failure, "the path of this FMU's binary is too long");
+        return -1;
+    }
+    void *lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    if (lib == NULL) {
+        snprintf(failure, sizeof failure, "cannot load pythonfmu's binary: %s", dlerror());
+        return -1;
+    }
+#define RESOLVE(name) if (!FIND(real_##name, lib, path, "fmi2" #name)) return -1;
+    REAL_FUNCTIONS(RESOLVE)
+    *(void **)&real_finalize = dlsym(lib, "finalizePythonInterpreter");
+    real = lib;
+    return 0;
+}
+
+static int ready(void)
+{
+    pthread_mutex_lock(&lock);
+    int ok = real != NULL || (start_python() == 0 && load_real() == 0);
+    pthread_mutex_unlock(&lock);
+    return ok;
+}
+
+const char *fmi2GetTypesPlatform(void) { return fmi2TypesPlatform; }
+
+const char *fmi2GetVersion(void) { return fmi2Version; }
+
+fmi2Component fmi2Instantiate(fmi2String instanceName, fmi2Type fmuType, fmi2String fmuGUID,
+                              fmi2String fmuResourceLocation,
+                              const fmi2CallbackFunctions *functions, fmi2Boolean visible,
+                              fmi2Boolean loggingOn)
+{
+    if (!ready()) {
+        if (functions != NULL && functions->logger != NULL)
+            functions->logger(functions->componentEnvironment, instanceName, fmi2Error,
+                              "logStatusError", "%s", failure);
+        else
+            fprintf(stderr, "%s: %s\n", instanceName ? instanceName : "FMU", failure);
+        return NULL;
+    }
+    fmi2Component c = real_Instantiate(instanceName, fmuType, fmuGUID, fmuResourceLocation,
+                                       functions, visible, loggingOn);
+    if (c != NULL) {
+        pthread_mutex_lock(&lock);
+        live++;
+        pthread_mutex_unlock(&lock);
+    }
+    return c;
+}
+
+/* The other calls take an instance, so pythonfmu's binary is loaded by then. */
+fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean loggingOn, size_t nCategories,
+                               const fmi2String categories[])
+{ return real_SetDebugLogging(c, loggingOn, nCategories, categories); }
+
+void fmi2FreeInstance(fmi2Component c)
+{
+    if (c == NULL)
+        return;
+    real_FreeInstance(c);
+    pthread_mutex_lock(&lock);
+    if (--live == 0 && real_finalize != NULL)
+        real_finalize();
+    pthread_mutex_unlock(&lock);
+}
+
+fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined,
+                               fmi2Real tolerance, fmi2Real startTime,
+                               fmi2Boolean stopTimeDefined, fmi2Real stopTime)
+{ return real_SetupExperiment(c, toleranceDefined, tolerance, startTime, stopTimeDefined,
+                              stopTime); }
+
+fmi2Status fmi2EnterInitializationMode(fmi2Component c) { return real_EnterInitializationMode(c); }
+
+fmi2Status fmi2ExitInitializationMode(fmi2Component c) { return real_ExitInitializationMode(c); }
+
+fmi2Status fmi2Terminate(fmi2Component c) { return real_Terminate(c); }
+
+fmi2Status fmi2Reset(fmi2Component c) { return real_Reset(c); }
+
+#define GET_SET(type) \
+    fmi2Status fmi2Get##type(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, \
+                             fmi2##type value[]) \
+    { return real_Get##type(c, vr, nvr, value); } \
+    fmi2Status fmi2Set##type(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, \
+                             const fmi2##type value[]) \
+    { return real_Set##type(c, vr, nvr, value); }
+GET_SET(Real)
+GET_SET(Integer)
+GET_SET(Boolean)
+GET_SET(String)
+
+fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *state)
+{ return real_GetFMUstate(c, state); }
+
+fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate state)
+{ return real_SetFMUstate(c, state); }
+
+fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *state)
+{ return real_FreeFMUstate(c, state); }
+
+fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate state, size_t *size)
+{ return real_SerializedFMUstateSize(c, state, size); }
+
+fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate state, fmi2Byte bytes[],
+                                 size_t size)
+{ return real_SerializeFMUstate(c, state, bytes, size); }
+
+fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte bytes[], size_t size,
+                                   fmi2FMUstate *state)
+{ return real_DeSerializeFMUstate(c, bytes, size, state); }
+
+fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference unknown[],
+                                        size_t nUnknown, const fmi2ValueReference known[],
+                                        size_t nKnown, const fmi2Real dvKnown[],
+                                        fmi2Real dvUnknown[])
+{ return real_GetDirectionalDerivative(c, unknown, nUnknown, known, nKnown, dvKnown,
+                                       dvUnknown); }
+
+fmi2Status fmi2SetRealInputDerivatives(fmi2Component c, const fmi2ValueReference vr[],
+                                       size_t nvr, const fmi2Integer order[],
+                                       const fmi2Real value[])
+{ return real_SetRealInputDerivatives(c, vr, nvr, order, value); }
+
+fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReference vr[],
+                                        size_t nvr, const fmi2Integer order[], fmi2Real value[])
+{ return real_GetRealOutputDerivatives(c, vr, nvr, order, value); }
+
+fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint,
+                      fmi2Real communicationStepSize,
+                      fmi2Boolean noSetFMUStatePriorToCurrentPoint)
+{ return real_DoStep(c, currentCommunicationPoint, communicationStepSize,
+                     noSetFMUStatePriorToCurrentPoint); }
+
+fmi2Status fmi2CancelStep(fmi2Component c) { return real_CancelStep(c); }
+
+fmi2Status fmi2GetStatus(fmi2Component c, const fmi2StatusKind s, fmi2Status *value)
+{ return real_GetStatus(c, s, value); }
+
+fmi2Status fmi2GetRealStatus(fmi2Component c, const fmi2StatusKind s, fmi2Real *value)
+{ return real_GetRealStatus(c, s, value); }
+
+fmi2Status fmi2GetIntegerStatus(fmi2Component c, const fmi2StatusKind s, fmi2Integer *value)
+{ return real_GetIntegerStatus(c, s, value); }
+
+fmi2Status fmi2GetBooleanStatus(fmi2Component c, const fmi2StatusKind s, fmi2Boolean *value)
+{ return real_GetBooleanStatus(c, s, value); }
+
+fmi2Status fmi2GetStringStatus(fmi2Component c, const fmi2StatusKind s, fmi2String *value)
+{ return real_GetStringStatus(c, s, value); }

@@ -1,0 +1,123 @@
+"""The FMUs' Linux binary for hosts without Python: a small C loader (fmi2_loader.c) compiled at
+build time in front of pythonfmu's binary.
+
+pythonfmu's Linux binary is not linked to libpython, so only a host that has Python in its
+process can load it (FMPy, libcosimpy); a C or C++ host (OMSimulator's command line, the FMI
+Compliance Checker) fails with ``undefined symbol: _Py_NoneStruct``. Adding libpython as a needed
+library (patchelf) would let the binary load, but the interpreter it starts computes its prefix
+from the host's executable and finds no standard library unless the user sets PYTHONHOME; the
+loader instead starts the interpreter itself with the build interpreter's prefix as its home and
+the build environment's site-packages on its path, and does nothing where the process already
+has Python, so FMPy runs the FMUs exactly as before. It is compiled once per build with that
+interpreter's facts written into a header, and installed into each FMU as
+``binaries/linux64/<id>.so``, pythonfmu's binary beside it as ``<id>.pythonfmu.so``.
+"""
+from __future__ import annotations
+
+import functools
+import json
+import shutil
+import site
+import subprocess
+import sys
+import sysconfig
+import zipfile
+from pathlib import Path
+
+SOURCE = Path(__file__).with_name("fmi2_loader.c")
+REAL_SUFFIX = ".pythonfmu.so"  # pythonfmu's binary: binaries/linux64/<id> + this
+
+
+def _libpython() -> Path | None:
+    """The shared libpython of this interpreter, or None for a static build."""
+    if not sysconfig.get_config_var("Py_ENABLE_SHARED"):
+        return None
+    name = sysconfig.get_config_var("INSTSONAME") or sysconfig.get_config_var("LDLIBRARY")
+    path = Path(sysconfig.get_config_var("LIBDIR") or "") / str(name)
+    return path if path.is_file() else None
+
+
+def _compiler() -> str | None:
+    return shutil.which("gcc") or shutil.which("cc")
+
+
+def _headers() -> list[Path]:
+    """Folders holding Python.h and fmi2Functions.h (FMPy's copy of the FMI headers)."""
+    import fmpy
+    return [Path(sysconfig.get_paths()["include"]), Path(fmpy.__file__).parent / "c-code"]
+
+
+@functools.cache
+def loader_unavailable(fmi: int = 2) -> str | None:
+    """Why `musclesim build` cannot give FMI `fmi` FMUs a binary that loads in a host without
+    Python, as one sentence saying what follows, or None where it can."""
+    tail = "the FMUs will load only in hosts with Python in their process (FMPy, libcosimpy)"
+    if fmi != 2:
+        return f"FMI 3.0 FMUs keep pythonfmu3's binary: {tail}"
+    if not sys.platform.startswith("linux"):
+        return f"the loader for hosts without Python is built on Linux only: {tail}"
+    if _libpython() is None:
+        return (f"this Python ({sys.executable}) is not a shared build (sysconfig "
+                f"Py_ENABLE_SHARED is 0, no libpython): {tail}")
+    if _compiler() is None:
+        return f"no C compiler (gcc or cc) was found: {tail}"
+    missing = [h for h, d in zip(("Python.h", "fmi2Functions.h"), _headers())
+               if not (d / h).is_file()]
+    if missing:
+        return f"{missing[0]} is not installed (Python's or FMPy's headers): {tail}"
+    return None
+
+
+def _config_header() -> str:
+    """loader_config.h: this interpreter's libpython, home and the build environment's site
+    folders, as C string literals (JSON's escapes are C's for these)."""
+    home = sys.base_prefix if sys.base_exec_prefix == sys.base_prefix else \
+        f"{sys.base_prefix}:{sys.base_exec_prefix}"
+    base = {str(Path(p)) for p in site.getsitepackages([sys.base_prefix, sys.base_exec_prefix])}
+    extra = [p for p in site.getsitepackages() if str(Path(p)) not in base]
+    script = ("import os, site\n"
+              f"for d in {extra!r}:\n"
+              "    if os.path.isdir(d):\n"
+              "        site.addsitedir(d)\n")
+    values = {"MUSCLESIM_LIBPYTHON": str(_libpython()), "MUSCLESIM_PYTHONHOME": home,
+              "MUSCLESIM_SITE_SCRIPT": script, "MUSCLESIM_REAL_SUFFIX": REAL_SUFFIX}
+    return "".join(f"#define {k} {json.dumps(v)}\n" for k, v in values.items())
+
+
+def compile_loader(folder: Path) -> Path:
+    """Compile the loader for this interpreter into `folder`; return the shared library's path.
+
+    Raises
+    ------
+    RuntimeError
+        If `loader_unavailable` gives a reason, or the compiler fails (its output attached).
+    """
+    reason = loader_unavailable()
+    if reason:
+        raise RuntimeError(reason)
+    (folder / "loader_config.h").write_text(_config_header())
+    out = folder / "fmi2_loader.so"
+    includes = [f"-I{d}" for d in (folder, *_headers())]
+    # no libpython at link time, nothing undefined: the binary loads in any process
+    cmd = [str(_compiler()), "-shared", "-fPIC", "-O2", "-Wall", *includes,
+           str(SOURCE), "-o", str(out), "-Wl,--no-undefined", "-ldl", "-lpthread"]
+    done = subprocess.run(cmd, capture_output=True, text=True)
+    if done.returncode:
+        raise RuntimeError(f"compiling {SOURCE.name} failed:\n{done.stderr}")
+    return out
+
+
+def install(fmu: Path, loader: Path) -> None:
+    """Put `loader` into the FMU archive `fmu` as its Linux binary, pythonfmu's beside it."""
+    with zipfile.ZipFile(fmu) as zf:
+        items = [(i, zf.read(i)) for i in zf.infolist()]
+    with zipfile.ZipFile(fmu, "w", zipfile.ZIP_DEFLATED) as zf:
+        for item, data in items:
+            if item.filename.startswith("binaries/linux64/") and item.filename.endswith(".so"):
+                moved = zipfile.ZipInfo(item.filename.removesuffix(".so") + REAL_SUFFIX,
+                                        item.date_time)
+                moved.external_attr, moved.compress_type = item.external_attr, item.compress_type
+                zf.writestr(moved, data)
+                zf.write(loader, item.filename)
+            else:
+                zf.writestr(item, data)
