@@ -49,8 +49,18 @@ def _headers() -> list[Path]:
 
 @functools.cache
 def loader_unavailable(fmi: int = 2) -> str | None:
-    """Why `musclesim build` cannot give FMI `fmi` FMUs a binary that loads in a host without
-    Python, as one sentence saying what follows, or None where it can."""
+    """Why `musclesim build` cannot give its FMUs a binary that loads in a host without Python,
+    as one sentence saying what follows, or None where it can.
+
+    Parameters
+    ----------
+    fmi : int
+        The FMI version built (2 or 3).
+
+    Returns
+    -------
+    str or None
+    """
     tail = "the FMUs will load only in hosts with Python in their process (FMPy, libcosimpy)"
     if fmi != 2:
         return f"FMI 3.0 FMUs keep pythonfmu3's binary: {tail}"
