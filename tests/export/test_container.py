@@ -90,6 +90,7 @@ def test_its_variables_are_the_scenarios_values_free_inputs_and_recorded_signals
     assert "body.f_a" not in by  # connected: not the container's
     free = {v.name for v in md.modelVariables if v.causality == "input"}
     assert "body.flange_a.f" not in free and free  # fed by friction1; others are free inputs
+    assert md.modelName == "crawler_ideal"  # an identifier, as OMSimulator requires
     ex = md.defaultExperiment
     assert (float(ex.startTime), float(ex.stopTime), float(ex.stepSize)) == (0.0, 1.0, 1e-3)
     with zipfile.ZipFile(tmp_path / "crawler.fmu") as zf:

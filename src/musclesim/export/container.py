@@ -33,7 +33,7 @@ from xml.etree import ElementTree as ET
 
 from musclesim.cosim import KINDS, Master, ParamRef, Scenario, Signal, check_archive, replace_zip
 from musclesim.errors import UserError
-from musclesim.export.ssp import base_units, value_text
+from musclesim.export.ssp import base_units, identifier, value_text
 
 # (name, causality, instance, its model variable, start value as text or None)
 Variable = tuple[str, str, str, Any, "str | None"]
@@ -90,7 +90,9 @@ def model_description(scenario: Scenario, master: Master, variables: list[Variab
     checked by `master`, declaring the container's `variables` (`_variables`)."""
     token = {2: "guid", 3: "instantiationToken"}[fmi]
     root = ET.Element("fmiModelDescription", {
-        "fmiVersion": f"{fmi}.0", "modelName": scenario.name, token: "{" + str(uuid.uuid4()) + "}",
+        # OMSimulator and the like take a model name that is an identifier
+        "fmiVersion": f"{fmi}.0", "modelName": identifier(scenario.name),
+        token: "{" + str(uuid.uuid4()) + "}",
         "generationTool": "musclesim",
         "description": scenario.description or f"scenario {scenario.name}",
         "variableNamingConvention": "flat",
