@@ -12,23 +12,31 @@
  * Python (a Python host, or another musclesim FMU loaded first) is left as it is: pythonfmu's
  * binary finds that interpreter as it always did, and every value is the same.
  *
- * musclesim.cosim.loader compiles this file per build with loader_config.h, which defines
- * MUSCLESIM_LIBPYTHON, MUSCLESIM_PYTHONHOME, MUSCLESIM_SITE_SCRIPT (Python run once after
- * initialisation: the build environment's site folders) and MUSCLESIM_REAL_SUFFIX (pythonfmu's
- * binary is <this binary without .so><suffix>).
+ * The same file, compiled with MUSCLESIM_GRID_STEP, goes in front of FMPy's container runtime in
+ * a scenario exported as one FMU (musclesim.export.container): no Python there (the FMUs inside
+ * start their own), but a host's clock that drifted from the container's fixed-step grid is
+ * put back on it (see fmi2DoStep below).
+ *
+ * musclesim.cosim.loader compiles this file with loader_config.h, which defines
+ * MUSCLESIM_REAL_SUFFIX (the binary forwarded to is <this binary without .so><suffix>) and
+ * either MUSCLESIM_LIBPYTHON, MUSCLESIM_PYTHONHOME and MUSCLESIM_SITE_SCRIPT (Python run once
+ * after initialisation: the build environment's site folders), or MUSCLESIM_GRID_STEP.
  */
 #define _GNU_SOURCE
-#include <Python.h>
 #include <dlfcn.h>
+#include <math.h>
 #include <pthread.h>
 #include <stdio.h>
 #include <string.h>
 
-#include "fmi2Functions.h"
 #include "loader_config.h"
+#ifndef MUSCLESIM_GRID_STEP
+#include <Python.h>
+#endif
+#include "fmi2Functions.h"
 
 static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
-static void *real;          /* pythonfmu's binary, once loaded (never unloaded: nor is Python) */
+static void *real;          /* the binary forwarded to, once loaded (never unloaded) */
 static char failure[8192];  /* why loading failed, for the host's logger */
 static long live;           /* instances not yet freed */
 /* pythonfmu 0.7 resets its interpreter handle at exit from an ELF destructor that runs after the
@@ -37,6 +45,30 @@ static long live;           /* instances not yet freed */
    was running before pythonfmu's binary loaded), so resetting it once the last instance is
    freed is safe and makes both later resets no-ops. */
 static void (*real_finalize)(void);
+
+#ifdef MUSCLESIM_GRID_STEP
+/* The grid of each instance: its start time and the fixed steps taken, as the runtime counts
+   them (its time is start + steps * fixed step). */
+#define MAX_INSTANCES 64
+static struct { fmi2Component c; double start; long long steps; } grid[MAX_INSTANCES];
+
+static int grid_slot(fmi2Component c)  /* the instance's slot, a free one for a new instance */
+{
+    int free_slot = -1;
+    for (int i = 0; i < MAX_INSTANCES; i++) {
+        if (grid[i].c == c)
+            return i;
+        if (grid[i].c == NULL && free_slot < 0)
+            free_slot = i;
+    }
+    if (free_slot >= 0) {
+        grid[free_slot].c = c;
+        grid[free_slot].start = 0.0;
+        grid[free_slot].steps = 0;
+    }
+    return free_slot;
+}
+#endif
 
 #define REAL_FUNCTIONS(X) \
     X(SetDebugLogging) X(Instantiate) X(FreeInstance) X(SetupExperiment) \
@@ -56,6 +88,9 @@ REAL_FUNCTIONS(DECLARE)
     ((*(void **)&(var) = dlsym((lib), (name))) != NULL \
      || (snprintf(failure, sizeof failure, "%s has no %s", (what), (name)), 0))
 
+#ifdef MUSCLESIM_GRID_STEP
+static int start_python(void) { return 0; }  /* the container's FMUs start their own */
+#else
 /* Start the build interpreter in a process that has none; 0 on success. */
 static int start_python(void)
 {
@@ -102,6 +137,7 @@ static int start_python(void)
     release_gil();  /* pythonfmu takes the GIL per call, from whichever thread the host calls */
     return 0;
 }
+#endif
 
 /* Load pythonfmu's binary, the file beside this one named <this name without .so><suffix>. */
 static int load_real(void)
@@ -178,16 +214,33 @@ void fmi2FreeInstance(fmi2Component c)
         return;
     real_FreeInstance(c);
     pthread_mutex_lock(&lock);
+#ifdef MUSCLESIM_GRID_STEP
+    for (int i = 0; i < MAX_INSTANCES; i++)
+        if (grid[i].c == c)
+            grid[i].c = NULL;
+#endif
     if (--live == 0 && real_finalize != NULL)
         real_finalize();
     pthread_mutex_unlock(&lock);
 }
 
+
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined,
                                fmi2Real tolerance, fmi2Real startTime,
                                fmi2Boolean stopTimeDefined, fmi2Real stopTime)
-{ return real_SetupExperiment(c, toleranceDefined, tolerance, startTime, stopTimeDefined,
-                              stopTime); }
+{
+#ifdef MUSCLESIM_GRID_STEP
+    pthread_mutex_lock(&lock);
+    int i = grid_slot(c);
+    if (i >= 0) {
+        grid[i].start = startTime;
+        grid[i].steps = 0;
+    }
+    pthread_mutex_unlock(&lock);
+#endif
+    return real_SetupExperiment(c, toleranceDefined, tolerance, startTime, stopTimeDefined,
+                                stopTime);
+}
 
 fmi2Status fmi2EnterInitializationMode(fmi2Component c) { return real_EnterInitializationMode(c); }
 
@@ -195,7 +248,17 @@ fmi2Status fmi2ExitInitializationMode(fmi2Component c) { return real_ExitInitial
 
 fmi2Status fmi2Terminate(fmi2Component c) { return real_Terminate(c); }
 
-fmi2Status fmi2Reset(fmi2Component c) { return real_Reset(c); }
+fmi2Status fmi2Reset(fmi2Component c)
+{
+#ifdef MUSCLESIM_GRID_STEP
+    pthread_mutex_lock(&lock);
+    int i = grid_slot(c);
+    if (i >= 0)
+        grid[i].steps = 0;
+    pthread_mutex_unlock(&lock);
+#endif
+    return real_Reset(c);
+}
 
 #define GET_SET(type) \
     fmi2Status fmi2Get##type(fmi2Component c, const fmi2ValueReference vr[], size_t nvr, \
@@ -245,11 +308,51 @@ fmi2Status fmi2GetRealOutputDerivatives(fmi2Component c, const fmi2ValueReferenc
                                         size_t nvr, const fmi2Integer order[], fmi2Real value[])
 { return real_GetRealOutputDerivatives(c, vr, nvr, order, value); }
 
+#ifdef MUSCLESIM_GRID_STEP
+/* How far (a fraction of the fixed step) a host's time may be from the grid and still be taken
+   as on it: far above a clock's drift (the sum of 3.6 million 1 ms steps in doubles is off by
+   less than 1e-6 s) and far below half a step, so no step is taken for another. */
+#define GRID_TOLERANCE 1e-3
+
+/* FMPy's runtime refuses a step that does not start at its own time or is no whole number of
+   fixed steps ("Argument communicationStepSize=4.9e-11 must be an even multiple of
+   fixedStepSize=0.001"), as a host that sums its steps sends them at the end of a run. A step
+   that starts and ends within the tolerance of the grid is passed on as the whole steps it
+   stands for, from the runtime's own time; one that ends where the container already is (the
+   drifted last step) is done without stepping. Any other is passed on as it is, for the runtime
+   to refuse. */
+fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint,
+                      fmi2Real communicationStepSize,
+                      fmi2Boolean noSetFMUStatePriorToCurrentPoint)
+{
+    const double h = MUSCLESIM_GRID_STEP, tol = GRID_TOLERANCE * MUSCLESIM_GRID_STEP;
+    pthread_mutex_lock(&lock);
+    int i = grid_slot(c);
+    double now = i < 0 ? currentCommunicationPoint : grid[i].start + (double)grid[i].steps * h;
+    pthread_mutex_unlock(&lock);
+    double end = currentCommunicationPoint + communicationStepSize;
+    long long n = llround((end - now) / h);
+    if (i < 0 || fabs(currentCommunicationPoint - now) > tol || n < 0
+        || fabs(end - (now + (double)n * h)) > tol)
+        return real_DoStep(c, currentCommunicationPoint, communicationStepSize,
+                           noSetFMUStatePriorToCurrentPoint);
+    if (n == 0)
+        return fmi2OK;
+    fmi2Status status = real_DoStep(c, now, (double)n * h, noSetFMUStatePriorToCurrentPoint);
+    if (status <= fmi2Warning) {
+        pthread_mutex_lock(&lock);
+        grid[i].steps += n;
+        pthread_mutex_unlock(&lock);
+    }
+    return status;
+}
+#else
 fmi2Status fmi2DoStep(fmi2Component c, fmi2Real currentCommunicationPoint,
                       fmi2Real communicationStepSize,
                       fmi2Boolean noSetFMUStatePriorToCurrentPoint)
 { return real_DoStep(c, currentCommunicationPoint, communicationStepSize,
                      noSetFMUStatePriorToCurrentPoint); }
+#endif
 
 fmi2Status fmi2CancelStep(fmi2Component c) { return real_CancelStep(c); }
 

@@ -47,6 +47,17 @@ def _headers() -> list[Path]:
     return [Path(sysconfig.get_paths()["include"]), Path(fmpy.__file__).parent / "c-code"]
 
 
+def _compiler_missing() -> str | None:
+    """What the loader needs beyond Python (Linux, a C compiler, the FMI headers), or None."""
+    if not sys.platform.startswith("linux"):
+        return "the loader for hosts without Python is built on Linux only"
+    if _compiler() is None:
+        return "no C compiler (gcc or cc) was found"
+    if not (_headers()[1] / "fmi2Functions.h").is_file():
+        return "fmi2Functions.h is not installed (FMPy's c-code folder)"
+    return None
+
+
 @functools.cache
 def loader_unavailable(fmi: int = 2) -> str | None:
     """Why `musclesim build` cannot give its FMUs a binary that loads in a host without Python,
@@ -64,67 +75,85 @@ def loader_unavailable(fmi: int = 2) -> str | None:
     tail = "the FMUs will load only in hosts with Python in their process (FMPy, libcosimpy)"
     if fmi != 2:
         return f"FMI 3.0 FMUs keep pythonfmu3's binary: {tail}"
-    if not sys.platform.startswith("linux"):
-        return f"the loader for hosts without Python is built on Linux only: {tail}"
+    missing = _compiler_missing()
+    if missing:
+        return f"{missing}: {tail}"
     if _libpython() is None:
         return (f"this Python ({sys.executable}) is not a shared build (sysconfig "
                 f"Py_ENABLE_SHARED is 0, no libpython): {tail}")
-    if _compiler() is None:
-        return f"no C compiler (gcc or cc) was found: {tail}"
-    missing = [h for h, d in zip(("Python.h", "fmi2Functions.h"), _headers())
-               if not (d / h).is_file()]
-    if missing:
-        return f"{missing[0]} is not installed (Python's or FMPy's headers): {tail}"
+    if not (_headers()[0] / "Python.h").is_file():
+        return f"Python.h is not installed (this Python's development headers): {tail}"
     return None
 
 
-def _config_header() -> str:
-    """loader_config.h: this interpreter's libpython, home and the build environment's site
-    folders, as C string literals (JSON's escapes are C's for these)."""
-    home = sys.base_prefix if sys.base_exec_prefix == sys.base_prefix else \
-        f"{sys.base_prefix}:{sys.base_exec_prefix}"
-    base = {str(Path(p)) for p in site.getsitepackages([sys.base_prefix, sys.base_exec_prefix])}
-    extra = [p for p in site.getsitepackages() if str(Path(p)) not in base]
-    script = ("import os, site\n"
-              f"for d in {extra!r}:\n"
-              "    if os.path.isdir(d):\n"
-              "        site.addsitedir(d)\n")
-    values = {"MUSCLESIM_LIBPYTHON": str(_libpython()), "MUSCLESIM_PYTHONHOME": home,
-              "MUSCLESIM_SITE_SCRIPT": script, "MUSCLESIM_REAL_SUFFIX": REAL_SUFFIX}
-    return "".join(f"#define {k} {json.dumps(v)}\n" for k, v in values.items())
+def _config_header(grid_step: float | None, suffix: str) -> str:
+    """loader_config.h: the suffix of the binary forwarded to and, for FMUs, this interpreter's
+    libpython, home and the build environment's site folders, or the container's fixed step; as
+    C literals (JSON's escapes are C's for these)."""
+    if grid_step is not None:
+        values: dict[str, str | float] = {"MUSCLESIM_GRID_STEP": float(grid_step)}
+    else:
+        home = sys.base_prefix if sys.base_exec_prefix == sys.base_prefix else \
+            f"{sys.base_prefix}:{sys.base_exec_prefix}"
+        base = {str(Path(p)) for p in site.getsitepackages([sys.base_prefix,
+                                                            sys.base_exec_prefix])}
+        extra = [p for p in site.getsitepackages() if str(Path(p)) not in base]
+        script = ("import os, site\n"
+                  f"for d in {extra!r}:\n"
+                  "    if os.path.isdir(d):\n"
+                  "        site.addsitedir(d)\n")
+        values = {"MUSCLESIM_LIBPYTHON": str(_libpython()), "MUSCLESIM_PYTHONHOME": home,
+                  "MUSCLESIM_SITE_SCRIPT": script}
+    values["MUSCLESIM_REAL_SUFFIX"] = suffix
+    return "".join(f"#define {k} {v!r}\n" if isinstance(v, float) else
+                   f"#define {k} {json.dumps(v)}\n" for k, v in values.items())
 
 
-def compile_loader(folder: Path) -> Path:
-    """Compile the loader for this interpreter into `folder`; return the shared library's path.
+def compile_loader(folder: Path, grid_step: float | None = None,
+                   suffix: str = REAL_SUFFIX) -> Path:
+    """Compile the loader into `folder`; return the shared library's path.
+
+    Parameters
+    ----------
+    folder : Path
+        Where the header, and the library, are written.
+    grid_step : float, optional
+        None: the FMUs' loader, which starts this interpreter in a host without Python. A step:
+        the loader in front of a container runtime with this fixed step, which puts a drifted
+        host clock back on its grid and starts no Python.
+    suffix : str
+        The binary forwarded to is the loader's name without ``.so``, with this suffix.
 
     Raises
     ------
     RuntimeError
-        If `loader_unavailable` gives a reason, or the compiler fails (its output attached).
+        If what the loader needs is missing (`loader_unavailable`), or the compiler fails (its
+        output attached).
     """
-    reason = loader_unavailable()
+    reason = _compiler_missing() if grid_step is not None else loader_unavailable()
     if reason:
         raise RuntimeError(reason)
-    (folder / "loader_config.h").write_text(_config_header())
+    (folder / "loader_config.h").write_text(_config_header(grid_step, suffix))
     out = folder / "fmi2_loader.so"
     includes = [f"-I{d}" for d in (folder, *_headers())]
     # no libpython at link time, nothing undefined: the binary loads in any process
-    cmd = [str(_compiler()), "-shared", "-fPIC", "-O2", "-Wall", *includes,
-           str(SOURCE), "-o", str(out), "-Wl,--no-undefined", "-ldl", "-lpthread"]
+    cmd = [str(_compiler()), "-shared", "-fPIC", "-O2", "-Wall", *includes, str(SOURCE),
+           "-o", str(out), "-Wl,--no-undefined", "-ldl", "-lpthread", "-lm"]
     done = subprocess.run(cmd, capture_output=True, text=True)
     if done.returncode:
         raise RuntimeError(f"compiling {SOURCE.name} failed:\n{done.stderr}")
     return out
 
 
-def install(fmu: Path, loader: Path) -> None:
-    """Put `loader` into the FMU archive `fmu` as its Linux binary, pythonfmu's beside it."""
+def install(fmu: Path, loader: Path, suffix: str = REAL_SUFFIX) -> None:
+    """Put `loader` into the FMU archive `fmu` as its Linux binary, the one it replaces beside
+    it, named with `suffix`."""
     with zipfile.ZipFile(fmu) as zf:
         items = [(i, zf.read(i)) for i in zf.infolist()]
     with zipfile.ZipFile(fmu, "w", zipfile.ZIP_DEFLATED) as zf:
         for item, data in items:
             if item.filename.startswith("binaries/linux64/") and item.filename.endswith(".so"):
-                moved = zipfile.ZipInfo(item.filename.removesuffix(".so") + REAL_SUFFIX,
+                moved = zipfile.ZipInfo(item.filename.removesuffix(".so") + suffix,
                                         item.date_time)
                 moved.external_attr, moved.compress_type = item.external_attr, item.compress_type
                 zf.writestr(moved, data)
