@@ -68,7 +68,17 @@ def identifier(name: str) -> str:
     """`name` as an identifier in C's sense (ASCII letters, digits and underscores, not starting
     with a digit; ``crawler-ideal`` -> ``crawler_ideal``): what OMSimulator requires of a system's,
     a component's and a model's name ("is not a valid ident"), and so what the exports write
-    there. Every other character becomes an underscore; a leading digit gets one before it."""
+    there. Every other character becomes an underscore; a leading digit gets one before it.
+
+    Parameters
+    ----------
+    name : str
+        A scenario's or an instance's name.
+
+    Returns
+    -------
+    str
+    """
     ident = re.sub(r"[^A-Za-z0-9_]", "_", name)
     return ident if ident and not ident[0].isdigit() else f"_{ident}"
 
