@@ -1,5 +1,5 @@
 /* A host with no Python in its process: loads an FMI 2.0 co-simulation FMU's binary, sets real
- * values, steps it and prints one real output after each step (tests/fmu/test_hosts.py).
+ * values, steps it and prints one real output after each step (tests/fmu/test_c_host.py).
  *
  * usage: fmi2_host BINARY RESOURCE_URI GUID STEP STEPS OUTPUT_VR [VR=VALUE ...]
  * prints: one line "time value" per step, %.17g (the bits, read back by the test)
