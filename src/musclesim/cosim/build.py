@@ -5,7 +5,7 @@
 Each FMU is self-contained: its resources hold the slave, the physics cores with the data files
 they read, the FMU base (`musclesim.fmu`, under the `musclesim` package name with an empty
 package __init__) and pythonfmu's Python files, so it runs where only Python, numpy and scipy are
-installed. On Linux an FMI 2.0 FMU's binary is a small loader in front of pythonfmu's
+installed. On Linux an FMU's binary is a small loader in front of pythonfmu's
 (`musclesim.cosim.loader`), so that hosts without Python load it too. BUILD.json beside them records a digest of the sources the FMUs came from, so that the
 runner can tell when they are stale.
 """
@@ -99,7 +99,8 @@ def _component_sources() -> dict[Path, Path]:
 def source_digest() -> str:
     """SHA-256 over the sources an FMU is built from (names and contents, and its entry point)."""
     h = hashlib.sha256(musclesim.__version__.encode() + _STUB.encode() + _STUB3.encode()
-                       + loader.SOURCE.read_bytes())
+                       + b"".join(p.read_bytes() for p in (*loader.SOURCES.values(),
+                                                           loader.CORE)))
     for rel, src in _component_sources().items():
         h.update(str(rel).encode())
         h.update(src.read_bytes())
@@ -118,7 +119,7 @@ def build_all(dest: str | Path = "fmus", names: Iterable[str] | None = None, fmi
 
     Notes
     -----
-    Where `loader.loader_unavailable` gives a reason (a static Python, no compiler, FMI 3.0),
+    Where `loader.loader_unavailable` gives a reason (a static Python, no compiler, not Linux),
     the FMUs keep pythonfmu's binary, which loads only where the host has Python in its process.
     """
     if fmi not in (2, 3):
@@ -134,7 +135,7 @@ def build_all(dest: str | Path = "fmus", names: Iterable[str] | None = None, fmi
             shutil.copy2(src, stage / rel)
         (stage / "musclesim" / "__init__.py").write_text('"""musclesim FMU runtime."""\n')
         shipped = [stage / "musclesim"]
-        binary = None if loader.loader_unavailable(fmi) else loader.compile_loader(Path(tmp))
+        binary = None if loader.loader_unavailable(fmi) else loader.compile_loader(Path(tmp), fmi=fmi)
         if fmi == 3:  # the FMI 2.0 base the slaves derive from, as pythonfmu ships it in its FMUs
             (stage / "pythonfmu").mkdir()
             for src in Path(pythonfmu.__file__).parent.glob("*.py"):
@@ -154,7 +155,7 @@ def build_all(dest: str | Path = "fmus", names: Iterable[str] | None = None, fmi
                 # its code; what it needs installed (Python, numpy, scipy) the docs say
                 needsExecutionTool=False, **_OPTIONS[fmi])
             if binary is not None:
-                loader.install(Path(fmu), binary)
+                loader.install(Path(fmu), binary, fmi)
             built.append(fmu)
     sources, fmus = source_digest(), dict[str, str]()
     if names:  # a partial build keeps the digests of the FMUs built before from the same sources

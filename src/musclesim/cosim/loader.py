@@ -1,5 +1,5 @@
-"""The FMUs' Linux binary for hosts without Python: a small C loader (fmi2_loader.c) compiled at
-build time in front of pythonfmu's binary.
+"""The FMUs' Linux binary for hosts without Python: a small C loader (fmi2_loader.c, for FMI 3.0
+fmi3_loader.c, with loader_core.h) compiled at build time in front of pythonfmu's binary.
 
 pythonfmu's Linux binary is not linked to libpython, so only a host that has Python in its
 process can load it (FMPy, libcosimpy); a C or C++ host (OMSimulator's command line, the FMI
@@ -10,12 +10,14 @@ loader instead starts the interpreter itself with the build interpreter's prefix
 the build environment's site-packages on its path, and does nothing where the process already
 has Python, so FMPy runs the FMUs exactly as before. It is compiled once per build with that
 interpreter's facts written into a header, and installed into each FMU as
-``binaries/linux64/<id>.so``, pythonfmu's binary beside it as ``<id>.pythonfmu.so``.
+``binaries/linux64/<id>.so`` (FMI 3.0: ``binaries/x86_64-linux/<id>.so``), pythonfmu's binary
+beside it as ``<id>.pythonfmu.so``.
 """
 from __future__ import annotations
 
 import functools
 import json
+import platform
 import shutil
 import site
 import subprocess
@@ -24,8 +26,10 @@ import sysconfig
 import zipfile
 from pathlib import Path
 
-SOURCE = Path(__file__).with_name("fmi2_loader.c")
-REAL_SUFFIX = ".pythonfmu.so"  # pythonfmu's binary: binaries/linux64/<id> + this
+SOURCES = {2: Path(__file__).with_name("fmi2_loader.c"), 3: Path(__file__).with_name("fmi3_loader.c")}
+CORE = Path(__file__).with_name("loader_core.h")
+REAL_SUFFIX = ".pythonfmu.so"  # pythonfmu's binary: binaries/<platform>/<id> + this
+_PLATFORM = {2: "linux64", 3: "x86_64-linux"}  # the folder of an FMU's Linux binary
 
 
 def _libpython() -> Path | None:
@@ -42,7 +46,8 @@ def _compiler() -> str | None:
 
 
 def _headers() -> list[Path]:
-    """Folders holding Python.h and fmi2Functions.h (FMPy's copy of the FMI headers)."""
+    """Folders holding Python.h and fmi2Functions.h, fmi3Functions.h (FMPy's copy of the FMI
+    headers)."""
     import fmpy
     return [Path(sysconfig.get_paths()["include"]), Path(fmpy.__file__).parent / "c-code"]
 
@@ -73,8 +78,8 @@ def loader_unavailable(fmi: int = 2) -> str | None:
     str or None
     """
     tail = "the FMUs will load only in hosts with Python in their process (FMPy, libcosimpy)"
-    if fmi != 2:
-        return f"FMI 3.0 FMUs keep pythonfmu3's binary: {tail}"
+    if fmi == 3 and platform.machine() not in ("x86_64", "AMD64"):
+        return f"the FMI 3.0 loader forwards calls by x86-64 jumps: {tail}"
     missing = _compiler_missing()
     if missing:
         return f"{missing}: {tail}"
@@ -109,8 +114,8 @@ def _config_header(grid_step: float | None, suffix: str) -> str:
                    f"#define {k} {json.dumps(v)}\n" for k, v in values.items())
 
 
-def compile_loader(folder: Path, grid_step: float | None = None,
-                   suffix: str = REAL_SUFFIX) -> Path:
+def compile_loader(folder: Path, grid_step: float | None = None, suffix: str = REAL_SUFFIX,
+                   fmi: int = 2) -> Path:
     """Compile the loader into `folder`; return the shared library's path.
 
     Parameters
@@ -123,6 +128,8 @@ def compile_loader(folder: Path, grid_step: float | None = None,
         host clock back on its grid and starts no Python.
     suffix : str
         The binary forwarded to is the loader's name without ``.so``, with this suffix.
+    fmi : int
+        The FMI version of the FMUs (2 or 3; a container's loader is FMI 2.0's).
 
     Raises
     ------
@@ -130,30 +137,32 @@ def compile_loader(folder: Path, grid_step: float | None = None,
         If what the loader needs is missing (`loader_unavailable`), or the compiler fails (its
         output attached).
     """
-    reason = _compiler_missing() if grid_step is not None else loader_unavailable()
+    reason = _compiler_missing() if grid_step is not None else loader_unavailable(fmi)
     if reason:
         raise RuntimeError(reason)
     (folder / "loader_config.h").write_text(_config_header(grid_step, suffix))
-    out = folder / "fmi2_loader.so"
+    source = SOURCES[fmi]
+    out = folder / source.with_suffix(".so").name
     includes = [f"-I{d}" for d in (folder, *_headers())]
     # no libpython at link time, nothing undefined: the binary loads in any process
-    cmd = [str(_compiler()), "-shared", "-fPIC", "-O2", "-Wall", *includes, str(SOURCE),
+    cmd = [str(_compiler()), "-shared", "-fPIC", "-O2", "-Wall", *includes, str(source),
            "-o", str(out), "-Wl,--no-undefined", "-ldl", "-lpthread", "-lm"]
     done = subprocess.run(cmd, capture_output=True, text=True)
     if done.returncode:
-        raise RuntimeError(f"compiling {SOURCE.name} failed:\n{done.stderr}")
+        raise RuntimeError(f"compiling {source.name} failed:\n{done.stderr}")
     return out
 
 
-def install(fmu: Path, loader: Path, suffix: str = REAL_SUFFIX) -> None:
-    """Put `loader` into the FMU archive `fmu` as its Linux binary, the one it replaces beside
-    it, named with `suffix`."""
+def install(fmu: Path, loader: Path, fmi: int = 2) -> None:
+    """Put `loader` into the FMI `fmi` FMU archive `fmu` as its Linux binary, pythonfmu's beside
+    it."""
+    folder = f"binaries/{_PLATFORM[fmi]}/"
     with zipfile.ZipFile(fmu) as zf:
         items = [(i, zf.read(i)) for i in zf.infolist()]
     with zipfile.ZipFile(fmu, "w", zipfile.ZIP_DEFLATED) as zf:
         for item, data in items:
-            if item.filename.startswith("binaries/linux64/") and item.filename.endswith(".so"):
-                moved = zipfile.ZipInfo(item.filename.removesuffix(".so") + suffix,
+            if item.filename.startswith(folder) and item.filename.endswith(".so"):
+                moved = zipfile.ZipInfo(item.filename.removesuffix(".so") + REAL_SUFFIX,
                                         item.date_time)
                 moved.external_attr, moved.compress_type = item.external_attr, item.compress_type
                 zf.writestr(moved, data)
