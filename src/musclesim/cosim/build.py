@@ -6,8 +6,9 @@ Each FMU is self-contained: its resources hold the slave, the physics cores with
 they read, the FMU base (`musclesim.fmu`, under the `musclesim` package name with an empty
 package __init__) and pythonfmu's Python files, so it runs where only Python, numpy and scipy are
 installed. On Linux an FMU's binary is a small loader in front of pythonfmu's
-(`musclesim.cosim.loader`), so that hosts without Python load it too. BUILD.json beside them records a digest of the sources the FMUs came from, so that the
-runner can tell when they are stale.
+(`musclesim.cosim.loader`), so that hosts without Python load it too. BUILD.json beside them
+records a digest of the sources the FMUs came from (the loader's among them), so that the runner
+can tell when they are stale.
 """
 from __future__ import annotations
 
@@ -135,7 +136,8 @@ def build_all(dest: str | Path = "fmus", names: Iterable[str] | None = None, fmi
             shutil.copy2(src, stage / rel)
         (stage / "musclesim" / "__init__.py").write_text('"""musclesim FMU runtime."""\n')
         shipped = [stage / "musclesim"]
-        binary = None if loader.loader_unavailable(fmi) else loader.compile_loader(Path(tmp), fmi=fmi)
+        binary = None if loader.loader_unavailable(fmi) else \
+            loader.compile_loader(Path(tmp), fmi=fmi)
         if fmi == 3:  # the FMI 2.0 base the slaves derive from, as pythonfmu ships it in its FMUs
             (stage / "pythonfmu").mkdir()
             for src in Path(pythonfmu.__file__).parent.glob("*.py"):

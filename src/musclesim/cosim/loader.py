@@ -26,7 +26,7 @@ import sysconfig
 import zipfile
 from pathlib import Path
 
-SOURCES = {2: Path(__file__).with_name("fmi2_loader.c"), 3: Path(__file__).with_name("fmi3_loader.c")}
+SOURCES = {fmi: Path(__file__).with_name(f"fmi{fmi}_loader.c") for fmi in (2, 3)}
 CORE = Path(__file__).with_name("loader_core.h")
 REAL_SUFFIX = ".pythonfmu.so"  # pythonfmu's binary: binaries/<platform>/<id> + this
 _PLATFORM = {2: "linux64", 3: "x86_64-linux"}  # the folder of an FMU's Linux binary
@@ -58,8 +58,10 @@ def _compiler_missing() -> str | None:
         return "the loader for hosts without Python is built on Linux only"
     if _compiler() is None:
         return "no C compiler (gcc or cc) was found"
-    if not (_headers()[1] / "fmi2Functions.h").is_file():
-        return "fmi2Functions.h is not installed (FMPy's c-code folder)"
+    missing = [h for h in ("fmi2Functions.h", "fmi3Functions.h")
+               if not (_headers()[1] / h).is_file()]
+    if missing:
+        return f"{missing[0]} is not installed (FMPy's c-code folder)"
     return None
 
 
