@@ -139,3 +139,19 @@ def test_other_platforms_say_why(monkeypatch):
         assert "Linux only" in loader_unavailable(2)
     finally:
         loader_unavailable.cache_clear()
+
+
+def test_musclesim_build_prints_the_sentence(monkeypatch, capsys, tmp_path):
+    """`musclesim build` prints why, once, before building as before (the build itself stubbed:
+    the sentence is the command's)."""
+    import musclesim.cosim as cosim
+    from musclesim.cli import main
+
+    reason = "no C compiler (gcc or cc) was found: the FMUs will load only in hosts with Python " \
+             "in their process (FMPy, libcosimpy)"
+    monkeypatch.setattr(cosim, "loader_unavailable", lambda fmi: reason)
+    monkeypatch.setattr(cosim, "build_all", lambda dest, fmi: [tmp_path / "A.fmu"])
+    assert main(["build", "--fmus", str(tmp_path)]) == 0
+    out, err = capsys.readouterr()
+    assert err == f"musclesim: No C compiler{reason[len('no C compiler'):]}.\n"
+    assert out == f"built {tmp_path / 'A.fmu'}\n"
