@@ -177,3 +177,38 @@ def test_a_host_whose_clock_drifted_from_the_grid_runs_it_to_our_bits(fmu_dir, t
     statuses, _ = _step_drifting(fmu, tmp_path / "b", "container_fmu.runtime", s, "body.x_cm",
                                  lag)
     assert statuses[0] == 0 and 3 in statuses[1:]  # fmi2Error from the second step on
+
+
+def test_a_c_host_without_python_runs_it_to_our_bits(fmu_dir, tmp_path):
+    """The container in the C host of tests/fmu/data/fmi2_host.c (no Python in its process, no
+    PYTHON* variable): the runtime loads the FMUs inside, whose loaders start Python, and the
+    blocks' positions are our master's bit for bit."""
+    import os
+    import shutil
+    import subprocess
+    from pathlib import Path
+
+    import fmpy
+
+    compiler = shutil.which("gcc") or shutil.which("cc")
+    if compiler is None:
+        pytest.skip("no C compiler (gcc or cc) to build the C host")
+    s = load_scenario(SCENARIOS / "crawler-ideal.toml", stop_time=0.05)
+    fmu = export_fmu(s, fmu_dir, tmp_path / "crawler.fmu")
+    md = read_model_description(str(fmu))
+    vr = next(v.valueReference for v in md.modelVariables if v.name == "body.flange_b.s")
+    with zipfile.ZipFile(fmu) as zf:
+        zf.extractall(tmp_path / "x")
+    host = tmp_path / "fmi2_host"
+    subprocess.run([compiler, f"-I{Path(fmpy.__file__).parent / 'c-code'}",
+                    str(Path(__file__).parents[1] / "fmu" / "data" / "fmi2_host.c"),
+                    "-o", str(host), "-ldl"], check=True)
+    env = {k: v for k, v in os.environ.items()
+           if not k.startswith("PYTHON") and k not in ("LD_PRELOAD", "LD_LIBRARY_PATH")}
+    done = subprocess.run([str(host), str(tmp_path / "x/binaries/linux64/container_fmu.so"),
+                           (tmp_path / "x/resources").as_uri(), md.guid, repr(s.step),
+                           str(s.n_steps), str(vr)], capture_output=True, text=True, env=env,
+                          timeout=300)
+    assert done.returncode == 0, done.stderr
+    values = [float(line.split()[1]) for line in done.stdout.splitlines()]
+    assert np.array_equal(values, Master(s, fmu_dir).run()[S("body.flange_b.s")][1:])
