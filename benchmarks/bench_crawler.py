@@ -34,7 +34,7 @@ import math
 from musclesim.components.crawler import body, friction, inputs
 from musclesim.components.crawler.monolithic import simulate_ideal
 from musclesim.cosim import Master, build_all, check_fresh, load_scenario, read_fmu, reuse_fmus
-from musclesim.export import export_ssp
+from musclesim.export import export_ssp, identifier
 
 ROOT = Path(__file__).resolve().parents[1]
 IDEAL = ROOT / "scenarios" / "crawler-ideal.toml"
@@ -83,7 +83,7 @@ def run_ecos(s, ssp_path):
     from ecospy import EcosSimulation
 
     with EcosSimulation(ssp_path=str(ssp_path), step_size=s.step) as sim:
-        sim.init(parameter_set=s.name)
+        sim.init(parameter_set=identifier(s.name))  # the archive's name for it
         sim.step(s.n_steps)
         return {str(sig): sim.get_real(f"{sig.instance}::{sig.variable}") for sig in s.record}
 

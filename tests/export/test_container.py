@@ -90,6 +90,7 @@ def test_its_variables_are_the_scenarios_values_free_inputs_and_recorded_signals
     assert "body.f_a" not in by  # connected: not the container's
     free = {v.name for v in md.modelVariables if v.causality == "input"}
     assert "body.flange_a.f" not in free and free  # fed by friction1; others are free inputs
+    assert md.modelName == "crawler_ideal"  # an identifier, as OMSimulator requires
     ex = md.defaultExperiment
     assert (float(ex.startTime), float(ex.stopTime), float(ex.stepSize)) == (0.0, 1.0, 1e-3)
     with zipfile.ZipFile(tmp_path / "crawler.fmu") as zf:
@@ -122,3 +123,92 @@ def test_cli_writes_one_fmu_or_an_archive_not_both(fmu_dir, tmp_path, capsys):
     with pytest.raises(SystemExit) as stop:
         main([*cli, "--fmu", str(tmp_path / "d.fmu"), "--ssp", str(tmp_path / "d.ssp")])
     assert stop.value.code == 2 and "not allowed with argument" in capsys.readouterr().err
+
+
+def _step_drifting(fmu, where, identifier, s, signal, lag):
+    """Run the container FMU `fmu` (unpacked into `where`) through its binary `identifier` as a
+    host whose clock lags the grid: every step `lag` (a fraction) shorter than the scenario's,
+    then one last step to the stop time. Returns (the statuses of the steps, the values of
+    `signal` after each full step)."""
+    from ctypes import c_double, c_int, c_void_p
+
+    from fmpy import extract
+    from fmpy.fmi2 import FMU2Slave
+
+    md = read_model_description(str(fmu))
+    vr = next(v.valueReference for v in md.modelVariables if v.name == signal)
+    slave = FMU2Slave(guid=md.guid, unzipDirectory=extract(str(fmu), str(where)),
+                      modelIdentifier=identifier, instanceName="drift")
+    slave.instantiate()
+    slave.setupExperiment(startTime=s.start_time)
+    slave.enterInitializationMode()
+    slave.exitInitializationMode()
+    do_step = slave.dll.fmi2DoStep  # the status, not fmpy's exception: both answers are seen
+    do_step.argtypes, do_step.restype = [c_void_p, c_double, c_double, c_int], c_int
+    statuses, values, t, h = [], [], s.start_time, s.step * (1 - lag)
+    for _ in range(s.n_steps):
+        statuses.append(do_step(slave.component, t, h, 1))
+        t += h
+        values.append(slave.getReal([vr])[0])
+    statuses.append(do_step(slave.component, t, s.stop_time - t, 1))  # the drift
+    if not any(statuses):
+        slave.terminate()
+    slave.freeInstance()
+    forget_fmu_resource_paths()
+    return statuses, values
+
+
+def test_a_host_whose_clock_drifted_from_the_grid_runs_it_to_our_bits(fmu_dir, tmp_path):
+    """A host that sums its steps reaches the stop time a little early and asks for one tiny last
+    step (OMSimulator: "communicationStepSize=0.0000000000491... must be an even multiple of
+    fixedStepSize=0.001"). The container takes its steps as the whole fixed steps they stand for,
+    to our results bit for bit, and the tiny last one as done; FMPy's runtime alone refuses the
+    first step that starts off its own time."""
+    s = load_scenario(SCENARIOS / "crawler-ideal.toml", stop_time=0.2)
+    fmu = export_fmu(s, fmu_dir, tmp_path / "crawler.fmu")
+    with zipfile.ZipFile(fmu) as zf:
+        if "binaries/linux64/container_fmu.runtime.so" not in zf.namelist():
+            pytest.skip("no C compiler: the container has FMPy's runtime alone")
+    ours = Master(s, fmu_dir).run()
+    lag = 5e-11 / s.stop_time  # 5e-11 s behind at the stop time, as reported
+    statuses, values = _step_drifting(fmu, tmp_path / "a", "container_fmu", s, "body.x_cm", lag)
+    assert statuses == [0] * (s.n_steps + 1)
+    assert np.array_equal(values, ours[S("body.x_cm")][1:])
+    statuses, _ = _step_drifting(fmu, tmp_path / "b", "container_fmu.runtime", s, "body.x_cm",
+                                 lag)
+    assert statuses[0] == 0 and 3 in statuses[1:]  # fmi2Error from the second step on
+
+
+def test_a_c_host_without_python_runs_it_to_our_bits(fmu_dir, tmp_path):
+    """The container in the C host of tests/fmu/data/fmi2_host.c (no Python in its process, no
+    PYTHON* variable): the runtime loads the FMUs inside, whose loaders start Python, and the
+    blocks' positions are our master's bit for bit."""
+    import os
+    import shutil
+    import subprocess
+    from pathlib import Path
+
+    import fmpy
+
+    compiler = shutil.which("gcc") or shutil.which("cc")
+    if compiler is None:
+        pytest.skip("no C compiler (gcc or cc) to build the C host")
+    s = load_scenario(SCENARIOS / "crawler-ideal.toml", stop_time=0.05)
+    fmu = export_fmu(s, fmu_dir, tmp_path / "crawler.fmu")
+    md = read_model_description(str(fmu))
+    vr = next(v.valueReference for v in md.modelVariables if v.name == "body.flange_b.s")
+    with zipfile.ZipFile(fmu) as zf:
+        zf.extractall(tmp_path / "x")
+    host = tmp_path / "fmi2_host"
+    subprocess.run([compiler, f"-I{Path(fmpy.__file__).parent / 'c-code'}",
+                    str(Path(__file__).parents[1] / "fmu" / "data" / "fmi2_host.c"),
+                    "-o", str(host), "-ldl"], check=True)
+    env = {k: v for k, v in os.environ.items()
+           if not k.startswith("PYTHON") and k not in ("LD_PRELOAD", "LD_LIBRARY_PATH")}
+    done = subprocess.run([str(host), str(tmp_path / "x/binaries/linux64/container_fmu.so"),
+                           (tmp_path / "x/resources").as_uri(), md.guid, repr(s.step),
+                           str(s.n_steps), str(vr)], capture_output=True, text=True, env=env,
+                          timeout=300)
+    assert done.returncode == 0, done.stderr
+    values = [float(line.split()[1]) for line in done.stdout.splitlines()]
+    assert np.array_equal(values, Master(s, fmu_dir).run()[S("body.flange_b.s")][1:])

@@ -9,6 +9,7 @@ Topology of scenarios/crawler-ideal.toml::
 import ctypes
 import dataclasses
 import math
+import re
 import sys
 import xml.etree.ElementTree as ET
 import zipfile
@@ -46,7 +47,9 @@ def test_archive_is_valid_ssp_with_every_instance_connection_and_parameter(fmu_d
         xml = zf.read("SystemStructure.ssd")
     root = ET.fromstring(xml)
     assert root.tag == f"{{{NS['ssd']}}}SystemStructureDescription"
-    assert root.get("version") == "1.0" and root.get("name") == "crawler-ideal"
+    # the scenario crawler-ideal, named as an identifier (OMSimulator refuses "crawler-ideal")
+    assert root.get("version") == "1.0" and root.get("name") == "crawler_ideal"
+    assert root.find("ssd:System", NS).get("name") == "crawler_ideal"
 
     components = root.findall("ssd:System/ssd:Elements/ssd:Component", NS)
     assert {c.get("name"): c.get("source") for c in components} == {
@@ -141,6 +144,30 @@ def test_export_refuses_what_a_user_can_fix(fmu_dir, tmp_path, name, change, mes
     with pytest.raises(UserError, match=message):
         ssp.export(s, fmu_dir, tmp_path / name)
     assert not (tmp_path / name).exists()
+
+
+def test_names_in_the_archive_are_identifiers(fmu_dir, tmp_path):
+    """The system's, the components' and the parameter sets' names are identifiers in C's sense,
+    as OMSimulator requires ("is not a valid ident"): the scenario crawler-ideal with an instance
+    named friction-2 added is system crawler_ideal with a component friction_2; two instances
+    that would share a name are refused."""
+    assert [ssp.identifier(n) for n in ("crawler-ideal", "2wires", "ok_1", "sma wire")] == \
+        ["crawler_ideal", "_2wires", "ok_1", "sma_wire"]
+    s = scenario.load(IDEAL)
+    extra = dataclasses.replace(s.instances["friction2"], name="friction-2")
+    s = dataclasses.replace(s, instances={**s.instances, "friction-2": extra})
+    with zipfile.ZipFile(ssp.export(s, fmu_dir, tmp_path / "crawler.ssp")) as zf:
+        root = ET.fromstring(zf.read("SystemStructure.ssd"))
+    named = [root, root.find("ssd:System", NS), *root.iter(f"{{{NS['ssd']}}}Component"),
+             *root.iter(f"{{{NS['ssv']}}}ParameterSet")]
+    names = {e.get("name") for e in named} | {c.get(end) for c in root.iter("{*}Connection")
+                                               for end in ("startElement", "endElement")}
+    assert "friction_2" in names and "crawler_ideal" in names
+    assert [n for n in names if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", n)] == []
+    twin = dataclasses.replace(extra, name="friction_2")
+    s = dataclasses.replace(s, instances={**s.instances, "friction_2": twin})
+    with pytest.raises(UserError, match="'friction-2' and 'friction_2' are both 'friction_2'"):
+        ssp.export(s, fmu_dir, tmp_path / "twins.ssp")
 
 
 def test_export_names_missing_fmus(tmp_path):
@@ -363,7 +390,8 @@ def test_ecos_and_fmpys_ssp_simulator_run_the_archive_each_as_its_master_steps(
     """
     s = scenario.load(IDEAL, overrides, stop_time=2.0)
     path = ssp.export(s, fmu_dir, tmp_path / "crawler.ssp")
-    for master, (time, values) in (("ecos", run_ecos(path, s.record, s.n_steps, s.step, s.name)),
+    for master, (time, values) in (("ecos", run_ecos(path, s.record, s.n_steps, s.step,
+                                                          ssp.identifier(s.name))),
                                    ("fmpy-ssp", run_fmpy_ssp(path, s.stop_time, s.step))):
         ref_time, ref = crawler_reference(s, master)
         np.testing.assert_array_equal(time, ref_time, err_msg=master)

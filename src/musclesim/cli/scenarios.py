@@ -11,8 +11,11 @@ from musclesim.cli.args import add_scenario_args, positive
 
 
 def _cmd_build(args: argparse.Namespace) -> int:
-    from musclesim.cosim import build_all
+    from musclesim.cosim import build_all, loader_unavailable
 
+    note = loader_unavailable(args.fmi)
+    if note:
+        print(f"musclesim: {note[0].upper()}{note[1:]}.", file=sys.stderr)
     for path in build_all(args.fmus, fmi=args.fmi):
         print(f"built {path}")
     return 0

@@ -26,6 +26,7 @@ from musclesim.cosim.build import build_all, check_fresh, source_digest
 from musclesim.cosim.graph import Graph, Link
 from musclesim.cosim.host import forget_fmu_resource_paths, read_fmu, reuse_fmus
 from musclesim.cosim.interrupt import Interrupted, interruptible
+from musclesim.cosim.loader import compile_loader, loader_unavailable
 from musclesim.cosim.cases import run_cases
 from musclesim.cosim.master import Master, signal_units
 from musclesim.cosim.outputs import (check_archive, check_output_dir, check_output_file,
@@ -42,7 +43,7 @@ from musclesim.cosim.scenario_files import shipped_dir as shipped_scenarios
 from musclesim.cosim.timeseries import read_time_series
 
 __all__ = ["Signal", "ParamRef", "with_values",
-           "build_all", "check_fresh", "source_digest",
+           "build_all", "check_fresh", "source_digest", "loader_unavailable", "compile_loader",
            "forget_fmu_resource_paths", "read_fmu", "reuse_fmus",
            "FORMAT", "Instance", "Metric", "Panel", "Scenario", "load_scenario", "apply_overrides",
            "locate_scenario", "shipped_scenarios", "implausible", "unknown_instance",

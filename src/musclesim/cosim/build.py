@@ -5,8 +5,10 @@
 Each FMU is self-contained: its resources hold the slave, the physics cores with the data files
 they read, the FMU base (`musclesim.fmu`, under the `musclesim` package name with an empty
 package __init__) and pythonfmu's Python files, so it runs where only Python, numpy and scipy are
-installed. BUILD.json beside them records a digest of the sources the FMUs came from, so that the
-runner can tell when they are stale.
+installed. On Linux an FMU's binary is a small loader in front of pythonfmu's
+(`musclesim.cosim.loader`), so that hosts without Python load it too. BUILD.json beside them
+records a digest of the sources the FMUs came from (the loader's among them), so that the runner
+can tell when they are stale.
 """
 from __future__ import annotations
 
@@ -28,6 +30,7 @@ from pythonfmu3 import FmuBuilder as Fmu3Builder
 import musclesim
 import musclesim.fmu
 from musclesim.components import CATALOGUE
+from musclesim.cosim import loader
 from musclesim.errors import UserError
 
 
@@ -96,7 +99,9 @@ def _component_sources() -> dict[Path, Path]:
 
 def source_digest() -> str:
     """SHA-256 over the sources an FMU is built from (names and contents, and its entry point)."""
-    h = hashlib.sha256(musclesim.__version__.encode() + _STUB.encode() + _STUB3.encode())
+    h = hashlib.sha256(musclesim.__version__.encode() + _STUB.encode() + _STUB3.encode()
+                       + b"".join(p.read_bytes() for p in (*loader.SOURCES.values(),
+                                                           loader.CORE)))
     for rel, src in _component_sources().items():
         h.update(str(rel).encode())
         h.update(src.read_bytes())
@@ -112,6 +117,11 @@ def build_all(dest: str | Path = "fmus", names: Iterable[str] | None = None, fmi
     ------
     UserError
         For another FMI version, or naming a component whose module fails to import.
+
+    Notes
+    -----
+    Where `loader.loader_unavailable` gives a reason (a static Python, no compiler, not Linux),
+    the FMUs keep pythonfmu's binary, which loads only where the host has Python in its process.
     """
     if fmi not in (2, 3):
         raise UserError(f"FMI version {fmi!r}: musclesim builds FMI 2.0 or 3.0 FMUs (2 or 3)")
@@ -126,6 +136,8 @@ def build_all(dest: str | Path = "fmus", names: Iterable[str] | None = None, fmi
             shutil.copy2(src, stage / rel)
         (stage / "musclesim" / "__init__.py").write_text('"""musclesim FMU runtime."""\n')
         shipped = [stage / "musclesim"]
+        binary = None if loader.loader_unavailable(fmi) else \
+            loader.compile_loader(Path(tmp), fmi=fmi)
         if fmi == 3:  # the FMI 2.0 base the slaves derive from, as pythonfmu ships it in its FMUs
             (stage / "pythonfmu").mkdir()
             for src in Path(pythonfmu.__file__).parent.glob("*.py"):
@@ -139,11 +151,14 @@ def build_all(dest: str | Path = "fmus", names: Iterable[str] | None = None, fmi
             script = Path(tmp) / f"musclesim_fmu{'' if fmi == 2 else '3'}_{name}.py"
             script.write_text((_STUB if fmi == 2 else _STUB3).format(name=name, module=module,
                                                                      cls=cls))
-            built.append(builder.build_FMU(
+            fmu = builder.build_FMU(
                 script, dest=dest, project_files=shipped,
                 # no external-tool flag: PyFMI refuses an FMU that sets it, and the FMU carries
                 # its code; what it needs installed (Python, numpy, scipy) the docs say
-                needsExecutionTool=False, **_OPTIONS[fmi]))
+                needsExecutionTool=False, **_OPTIONS[fmi])
+            if binary is not None:
+                loader.install(Path(fmu), binary, fmi)
+            built.append(fmu)
     sources, fmus = source_digest(), dict[str, str]()
     if names:  # a partial build keeps the digests of the FMUs built before from the same sources
         old = _stamp(dest)

@@ -25,19 +25,22 @@ runtime's ``container.json``, the FMUs unpacked under ``resources/``).
 from __future__ import annotations
 
 import json
+import tempfile
 import uuid
 import zipfile
 from pathlib import Path
 from typing import Any
 from xml.etree import ElementTree as ET
 
-from musclesim.cosim import KINDS, Master, ParamRef, Scenario, Signal, check_archive, replace_zip
+from musclesim.cosim import (KINDS, Master, ParamRef, Scenario, Signal, check_archive,
+                             compile_loader, replace_zip)
 from musclesim.errors import UserError
-from musclesim.export.ssp import base_units, value_text
+from musclesim.export.ssp import base_units, identifier, value_text
 
 # (name, causality, instance, its model variable, start value as text or None)
 Variable = tuple[str, str, str, Any, "str | None"]
 CONTAINER_VERSION = "0.1.0"  # the container.json format of FMPy's container runtime
+RUNTIME_SUFFIX = ".runtime.so"  # FMPy's runtime behind the grid loader: container_fmu + this
 _PLATFORMS = (("x86_64-linux", "linux64", "container_fmu.so"),
               ("x86_64-windows", "win64", "container_fmu.dll"),
               ("x86_64-darwin", "darwin64", "container_fmu.dylib"))
@@ -90,7 +93,9 @@ def model_description(scenario: Scenario, master: Master, variables: list[Variab
     checked by `master`, declaring the container's `variables` (`_variables`)."""
     token = {2: "guid", 3: "instantiationToken"}[fmi]
     root = ET.Element("fmiModelDescription", {
-        "fmiVersion": f"{fmi}.0", "modelName": scenario.name, token: "{" + str(uuid.uuid4()) + "}",
+        # OMSimulator and the like take a model name that is an identifier
+        "fmiVersion": f"{fmi}.0", "modelName": identifier(scenario.name),
+        token: "{" + str(uuid.uuid4()) + "}",
         "generationTool": "musclesim",
         "description": scenario.description or f"scenario {scenario.name}",
         "variableNamingConvention": "flat",
@@ -226,17 +231,33 @@ def export(scenario: Scenario, fmu_dir: str | Path, fmu_path: str | Path, fmi: i
     config = configuration(scenario, master, variables,
                            root.get("guid") or root.get("instantiationToken"))
 
-    def fill(archive: zipfile.ZipFile) -> None:
+    def fill(archive: zipfile.ZipFile, tmp: Path) -> None:
         archive.writestr("modelDescription.xml",
                          ET.tostring(root, encoding="UTF-8", xml_declaration=True))
         archive.writestr("resources/container.json", json.dumps(config, indent=2))
+        loader = _grid_loader(tmp, scenario.step) if fmi == 2 else None
         for platform, folder, library in _PLATFORMS:
             if (runtime / platform / library).is_file():  # FMI 3.0 names its folders so
-                archive.write(runtime / platform / library,
-                              f"binaries/{folder if fmi == 2 else platform}/{library}")
+                where = f"binaries/{folder if fmi == 2 else platform}/{library}"
+                if loader is not None and folder == "linux64":  # the runtime behind the loader
+                    archive.write(loader, where)
+                    where = where.removesuffix(".so") + RUNTIME_SUFFIX
+                archive.write(runtime / platform / library, where)
         for comp in sorted({i.component for i in scenario.instances.values()}):
             with zipfile.ZipFile(fmu_dir / f"{comp}.fmu") as inner:
                 for item in inner.infolist():
                     if not item.is_dir():
                         archive.writestr(f"resources/{comp}/{item.filename}", inner.read(item))
-    return replace_zip(fmu_path, fill)
+
+    with tempfile.TemporaryDirectory(prefix="musclesim_export_") as tmp:
+        return replace_zip(fmu_path, lambda archive: fill(archive, Path(tmp)))
+
+
+def _grid_loader(folder: Path, step: float) -> Path | None:
+    """The loader that puts a drifted host clock back on the container's grid of `step`
+    (`musclesim.cosim.compile_loader`), compiled into `folder`, or None where it cannot be
+    (not Linux, no compiler): FMPy's runtime alone then, which refuses such a step."""
+    try:
+        return compile_loader(folder, grid_step=step, suffix=RUNTIME_SUFFIX)
+    except RuntimeError:
+        return None

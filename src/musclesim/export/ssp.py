@@ -1,6 +1,7 @@
 """SSP export: a scenario and its FMUs as an SSP 1.0 archive (SystemStructure.ssd + resources/)."""
 from __future__ import annotations
 
+import re
 import zipfile
 from pathlib import Path
 from typing import Any
@@ -63,6 +64,39 @@ def base_units(master: Master) -> dict[str, dict[str, str]]:
     return units
 
 
+def identifier(name: str) -> str:
+    """`name` as an identifier in C's sense (ASCII letters, digits and underscores, not starting
+    with a digit; ``crawler-ideal`` -> ``crawler_ideal``): what OMSimulator requires of a system's,
+    a component's and a model's name ("is not a valid ident"), and so what the exports write
+    there. Every other character becomes an underscore; a leading digit gets one before it.
+
+    Parameters
+    ----------
+    name : str
+        A scenario's or an instance's name.
+
+    Returns
+    -------
+    str
+    """
+    ident = re.sub(r"[^A-Za-z0-9_]", "_", name)
+    return ident if ident and not ident[0].isdigit() else f"_{ident}"
+
+
+def _element_names(scenario: Scenario) -> dict[str, str]:
+    """{instance: its component's name in the SSD} (`identifier`), refused where two instances
+    would get the same one."""
+    names = {name: identifier(name) for name in scenario.instances}
+    seen: dict[str, str] = {}
+    for name, ident in names.items():
+        if ident in seen:
+            raise UserError(f"scenario {scenario.path}: instances {seen[ident]!r} and {name!r} "
+                            f"are both {ident!r} as identifiers (SSP tools such as OMSimulator "
+                            "take letters, digits and underscores only); rename one")
+        seen[ident] = name
+    return names
+
+
 def value_text(kind: str, value: float) -> str:
     """`value` of a variable of `kind` (Real, Integer, Boolean) as text, as SSP and FMI model
     descriptions write it."""
@@ -99,15 +133,17 @@ def system_structure(scenario: Scenario, master: Master) -> ET.Element:
     """
     units = base_units(master)
     used = _used_variables(scenario)
-    root = ET.Element(_tag("ssd:SystemStructureDescription"), version="1.0", name=scenario.name)
-    system = _sub(root, "ssd:System", name=scenario.name)
+    element, ident = _element_names(scenario), identifier(scenario.name)
+    root = ET.Element(_tag("ssd:SystemStructureDescription"), version="1.0", name=ident)
+    system = _sub(root, "ssd:System", name=ident)
     if scenario.description:
         system.set("description", scenario.description)
     elements = _sub(system, "ssd:Elements")
     referenced = set()
     for name, spec in scenario.instances.items():
         inst = master.instances[name]
-        comp = _sub(elements, "ssd:Component", name=name, type="application/x-fmu-sharedlibrary",
+        comp = _sub(elements, "ssd:Component", name=element[name],
+                    type="application/x-fmu-sharedlibrary",
                     source=f"resources/{spec.component}.fmu")
         variables = [v for v in inst.md.modelVariables
                      if v.name in used[name] and v.causality in _KINDS]
@@ -120,15 +156,15 @@ def system_structure(scenario: Scenario, master: Master) -> ET.Element:
                 real.set("unit", var.unit)
                 referenced.add(var.unit)
         if spec.parameters:
-            _parameter_binding(comp, scenario.name, spec.parameters, inst.vars)
+            _parameter_binding(comp, ident, spec.parameters, inst.vars)
         if spec.every > 1:  # libcosim steps it every `every`-th point (its decimation factor)
             note = _sub(_sub(comp, "ssd:Annotations"), "ssc:Annotation",
                         type="com.opensimulationplatform")
             _sub(note, "osp:StepSizeHint", value=repr(spec.every * scenario.step))
     connections = _sub(system, "ssd:Connections") if scenario.connections else None
     for link in scenario.graph.links:
-        _sub(connections, "ssd:Connection", startElement=link.source, startConnector=link.output,
-             endElement=link.target, endConnector=link.input)
+        _sub(connections, "ssd:Connection", startElement=element[link.source],
+             startConnector=link.output, endElement=element[link.target], endConnector=link.input)
     if referenced:
         defs = _sub(root, "ssd:Units")
         for unit in sorted(referenced):
