@@ -99,13 +99,16 @@ def test_a_recalibration_names_the_values_to_set():
         {"wire.T_amb": {"value": 289.0, "interval": [288.0, 290.0], "nominal": 293.15,
                         "lower": 285.15, "upper": 301.15, "unit": "K"},
          "wire.h": {"value": 101.0, "interval": [95.0, 105.0], "nominal": 100.0,
-                    "lower": 60.0, "upper": 160.0, "unit": "W/(m2.K)"}},
+                    "lower": 60.0, "upper": 160.0, "unit": "W/(m2.K)"},
+         "tc1,tc2.gain": {"value": 1.004, "interval": [1.001, 1.007], "nominal": 1.0,
+                          "lower": 0.99, "upper": 1.01, "unit": "1"}},
         {}, 0.05, 0.01, {})
     report = small(IsolationSection([], [], {}), "recalibration")
     doc = replace(report, calibration=cal).to_json()
-    # only the value whose interval leaves out its nominal one
+    # only the values whose interval leaves out their nominal one; a shared one on each instance
     assert doc["next_step"] == ("set the calibrated values in the scenario's parameters "
-                                "(`--set wire.T_amb=289`) and check them on a new recording")
+                                "(`--set wire.T_amb=289 --set tc1.gain=1.004 --set tc2.gain=1.004`)"
+                                " and check them on a new recording")
     assert schema_errors("report", doc) == []
 
 
@@ -120,7 +123,7 @@ def test_an_effect_calibration_mimics_names_what_breaks_the_symmetry(lag):
         "candidates": ["thermocouple lag", "calibration only"], "with": ["wire.h"],
         "breaks_with": ["record rests at a known ambient"], "chi2": 0.5}]
     assert made(lag)["next_step"] == ("to tell thermocouple lag from a recalibration of wire.h, "
-                                      "record rests at a known ambient")
+                                      "record rests at a known ambient, and diagnose again")
 
 
 def test_an_incomplete_verdict_says_where_the_gap_left_lies(lag):

@@ -97,7 +97,8 @@ def _sets(pairs: list[tuple[str, float]]) -> str:
     """``--set`` options of the (instance(s).parameter, value) `pairs`."""
     out = []
     for key, value in pairs:
-        instances, name = key.rsplit(".", 1) if "." in key else ("", key)
+        # "inst1,inst2.name": instance names hold no dot, a parameter's name may
+        instances, name = key.split(".", 1) if "." in key else ("", key)
         out += [f"{inst}.{name}={value:.6g}" for inst in instances.split(",") if inst]
     return " ".join(f"--set {s}" for s in out)
 
@@ -186,7 +187,8 @@ def next_step(doc: Doc) -> str:
         if syms:
             s = syms[0]
             return (f"to tell {s['candidates'][0]} from a recalibration of "
-                    f"{', '.join(s['with']) or 'nothing'}, {s['breaks_with'][0]}{left}")
+                    f"{', '.join(s['with']) or 'nothing'}, {s['breaks_with'][0]}, and diagnose "
+                    f"again{left}")
         sets = _sets([(f"{','.join(e['instances'])}.{n}", p["value"])
                       for e in chosen for n, p in e["parameters"].items()])
         return (f"add {' and '.join(e['label'] for e in chosen)} to the model (`{sets}` or the "
