@@ -341,7 +341,7 @@ def _plot_effects(path, report):
                label="calibrated")
     ax.axvline(report.verdict.noise_floor, color="0.3", lw=1, ls=":", label="noise floor")
     ax.set_yticks(y, [e["label"] for e in es], fontsize=8)
-    ax.set_xlabel("pooled held-out gap with the effect and calibration (green: counts)")
+    ax.set_xlabel("pooled held-out gap [1] with the effect and calibration (green: counts)")
     ax.legend(fontsize=7)
     fig.tight_layout()
     save_figure(fig, path, dpi=100)
