@@ -99,7 +99,9 @@ class _PIDBase(KernelSlave):
         self.input("u_s", 0.0, "1", "Reference (set point)", same_unit_as="u_m")
         self.input("u_m", 0.0, "1", "Measurement")
         self.output("y", "1", "Controller output", depends=["u_s", "u_m"])
-        self.output("e", "1", "Control error u_s - u_m", depends=["u_s", "u_m"])
+        # the error is of the measurement's quantity; the output y is not (a voltage, a duty)
+        self.output("e", "1", "Control error u_s - u_m", depends=["u_s", "u_m"],
+                    same_unit_as="u_m")
 
     def setup(self) -> None:
         Kp, Ki, Kd = self.gains()

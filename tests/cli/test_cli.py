@@ -84,6 +84,17 @@ CASES = {
 }
 
 
+def test_a_tracking_error_is_printed_in_its_measurements_unit(fmu_dir, tmp_path, capsys):
+    """sma-bench-tracking's tracking_rms, the rms of the PID's error (unit "1" in its FMU), is of
+    the thermocouple's kelvin its wiring feeds the PID (its window starts at 10 s)."""
+    code, text, err = run(capsys, "run", SCENARIOS / "sma-bench-tracking.toml", "--out",
+                          tmp_path, "--fmus", fmu_dir, "--stop-time", "10.5")
+    assert code == 0, err
+    printed = [line for line in text.splitlines() if line.startswith("tracking_rms = ")]
+    assert len(printed) == 1 and printed[0].endswith(" K")
+    assert json.loads((tmp_path / "summary.json").read_text())["units"]["tracking_rms"] == "K"
+
+
 @pytest.mark.parametrize("case", CASES)
 def test_bad_input_is_one_sentence(case, fmu_dir, tmp_path, capsys):
     make, extra, expected = CASES[case]

@@ -49,6 +49,27 @@ def test_a_metric_unit_follows_its_op():
     assert metric_unit("K", "frequency") == "Hz" and metric_unit("m", "max", ratio=True) == "1"
 
 
+def test_a_metric_of_a_controllers_error_is_in_its_measurements_unit(fmu_dir, tmp_path):
+    """sma-bench-tracking: reference.y -> pid.u_s, thermocouple.T_meas [K] -> pid.u_m,
+    pid.y -> wire.u (a voltage or a current, by the wire's drive_current: "1"). The PID's
+    outputs are of unit "1" in its FMU; the wiring gives its error (``same_unit_as`` u_m) the
+    kelvin of the measurement and the source the kelvin of the reference it feeds; its output
+    and a strain stay "1"."""
+    from musclesim.cosim import Master, load_scenario, signal_units
+
+    s = load_scenario(SCENARIOS / "sma-bench-tracking.toml")
+    m = Master(s, fmu_dir)
+    units = signal_units(m)
+    assert (units[S("pid.e")], units[S("pid.y")], units[S("reference.y")],
+            units[S("thermocouple.T_meas")], units[S("wire.strain")]) == ("K", "1", "K", "K", "1")
+    t = np.arange(3) * 20.0
+    writer = RunWriter(tmp_path, s, m.columns, units, with_plot=False)
+    writer.start()
+    summary = writer.finish(Results(t, tuple(m.columns), np.ones((3, len(m.columns)))))
+    assert summary["units"] == {"tracking_rms": "K", "strain_peak_to_peak": "1"}
+    assert json.loads((tmp_path / "summary.json").read_text())["units"]["tracking_rms"] == "K"
+
+
 def test_results_are_indexed_by_signal():
     res = _results(np.arange(3.0), y=np.array([1.0, 2.0, 3.0]), z=np.zeros(3))
     assert list(res[S("s.y")]) == [1.0, 2.0, 3.0]

@@ -8,7 +8,8 @@ import pytest
 
 from musclesim.cosim import Instance, ParamRef, Scenario, Signal
 from musclesim.diagnosis.fitting import FitResult, Free
-from musclesim.diagnosis.parameters import calibration, calibration_table, nominal, scanned
+from musclesim.diagnosis.parameters import (calibration, calibration_table, nominal, scanned,
+                                           unit_of)
 from musclesim.diagnosis.thresholds import MIN_VALUES_PER_PARAMETER
 
 OBSERVED = (Signal("tc1", "T_meas"), Signal("tc2", "T_meas"))
@@ -71,6 +72,15 @@ def test_a_stated_value_is_fixed_and_too_few_values_calibrate_nothing():
 def test_the_report_table_keys_a_shared_parameter_by_all_its_instances():
     free = [Free(("tc1", "tc2"), "gain", 0.99, 1.01, 1.0)]
     f = FitResult([1.004], [(1.001, 1.007)], None, 0.0, 0.0, True, 1, None, {})
-    assert calibration_table(free, f) == {"tc1,tc2.gain": {
+    assert calibration_table(free, f, {"tc1": "Thermocouple"}) == {"tc1,tc2.gain": {
         "value": 1.004, "interval": [1.001, 1.007], "nominal": 1.0, "lower": 0.99,
-        "upper": 1.01}}
+        "upper": 1.01, "unit": "1"}}
+
+
+def test_a_parameters_unit_is_its_components_declaration():
+    assert unit_of("SmaWire", "T_amb") == "K" and unit_of("SmaWire", "h") == "W/(m2.K)"
+    assert unit_of("Thermocouple", "tau") == "s" and unit_of("Thermocouple", "gain") == "1"
+    assert unit_of("NotInTheCatalogue", "k") == "1" and unit_of("SmaWire", "nothing") == "1"
+    free = [Free(("wire",), "T_amb", 285.15, 301.15, 293.15)]
+    f = FitResult([290.0], [(289.0, 291.0)], None, 0.0, 0.0, True, 1, None, {})
+    assert calibration_table(free, f, {"wire": "SmaWire"})["wire.T_amb"]["unit"] == "K"

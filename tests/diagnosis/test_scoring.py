@@ -23,7 +23,7 @@ def test_a_sensor_effect_is_judged_on_its_channel_not_drowned_by_another_signal(
     assert e["judged"]["signals"] == [TC] and e["judged"]["gain"] > 0.8 and e["counts"]
     assert e["per_signal"][STRAIN]["after"] == pytest.approx(e["per_signal"][STRAIN]["before"])
     assert e["parameters"]["bias"] == {"value": 3.0, "interval": [2.9, 3.1], "lower": -10.0,
-                                       "upper": 10.0, "off": 0.0}
+                                       "upper": 10.0, "off": 0.0, "unit": "K"}
     # the wire's effect acts on both signals and is judged on both
     wire = score(unit, base, candidate("latent heat", "wire"), fitted(unit, res, 1e4), {})
     assert wire["judged"]["signals"] == [TC, STRAIN]

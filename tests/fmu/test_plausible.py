@@ -113,6 +113,9 @@ def test_a_unitless_signal_takes_the_unit_its_wiring_gives():
     assert signal_unit(components, wiring, Signal("pid", "x[3]")) == "K"
     assert signal_unit(components, wiring, Signal("load", "amplitude")) == "N"
     assert signal_unit(components, wiring[:1], Signal("ref", "offset")) == "1"  # nothing says
+    # the controller's error carries its measurement's quantity; its output does not
+    assert signal_unit(components, wiring, Signal("pid", "e")) == "K"
+    assert signal_unit(components, wiring, Signal("pid", "y")) == "1"
     assert "75 looks like degrees Celsius" in problem("SignalSource", "ref.offset", "offset", 75.0,
                                                       unit="K")
     assert problem("SignalSource", "ref.amplitude", "amplitude", 30.0, unit="K") is None

@@ -43,7 +43,10 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
     paths = write_report(args.out, report, traces)
     document = report.to_json()  # the Report as report.json holds it
     print(f"verdict: {document['verdict']} ({document['explanation']})")
+    print(f"next step: {document['next_step']}")
     print("wrote " + ", ".join(str(p) for p in paths))
+    for warning in document["warnings"]:  # values on a bound: the model's form to question
+        print(f"musclesim: warning: {warning}", file=sys.stderr)
     return 0
 
 

@@ -51,7 +51,7 @@ from typing import Any
 import numpy as np
 from fmpy.fmi1 import FMICallException
 
-from musclesim.cosim import direct, fused, interrupt, wiring
+from musclesim.cosim import direct, fused, interrupt, plausible, wiring
 from musclesim.cosim.adapters import KINDS, Fmpy3Slave, FmpySlave
 from musclesim.cosim.address import Signal
 from musclesim.cosim.build import built_here
@@ -483,6 +483,16 @@ class Master:
 
 
 def signal_units(master: Master) -> dict[Signal, str]:
-    """Unit of every recorded column of `master` ("1" for a unitless one)."""
-    return {sig: master.instances[sig.instance].vars[sig.variable].unit or "1"
-            for sig in master.columns}
+    """Unit of every recorded column of `master`: its FMU's, or for one of unit "1" (a
+    generic output: a controller's error, a signal source's output) the unit the scenario's
+    wiring gives it (`plausible.signal_unit`: a PID's error of a kelvin measurement is in K);
+    "1" for a truly unitless one. The one place a recorded signal's unit is resolved: the
+    summary's metric units, the printout and the plots read it."""
+    s = master.scenario
+    components = {n: i.component for n, i in s.instances.items()}
+    units = {}
+    for sig in master.columns:
+        unit = master.instances[sig.instance].vars[sig.variable].unit or "1"
+        units[sig] = unit if unit != "1" else plausible.signal_unit(components, s.connections,
+                                                                    sig)
+    return units

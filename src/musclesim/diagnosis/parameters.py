@@ -1,16 +1,17 @@
 """The calibration parameters of a unit: the nominal values a real bench has differently
 (`effects.CALIBRATION`), as `Free` parameters (`calibration`), how many of them a calibration
 scans (`scanned`), the report's table of their fitted values (`calibration_table`), and the one
-place a parameter's nominal value is read (`nominal`).
+place a parameter's nominal value (`nominal`) and its unit (`unit_of`) are read.
 """
 from __future__ import annotations
 
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from musclesim.components import CATALOGUE, declarations
 from musclesim.cosim import ParamRef, read_fmu
 from musclesim.diagnosis.effects import calibration_of
 from musclesim.diagnosis.fitting import FitResult, Free
@@ -18,7 +19,7 @@ from musclesim.diagnosis.problem import Problem, Unit, affected
 from musclesim.diagnosis.stats import TRAIN, part_rows
 from musclesim.diagnosis.thresholds import MIN_VALUES_PER_PARAMETER
 
-__all__ = ["nominal", "components_of", "calibration", "scanned", "calibration_table"]
+__all__ = ["nominal", "unit_of", "components_of", "calibration", "scanned", "calibration_table"]
 
 
 def nominal(problem: Problem, ref: ParamRef) -> float:
@@ -45,6 +46,19 @@ def nominal(problem: Problem, ref: ParamRef) -> float:
     if var is None or var.start is None:
         raise KeyError(f"{component} has no parameter {name!r}")
     return float(var.start)
+
+
+def unit_of(component: str, name: str) -> str:
+    """The unit of parameter `name` of `component` as the component declares it; "1" for a
+    component outside the catalogue (whose parameters are neither calibrated nor an effect's)
+    or a name it does not declare. For the report only: no number of the diagnosis depends on
+    it.
+
+    >>> unit_of("Thermocouple", "tau"), unit_of("SmaWire", "T_amb"), unit_of("Other", "k")
+    ('s', 'K', '1')
+    """
+    decl = declarations(component).get(name) if component in CATALOGUE else None
+    return decl.unit if decl is not None else "1"
 
 
 def components_of(unit: Unit, instances: Iterable[str]) -> dict[str, list[str]]:
@@ -92,9 +106,12 @@ def scanned(free: Sequence[Free]) -> int:
     return sum(1 for f in free if f.period)
 
 
-def calibration_table(free: Sequence[Free], f: FitResult) -> dict[str, dict[str, Any]]:
+def calibration_table(free: Sequence[Free], f: FitResult, components: Mapping[str, str]
+                      ) -> dict[str, dict[str, Any]]:
     """The report's calibrated values: {instance(s).parameter: value, 95 % interval, nominal,
-    bounds} of `free` fitted as `f`."""
+    bounds, unit} of `free` fitted as `f`, the units those its instances' `components`
+    (instance -> component) declare (`unit_of`)."""
     return {fr.key: {
         "value": x, "interval": list(iv), "nominal": fr.start, "lower": fr.lower,
-        "upper": fr.upper} for fr, x, iv in zip(free, f.x, f.interval)}
+        "upper": fr.upper, "unit": unit_of(components.get(fr.instances[0], ""), fr.name)}
+        for fr, x, iv in zip(free, f.x, f.interval)}

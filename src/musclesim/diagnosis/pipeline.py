@@ -236,7 +236,8 @@ def _calibrate(problem, cut, units, pmap):
             cals.append(Calibration([], {}, nominal, None, {}, None, latency, nominal_gap))
         else:
             cals.append(Calibration(free, values_of(free, f.x), f.residuals, f.jac,
-                                    calibration_table(free, f), f, f.latency, nominal_gap))
+                                    calibration_table(free, f, u.components), f, f.latency,
+                                    nominal_gap))
     isolated = [Isolation(n.unit, c, gap(n.unit, c.residuals, HELD_OUT), noise_floor(n.unit),
                           deviates(n.unit, c.residuals), c.nominal_gap)
                 for n, c in zip(units, cals[1:])]

@@ -50,15 +50,23 @@ def write(out: str | Path, report: Report, traces: dict[str, Any] | None = None)
 
 
 def markdown(report: Report, plots: Sequence[str] = ()) -> str:
-    """`report` as Markdown (with `plots`, file names of images in the same folder)."""
+    """`report` as Markdown (with `plots`, file names of images in the same folder): every number
+    with its unit (a gap, a share of its signal's range, is of unit 1), the values on a bound
+    flagged and named in a warnings paragraph, the verdict's paragraph ending in its next step
+    (report.json's ``warnings`` and ``next_step``)."""
     v = report.verdict
+    doc = report.to_json()
     L = [f"# Diagnosis of {report.data_set}", "",
          f"Scenario: {report.scenario}. Training part: {', '.join(report.train)}; "
-         f"held out: {', '.join(report.held_out)}.", "",
+         f"held out: {', '.join(report.held_out)}. Gaps are RMS residuals as a share of each "
+         "signal's measured range (unit 1; 0.01 = 1 % of the range).", "",
          f"## Verdict: **{v.name}**" + ("" if v.complete else " (incomplete)"), "",
-         v.explanation + ".", ""]
+         f"{v.explanation}. Next step: {doc['next_step']}.", ""]
     L += _md_confidence(report.confidence)
-    L += (_md_gap(report) + _md_calibration(report) + _md_where(report) + _md_which(report)
+    if doc["warnings"]:
+        L += ["**Warnings** (values on a bound of their range):", ""]
+        L += [f"- {w}." for w in doc["warnings"]] + [""]
+    L += (_md_gap(report) + _md_calibration(doc) + _md_where(report) + _md_which(report, doc)
           + _md_shrinkage(report))
     L += [""] + [f"![{p}]({p})" for p in plots]
     return "\n".join(L) + "\n"
@@ -88,15 +96,16 @@ def _md_gap(report):
     """Section 1: the whole model's gap, per signal (or metric)."""
     g = report.gap
     L = ["## 1. The gap (whole model, inputs replayed)", "",
-         f"Pooled held-out gap {_num(g.heldout_gap)} (normalised by each signal's range); "
-         f"noise floor {_num(g.noise_floor)}; "
+         f"Pooled held-out gap {_num(g.heldout_gap)} (normalised by each signal's range, unit "
+         f"1); noise floor {_num(g.noise_floor)}; "
          f"{'deviates' if g.deviates else 'within the noise'}.", ""]
     if report.scalar_only:
-        L += ["| metric | relative error per experiment |", "|---|---|"]
+        L += ["| metric | relative error per experiment [1] |", "|---|---|"]
         L += [f"| {c} | {', '.join(_num(x) for x in e['relative_error'])} |"
               for c, e in g.signals.items()]
     else:
-        L += ["| signal | NRMSE | held-out NRMSE | bias (data - model) | lag [s] | noise |",
+        L += ["| signal | NRMSE [1] | held-out NRMSE [1] | bias (data - model) | lag [s] | "
+              "noise [1] |",
               "|---|---|---|---|---|---|"]
         L += [f"| {c} | {_num(e['nrmse'])} | {_num(e['nrmse_heldout'])} | {_num(e['bias'])}"
               f"{'' if e['unit'] == '1' else ' ' + e['unit']} | {_num(e.get('lag'))} | "
@@ -105,22 +114,30 @@ def _md_gap(report):
     return L
 
 
-def _md_calibration(report):
-    """Section 2: the calibrated nominal values with their intervals, the gap before and after."""
-    c = report.calibration
+def _md_calibration(doc):
+    """Section 2 of report.json document `doc`: the calibrated nominal values with their units,
+    intervals and bounds (one on its bound flagged), the gap before and after."""
+    c = doc["calibration"]
     L = ["", "## 2. Calibration (training part; everything below is judged against it)", ""]
-    if not c.parameters:
+    if not c["parameters"]:
         return L + ["Nothing calibrated (no gap, or no calibration parameter in the model)."]
-    L += [f"Held-out gap {_num(c.heldout_gap_before)} nominal, "
-          f"{_num(c.heldout_gap_after)} calibrated.", "",
-          "| parameter | nominal | calibrated [95 % interval] | bounds |", "|---|---|---|---|"]
-    L += [f"| {k} | {_num(v['nominal'], '.4g')} | {_num(v['value'], '.4g')} "
-          f"{_iv(v['interval'], '.4g')} | {_iv([v['lower'], v['upper']], '.4g')} |"
-          for k, v in c.parameters.items()]
-    L += ["", "| signal | held-out gap nominal | calibrated |", "|---|---|---|"]
+    L += [f"Held-out gap {_num(c['heldout_gap_before'])} nominal, "
+          f"{_num(c['heldout_gap_after'])} calibrated (unit 1).", "",
+          "| parameter | unit | nominal | calibrated [95 % interval] | bounds | on a bound |",
+          "|---|---|---|---|---|---|"]
+    L += [f"| {k} | {v.get('unit', '-')} | {_num(v['nominal'], '.5g')} | "
+          f"{_num(v['value'], '.5g')} {_iv(v['interval'], '.5g')} | "
+          f"{_iv([v['lower'], v['upper']], '.5g')} | {_bound(v)} |"
+          for k, v in c["parameters"].items()]
+    L += ["", "| signal | held-out gap nominal [1] | calibrated [1] |", "|---|---|---|"]
     L += [f"| {k} | {_num(v['before'])} | {_num(v['after'])} |"
-          for k, v in (c.signals or {}).items()]
+          for k, v in (c.get("signals") or {}).items()]
     return L
+
+
+def _bound(entry):
+    """A report table's cell saying whether fitted value `entry` sits on a bound."""
+    return "**yes**: a model-form warning" if entry.get("on_bound") else "no"
 
 
 def _md_where(report):
@@ -129,12 +146,12 @@ def _md_where(report):
     iso = report.isolation
     if iso is not None and iso.units:
         L += ["Isolation units (each re-simulated with the measured signals feeding it replayed):",
-              "", "| unit | observed | held-out gap | noise floor | deviates |",
+              "", "| unit | observed | held-out gap [1] | noise floor [1] | deviates |",
               "|---|---|---|---|---|"]
         L += [f"| {' + '.join(u['instances'])} | {_names(u['observed'])} | "
               f"{_num(u['heldout_gap'])} | {_num(u['noise_floor'])} | {u['deviates']} |"
               for u in iso.units]
-        L += ["", "| instance | component | isolated gap | located | exonerated |",
+        L += ["", "| instance | component | isolated gap [1] | located | exonerated |",
               "|---|---|---|---|---|"]
         L += [f"| {r['instance']} | {r['component']} | {_num(r['isolated_gap'])} | "
               f"{r['located']} | {r['exonerated']} |" for r in iso.located]
@@ -142,7 +159,8 @@ def _md_where(report):
         L += ["No component can be isolated (scalar-only data or no measured internal signal)."]
     reg = iso.regimes if iso is not None else {}
     if reg.get("by_regime"):
-        L += ["", "Calibrated gap by regime:", "", "| regime | share of samples | gap |",
+        L += ["", "Calibrated gap by regime:", "",
+              "| regime | share of samples [1] | gap [1] |",
               "|---|---|---|"]
         L += [f"| {k} ({v['description']}) | {_num(v['fraction'], '.2f')} | {_num(v['gap'])} |"
               for k, v in reg["by_regime"].items()]
@@ -153,8 +171,9 @@ def _md_where(report):
     return L
 
 
-def _md_which(report):
-    """Section 4: the candidates weighed by evidence, then each effect's fit described."""
+def _md_which(report, doc):
+    """Section 4: the candidates weighed by evidence, then each effect's fit described (its
+    values with their units and bound flags from report.json document `doc`)."""
     L = ["", "## 4. Which cause: the evidence", ""]
     ev = report.evidence
     if ev is None or not ev.effects:
@@ -169,12 +188,11 @@ def _md_which(report):
           "signature too: 1 not at all, 10 and more hardly told apart). These numbers describe "
           "the fits; the evidence above weighs them.", "",
           "| rank | effect | fitted values [95 % interval] | judged on | gap there: calibrated "
-          "-> with effect | gain [95 %] | pooled gap | regime gain ratio | collinearity with "
-          "calibration | gains clearly |",
+          "-> with effect [1] | gain [95 %] [1] | pooled gap [1] | regime gain ratio [1] | "
+          "collinearity with calibration [1] | gains clearly |",
           "|---|---|---|---|---|---|---|---|---|---|"]
-    for i, e in enumerate(ev.effects, 1):
-        vals = "; ".join(f"{n} = {_num(p['value'], '.4g')} {_iv(p['interval'], '.3g')}"
-                         for n, p in e["parameters"].items())
+    for i, (e, shown) in enumerate(zip(ev.effects, doc["effects"]), 1):
+        vals = "; ".join(_fitted(n, p) for n, p in shown["parameters"].items())
         j = e.get("judged") or {}
         sig = e["signature"]
         mark = " *" if e.get("baseline", "calibration") != "calibration" else ""
@@ -184,7 +202,7 @@ def _md_which(report):
                  f"{_num(e['heldout_gap_before'])} -> {_num(e['heldout_gap_after'])} | "
                  f"{sig['regime']}: {_num(sig['gain_ratio'], '.2f')} | {_alias(e)} | "
                  f"{e['counts']} |")
-    L += ["", "Per signal, held-out gap calibrated -> with the effect:", "",
+    L += ["", "Per signal, held-out gap calibrated -> with the effect [1]:", "",
           "| effect | " + " | ".join(map(str, fu.observed)) + " |",
           "|---|" + "---|" * len(fu.observed)]
     for e in ev.effects:
@@ -210,7 +228,7 @@ def _md_evidence(ev, signals):
          "candidate equally probable beforehand (a pair a tenth as probable). The predictive "
          "check is the RMS of the standardised held-out innovations (about 1: described; above "
          "3: not).", "",
-         "| candidate | probability | log evidence | predictive check | held-out gap "
+         "| candidate | probability | log evidence | predictive check | held-out gap [1] "
          + " | ".join(map(str, signals)) + " |",
          "|---|---|---|---|" + "---|" * len(signals)]
     for c in ev["candidates"]:
@@ -231,6 +249,15 @@ def _md_evidence(ev, signals):
     return L
 
 
+def _fitted(name, p):
+    """Effect parameter `name`'s fitted value `p`: value and interval in its unit, flagged
+    when on a bound."""
+    unit = p.get("unit")
+    return (f"{name} = {_num(p['value'], '.4g')} {_iv(p['interval'], '.3g')}"
+            + ("" if unit in (None, "1") else f" {unit}")
+            + (" (**on its bound**)" if p.get("on_bound") else ""))
+
+
 def _names(signals):
     """`signals` printed, comma-separated."""
     return ", ".join(map(str, signals))
@@ -245,7 +272,8 @@ def _md_shrinkage(report):
     """Section 5: the held-out gap per signal nominal, calibrated, with the selected effects."""
     L = ["", "## 5. How far it shrinks (held-out part, every measured signal replayed)", "",
          f"Selected: {', '.join(report.verdict.selected or ['nothing'])}.", "",
-         "| signal | nominal [95 %] | calibrated | with the selected effects [95 %] |",
+         "| signal | nominal [95 %] [1] | calibrated [1] | with the selected effects [95 %] [1] "
+         "|",
          "|---|---|---|---|"]
     L += [f"| {c} | {_num(s['before'])} {_iv(s['interval_before'])} | "
           f"{_num(s.get('calibrated'))} | {_num(s['after'])} {_iv(s['interval_after'])} |"
@@ -313,7 +341,7 @@ def _plot_effects(path, report):
                label="calibrated")
     ax.axvline(report.verdict.noise_floor, color="0.3", lw=1, ls=":", label="noise floor")
     ax.set_yticks(y, [e["label"] for e in es], fontsize=8)
-    ax.set_xlabel("pooled held-out gap with the effect and calibration (green: counts)")
+    ax.set_xlabel("pooled held-out gap [1] with the effect and calibration (green: counts)")
     ax.legend(fontsize=7)
     fig.tight_layout()
     save_figure(fig, path, dpi=100)

@@ -10,6 +10,7 @@ from musclesim.diagnosis.aliasing import aliasing_in
 from musclesim.diagnosis.candidates import Candidate
 from musclesim.diagnosis.fitting import FitResult
 from musclesim.diagnosis.judging import judge
+from musclesim.diagnosis.parameters import unit_of
 from musclesim.diagnosis.problem import affected
 from musclesim.diagnosis.stats import before_after
 
@@ -19,14 +20,16 @@ __all__ = ["score", "Scored", "rank"]
 def score(unit, base, cand, f, masks, calib=()):
     """The report's entry of candidate `cand` fitted with the calibration parameters as `f` (a
     `fit` result, the effect's parameters first) in `unit`, against its `baseline` `base`:
-    its values, the pooled held-out gaps, the per-signal before/after and the judgement on the
-    signals it can change (`judge`), ``counts``; ``baseline`` says which it was."""
+    its values (with their units), the pooled held-out gaps, the per-signal before/after and the
+    judgement on the signals it can change (`judge`), ``counts``; ``baseline`` says which it
+    was."""
     k = len(cand.free)
     res = f.residuals
     entry = {"name": cand.effect.name, "label": cand.label, "component": cand.effect.component,
              "instances": list(cand.instances), "reference": cand.effect.reference,
              "parameters": {fr.name: {"value": x, "interval": list(iv), "lower": fr.lower,
-                                      "upper": fr.upper, "off": fr.start}
+                                      "upper": fr.upper, "off": fr.start,
+                                      "unit": unit_of(cand.effect.component, fr.name)}
                             for fr, x, iv in zip(cand.free, f.x[:k], f.interval[:k])},
              "calibration": {fr.key: x
                              for fr, x in zip(calib, f.x[k:])},

@@ -7,7 +7,9 @@ shared dict: `GapSection` (1, the nominal model's gap), `CalibrationSection` (2)
 diagnosis concludes) and `ShrinkageSection` (5, the held-out gap nominal, calibrated and with the
 selected effects). `Report.to_json` gives report.json's document (its shape: the JSON Schema
 musclesim/schemas/report.schema.json), keys in the order report.json has always had them;
-`musclesim.diagnosis.report` writes it and report.md from the object.
+`musclesim.diagnosis.report` writes it and report.md from the object. The document also says
+what the report tells its reader (`musclesim.diagnosis.advice`): the values on their bounds,
+the warnings naming them and the next step, derived from the sections when it is made.
 
 The tables inside a section (one entry per signal, per unit, per effect, per candidate) stay
 the JSON objects report.json holds, read by name in report.md and the benchmark; their signals
@@ -20,6 +22,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from musclesim.cosim import ParamRef, Signal
+from musclesim.diagnosis.advice import next_step, warnings, with_bounds
 
 __all__ = ["plain", "GapSection", "CalibrationSection", "IsolationSection", "FitUnitSection",
            "EvidenceSection", "VerdictSection", "ShrinkageSection", "Report"]
@@ -206,4 +209,18 @@ class Report:
             ev = out.get("evidence", {})
             raw = {"credible": ev["set"], "credible_level": ev.get("level")} if ev else {}
             out["evidence"] = {**ev, **raw, **self.confidence}
-        return plain(out)
+        return _with_advice(plain(out))
+
+
+def _with_advice(doc: Table) -> Table:
+    """report.json document `doc` (`plain`, its own dicts) with what the report tells its
+    reader (`musclesim.diagnosis.advice`): each calibrated and effect value's ``on_bound``, the
+    ``warnings`` naming those on a bound and the verdict's ``next_step``; no other key
+    changes."""
+    cal = doc["calibration"]
+    cal["parameters"] = with_bounds(cal["parameters"])
+    for e in doc["effects"]:
+        e["parameters"] = with_bounds(e["parameters"])
+    doc["warnings"] = warnings(doc)
+    doc["next_step"] = next_step(doc)
+    return doc

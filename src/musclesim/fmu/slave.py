@@ -175,11 +175,14 @@ class Slave(Fmi2Slave):
                       Fmi2Variability.continuous, None, None, **role)
 
     def output(self, name: str, unit: str, description: str, depends: Sequence[str] = (),
-               type: str = "Real") -> None:
+               type: str = "Real", same_unit_as: str | None = None) -> None:
         """Declare a calculated output `name` of `unit` and `description` (Real unless `type`
-        says "Integer" or "Boolean"); `depends` names the inputs it depends on directly."""
+        says "Integer" or "Boolean"); `depends` names the inputs it depends on directly;
+        `same_unit_as`, for an output of unit "1" that carries another variable's quantity (a
+        controller's error, its measurement's), that variable's name (`Declaration`)."""
         self._declare(name, 0.0, unit, description, Fmi2Causality.output,
-                      Fmi2Variability.continuous, Fmi2Initial.calculated, tuple(depends), type)
+                      Fmi2Variability.continuous, Fmi2Initial.calculated, tuple(depends), type,
+                      same_unit_as=same_unit_as)
 
     @classmethod
     def declarations(cls) -> dict[str, Declaration]:
