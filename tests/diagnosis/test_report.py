@@ -61,9 +61,6 @@ def test_a_report_without_gap_says_what_did_not_run(tmp_path):
 def test_report_md_of_a_worked_example_is_the_one_the_docs_show(name):
     folder = ROOT / "docs" / "examples" / name
     doc = json.loads((folder / "report.json").read_text())
-    if "next_step" not in doc:
-        pytest.xfail("docs/examples predate the report's units and next step: written again "
-                     "by `musclesim diagnose` (its command in docs/user/diagnosis.md)")
     report = report_of(doc)
     assert markdown(report, ["signals.png", "effects.png"]) == (folder / "report.md").read_text()
 
