@@ -50,7 +50,8 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
 def _cmd_calibrate(args: argparse.Namespace) -> int:
     from musclesim.batch import dask_client, dask_map
     from musclesim.cosim import check_fresh
-    from musclesim.diagnosis import calibrate, calibration_markdown, load_dataset
+    from musclesim.diagnosis import (calibrate, calibration_bound_sentence,
+                                     calibration_markdown, load_dataset)
 
     ds = load_dataset(args.dataset, check_model=True, fmu_dir=args.fmus)
     check_fresh(args.fmus)
@@ -64,6 +65,8 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     (out / "calibration.md").write_text(text)
     print(text, end="")
     print(f"wrote {out / 'calibration.json'}, {out / 'calibration.md'}")
+    if sentence := calibration_bound_sentence(report):
+        print(sentence)
     return 0
 
 
