@@ -19,7 +19,7 @@ def _cmd_dataset_check(args: argparse.Namespace) -> int:
     kind = "scalar-only" if ds.time is None else \
         f"{len(ds.time)} samples, {len(ds.columns)} columns"
     print(f"{ds.path}: OK ({kind}; experiments {', '.join(ds.experiments)}; "
-          f"train {', '.join(train)}; held out {', '.join(held)})")
+          f"train {', '.join(train)}; held out {', '.join(held) or 'nothing'})")
     return 0
 
 
@@ -35,6 +35,10 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
             raise UserError(f"--model {item!r}: give SCENARIO or EXPERIMENT=SCENARIO")
         models[experiment if sep else "*"] = ref
     ds = load_dataset(args.dataset, check_model=True, fmu_dir=args.fmus, models=models)
+    if not ds.parts()[1]:
+        raise UserError(f"data set {ds.path} holds nothing out (held_out = []): musclesim "
+                        "diagnose judges on a held-out part; fit its open values with musclesim "
+                        "calibrate")
     check_fresh(args.fmus)
     traces: dict = {}
     with dask_client(args.scheduler, args.workers) as client:

@@ -5,9 +5,11 @@ A bench that reports a few numbers (a study's published outcomes) cannot pin eve
 value the diagnosis calibrates, but it can pin the few its author knows to be open: the data
 set lists them as ``[[calibrate]]`` tables (`dataset.OpenValue`: one value for every parameter
 of its ``set``, within its ``bounds``). They are fitted together by the diagnosis's own
-bounded least squares (`fitting.fit`) on the training metrics, each residual weighed by its
-metric's stated uncertainty, and their 95 % intervals follow from those uncertainties through
-the Jacobian at the fit. The held-out experiments are never fitted: their metrics, simulated at
+bounded least squares (`fitting.fit`) on the training metrics, each residual divided by its
+metric's largest measured magnitude (the diagnosis's range), and their 95 % intervals follow
+from the metrics' stated uncertainties through the Jacobian at the fit. Where every uncertainty
+is the same fraction of its value, the fit is thereby weighed by the uncertainties; a metric
+name several experiments share has one range and one uncertainty (the largest) for all of them. The held-out experiments are never fitted: their metrics, simulated at
 the fitted values, are the model's predictions (a set may hold none out and fit every outcome).
 
 A value that ends on its bound, or within `ON_BOUND` of its range of it, is not a fitted value:
