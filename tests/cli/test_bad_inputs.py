@@ -329,6 +329,9 @@ REFUSED = {
     "calibrate-time-series": lambda ws: (
         ["calibrate", MEASURED, "--out", ws.root / "cal", "--fmus", ws.fmus_dir],
         [MEASURED, "musclesim calibrate takes scalar metrics only"]),
+    "diagnose-nothing-held-out": lambda ws: (
+        ["diagnose", STUDY.parent / "study-fast-actuation-joint", "--out", ws.root / "diag",
+         "--fmus", ws.fmus_dir], ["holds nothing out (held_out = [])", "musclesim calibrate"]),
     "calibrate-no-open-value": lambda ws: (
         ["calibrate", SCENARIOS / "data" / "crawler-real", "--out", ws.root / "cal", "--fmus",
          ws.fmus_dir], ["crawler-real names no open value", "[[calibrate]]"]),

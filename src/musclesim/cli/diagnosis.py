@@ -19,7 +19,7 @@ def _cmd_dataset_check(args: argparse.Namespace) -> int:
     kind = "scalar-only" if ds.time is None else \
         f"{len(ds.time)} samples, {len(ds.columns)} columns"
     print(f"{ds.path}: OK ({kind}; experiments {', '.join(ds.experiments)}; "
-          f"train {', '.join(train)}; held out {', '.join(held)})")
+          f"train {', '.join(train)}; held out {', '.join(held) or 'nothing'})")
     return 0
 
 
@@ -35,6 +35,10 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
             raise UserError(f"--model {item!r}: give SCENARIO or EXPERIMENT=SCENARIO")
         models[experiment if sep else "*"] = ref
     ds = load_dataset(args.dataset, check_model=True, fmu_dir=args.fmus, models=models)
+    if not ds.parts()[1]:
+        raise UserError(f"data set {ds.path} holds nothing out (held_out = []): musclesim "
+                        "diagnose judges on a held-out part; fit its open values with musclesim "
+                        "calibrate")
     check_fresh(args.fmus)
     traces: dict = {}
     with dask_client(args.scheduler, args.workers) as client:
@@ -53,7 +57,8 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
 def _cmd_calibrate(args: argparse.Namespace) -> int:
     from musclesim.batch import dask_client, dask_map
     from musclesim.cosim import check_fresh
-    from musclesim.diagnosis import calibrate, calibration_markdown, load_dataset
+    from musclesim.diagnosis import (calibrate, calibration_bound_sentence,
+                                     calibration_markdown, load_dataset)
 
     ds = load_dataset(args.dataset, check_model=True, fmu_dir=args.fmus)
     check_fresh(args.fmus)
@@ -67,6 +72,8 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     (out / "calibration.md").write_text(text)
     print(text, end="")
     print(f"wrote {out / 'calibration.json'}, {out / 'calibration.md'}")
+    if sentence := calibration_bound_sentence(report):
+        print(sentence)
     return 0
 
 

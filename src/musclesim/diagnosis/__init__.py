@@ -27,6 +27,7 @@ The stages' building blocks are public too, for the blind benchmark above this l
 ``HELD_OUT``), ``fit``, ``Free`` and ``values_of`` (bounded least squares of free parameters),
 ``calibration`` (the calibration parameters of a unit) and ``find_effect``.
 """
+from musclesim.diagnosis.openvalues import bound_sentence as calibration_bound_sentence
 from musclesim.diagnosis.openvalues import calibrate
 from musclesim.diagnosis.openvalues import markdown as calibration_markdown
 from musclesim.diagnosis.dataset import DataSet
@@ -54,7 +55,7 @@ from musclesim.diagnosis.conformal import (Outlyingness, choice_probabilities,
 
 __all__ = ["load_dataset", "DataSet", "write_data_set", "diagnose", "Report", "write_report",
            "calibrate",
-           "calibration_markdown", "EFFECTS",
+           "calibration_markdown", "calibration_bound_sentence", "EFFECTS",
            "REGIMES", "Effect", "find_effect", "Problem", "simulate_unit",
            "residuals", "Failed", "Simulated", "gap", "fit", "Free", "values_of", "calibration", "Part",
            "TRAIN", "HELD_OUT", "CALIBRATION_ONLY", "TWO_EFFECTS", "OUTSIDE_LIBRARY",

@@ -107,7 +107,8 @@ def build(path: Path, m: dict[str, Any], table: tuple | None, has_data: bool,
     conditions = _conditions(m.get("conditions", {}), columns, problems)
     experiments = _experiments(m.get("experiments"), reference, path, scenarios_dir, time,
                                has_data, problems)
-    split = _split(m.get("split"), experiments, time, has_data, problems)
+    split = _split(m.get("split"), experiments, time, has_data, problems,
+                   fit_all=not has_data and bool(m.get("calibrate")))
     calibrate = _calibrate(m.get("calibrate", []), problems)
     fmt = m.get("format", 1)
     if problem := format_problem(fmt):
@@ -312,7 +313,10 @@ def _metrics(raw: Any, where: str, problems: list[str]) -> dict[str, MeasuredMet
 
 
 def _split(raw: Any, experiments: dict[str, Experiment], time: np.ndarray | None,
-           has_data: bool, problems: list[str]) -> Split | None:
+           has_data: bool, problems: list[str], fit_all: bool = False) -> Split | None:
+    """The [split] table; `fit_all`: the set is scalar-only and names open values, so its
+    held-out part may be empty (``held_out = []``: `musclesim calibrate` fits every outcome
+    and predicts none)."""
     where = f"{MANIFEST}, [split]"
     if not isinstance(raw, dict):
         problems.append(f"{MANIFEST}: no [split] table (held_out = [experiment names], or "
@@ -351,7 +355,7 @@ def _split(raw: Any, experiments: dict[str, Experiment], time: np.ndarray | None
             if n not in experiments:
                 problems.append(f"{where}: {part} names unknown experiment {n!r} "
                                 f"(experiments: {', '.join(experiments) or 'none'})")
-        if not names:
+        if not names and not (part == "held_out" and fit_all):
             problems.append(f"{where}: the {part} part is empty")
     for n in set(held) & set(train):
         problems.append(f"{where}: experiment {n!r} is both in train and held_out")

@@ -5,10 +5,17 @@ A bench that reports a few numbers (a study's published outcomes) cannot pin eve
 value the diagnosis calibrates, but it can pin the few its author knows to be open: the data
 set lists them as ``[[calibrate]]`` tables (`dataset.OpenValue`: one value for every parameter
 of its ``set``, within its ``bounds``). They are fitted together by the diagnosis's own
-bounded least squares (`fitting.fit`) on the training metrics, each residual weighed by its
-metric's stated uncertainty, and their 95 % intervals follow from those uncertainties through
-the Jacobian at the fit. The held-out experiments are never fitted: their metrics, simulated at
-the fitted values, are the model's predictions.
+bounded least squares (`fitting.fit`) on the training metrics, each residual divided by its
+metric's largest measured magnitude (the diagnosis's range), and their 95 % intervals follow
+from the metrics' stated uncertainties through the Jacobian at the fit. Where every uncertainty
+is the same fraction of its value, the fit is thereby weighed by the uncertainties; a metric
+name several experiments share has one range and one uncertainty (the largest) for all of them. The held-out experiments are never fitted: their metrics, simulated at
+the fitted values, are the model's predictions (a set may hold none out and fit every outcome).
+
+A value that ends on its bound, or within `ON_BOUND` of its range of it, is not a fitted value:
+the data push it beyond the range its bounds argue is physical, so it soaks up a gap of another
+kind. The report keeps it for the record with the status ``"on bound"`` and a model-form warning
+(`bound_status`), and the command says so in one sentence at its end (`bound_sentence`).
 """
 from __future__ import annotations
 
@@ -30,6 +37,43 @@ from musclesim.errors import UserError
 
 if TYPE_CHECKING:
     from musclesim.diagnosis.dataset import DataSet
+
+# How near a bound, as a fraction of the bounds' range, a fitted value counts as on it: 1 %. The
+# trust-region fit stops within its tolerance of a bound it presses against rather than on it,
+# and a value that close is pinned by the bound, not by the data.
+ON_BOUND = 0.01
+ON_BOUND_WARNING = "on its bound: the data push beyond the range; a model-form warning"
+
+
+def bound_status(value: float, lower: float, upper: float) -> dict[str, Any]:
+    """Whether fitted `value` is a fit or sits on one of its `lower`/`upper` bounds (within
+    `ON_BOUND` of their range): ``{"status": "fitted" | "on bound", "bound": None | "lower" |
+    "upper", "warning": None | ON_BOUND_WARNING}``.
+
+    Examples
+    --------
+    >>> bound_status(14.9, -5.0, 15.0)["status"], bound_status(14.9, -5.0, 15.0)["bound"]
+    ('on bound', 'upper')
+    >>> bound_status(10.0, -5.0, 15.0)
+    {'status': 'fitted', 'bound': None, 'warning': None}
+    """
+    near = ON_BOUND * (upper - lower)
+    side = "lower" if value <= lower + near else "upper" if value >= upper - near else None
+    return {"status": "fitted" if side is None else "on bound", "bound": side,
+            "warning": None if side is None else ON_BOUND_WARNING}
+
+
+def bound_sentence(report: dict[str, Any]) -> str | None:
+    """One sentence naming the values of calibration `report` that ended on a bound (None if
+    none did)."""
+    hits = [f"{', '.join(v['set'])} = {v['value']:.4g} (its {v['bound']} bound "
+            f"{v['bounds'][0 if v['bound'] == 'lower' else 1]:.4g})"
+            for v in report["open_values"] if v["status"] == "on bound"]
+    if not hits:
+        return None
+    return (f"model-form warning: {'; '.join(hits)} ended on {'its' if len(hits) == 1 else 'their'}"
+            " bound: the data push beyond the range, so "
+            f"{'it is' if len(hits) == 1 else 'they are'} kept for the record, not a fitted value.")
 
 
 def open_values(problem):
@@ -126,8 +170,8 @@ def calibrate(ds: DataSet, fmu_dir: Any = "fmus", pmap: Callable[..., list] | No
     spans = intervals(fit, free, unit) if fit.jac is not None and fit.residuals is not None \
         else [(f.lower, f.upper) for f in free]
     values = [{"set": [str(r) for r in f.refs],
-               "value": x, "interval95": list(iv), "bounds": [f.lower, f.upper],
-               "nominal": f.start, "why": ov.why}
+               "value": x, **bound_status(x, f.lower, f.upper), "interval95": list(iv),
+               "bounds": [f.lower, f.upper], "nominal": f.start, "why": ov.why}
               for f, x, iv, ov in zip(free, fit.x, spans, ds.calibrate)]
     return {"data_set": str(ds.path), "reference": ds.reference,
             "parts": {"train": list(problem.part_names[0]),
@@ -147,10 +191,13 @@ def markdown(report: dict[str, Any]) -> str:
     """The calibration `report` (`calibrate`'s) as a readable page."""
     lines = [f"# Calibration of {report['data_set']}", "",
              f"Trained on {', '.join(report['parts']['train'])}; held out (predicted): "
-             f"{', '.join(report['parts']['held_out']) or 'none'}.", "",
+             f"{', '.join(report['parts']['held_out']) or 'none, every outcome trains the fit'}.",
+             "",
              "| open value | fitted | 95 % interval | bounds | start |", "|---|---|---|---|---|"]
     for v in report["open_values"]:
-        lines.append(f"| {', '.join(v['set'])} | {v['value']:.4g} | "
+        value = f"{v['value']:.4g}" if v["status"] == "fitted" else \
+            f"on its {v['bound']} bound ({v['value']:.4g}, a model-form warning, not a fit)"
+        lines.append(f"| {', '.join(v['set'])} | {value} | "
                      f"[{v['interval95'][0]:.4g}, {v['interval95'][1]:.4g}] | "
                      f"[{v['bounds'][0]:.4g}, {v['bounds'][1]:.4g}] | {v['nominal']:.4g} |")
     lines += ["", "| experiment | metric | part | measured | nominal model | fitted model |",
@@ -163,4 +210,6 @@ def markdown(report: dict[str, Any]) -> str:
                          if e is not None else f"{v:.4g}")
         lines.append(f"| {r['experiment']} | {r['metric']} | {r['part']} | {r['measured']:.4g} "
                      f"{r['unit']} | {cells[0]} | {cells[1]} |")
+    if sentence := bound_sentence(report):
+        lines += ["", sentence]
     return "\n".join(lines) + "\n"
