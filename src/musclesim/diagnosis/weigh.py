@@ -21,6 +21,7 @@ import numpy as np
 
 from musclesim.diagnosis import evidence as ev
 from musclesim.diagnosis.fitting import FitJob, FitResult, Free, values_of
+from musclesim.diagnosis.parameters import unit_of
 from musclesim.diagnosis.stats import HELD_OUT, gap, part_segments
 from musclesim.diagnosis.thresholds import (NAME_LEVEL, PREDICTIVE_MAX, PROFILE_SCALE,
                                            SYMMETRY_CHI2)
@@ -237,7 +238,8 @@ def section(unit, weighed, symmetric, disc, nominal_gap, floor, explained):
             "log_likelihood": w.evidence.log_likelihood, "occam": w.evidence.occam,
             "predictive": w.predictive,
             "parameters": {f.key: {
-                "value": x, "interval": list(iv), "lower": f.lower, "upper": f.upper}
+                "value": x, "interval": list(iv), "lower": f.lower, "upper": f.upper,
+                "unit": unit_of(unit.components.get(f.instances[0], ""), f.name)}
                 for f, x, iv in zip(w.free, w.fit.x, w.fit.interval)},
             "heldout_gap": {c: gap(unit, w.fit.residuals, HELD_OUT, [c]) for c in unit.observed}
             if w.fit.residuals is not None else {},
