@@ -64,7 +64,8 @@ def test_the_open_value_is_found_within_its_interval_and_the_held_out_metric_pre
     assert rows["high"]["nominal_error"] == pytest.approx(-3.0 / rows["high"]["measured"],
                                                           rel=0.05)
     assert abs(rows["high"]["fitted"] - rows["high"]["measured"]) < 0.05
-    assert "| thermocouple.bias | 3" in calibration_markdown(report)
+    assert report["open_values"][0]["unit"] == "K"  # the thermocouple's bias, a temperature
+    assert "| thermocouple.bias | K | 3" in calibration_markdown(report)
 
 
 def test_cli_writes_the_report(bias_set, fmu_dir, tmp_path, capsys, monkeypatch):

@@ -79,7 +79,8 @@ def report_of(values):
             "parts": {"train": ["a"], "held_out": []},
             "open_values": [{"set": [f"x.p{i}"], "value": v, **bound_status(v, lo, hi),
                              "interval95": [lo, hi], "bounds": [lo, hi], "nominal": lo,
-                             "why": "open"} for i, (v, lo, hi) in enumerate(values)],
+                             "unit": "K", "why": "open"}
+                            for i, (v, lo, hi) in enumerate(values)],
             "metrics": [{"experiment": "a", "metric": "m", "part": "train", "measured": 1.0,
                          "uncertainty": 0.1, "unit": "m", "nominal": 0.5,
                          "nominal_error": -0.5, "fitted": 0.9, "fitted_error": -0.1}]}
@@ -89,8 +90,8 @@ def test_a_value_on_its_bound_is_a_warning_not_a_fit():
     report = report_of([(15.0, -5.0, 15.0), (0.1, 0.0, 0.3)])
     assert schema_errors("calibration", report) == []
     text = calibration_markdown(report)
-    assert "| x.p0 | on its upper bound (15, a model-form warning, not a fit) |" in text
-    assert "| x.p1 | 0.1 |" in text and "held out (predicted): none, every outcome" in text
+    assert "| x.p0 | K | on its upper bound (15, a model-form warning, not a fit) |" in text
+    assert "| x.p1 | K | 0.1 |" in text and "held out (predicted): none, every outcome" in text
     sentence = bound_sentence(report)
     assert sentence == ("model-form warning: x.p0 = 15 (its upper bound 15) ended on its bound: "
                         "the data push beyond the range, so it is kept for the record, not a "

@@ -29,7 +29,7 @@ from musclesim.batch import serial_map
 from musclesim.cosim import reuse_fmus
 from musclesim.diagnosis.box import box_intervals
 from musclesim.diagnosis.fitting import FitJob, Free, fit_all, values_of
-from musclesim.diagnosis.parameters import nominal
+from musclesim.diagnosis.parameters import nominal, unit_of
 from musclesim.diagnosis.problem import Problem
 from musclesim.diagnosis.simulate import Failed, simulate
 from musclesim.diagnosis.stats import TRAIN, part_segments
@@ -171,7 +171,8 @@ def calibrate(ds: DataSet, fmu_dir: Any = "fmus", pmap: Callable[..., list] | No
         else [(f.lower, f.upper) for f in free]
     values = [{"set": [str(r) for r in f.refs],
                "value": x, **bound_status(x, f.lower, f.upper), "interval95": list(iv),
-               "bounds": [f.lower, f.upper], "nominal": f.start, "why": ov.why}
+               "bounds": [f.lower, f.upper], "nominal": f.start,
+               "unit": unit_of(unit.components.get(f.instances[0], ""), f.name), "why": ov.why}
               for f, x, iv, ov in zip(free, fit.x, spans, ds.calibrate)]
     return {"data_set": str(ds.path), "reference": ds.reference,
             "parts": {"train": list(problem.part_names[0]),
@@ -193,11 +194,12 @@ def markdown(report: dict[str, Any]) -> str:
              f"Trained on {', '.join(report['parts']['train'])}; held out (predicted): "
              f"{', '.join(report['parts']['held_out']) or 'none, every outcome trains the fit'}.",
              "",
-             "| open value | fitted | 95 % interval | bounds | start |", "|---|---|---|---|---|"]
+             "| open value | unit | fitted | 95 % interval | bounds | start |",
+             "|---|---|---|---|---|---|"]
     for v in report["open_values"]:
         value = f"{v['value']:.4g}" if v["status"] == "fitted" else \
             f"on its {v['bound']} bound ({v['value']:.4g}, a model-form warning, not a fit)"
-        lines.append(f"| {', '.join(v['set'])} | {value} | "
+        lines.append(f"| {', '.join(v['set'])} | {v.get('unit', '1')} | {value} | "
                      f"[{v['interval95'][0]:.4g}, {v['interval95'][1]:.4g}] | "
                      f"[{v['bounds'][0]:.4g}, {v['bounds'][1]:.4g}] | {v['nominal']:.4g} |")
     lines += ["", "| experiment | metric | part | measured | nominal model | fitted model |",
