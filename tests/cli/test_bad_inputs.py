@@ -617,7 +617,8 @@ def test_a_crash_mid_run_keeps_the_rows_recorded_before_it(ws, capsys):
     assert len((ws.out / "results.csv").read_text().splitlines()) == 1 + 21  # t = 0 ... 0.02
     assert half_written(ws.out) == [] and run_folders() == []
     import multiprocessing
-    assert multiprocessing.active_children() == []
+    assert [p for p in multiprocessing.active_children()  # a Dask cluster's may run too
+            if p.name.startswith("musclesim FMU")] == []
 
 
 def test_fmu_unpacking_past_the_cap_is_refused_as_it_is_written(ws, capsys, monkeypatch):

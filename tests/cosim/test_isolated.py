@@ -24,7 +24,8 @@ def test_an_isolated_run_is_fmpy_s_bits_and_leaves_no_process(fmu_dir):
         assert np.array_equal(res.data, on_fmpy.data)
         assert res.warnings == on_fmpy.warnings
     assert m.hosts == dict.fromkeys(s.instances, "isolated")
-    assert multiprocessing.active_children() == []
+    assert [p for p in multiprocessing.active_children()  # a Dask cluster's may run too
+            if p.name.startswith("musclesim FMU")] == []
 
 
 def test_a_scenario_s_isolate_key_is_true_or_false(tmp_path):
