@@ -70,6 +70,23 @@ def test_the_alternatives_of_a_report_and_their_features():
                    or k.startswith("is "))
 
 
+def test_an_effect_fitted_per_instance_is_an_alternative_per_instance():
+    """The crawler's anchoring slip is fitted on each block apart: each fit is a candidate named
+    by its label, and each is an alternative with that candidate's evidence."""
+    doc = doc_with_evidence()
+    doc["effects"] = [{"name": "anchoring slip", "label": f"anchoring slip ({b})",
+                       "shrinkage": 0.1} for b in ("friction1", "friction2")]
+    cands = doc["evidence"]["candidates"]
+    cands.append({**cands[1], "name": "anchoring slip (friction2)", "probability": 0.5})
+    alts = {a[0]: dict(zip(confidence_features(SINGLES, SIGNALS), a[2]))
+            for a in alternatives(doc, SINGLES, SIGNALS)}
+    assert "anchoring slip" not in alts
+    assert alts["anchoring slip (friction2)"]["posterior"] == 0.5
+    assert alts["anchoring slip (friction2)"]["effect's gain"] == 0.1
+    assert alts["anchoring slip (friction1)"]["fitted"] == 0  # no candidate of its own here
+    assert alts["anchoring slip (friction1)"]["effect's gain"] == 0.1
+
+
 def test_a_report_that_stopped_early_has_calibration_only_alone_weighed():
     doc = {"verdict": "recalibration", "noise_floor": 0.002,
            "gap": {"heldout_gap": 0.004, "noise_floor": 0.002},

@@ -150,7 +150,9 @@ def alternatives(doc: dict[str, Any], singles: list[str], signals: Sequence[str]
     calibrated = _log_ratio(doc.get("calibration", {}).get("heldout_gap_after"), floor)
     left = _log_ratio(_left(doc), floor)
     structured = float(doc.get("complete") is False)
-    effects = {e["name"]: e for e in doc.get("effects", [])}
+    # by label: an effect fitted per instance is one candidate per instance, "anchoring slip
+    # (friction1)", its label; elsewhere the label is the name
+    effects = {e.get("label", e["name"]): e for e in doc.get("effects", [])}
     considered = list(effects)
     top = max(cands, key=lambda n: cands[n]["probability"]) if cands else CALIBRATION_ONLY
     causes = causes_of(singles)
