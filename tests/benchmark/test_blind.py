@@ -83,6 +83,17 @@ def test_a_small_blind_run_on_the_family_scores_the_calibrated_sets(fmu_dir, tmp
     from musclesim.errors import UserError
     with pytest.raises(UserError, match="--resume: .* holds no run of these cases"):
         blind.run(2, 8, tmp_path, bench="family", duration=10.0, resume=True)
+    # a new run in the same folder stopped while diagnosing: nothing of the last run's reports
+    # is left to pass for its own when it is resumed
+    def stop(fn, items, *rest):
+        if fn is blind._diagnose:
+            raise KeyboardInterrupt
+        return cluster_map(fn, items, *rest)
+    with pytest.raises(KeyboardInterrupt):
+        blind.run(2, 8, tmp_path, fmu_dir=fmu_dir, scenarios_dir=ROOT / "scenarios",
+                  pmap=stop, bench="family", duration=10.0)
+    assert not kept.exists() and not lost.exists()
+    assert not (tmp_path / "family" / "key.json").exists()
 
 
 def test_a_calibration_asked_into_a_missing_folder_is_refused_before_any_work(tmp_path):

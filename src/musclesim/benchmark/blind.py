@@ -146,7 +146,10 @@ def run(count: int, seed: int, out: str | Path, fmu_dir: str | Path = "fmus",
     key = json.dumps({"seed": seed, "cases": cases}, indent=1, sort_keys=True) + "\n"
     digest = hashlib.sha256(key.encode()).hexdigest()
     todo = list(range(len(cases)))
-    if resume:
+    if not resume:  # a new run: nothing a previous run left in `out` may pass for this one's
+        for stale in (out / "key.sha256", out / "key.json", *(d / "report.json" for d in dirs)):
+            stale.unlink(missing_ok=True)
+    else:
         sealed = out / "key.sha256"
         if not sealed.is_file() or sealed.read_text().split()[:1] != [digest]:
             raise UserError(f"--resume: {out} holds no run of these cases (none at all, or "
