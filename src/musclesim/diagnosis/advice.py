@@ -12,7 +12,7 @@ from musclesim.diagnosis.confidence import OUTSIDE_LIBRARY, TWO_EFFECTS
 from musclesim.diagnosis.thresholds import ON_BOUND
 from musclesim.diagnosis.weigh import CALIBRATION_ONLY
 
-__all__ = ["on_bound", "with_bounds", "warnings", "next_step", "quantity"]
+__all__ = ["on_bound", "bound_side", "with_bounds", "warnings", "next_step", "quantity", "WHY"]
 
 Doc = dict[str, Any]  # a report.json document
 WHY = "the data push beyond the range; a model-form warning"
@@ -30,18 +30,24 @@ def quantity(value: Any, unit: str | None, fmt: str = ".6g") -> str:
     return format(value, fmt) + ("" if unit in (None, "", "1") else f" {unit}")
 
 
-def _side(entry: Doc) -> str | None:
-    """"lower" or "upper": the bound fitted value `entry` (value, lower, upper) sits on, within
-    `ON_BOUND` of its range; None when it sits inside or has no range."""
-    x, lo, hi = entry.get("value"), entry.get("lower"), entry.get("upper")
+def bound_side(x: Any, lo: Any, hi: Any) -> str | None:
+    """"lower" or "upper": the bound a fitted value `x` between `lo` and `hi` sits on, within
+    `ON_BOUND` of their range; None when it sits inside or there is no range (the rule of the
+    diagnosis's reports and of `musclesim calibrate`'s alike).
+
+    >>> bound_side(14.9, -5.0, 15.0), bound_side(10.0, -5.0, 15.0)
+    ('upper', None)
+    """
     if not (isinstance(x, (int, float)) and isinstance(lo, (int, float))
             and isinstance(hi, (int, float)) and hi > lo):
         return None
-    if x - lo <= ON_BOUND * (hi - lo):
-        return "lower"
-    if hi - x <= ON_BOUND * (hi - lo):
-        return "upper"
-    return None
+    near = ON_BOUND * (hi - lo)
+    return "lower" if x <= lo + near else "upper" if x >= hi - near else None
+
+
+def _side(entry: Doc) -> str | None:
+    """`bound_side` of a report table's entry (value, lower, upper)."""
+    return bound_side(entry.get("value"), entry.get("lower"), entry.get("upper"))
 
 
 def on_bound(entry: Doc) -> bool:

@@ -12,7 +12,8 @@ is the same fraction of its value, the fit is thereby weighed by the uncertainti
 name several experiments share has one range and one uncertainty (the largest) for all of them. The held-out experiments are never fitted: their metrics, simulated at
 the fitted values, are the model's predictions (a set may hold none out and fit every outcome).
 
-A value that ends on its bound, or within `ON_BOUND` of its range of it, is not a fitted value:
+A value that ends on its bound, or within 1 % of its range of it (`advice.bound_side`, the rule
+of the diagnosis's reports too), is not a fitted value:
 the data push it beyond the range its bounds argue is physical, so it soaks up a gap of another
 kind. The report keeps it for the record with the status ``"on bound"`` and a model-form warning
 (`bound_status`), and the command says so in one sentence at its end (`bound_sentence`).
@@ -27,6 +28,7 @@ import numpy as np
 
 from musclesim.batch import serial_map
 from musclesim.cosim import reuse_fmus
+from musclesim.diagnosis.advice import WHY, bound_side
 from musclesim.diagnosis.box import box_intervals
 from musclesim.diagnosis.fitting import FitJob, Free, fit_all, values_of
 from musclesim.diagnosis.parameters import nominal, unit_of
@@ -38,11 +40,7 @@ from musclesim.errors import UserError
 if TYPE_CHECKING:
     from musclesim.diagnosis.dataset import DataSet
 
-# How near a bound, as a fraction of the bounds' range, a fitted value counts as on it: 1 %. The
-# trust-region fit stops within its tolerance of a bound it presses against rather than on it,
-# and a value that close is pinned by the bound, not by the data.
-ON_BOUND = 0.01
-ON_BOUND_WARNING = "on its bound: the data push beyond the range; a model-form warning"
+ON_BOUND_WARNING = f"on its bound: {WHY}"
 
 
 def bound_status(value: float, lower: float, upper: float) -> dict[str, Any]:
@@ -57,8 +55,7 @@ def bound_status(value: float, lower: float, upper: float) -> dict[str, Any]:
     >>> bound_status(10.0, -5.0, 15.0)
     {'status': 'fitted', 'bound': None, 'warning': None}
     """
-    near = ON_BOUND * (upper - lower)
-    side = "lower" if value <= lower + near else "upper" if value >= upper - near else None
+    side = bound_side(value, lower, upper)
     return {"status": "fitted" if side is None else "on bound", "bound": side,
             "warning": None if side is None else ON_BOUND_WARNING}
 
