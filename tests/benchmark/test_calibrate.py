@@ -11,13 +11,15 @@ from musclesim.diagnosis import CALIBRATION_ONLY, Confidence, mondrian_threshold
 
 from calibration_fakes import pool
 
+RIDGES = (1e-2, 1e-3)  # two of the method's, fast on the fakes
 
 @pytest.fixture(scope="module")
 def calibrated():
     rows = pool(60, 1)
     fit, cal = calibrate._split(rows)
     doc = calibrate.calibrate(rows, fit, cal, {"name": "test", "fingerprint": "", "family": {},
-                                               "cases": len(rows), "created": ""})
+                                               "cases": len(rows), "created": ""},
+                              ridges=RIDGES)
     return rows, fit, cal, doc
 
 
@@ -41,7 +43,8 @@ def test_fresh_cases_of_every_cause_are_covered_at_the_level():
         rows = pool(60, seed)
         fit, cal = calibrate._split(rows)
         doc = calibrate.calibrate(rows, fit, cal, {"name": "t", "fingerprint": "",
-                                                   "family": {}, "cases": 0, "created": ""})
+                                                   "family": {}, "cases": 0, "created": ""},
+                                  ridges=(1e-2,))  # the guarantee holds for any weights
         fresh = pool(50, 100 + seed)
         s = calibrate.score([c for c, _ in fresh], [d for _, d in fresh], Confidence(doc))
         for cause, v in s["per_cause"].items():
@@ -51,6 +54,15 @@ def test_fresh_cases_of_every_cause_are_covered_at_the_level():
     for cause, values in per.items():
         assert np.mean(values) >= 0.95 - 3 * (0.01 + 0.0104), cause
     assert np.mean(sizes) < len(family.CAUSES) - 2  # the sets are not everything
+
+
+def test_the_logit_s_ridge_is_the_cross_validated_choice_on_the_fit_part(calibrated):
+    rows, fit, _, doc = calibrated
+    ridge = doc["ridge"]
+    losses = {float(k): v for k, v in ridge["cross_validated_log_loss"].items()}
+    assert list(losses) == list(RIDGES)
+    assert ridge["l2"] == min(losses, key=losses.get)
+    assert all(v < ridge["uniform_log_loss"] for v in losses.values())  # the fakes carry signal
 
 
 def test_the_thresholds_are_the_conformal_quantiles_of_the_stored_scores(calibrated):
@@ -63,7 +75,7 @@ def test_the_thresholds_are_the_conformal_quantiles_of_the_stored_scores(calibra
 
 def test_leaving_a_form_out_scores_the_cases_of_that_form(calibrated):
     rows, fit, cal, _ = calibrated
-    out = calibrate.lofo(rows, fit, cal)
+    out = calibrate.lofo(rows, fit, cal, ridges=(1e-2,))
     assert set(out) == set(family.FORMS)
     for sub, res in out.items():
         counts = sum(r["cases"] for r in res["forms"].values())

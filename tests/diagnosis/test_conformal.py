@@ -10,7 +10,7 @@ import pytest
 from scipy import stats as sps
 
 from musclesim.diagnosis import conformal
-from musclesim.diagnosis.conformal import (Outlyingness, choice_probabilities,
+from musclesim.diagnosis.conformal import (Outlyingness, choice_probabilities, choose_ridge,
                                            conformal_p_value, fit_choice, mondrian_thresholds,
                                            prediction_set, reliability)
 
@@ -281,6 +281,32 @@ def test_fit_choice_is_the_penalised_optimum():
     # the ridge shrinks
     assert np.linalg.norm(fit_choice(features, available, truth, l2=1.0)) < \
         np.linalg.norm(fit_choice(features, available, truth, l2=0.0))
+
+
+def test_choose_ridge_takes_the_least_held_out_log_loss_of_folds_dealt_by_its_seed():
+    rng = np.random.default_rng(9)
+    features, available, truth = logit_data(rng, np.array([1.0, 0.0, 0.0]), n=60)
+    features = np.where(available[..., None], features, 0.0)  # plain loops below need numbers
+    l2, losses = choose_ridge(features, available, truth, [10.0, 1e-2, 0.0], folds=3, seed=4)
+    # the deal, and the held-out loss, by hand
+    fold = np.random.default_rng(4).permutation(60) % 3
+    for ridge, got in losses.items():
+        total = 0.0
+        for k in range(3):
+            w = fit_choice(features[fold != k], available[fold != k], truth[fold != k], ridge)
+            for i in np.flatnonzero(fold == k):
+                u = np.where(available[i], features[i] @ w, -np.inf)
+                total -= u[truth[i]] - np.log(np.exp(u).sum())
+        assert got == pytest.approx(total / 60, rel=1e-9)
+    assert l2 == min(losses, key=losses.get)
+    # a feature that predicts nothing: the strongest ridge (weights near zero) does best
+    noise = rng.standard_normal((60, 5, 3))
+    pure_chance = rng.integers(5, size=60)
+    assert choose_ridge(noise, np.ones((60, 5), bool), pure_chance, [0.0, 100.0])[0] == 100.0
+    with pytest.raises(ValueError, match="folds"):
+        choose_ridge(noise, np.ones((60, 5), bool), pure_chance, [1.0], folds=61)
+    with pytest.raises(ValueError, match="grid"):
+        choose_ridge(noise, np.ones((60, 5), bool), pure_chance, [])
 
 
 def test_choice_probabilities_sum_to_one_with_unavailable_alternatives_at_zero():

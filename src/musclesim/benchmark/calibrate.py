@@ -5,7 +5,7 @@
 family of bench forms (a `musclesim.benchmark.family.Family`, `FAMILIES` by name) into a
 calibration document
 (`musclesim.diagnosis.confidence.Confidence`): the pool is split per cause, a third to fit
-the conditional logit and the gate's scale, two thirds to calibrate the per-cause thresholds and
+the conditional logit (its ridge chosen there by cross-validation) and the gate's scale, two thirds to calibrate the per-cause thresholds and
 the gate's scores. It also reports leave-one-form-out coverage (`lofo`: calibrated without
 every case of one form, scored on those) and a reliability table. `score` scores diagnosed
 cases' sets against their key. `fingerprint` is the method's: the source of everything that
@@ -28,16 +28,16 @@ from musclesim import diagnosis
 from musclesim.benchmark import family, family_crawler
 from musclesim.benchmark.family import Family
 from musclesim.diagnosis import (ANOTHER_PAIR, CALIBRATION_ONLY, TWO_EFFECTS, Confidence,
-                                 Outlyingness, alternatives, case_features, fit_choice,
-                                 mondrian_thresholds, reliability)
+                                 Outlyingness, alternatives, case_features, choose_ridge,
+                                 fit_choice, mondrian_thresholds, reliability)
 
 ALPHA = 0.05  # the sets' level: the truth in the set at least 95 % of the time, per cause
 GATE_ALPHA = 0.03  # the gate fires on at most 3 % of the family's cases
 FIT_SHARE = 1 / 3  # of each cause's pool cases, to fit the logit and the gate's scale
 SPLIT_SEED = 57
-# the logit's ridge, chosen by five-fold cross-validation of the log loss on the fit part of the
-# pool only (1e-2: 1.53, 1e-3: 1.36, 3e-4: 1.33, 1e-4: 1.34, 3e-5: 1.38; uniform 2.20)
-L2 = 3e-4
+# the logit's ridges tried, one chosen per calibration by five-fold cross-validation of the log
+# loss on the pool's fit part only (`choose_ridge`; the document records each one's loss)
+RIDGES = (1e-2, 1e-3, 3e-4, 1e-4, 3e-5)
 FAMILIES: dict[str, Family] = {f.bench: f for f in (family.SMA, family_crawler.CRAWLER)}
 # the benchmark's modules every family's cases pass through, besides its own `Family.sources`
 SHARED = ("family.py", "plan.py", "calibrate.py", "cases.py", "recording.py")
@@ -117,17 +117,23 @@ def _split(rows: list[tuple[dict, dict]],
 
 
 def calibrate(rows: list[tuple[dict, dict]], fit: list[int], cal: list[int],
-              meta: dict[str, Any] | None = None, fam: Family = family.SMA) -> dict[str, Any]:
-    """A calibration document from pool `rows` of family `fam`: the logit and the gate's scale
-    fitted on the rows `fit`, the thresholds and the gate's scores on the rows `cal`."""
+              meta: dict[str, Any] | None = None, fam: Family = family.SMA,
+              ridges: tuple[float, ...] = RIDGES) -> dict[str, Any]:
+    """A calibration document from pool `rows` of family `fam`: the logit (its ridge the
+    cross-validated best of `ridges`) and the gate's scale fitted on the rows `fit`, the
+    thresholds and the gate's scores on the rows `cal`."""
     singles = list(fam.library)
     a = _arrays([rows[i] for i in fit], fam)
-    weights = fit_choice(a["F"], a["available"], a["truth"], L2)
+    l2, losses = choose_ridge(a["F"], a["available"], a["truth"], ridges, seed=SPLIT_SEED)
+    weights = fit_choice(a["F"], a["available"], a["truth"], l2)
     scale = Outlyingness.fit(np.array([case_features(rows[i][1]) for i in fit]))
     doc: dict[str, Any] = {
         "name": f"{fam.scenario}-{fam.bench}-{fam.version}", "scenario": fam.scenario,
         "alpha": ALPHA, "singles": singles, "causes": list(fam.causes),
-        "weights": weights.tolist(), "signals": fam.signals, "regimes": fam.regimes,
+        "weights": weights.tolist(),
+        "ridge": {"l2": l2, "cross_validated_log_loss": {str(k): v for k, v in losses.items()},
+                  "uniform_log_loss": float(np.log(a["available"].sum(axis=1)).mean())},
+        "signals": fam.signals, "regimes": fam.regimes,
         "features": diagnosis.confidence_features(singles, fam.signals, fam.regimes),
         "thresholds": {}, "gate": {"alpha": GATE_ALPHA, "outlyingness": scale.to_json(),
                                    "scores": []},
@@ -174,10 +180,10 @@ def _reliability(cal: Confidence, rows: list[tuple[dict, dict]]) -> list[Any]:
 
 
 def lofo(rows: list[tuple[dict, dict]], fit: list[int], cal: list[int],
-         fam: Family = family.SMA) -> dict[str, Any]:
+         fam: Family = family.SMA, ridges: tuple[float, ...] = RIDGES) -> dict[str, Any]:
     """Leave one form out: per subsystem of family `fam` and form, the coverage on the pool's
-    cases of that form of a calibration made without any of them; and over all forms, per
-    subsystem."""
+    cases of that form of a calibration made without any of them (its ridge too chosen
+    without them, among `ridges`); and over all forms, per subsystem."""
     out: dict[str, Any] = {}
     for sub, options in fam.forms.items():
         per: dict[str, Any] = {}
@@ -187,7 +193,7 @@ def lofo(rows: list[tuple[dict, dict]], fit: list[int], cal: list[int],
             test = [rows[i] for i in range(len(rows)) if rows[i][0]["forms"][sub] == form]
             if not test:
                 continue
-            doc = calibrate(rows, keep(fit), keep(cal), fam=fam)
+            doc = calibrate(rows, keep(fit), keep(cal), fam=fam, ridges=ridges)
             doc.update(fingerprint="", family={}, cases={}, created="")
             s = score([c for c, _ in test], [d for _, d in test], Confidence(doc), fam)
             per[form] = {"cases": s["cases"], "coverage": s["coverage"],
@@ -242,4 +248,4 @@ def write(path: str | Path, doc: dict[str, Any]) -> None:
 
 
 __all__ = ["build", "calibrate", "lofo", "score", "fingerprint", "pool", "write", "ALPHA",
-           "GATE_ALPHA", "L2", "FAMILIES"]
+           "GATE_ALPHA", "RIDGES", "FAMILIES"]

@@ -49,7 +49,7 @@ from musclesim.diagnosis.confidence import (ANOTHER_PAIR, FEATURES, OUTSIDE_LIBR
                                             Confidence, alternatives, case_features)
 from musclesim.diagnosis.confidence import features as confidence_features
 from musclesim.diagnosis.confidence import load as load_confidence
-from musclesim.diagnosis.conformal import (Outlyingness, choice_probabilities,
+from musclesim.diagnosis.conformal import (Outlyingness, choice_probabilities, choose_ridge,
                                            conformal_p_value, fit_choice, mondrian_thresholds,
                                            prediction_set, reliability)
 
@@ -61,4 +61,4 @@ __all__ = ["load_dataset", "DataSet", "write_data_set", "diagnose", "Report", "w
            "TRAIN", "HELD_OUT", "CALIBRATION_ONLY", "TWO_EFFECTS", "OUTSIDE_LIBRARY",
            "ANOTHER_PAIR", "FEATURES", "confidence_features", "Confidence", "alternatives", "case_features",
            "load_confidence", "Outlyingness", "choice_probabilities", "conformal_p_value",
-           "fit_choice", "mondrian_thresholds", "prediction_set", "reliability"]
+           "choose_ridge", "fit_choice", "mondrian_thresholds", "prediction_set", "reliability"]

@@ -16,7 +16,8 @@ whose answer is known (the blind benchmark's), and need no model, FMU or file:
   nonconformity score for feature vectors, `Outlyingness` (a Mahalanobis distance);
 - a conditional-logit recalibration of the candidates' probabilities, `fit_choice` and
   `choice_probabilities` (McFadden 1974, "Conditional logit analysis of qualitative choice
-  behavior", in Zarembka (ed.), *Frontiers in Econometrics*), fitted by log loss, and
+  behavior", in Zarembka (ed.), *Frontiers in Econometrics*), fitted by log loss with a ridge
+  `choose_ridge` picks by cross-validation, and
   `reliability`, the table of a reliability diagram to judge the probabilities it gives.
 
 The guarantees assume that the calibration cases and the case judged are exchangeable (drawn
@@ -44,7 +45,7 @@ from typing import Any, TypedDict, overload
 import numpy as np
 from scipy import linalg, optimize
 
-__all__ = ["fit_choice", "choice_probabilities", "mondrian_thresholds", "prediction_set",
+__all__ = ["fit_choice", "choose_ridge", "choice_probabilities", "mondrian_thresholds", "prediction_set",
            "conformal_p_value", "reliability", "ReliabilityBin", "Outlyingness"]
 
 # (n + 1)(1 - alpha) is an integer for the usual pairs (n = 19, alpha = 0.05), but in floating
@@ -202,6 +203,64 @@ def fit_choice(features: np.ndarray, available: np.ndarray, truth: np.ndarray,
     result = optimize.minimize(loss, np.zeros(masked.shape[2]), jac=True, method="L-BFGS-B",
                                options={"gtol": 1e-10, "ftol": 1e-15, "maxiter": 10_000})
     return np.asarray(result.x, dtype=float)
+
+
+def choose_ridge(features: np.ndarray, available: np.ndarray, truth: np.ndarray,
+                 grid: Sequence[float], folds: int = 5,
+                 seed: int = 0) -> tuple[float, dict[float, float]]:
+    """The ridge of `fit_choice` with the least cross-validated log loss.
+
+    The cases are dealt at random (numpy's generator of `seed`) into `folds` folds of sizes
+    differing by at most one; for each ridge of `grid` the weights are fitted on all folds but
+    one and the mean ``-log p(truth)`` is taken on the one left out, over every case.
+
+    Parameters
+    ----------
+    features, available, truth
+        As for `fit_choice`.
+    grid : sequence of float
+        The ridges to try (each >= 0); on a tie the first.
+    folds : int, default 5
+        The number of folds (2 to the number of cases).
+    seed : int, default 0
+        The seed of the deal.
+
+    Returns
+    -------
+    (float, dict)
+        The chosen ridge, and each ridge's cross-validated log loss.
+
+    Raises
+    ------
+    ValueError
+        On an empty grid, a fold count out of range, or as `fit_choice` does.
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(1)
+    >>> x = rng.normal(size=(40, 2, 1))
+    >>> truth = (x[:, 1, 0] > x[:, 0, 0]).astype(int)    # separable: the weakest ridge fits best
+    >>> choose_ridge(x, np.ones((40, 2), bool), truth, [1.0, 1e-3])[0]
+    0.001
+    """
+    truth = np.asarray(truth)
+    n = len(truth)
+    if not grid:
+        raise ValueError("the grid of ridges is empty.")
+    if not 2 <= folds <= n:
+        raise ValueError(f"folds must lie between 2 and the {n} cases, not {folds}.")
+    fold = np.random.default_rng(seed).permutation(n) % folds
+    losses: dict[float, float] = {}
+    for l2 in grid:
+        total = 0.0
+        for k in range(folds):
+            out = fold == k
+            w = fit_choice(features[~out], available[~out], truth[~out], float(l2))
+            p = choice_probabilities(features[out], available[out], w)
+            total -= float(np.log(np.maximum(p[np.arange(out.sum()), truth[out]],
+                                             1e-300)).sum())
+        losses[float(l2)] = total / n
+    return min(losses, key=losses.__getitem__), losses
 
 
 # ---- split-conformal prediction ------------------------------------------------------------------
