@@ -205,3 +205,30 @@ def test_a_hidden_stress_rise_is_recovered_from_where_the_wire_transforms():
 
     moved = half(*_heated(load, stress_rise=hidden)) - half(*_heated(load))
     assert moved / (load / area - 200e6) == pytest.approx(hidden, rel=0.03)
+
+
+@pytest.mark.parametrize("G_c", [1e-3, 3e-3])
+def test_the_swing_per_pulse_is_set_by_the_pulse_not_by_the_loss(G_c):
+    # §pulse-gap: the study's pulses (13.125 V, 7.5 ms every 50 ms) on the austenitic wire of two
+    # equal segments (one contact, the same h in both). By hand, the lumped wire's periodic
+    # solution: x = T - T_amb rises toward x_on = P / G for t_on and decays for t_off, so
+    # x_max = x_on (1 - e^-a) / (1 - e^-(a + b)) and the swing x_max (1 - e^-b), a = t_on / tau,
+    # b = t_off / tau, tau = C / G. Whatever the loss (1 or 3 mW/K per contact) the swing is
+    # about 0.85 E / C = 4.4 K: a loss moves the mean, not the swing
+    V, dt, t_on, period = 13.125, 2.5e-4, 7.5e-3, 0.05
+    m = _core(contact_conductance=G_c, n_segments=2)
+    m.start(140.0, 1.47)
+    T = []
+    for k in range(24000):  # 6 s: over four time constants from 140 C
+        m.step(V if k % 200 < 30 else 0.0, 20.0, 1.47, k * dt, dt)  # 30 steps on in 200
+        T.append(m.mean_temperature())
+    assert max(s.xi for s in m.segments) == 0.0  # austenitic throughout the last period
+    t = ThermalParams(length=0.214)
+    R = m.resistance()
+    C = t.density * math.pi * t.diameter ** 2 / 4 * t.length * t.specific_heat
+    G = t.h * math.pi * t.diameter * t.length + G_c
+    a, b = t_on * G / C, (period - t_on) * G / C
+    x_max = V * V / R / G * -math.expm1(-a) / -math.expm1(-(a + b))
+    last = np.array(T[-200:])
+    assert last.max() - last.min() == pytest.approx(x_max * -math.expm1(-b), rel=5e-3)
+    assert last.max() - last.min() == pytest.approx(0.85 * V * V / R * t_on / C, rel=0.03)
