@@ -82,12 +82,12 @@ class CapstanParams:
     source_resistance: float = declare(0.0, "Ohm", "Effect, 0 = off: supply resistance, the "
                                        "source resistance in series with the wire under voltage "
                                        "drive (the supply's output, its leads and switch)",
-                                       source="§pulse-gap, §named-effects")
+                                       source="§pulse-gap, §named-effects", effect=(0.0, 3.0))
     stress_rise: float = declare(0.0, "K/Pa", "Effect, 0 = off: hysteresis above the data's "
                                  "stresses, how much hotter the wire transforms per pascal of a "
                                  "segment's stress above the data set's highest (0: the data's "
                                  "highest stress holds, clamped)",
-                                 source="§pulse-gap, §named-effects")
+                                 source="§pulse-gap, §named-effects", effect=(0.0, 1.5e-7))
     wire: thermal.ThermalParams = field(default_factory=thermal.ThermalParams)
 
     def check(self) -> None:
