@@ -31,8 +31,8 @@ import numpy as np
 from musclesim.components.checks import require
 from musclesim.components.sma import preisach, surface as hypersurface, thermal
 from musclesim.components.sma.preisach import mem_reset, mem_step
-from musclesim.components.sma.surface import (S_THI, S_TLO, Hypersurface, clamp, fmax, fmin,
-                                              stress_in_range, surface_F)
+from musclesim.components.sma.surface import (S_SHI, S_THI, S_TLO, Hypersurface, clamp, fmax,
+                                              fmin, stress_in_range, surface_F)
 from musclesim.components.sma.thermal import (TP_SIZE, joule_power_k,
                                               martensite_fraction_k, resistance_k, step_k)
 from musclesim.fmu import Kernel, declare, jit
@@ -54,7 +54,10 @@ class CapstanParams:
     what the other entries leave of ``length``. ``wraps``: one angle [rad] per contact (n - 1);
     empty = pi at each. ``composition_shift`` is the diagnosis's effect "composition difference",
     ``contact_conductance`` (the heat each contact's PTFE tube draws per kelvin of the wire's
-    excess temperature) its effect "capstan heat loss".
+    excess temperature) its effect "capstan heat loss", ``source_resistance`` (in series with the
+    wire under voltage drive) its effect "supply resistance" and ``stress_rise`` (how much hotter
+    the wire transforms per pascal above the data set's highest stress) its effect "hysteresis
+    above the data's stresses" (§pulse-gap).
     """
 
     length: float = declare(LENGTH, "m", "Total wire length (the study: 214 mm)",
@@ -76,11 +79,21 @@ class CapstanParams:
                                          "room, shared by the two segments it joins",
                                          source="§capstan-multiplier, §named-effects",
                                          effect=(0.0, 0.01))
+    source_resistance: float = declare(0.0, "Ohm", "Effect, 0 = off: supply resistance, the "
+                                       "source resistance in series with the wire under voltage "
+                                       "drive (the supply's output, its leads and switch)",
+                                       source="§pulse-gap, §named-effects", effect=(0.0, 3.0))
+    stress_rise: float = declare(0.0, "K/Pa", "Effect, 0 = off: hysteresis above the data's "
+                                 "stresses, how much hotter the wire transforms per pascal of a "
+                                 "segment's stress above the data set's highest (0: the data's "
+                                 "highest stress holds, clamped)",
+                                 source="§pulse-gap, §named-effects", effect=(0.0, 1.5e-7))
     wire: thermal.ThermalParams = field(default_factory=thermal.ThermalParams)
 
     def check(self) -> None:
         """Raise ValueError naming the first parameter outside its valid range."""
-        require(self, positive=("length",), non_negative=("mu_f", "contact_conductance"))
+        require(self, positive=("length",), non_negative=("mu_f", "contact_conductance",
+                                                          "source_resistance", "stress_rise"))
         if not (self.n_segments == int(self.n_segments) and 1 <= self.n_segments <= MAX_SEGMENTS):
             raise ValueError(f"n_segments must be an integer within 1..{MAX_SEGMENTS} "
                              f"(got {self.n_segments!r})")
@@ -320,11 +333,12 @@ OUTPUTS = ("flange.s", "strain", "T", "stress", "R", "P") + tuple(
     f"segment[{i}].{v}" for i in range(1, MAX_SEGMENTS + 1) for v in ("T", "strain", "stress"))
 
 # parameter slots (`pack`): the number of segments, the cross-section, the composition shift, the
-# drive (1 = current), the size of one Preisach memory; then per segment (MAX_SEGMENTS slots each)
+# drive (1 = current), the size of one Preisach memory, the source resistance, the rise of the
+# transformation above the data's stresses; then per segment (MAX_SEGMENTS slots each)
 # the lengths, the length shares, the tension ratios, the thermal parameters (`thermal.pack`,
 # TP_SIZE each); then the hysteresis surface (`surface.pack`) from P_HEAD
-P_N, P_AREA, P_SHIFT, P_CURRENT, P_MEMORY = range(5)
-P_LENGTHS = 5
+P_N, P_AREA, P_SHIFT, P_CURRENT, P_MEMORY, P_SOURCE_R, P_RISE = range(7)
+P_LENGTHS = 7
 P_SHARES = P_LENGTHS + MAX_SEGMENTS
 P_RATIOS = P_SHARES + MAX_SEGMENTS
 P_THERMAL = P_RATIOS + MAX_SEGMENTS
@@ -352,6 +366,8 @@ def pack(params: CapstanParams, hysteresis: Hypersurface, memory_size: int) -> n
     head[P_SHIFT] = params.composition_shift
     head[P_CURRENT] = 1.0 if params.wire.drive == "current" else 0.0
     head[P_MEMORY] = memory_size
+    head[P_SOURCE_R] = params.source_resistance
+    head[P_RISE] = params.stress_rise
     for i, (L, h, r) in enumerate(zip(lengths, segment_h(params, lengths),
                                       tension_ratios(params))):
         head[P_LENGTHS + i] = L
@@ -413,10 +429,25 @@ def _eps_max(s: np.ndarray, g: np.ndarray, sigma: float) -> float:
 
 
 @jit
-def _seen(p: np.ndarray, s: np.ndarray, T: float) -> float:
-    """`Multiplier._seen`: temperature [C] the hysteresis sees, composition-shifted, saturated at
-    the grid."""
-    return fmin(fmax(T - p[P_SHIFT], s[S_TLO]), s[S_THI])
+def _seen(p: np.ndarray, s: np.ndarray, T: float, sigma: float) -> float:
+    """Temperature [C] the hysteresis sees at `T` [C] under the (unclamped) stress `sigma` [Pa]:
+    composition-shifted and, with the effect "hysteresis above the data's stresses" on, lowered
+    by ``stress_rise`` times the stress above the data set's highest (the wire transforms that
+    much hotter, §pulse-gap); saturated at the grid."""
+    T_seen = T - p[P_SHIFT]
+    if p[P_RISE] != 0.0:
+        T_seen -= p[P_RISE] * fmax(sigma - s[S_SHI], 0.0)
+    return fmin(fmax(T_seen, s[S_TLO]), s[S_THI])
+
+
+@jit
+def source_total(p: np.ndarray, x: np.ndarray) -> float:
+    """The resistance [Ohm] the supply drives under voltage drive: the segments' series
+    resistance plus the source resistance (effect "supply resistance", §pulse-gap)."""
+    total = resistance_sum(p, x)
+    if p[P_SOURCE_R] != 0.0:
+        total += p[P_SOURCE_R]
+    return total
 
 
 @jit
@@ -432,7 +463,7 @@ def resistance_sum(p: np.ndarray, x: np.ndarray) -> float:
 @jit
 def _drive(p: np.ndarray, x: np.ndarray, i: int, u: float, total: float) -> float:
     """Segment `i`'s electrical input: the series current `u`, or its share u R_i / `total` of
-    the voltage (`segment_voltages`)."""
+    the voltage (`segment_voltages`; `total` includes the source resistance)."""
     if p[P_CURRENT] != 0.0:
         return u
     return u * (resistance_k(_thermal(p, i), _segment(p, x, i)[G_XI]) / total)
@@ -442,7 +473,7 @@ def _drive(p: np.ndarray, x: np.ndarray, i: int, u: float, total: float) -> floa
 def joule_power_sum(p: np.ndarray, x: np.ndarray, u: float) -> float:
     """`Multiplier.joule_power` of the input `u` (a voltage, or a current where the
     parameters `p` say so), the state `x`."""
-    total = resistance_sum(p, x) if p[P_CURRENT] == 0.0 else 0.0
+    total = source_total(p, x) if p[P_CURRENT] == 0.0 else 0.0
     acc = 0.0
     for i in range(int(p[P_N])):
         acc += joule_power_k(_thermal(p, i), _drive(p, x, i, u, total), _segment(p, x, i)[G_XI])
@@ -471,7 +502,8 @@ def start_fold(p: np.ndarray, x: np.ndarray, T_init: float, u: float, f: float,
         g = _segment(p, x, i)
         sigma = _stress(p, g, i, f, t)
         g[G_T] = T_init
-        eps = mem_reset(s, g[G_MEMORY:], _seen(p, s, T_init), sigma)
+        eps = mem_reset(s, g[G_MEMORY:], _seen(p, s, T_init, f * p[P_RATIOS + i] / p[P_AREA]),
+                        sigma)
         g[G_XI] = martensite_fraction_k(eps, _eps_max(s, g, sigma))
         g[G_EPS] = eps
         g[G_SIGMA] = f * p[P_RATIOS + i] / p[P_AREA]
@@ -485,7 +517,7 @@ def step_fold(p: np.ndarray, x: np.ndarray, u: float, T_amb: float, f: float, t:
     """`Multiplier.step` of the parameters `p`: advance the state `x` over [`t`, `t` + `dt`] [s]
     with the input `u`, ambient `T_amb` [C] and load `f` [N] held."""
     s = p[P_HEAD:]
-    total = resistance_sum(p, x) if p[P_CURRENT] == 0.0 else 0.0
+    total = source_total(p, x) if p[P_CURRENT] == 0.0 else 0.0
     x[X_P] = joule_power_sum(p, x, u)
     for i in range(int(p[P_N])):
         g = _segment(p, x, i)
@@ -493,7 +525,8 @@ def step_fold(p: np.ndarray, x: np.ndarray, u: float, T_amb: float, f: float, t:
         ui = _drive(p, x, i, u, total)
         eps_max = _eps_max(s, g, sigma)
         T_new = step_k(_thermal(p, i), g[G_T], ui, T_amb, g[G_XI], 0.0, dt)
-        eps = mem_step(s, g[G_MEMORY:], _seen(p, s, T_new), sigma)
+        eps = mem_step(s, g[G_MEMORY:], _seen(p, s, T_new, f * p[P_RATIOS + i] / p[P_AREA]),
+                       sigma)
         g[G_XI] = martensite_fraction_k(eps, eps_max)
         g[G_EPS] = eps
         g[G_T] = T_new

@@ -95,7 +95,8 @@ class CapstanMultiplier(KernelSlave):
             segment_lengths=tuple(getattr(self, f"segment_length[{i}]") for i in range(1, n + 1)),
             wraps=tuple(getattr(self, f"wrap[{j}]") for j in range(1, n)),
             mu_f=self.mu_f, composition_shift=self.composition_shift,
-            contact_conductance=self.contact_conductance, wire=wire)
+            contact_conductance=self.contact_conductance,
+            source_resistance=self.source_resistance, stress_rise=self.stress_rise, wire=wire)
         self.p.check()
         self.surface = datasets.surface(self.hysteresis, 0.0, datasets.shipped(self.resources))
         self._start()

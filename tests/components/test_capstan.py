@@ -112,3 +112,123 @@ def test_bad_parameters_are_named(params, message):
 def test_unequal_segments_add_up():
     p = capstan.CapstanParams(segment_lengths=(0.05, 0.0, 0.1))
     assert capstan.segment_lengths(p) == pytest.approx([0.05, 0.064, 0.1])
+
+
+# --- the pulse gap's effects (§pulse-gap) ------------------------------------------------------
+
+def _core(**params):
+    """A started multiplier core on the reference wire's hysteresis (60-200 MPa), 150 g hung."""
+    from musclesim.components.sma import datasets
+    m = capstan.Multiplier(capstan.CapstanParams(**params), datasets.surface(0))
+    m.start(20.0, 1.47)
+    return m
+
+
+def test_source_resistance_takes_its_share_of_the_supply_by_hand():
+    # a divider: the wire of resistance R behind R_s takes V^2 R / (R + R_s)^2; the cold wire
+    # (martensite, 63.2 Ohm/m over 214 mm: 13.51 Ohm) under the study's 13.125 V pulse
+    V, Rs = 13.125, 2.0
+    off, on = _core(), _core(source_resistance=Rs)
+    R = off.resistance()
+    assert R == pytest.approx(80e-8 * 0.214 / (math.pi * 127e-6 ** 2 / 4), rel=1e-12)
+    assert off.joule_power(V) == pytest.approx(V * V / R, rel=1e-12)
+    assert on.joule_power(V) == pytest.approx(V * V * R / (R + Rs) ** 2, rel=1e-12)
+    assert on.joule_power(V) / off.joule_power(V) == pytest.approx(0.759, abs=1e-3)
+    # current drive: the source resistance takes no share of a current
+    cur = _core(source_resistance=Rs, wire=ThermalParams(drive="current"))
+    assert cur.joule_power(0.5) == pytest.approx(0.25 * R, rel=1e-12)
+
+
+def test_a_hidden_source_resistance_is_recovered_from_the_steady_temperature():
+    # synthetic twin: a held voltage that keeps the wire austenitic (fixed R) settles at the
+    # excess P / G, G = h A_s + G_c (two equal segments over one contact, each losing half of
+    # it: the same excess in both); from that excess alone, P = G dT and R_s = sqrt(V^2 R / P)
+    # - R recovers the hidden value
+    hidden, V, G_c = 1.7, 6.0, 2e-3
+    m = _steady(hidden, V, G_c)
+    assert max(s.xi for s in m.segments) == 0.0  # austenitic: R fixed
+    t = ThermalParams(length=0.214)
+    G = t.h * math.pi * t.diameter * t.length + G_c
+    R = m.resistance()
+    assert R == pytest.approx(100e-8 * 0.214 / (math.pi * 127e-6 ** 2 / 4), rel=1e-12)
+    excess = m.mean_temperature() - 20.0
+    recovered = math.sqrt(V * V * R / (G * excess)) - R
+    assert recovered == pytest.approx(hidden, abs=0.02)
+    # ten time constants (1.39 s): within e^-10 of the steady excess
+    assert _steady(0.0, V, G_c).mean_temperature() - 20.0 == pytest.approx(V * V / R / G,
+                                                                          rel=1e-4)
+
+
+def _steady(Rs, V, G_c, dt=2e-3):
+    """A fold of two segments over one contact after 14 s (eleven time constants) of `V`."""
+    m = _core(source_resistance=Rs, contact_conductance=G_c, n_segments=2)
+    for k in range(7000):
+        m.step(V, 20.0, 1.47, k * dt, dt)
+    return m
+
+
+def _heated(load, **params):
+    """Strain of a frictionless fold (every segment the load's stress) heated 40 -> 130 C under
+    a held current, sampled with its mean temperature [C]."""
+    m = _core(mu_f=0.0, wire=ThermalParams(drive="current"), **params)
+    m.start(40.0, load)
+    T, eps = [], []
+    for k in range(3000):
+        m.step(0.16 + k * 1e-4, 20.0, load, k * 1e-3, 1e-3)
+        T.append(m.mean_temperature())
+        eps.append(m.mean_strain())
+    return np.array(T), np.array(eps)
+
+
+def test_stress_rise_above_the_data_is_a_shift_of_its_excess_stress_by_hand():
+    # Clausius-Clapeyron above the data's 200 MPa: at 260 MPa with 1e-7 K/Pa the wire transforms
+    # as if shifted 6 K hotter, exactly the composition shift of k (sigma - 200 MPa); below the
+    # data's highest stress the rise does nothing
+    area = math.pi * 127e-6 ** 2 / 4
+    k, high, low = 1e-7, 260e6 * area, 150e6 * area
+    rise = _heated(high, stress_rise=k)
+    shift = _heated(high, composition_shift=k * (high / area - 200e6))
+    np.testing.assert_array_equal(rise[1], shift[1])
+    np.testing.assert_array_equal(_heated(low, stress_rise=k)[1], _heated(low)[1])
+    assert not np.array_equal(rise[1], _heated(high)[1])
+
+
+def test_a_hidden_stress_rise_is_recovered_from_where_the_wire_transforms():
+    # synthetic twin: the temperature at which the heated wire reaches half its strain moves by
+    # k (sigma - 200 MPa); read from the runs alone, the hidden k is recovered
+    area = math.pi * 127e-6 ** 2 / 4
+    hidden, load = 0.9e-7, 280e6 * area
+
+    def half(T, eps):
+        i = int(np.argmax(eps > 0.5 * eps.max()))
+        return np.interp(0.5 * eps.max(), eps[i - 1:i + 1], T[i - 1:i + 1])
+
+    moved = half(*_heated(load, stress_rise=hidden)) - half(*_heated(load))
+    assert moved / (load / area - 200e6) == pytest.approx(hidden, rel=0.03)
+
+
+@pytest.mark.parametrize("G_c", [1e-3, 3e-3])
+def test_the_swing_per_pulse_is_set_by_the_pulse_not_by_the_loss(G_c):
+    # §pulse-gap: the study's pulses (13.125 V, 7.5 ms every 50 ms) on the austenitic wire of two
+    # equal segments (one contact, the same h in both). By hand, the lumped wire's periodic
+    # solution: x = T - T_amb rises toward x_on = P / G for t_on and decays for t_off, so
+    # x_max = x_on (1 - e^-a) / (1 - e^-(a + b)) and the swing x_max (1 - e^-b), a = t_on / tau,
+    # b = t_off / tau, tau = C / G. Whatever the loss (1 or 3 mW/K per contact) the swing is
+    # about 0.85 E / C = 4.4 K: a loss moves the mean, not the swing
+    V, dt, t_on, period = 13.125, 2.5e-4, 7.5e-3, 0.05
+    m = _core(contact_conductance=G_c, n_segments=2)
+    m.start(140.0, 1.47)
+    T = []
+    for k in range(24000):  # 6 s: over four time constants from 140 C
+        m.step(V if k % 200 < 30 else 0.0, 20.0, 1.47, k * dt, dt)  # 30 steps on in 200
+        T.append(m.mean_temperature())
+    assert max(s.xi for s in m.segments) == 0.0  # austenitic throughout the last period
+    t = ThermalParams(length=0.214)
+    R = m.resistance()
+    C = t.density * math.pi * t.diameter ** 2 / 4 * t.length * t.specific_heat
+    G = t.h * math.pi * t.diameter * t.length + G_c
+    a, b = t_on * G / C, (period - t_on) * G / C
+    x_max = V * V / R / G * -math.expm1(-a) / -math.expm1(-(a + b))
+    last = np.array(T[-200:])
+    assert last.max() - last.min() == pytest.approx(x_max * -math.expm1(-b), rel=5e-3)
+    assert last.max() - last.min() == pytest.approx(0.85 * V * V / R * t_on / C, rel=0.03)

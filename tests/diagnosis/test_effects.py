@@ -25,7 +25,10 @@ WHERE = {"CrawlerBody": ("crawler-ideal", "body"),
 CONTEXT = {"training drift": ["wire.drift_cycles_start=200"],
            # a model ignoring stress (one surface at 125 MPa) of a wire loaded with 145 MPa
            "stress dependence ignored": ["wire.sigma_surface=125e6",
-                                         f"load.offset={145e6 * 1.26677e-8!r}"]}
+                                         f"load.offset={145e6 * 1.26677e-8!r}"],
+           # a weight that stresses the fold above its hysteresis data's 200 MPa (about 260 MPa
+           # at the load end)
+           "hysteresis above the data's stresses": ["weight.mass=0.34"]}
 IDS = [e.name for e in effects.EFFECTS]
 
 
@@ -36,7 +39,8 @@ def test_library_covers_the_issue_list():
             "viscous ground drag", "load inertia", "electromagnet force nonlinearity",
             "load-cell lag", "laser noise", "valve delay", "supply-pressure drop",
             "chamber leakage", "actuator bending on an incline", "friction decay",
-            "capstan friction", "composition difference", "capstan heat loss"} <= set(IDS)
+            "capstan friction", "composition difference", "capstan heat loss",
+            "supply resistance", "hysteresis above the data's stresses"} <= set(IDS)
     assert effects.find("anchoring slip").per_instance
     with pytest.raises(KeyError, match="known: stress dependence ignored"):
         effects.find("gremlins")

@@ -207,6 +207,17 @@ EFFECTS = (
            "§capstan-multiplier, §named-effects",
            "the PTFE tubes draw heat from the wire lying in their grooves: the segments cool "
            "faster, the ones between two tubes fastest"),
+    Effect("supply resistance", "CapstanMultiplier",
+           ("source_resistance",), "heating",
+           "§pulse-gap, §named-effects",
+           "the voltage supply, its leads and its switch have a resistance in series with the "
+           "wire: the wire takes less than V^2 / R, the less the colder (martensite) it is"),
+    Effect("hysteresis above the data's stresses", "CapstanMultiplier",
+           ("stress_rise",), "stress_extremes",
+           "§pulse-gap, §named-effects",
+           "above the hysteresis data's highest stress the wire transforms hotter the higher "
+           "the stress (Clausius-Clapeyron) where the nominal model holds the highest stress's "
+           "hysteresis"),
 )
 
 
