@@ -87,6 +87,17 @@ def test_an_effect_fitted_per_instance_is_an_alternative_per_instance():
     assert alts["anchoring slip (friction1)"]["effect's gain"] == 0.1
 
 
+def test_an_effect_whose_fit_failed_gains_nothing_and_leaves_every_feature_finite():
+    """A fit whose run failed leaves an infinite held-out gap, its shrinkage -inf in
+    report.json (a crawler pool case had one): the features stay finite."""
+    doc = doc_with_evidence()
+    doc["effects"][0].update(shrinkage=-math.inf, judged=None)
+    alts = {a[0]: a[2] for a in alternatives(doc, SINGLES, SIGNALS)}
+    assert all(np.isfinite(f).all() for f in alts.values())
+    assert dict(zip(confidence_features(SINGLES, SIGNALS),
+                    alts["latent heat"]))["effect's gain"] == 0
+
+
 def test_a_report_that_stopped_early_has_calibration_only_alone_weighed():
     doc = {"verdict": "recalibration", "noise_floor": 0.002,
            "gap": {"heldout_gap": 0.004, "noise_floor": 0.002},

@@ -52,7 +52,7 @@ def add_benchmark_diagnosis(sub: "argparse._SubParsersAction[argparse.ArgumentPa
                    help="family benches: build the sets' calibration from these cases and "
                         "write it to FILE (the shipped ones: src/musclesim/diagnosis/"
                         "calibrations/<scenario>.json; the SMA's 720 cases took 36 min on 2 "
-                        "cores)")
+                        "cores, the crawler's 540 about 2 h 20 min)")
     q.add_argument("--resume", action="store_true",
                    help="go on with a run in --out that stopped, the same --seed, --cases, "
                         "--bench and --duration: cases already diagnosed are kept")

@@ -182,7 +182,9 @@ def alternatives(doc: dict[str, Any], singles: list[str], signals: Sequence[str]
         e = effects.get(name)
         if e is not None:
             judged = e.get("judged") or {}
-            f["effect's gain"] = float(e.get("shrinkage") or 0.0)
+            # a fit whose run failed leaves an infinite gap: it says nothing of the effect
+            gain = float(e.get("shrinkage") or 0.0)
+            f["effect's gain"] = gain if math.isfinite(gain) else 0.0
             f["gains clearly"] = float(bool(judged.get("significant")))
             f["signature holds"] = float(bool((e.get("signature") or {}).get("consistent")))
         if kind == "calibration only":
