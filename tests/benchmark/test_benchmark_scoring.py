@@ -85,3 +85,34 @@ def test_scores_of_the_independent_bench_and_their_place_in_scores_json(tmp_path
     assert both["false_alarm_rate"] == pytest.approx(0.5)  # pooled over the two benches
     assert both["by_bench"]["independent-crawler"]["false_alarm_rate"] == 1.0
     assert both["by_bench"]["independent"] == {k: v for k, v in ind.items() if k != "per_case"}
+
+
+def test_the_calibrated_sets_are_judged_by_the_cause_of_each_case(tmp_path):
+    """Where a report has the calibrated set of causes beside the posterior's credible set, the
+    scores judge it too: a pair outside the library counts as `two effects`, another change
+    outside it as `outside the library`, nothing hidden as `calibration only`."""
+    kinds = [("none", None, None), ("outside", "two effects", ["latent heat", "thermocouple lag"]),
+             ("outside", "draught", None), ("effect", "latent heat", None),
+             ("decoy", "thermocouple bias", None)]
+    cases = [{"case": str(i), "kind": k, "bench": "independent", "effect": e, "values": {},
+              **({"pair": p} if p else {})} for i, (k, e, p) in enumerate(kinds)]
+    sets = [["calibration only", "latent heat"], ["two effects"], ["latent heat"],
+            ["latent heat", "thermocouple bias", "two effects"], ["thermocouple bias"]]
+    reports = [{"verdict": "latent heat", "complete": True,
+                "evidence": {**evidence({"latent heat": 1.0}, s), "credible": ["latent heat"],
+                             "calibration": {"name": "test"},
+                             "gate": {"outside": i == 4, "p_value": 0.5}}}
+               for i, s in enumerate(sets)]
+    reports.append({"verdict": "recalibration", "complete": True})  # no calibrated set
+    cases.append({**cases[0], "case": "uncalibrated"})
+    got = scoring.score(cases, reports, [{"before": 0.1, "oracle": None, "ours": 0.1}] * 6)
+    assert [t["calibrated"]["in_set"] for t in got["per_case"][:5]] == \
+        [True, True, False, True, True]
+    assert "calibrated" not in got["per_case"][5]
+    assert got["calibrated"] == {"cases": 5, "truth_in_set": 0.8, "mean_set_size": 1.6,
+                                 "gate_rate": 0.2}
+    # the posterior's credible set is scored as before: latent heat alone in every report
+    assert got["per_case"][3]["in_set"] and not got["per_case"][4]["in_set"]
+    path = tmp_path / "scores.json"
+    scoring.write_scores(path, got, "independent")
+    assert schema_errors("scores", json.loads(path.read_text())) == []

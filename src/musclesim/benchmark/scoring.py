@@ -12,8 +12,8 @@ from typing import Any
 import numpy as np
 
 from musclesim.cosim import ParamRef, replace_file
-from musclesim.diagnosis import (CALIBRATION_ONLY, HELD_OUT, Failed, Problem, gap, residuals,
-                                 simulate_unit)
+from musclesim.diagnosis import (CALIBRATION_ONLY, HELD_OUT, OUTSIDE_LIBRARY, TWO_EFFECTS,
+                                 Failed, Problem, gap, residuals, simulate_unit)
 from musclesim.diagnosis import reliability as diagnosis_reliability
 
 def oracle(args: tuple[dict[str, Any], Any, dict[str, Any], Any]) -> dict[str, float]:
@@ -84,7 +84,9 @@ def score(cases: list[dict[str, Any]], reports: list[dict[str, Any]],
     only. An ``outside`` case counts when called ``unexplained``, when the gap left is
     structured (``complete`` false), or (two effects) when both are in its set. The oracle (the
     true effect fitted with the calibration by someone who knows it) gives the shrinkage beside
-    the diagnosis's.
+    the diagnosis's. Where a report has the calibrated set of causes (a scenario with a shipped
+    calibration), ``calibrated`` judges it too (`cause`): whether the truth's cause is in it,
+    its size, whether the gate fired.
     """
     table = []
     for c, r, g in zip(cases, reports, gaps):
@@ -113,6 +115,12 @@ def score(cases: list[dict[str, Any]], reports: list[dict[str, Any]],
             row["unexplained"] = r.get("verdict") == "unexplained" or (
                 r.get("complete") is False and r.get("verdict") not in ("none", "error")
                 or bool(c.get("pair")) and set(c["pair"]) <= set(credible))
+        ev = r.get("evidence") or {}
+        if ev.get("calibration"):
+            causes = list(ev.get("set", []))
+            row["calibrated"] = {"set": causes, "in_set": cause(c) in causes,
+                                 "set_size": len(causes),
+                                 "gated": bool((ev.get("gate") or {}).get("outside"))}
         table.append(row)
 
     scores = {**_rates(table), "per_case": table}
@@ -120,6 +128,17 @@ def score(cases: list[dict[str, Any]], reports: list[dict[str, Any]],
     if len(benches) > 1:
         scores["by_bench"] = {b: _rates([t for t in table if t["bench"] == b]) for b in benches}
     return scores
+
+
+def cause(case: dict[str, Any]) -> str:
+    """The cause a calibrated set names for `case` of the key: its hidden effect (an effect or
+    a decoy posing as one), calibration only (none hidden), two effects (a pair outside the
+    library), or outside the library."""
+    if case["kind"] == "none":
+        return CALIBRATION_ONLY
+    if case["kind"] == "outside":
+        return TWO_EFFECTS if case.get("pair") else OUTSIDE_LIBRARY
+    return str(case["effect"])
 
 
 def _rates(table: list[dict[str, Any]]) -> dict[str, Any]:
@@ -137,6 +156,7 @@ def _rates(table: list[dict[str, Any]]) -> dict[str, Any]:
         e: {"cases": len(rows), "in_set": mean(rows, "in_set"), "top1": mean(rows, "top1")}
         for e, rows in sorted(per_effect.items())}
     ratios = [t["shrinkage_vs_oracle"] for t in table if t.get("shrinkage_vs_oracle") is not None]
+    calibrated = [t["calibrated"] for t in table if "calibrated" in t]
     return {"truth_in_set": mean(keyed, "in_set"), "mean_set_size": mean(keyed, "set_size"),
             "size_weighted_accuracy": mean(keyed, "weighted_hit"), "brier": mean(keyed, "brier"),
             "top1_accuracy": mean(effects, "top1"),
@@ -148,6 +168,9 @@ def _rates(table: list[dict[str, Any]]) -> dict[str, Any]:
             "micro_in_set": mean(effects, "in_set"),
             "reliability": reliability(table),
             "shrinkage_vs_oracle": statistics.median(ratios) if ratios else None,
+            "calibrated": {"cases": len(calibrated), "truth_in_set": mean(calibrated, "in_set"),
+                           "mean_set_size": mean(calibrated, "set_size"),
+                           "gate_rate": mean(calibrated, "gated")} if calibrated else None,
             "cases": len(table)}
 
 
