@@ -1,16 +1,16 @@
 """The diagnosis's sets calibrated on a pool of family cases, and the sets' scores.
 
-`build` turns a pool (a folder of family cases diagnosed, with its key.json, as
-``musclesim benchmark-diagnosis --bench family`` (or ``crawler-family``) writes it) of one
-family of bench forms (a `musclesim.benchmark.family.Family`, `FAMILIES` by name) into a
-calibration document
-(`musclesim.diagnosis.confidence.Confidence`): the pool is split per cause, a third to fit
-the conditional logit (its ridge chosen there by cross-validation) and the gate's scale, two thirds to calibrate the per-cause thresholds and
-the gate's scores. It also reports leave-one-form-out coverage (`lofo`: calibrated without
-every case of one form, scored on those) and a reliability table. `score` scores diagnosed
-cases' sets against their key. `fingerprint` is the method's: the source of everything that
-makes a case's features (the diagnosis, the family and its bench, this module), docstrings and
-comments left out; a calibration made with another is stale (a test checks the shipped ones).
+`build` turns a pool (a folder of family cases diagnosed, with its key.json, as ``musclesim
+benchmark-diagnosis --bench family`` (or ``crawler-family``) writes it) of one family of bench
+forms (a `musclesim.benchmark.family.Family`, `FAMILIES` by name) into a calibration document
+(`musclesim.diagnosis.confidence.Confidence`): the pool is split per cause, a third to fit the
+conditional logit (its ridge chosen there by cross-validation) and the gate's scale, two thirds
+to calibrate the per-cause thresholds and the gate's scores. It also reports leave-one-form-out
+coverage (`lofo`: calibrated without every case of one form, scored on those) and a reliability
+table. `score` scores diagnosed cases' sets against their key. `fingerprint` is the method's:
+the source of everything that makes a case's features (the diagnosis, the family and its bench,
+this module), docstrings and comments left out; a calibration made with another is stale (a
+test checks the shipped ones).
 """
 from __future__ import annotations
 

@@ -45,8 +45,8 @@ from typing import Any, TypedDict, overload
 import numpy as np
 from scipy import linalg, optimize
 
-__all__ = ["fit_choice", "choose_ridge", "choice_probabilities", "mondrian_thresholds", "prediction_set",
-           "conformal_p_value", "reliability", "ReliabilityBin", "Outlyingness"]
+__all__ = ["fit_choice", "choose_ridge", "choice_probabilities", "mondrian_thresholds",
+           "prediction_set", "conformal_p_value", "reliability", "ReliabilityBin", "Outlyingness"]
 
 # (n + 1)(1 - alpha) is an integer for the usual pairs (n = 19, alpha = 0.05), but in floating
 # point it may land just above it (10 * (1 - 0.7) is 3.0000000000000004): this much is rounding
