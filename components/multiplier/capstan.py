@@ -442,8 +442,9 @@ def _seen(p: np.ndarray, s: np.ndarray, T: float, sigma: float) -> float:
 
 @jit
 def source_total(p: np.ndarray, x: np.ndarray) -> float:
-    """The resistance [Ohm] the supply drives under voltage drive: the segments' series
-    resistance plus the source resistance (effect "supply resistance", §pulse-gap)."""
+    """The resistance [Ohm] the supply drives under voltage drive, of the kernel's parameters
+    `p` (`pack`) and state `x` (`state`): the segments' series resistance plus the source
+    resistance (effect "supply resistance", §pulse-gap)."""
     total = resistance_sum(p, x)
     if p[P_SOURCE_R] != 0.0:
         total += p[P_SOURCE_R]

@@ -1,6 +1,7 @@
 """The capstan multiplier's core (components/multiplier/capstan.py, §capstan-multiplier): tensions
 by hand, equivalences with the straight wire, voltage sharing, effects, parameter errors."""
 import math
+from contextlib import nullcontext
 
 import numpy as np
 import pytest
@@ -8,6 +9,7 @@ import pytest
 from musclesim.components.multiplier import capstan
 from musclesim.components.multiplier.slaves import CapstanMultiplier
 from musclesim.components.sma.slaves import SmaWire
+from musclesim.components.sma.surface import RangeWarning
 from musclesim.components.sma.thermal import ThermalParams
 
 from conftest import in_process
@@ -171,7 +173,10 @@ def _heated(load, **params):
     """Strain of a frictionless fold (every segment the load's stress) heated 40 -> 130 C under
     a held current, sampled with its mean temperature [C]."""
     m = _core(mu_f=0.0, wire=ThermalParams(drive="current"), **params)
-    m.start(40.0, load)
+    above = load / (math.pi * 127e-6 ** 2 / 4) > 200e6  # the data's highest stress: clamped
+    with pytest.warns(RangeWarning, match="outside the identified range") if above \
+            else nullcontext():
+        m.start(40.0, load)
     T, eps = [], []
     for k in range(3000):
         m.step(0.16 + k * 1e-4, 20.0, load, k * 1e-3, 1e-3)
