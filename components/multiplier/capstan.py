@@ -411,11 +411,13 @@ def _thermal(p: np.ndarray, i: int) -> np.ndarray:
 
 
 @jit
-def _stress(p: np.ndarray, g: np.ndarray, i: int, f: float, t: float) -> float:
+def _stress(p: np.ndarray, g: np.ndarray, i: int, f: float,
+            t: float) -> tuple[float, float]:
     """`Multiplier.stresses`' stress [Pa] of segment `i` (block `g`) under the load `f` [N] at `t`
-    [s]: clamped to the data set's stresses, the first clamp kept in `g` (G_WARN 1, its value and
-    time)."""
-    return stress_in_range(p[P_HEAD:], f * p[P_RATIOS + i] / p[P_AREA], g, G_WARN, t)
+    [s], and that stress clamped to the data set's stresses, the first clamp kept in `g` (G_WARN
+    1, its value and time)."""
+    stress = f * p[P_RATIOS + i] / p[P_AREA]
+    return stress, stress_in_range(p[P_HEAD:], stress, g, G_WARN, t)
 
 
 @jit
@@ -434,9 +436,7 @@ def _seen(p: np.ndarray, s: np.ndarray, T: float, sigma: float) -> float:
     composition-shifted and, with the effect "hysteresis above the data's stresses" on, lowered
     by ``stress_rise`` times the stress above the data set's highest (the wire transforms that
     much hotter, §pulse-gap); saturated at the grid."""
-    T_seen = T - p[P_SHIFT]
-    if p[P_RISE] != 0.0:
-        T_seen -= p[P_RISE] * fmax(sigma - s[S_SHI], 0.0)
+    T_seen = T - p[P_SHIFT] - p[P_RISE] * fmax(sigma - s[S_SHI], 0.0)  # off: minus 0.0, T's bits
     return fmin(fmax(T_seen, s[S_TLO]), s[S_THI])
 
 
@@ -445,10 +445,7 @@ def source_total(p: np.ndarray, x: np.ndarray) -> float:
     """The resistance [Ohm] the supply drives under voltage drive, of the kernel's parameters
     `p` (`pack`) and state `x` (`state`): the segments' series resistance plus the source
     resistance (effect "supply resistance", §pulse-gap)."""
-    total = resistance_sum(p, x)
-    if p[P_SOURCE_R] != 0.0:
-        total += p[P_SOURCE_R]
-    return total
+    return resistance_sum(p, x) + p[P_SOURCE_R]  # off: plus 0.0, the sum's bits
 
 
 @jit
@@ -501,13 +498,12 @@ def start_fold(p: np.ndarray, x: np.ndarray, T_init: float, u: float, f: float,
     s = p[P_HEAD:]
     for i in range(int(p[P_N])):
         g = _segment(p, x, i)
-        sigma = _stress(p, g, i, f, t)
+        stress, sigma = _stress(p, g, i, f, t)
         g[G_T] = T_init
-        eps = mem_reset(s, g[G_MEMORY:], _seen(p, s, T_init, f * p[P_RATIOS + i] / p[P_AREA]),
-                        sigma)
+        eps = mem_reset(s, g[G_MEMORY:], _seen(p, s, T_init, stress), sigma)
         g[G_XI] = martensite_fraction_k(eps, _eps_max(s, g, sigma))
         g[G_EPS] = eps
-        g[G_SIGMA] = f * p[P_RATIOS + i] / p[P_AREA]
+        g[G_SIGMA] = stress
     x[X_P] = joule_power_sum(p, x, u)
     x[X_STRESS] = f / p[P_AREA]
 
@@ -522,16 +518,15 @@ def step_fold(p: np.ndarray, x: np.ndarray, u: float, T_amb: float, f: float, t:
     x[X_P] = joule_power_sum(p, x, u)
     for i in range(int(p[P_N])):
         g = _segment(p, x, i)
-        sigma = _stress(p, g, i, f, t)
+        stress, sigma = _stress(p, g, i, f, t)
         ui = _drive(p, x, i, u, total)
         eps_max = _eps_max(s, g, sigma)
         T_new = step_k(_thermal(p, i), g[G_T], ui, T_amb, g[G_XI], 0.0, dt)
-        eps = mem_step(s, g[G_MEMORY:], _seen(p, s, T_new, f * p[P_RATIOS + i] / p[P_AREA]),
-                       sigma)
+        eps = mem_step(s, g[G_MEMORY:], _seen(p, s, T_new, stress), sigma)
         g[G_XI] = martensite_fraction_k(eps, eps_max)
         g[G_EPS] = eps
         g[G_T] = T_new
-        g[G_SIGMA] = f * p[P_RATIOS + i] / p[P_AREA]
+        g[G_SIGMA] = stress
     x[X_STRESS] = f / p[P_AREA]
 
 
