@@ -97,15 +97,6 @@ def test_a_case_without_the_tables_columns_is_named(tmp_path):
         table.read_case(csv, ("strain.eps_ref", "laser.s_meas"))
 
 
-def test_the_figures_envelope_keeps_every_peak():
-    t = np.arange(100003) * 4e-4
-    y = np.sin(t) + (np.arange(t.size) == 54321) * 5.0  # one spike of a single sample
-    tt, yy = table.envelope(t, y, 1000)
-    assert len(yy) == 2 * 1000 + 3 and np.all(np.diff(tt) >= 0)  # min, max per run + the rest
-    assert yy.max() == y.max() and yy.min() == y.min() and tt[np.argmax(yy)] <= t[54321]
-    np.testing.assert_array_equal(table.envelope(t[:10], y[:10], 1000)[1], y[:10])  # short
-
-
 def test_tables_are_written_from_the_finished_cases(tmp_path, fmu_dir):
     out = tmp_path / "matrix"
     first, second, third = table.cases()["stress-ignored"][:3]
@@ -132,3 +123,21 @@ def test_tables_are_written_from_the_finished_cases(tmp_path, fmu_dir):
     # the folder keeps the cases of one stop time: a table of other runs is refused
     with pytest.raises(UserError, match="other settings \\(stop_time\\)"):
         table.sma_position(out, POSITION, fmu_dir, 0.8, only=["stress-ignored"], run=False)
+
+
+def test_the_tables_of_cases_run_here_equal_the_tables_read_back_from_their_files(
+        tmp_path, fmu_dir, monkeypatch):
+    out = tmp_path / "matrix"
+    matrix = table.cases()
+    monkeypatch.setattr(table, "cases", lambda: {"constant-stress": matrix["constant-stress"][:3]})
+    read_case, reads = table.read_case, []
+    monkeypatch.setattr(table, "read_case", lambda *a: reads.append(a) or read_case(*a))
+    fresh = table.sma_position(out, POSITION, fmu_dir, 0.2, workers=2, only=["constant-stress"])
+    assert reads == []  # the cells and figures came from the results in memory
+    figures = {p: p.read_bytes() for p in out.glob("cases/*/figure.png")}
+    tables = {p: p.read_bytes() for p in out.glob("constant-stress.*")}
+    assert len(figures) == 3 and fresh["constant-stress"]["cells"] == 3
+    read = table.sma_position(out, POSITION, fmu_dir, 0.2, only=["constant-stress"], run=False)
+    assert read == fresh and len(reads) == 3
+    assert {p: p.read_bytes() for p in out.glob("constant-stress.*")} == tables
+    assert {p: p.read_bytes() for p in out.glob("cases/*/figure.png")} == figures

@@ -1,11 +1,12 @@
 """musclesim.cosim.outputs: output paths refused before the work, files and archives replaced
-whole (a reader sees the old one or the new one, never a part)."""
+whole (a reader sees the old one or the new one, never a part), long signals' plotted envelope."""
 import zipfile
 
+import numpy as np
 import pytest
 
-from musclesim.cosim import (check_archive, check_output_dir, check_output_file, replace_file,
-                             replace_zip)
+from musclesim.cosim import (check_archive, check_output_dir, check_output_file, envelope,
+                             replace_file, replace_zip)
 from musclesim.errors import UserError
 
 
@@ -51,3 +52,12 @@ def test_an_archive_needs_its_suffix_and_a_file_name(tmp_path):
     (tmp_path / "b.fmu").mkdir()
     with pytest.raises(UserError, match="names a folder, not a file"):
         check_archive(tmp_path / "b.fmu", ".fmu", "the FMU")
+
+
+def test_a_plotted_envelope_keeps_every_peak():
+    t = np.arange(100003) * 4e-4
+    y = np.sin(t) + (np.arange(t.size) == 54321) * 5.0  # one spike of a single sample
+    tt, yy = envelope(t, y, 1000)
+    assert len(yy) == 2 * 1000 + 3 and np.all(np.diff(tt) >= 0)  # min, max per run + the rest
+    assert yy.max() == y.max() and yy.min() == y.min() and tt[np.argmax(yy)] <= t[54321]
+    np.testing.assert_array_equal(envelope(t[:10], y[:10], 1000)[1], y[:10])  # short

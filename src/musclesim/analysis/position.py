@@ -26,7 +26,7 @@ from typing import Any, Collection, Iterable, Sequence
 import numpy as np
 
 from musclesim.components.sma import profiles
-from musclesim.cosim import Scenario, replace_file, save_figure
+from musclesim.cosim import Results, Scenario, Signal, envelope, replace_file, save_figure
 from musclesim.errors import UserError
 
 STRESSES = (105e6, 115e6, 125e6, 135e6, 145e6)  # Pa (§position-control)
@@ -154,19 +154,6 @@ def write_table(out: Path, name: str, rows: Sequence[str], columns: Sequence[str
     return stats
 
 
-def envelope(t: np.ndarray, y: np.ndarray, bins: int) -> tuple[np.ndarray, np.ndarray]:
-    """(`t`, `y`) reduced to the minimum and maximum of each of `bins` runs of samples (each at
-    its run's first time), so that a plot of millions of samples keeps every peak."""
-    k = len(y) // bins
-    if k < 2:
-        return t, y
-    n = len(y) // k * k
-    runs = y[:n].reshape(-1, k)
-    tt = np.repeat(t[:n:k], 2)
-    yy = np.column_stack([runs.min(axis=1), runs.max(axis=1)]).ravel()
-    return np.append(tt, t[n:]), np.append(yy, y[n:])
-
-
 def figure(path: Path, t: np.ndarray, col: dict[str, np.ndarray], length: float,
            title: str) -> None:
     """Write `path` (PNG), titled `title`: reference vs measured strain, stress, temperature of a
@@ -212,10 +199,20 @@ def sma_position(out: str | Path, scenario_path: str | Path, fmu_dir: str | Path
     length = wire_length(s, fmu_dir)
     claim(out, scenario_path, table="sma-position", stop_time=s.stop_time)
     matrix = {k: v for k, v in cases().items() if not only or k in only}
+    titles = {cid: f"{name}: {r}, {c}" for name, rows in matrix.items() for r, c, cid, _ in rows}
     todo = [(cid, sets) for rows in matrix.values() for _, _, cid, sets in rows
             if finished(out / "cases" / cid) is None]
+    fresh: dict[str, Cell] = {}  # the cells of the cases run here, from their results in memory
+
+    def tabulate(cid: str, summary: dict[str, Any], results: Results | None) -> None:
+        """A fresh case's cell and figure, drawn while the workers run the next cases."""
+        if summary.get("completed") and results is not None:
+            col = {n: results[Signal.parse(n)] for n in SIGNALS}
+            fresh[cid] = strain_error(col, length)
+            figure(out / "cases" / cid / "figure.png", results.time, col, length, titles[cid])
+
     if todo and run:
-        run_cases(out, todo, s, fmu_dir, scheduler, workers)
+        run_cases(out, todo, s, fmu_dir, scheduler, workers, tabulate)
     report = {}
     for name, rows in matrix.items():
         cells: dict[tuple[str, str], Cell | None] = {}
@@ -230,9 +227,12 @@ def sma_position(out: str | Path, scenario_path: str | Path, fmu_dir: str | Path
                     failed[cid] = summary.get("error") or "the case did not complete"
                     failed_cells.add((r, c))
                 continue
+            if cid in fresh:
+                cells[(r, c)] = fresh[cid]
+                continue
             time, col = read_case(case_dir / "results.csv")
             cells[(r, c)] = strain_error(col, length)
-            figure(case_dir / "figure.png", time, col, length, f"{name}: {r}, {c}")
+            figure(case_dir / "figure.png", time, col, length, titles[cid])
         row_names = list(dict.fromkeys(r for r, _, _, _ in rows))
         col_names = list(dict.fromkeys(c for _, c, _, _ in rows))
         report[name] = {**write_table(out, name, row_names, col_names, cells, failed_cells),

@@ -6,10 +6,11 @@ and one folder per case, ``out/cases/<id>/``, with the run's results and its ``s
 whose summary says it completed is `finished` and is not run again; `run_cases` runs the others
 on a Dask cluster. Sweeps (`sweep.run`) and the study's tables (``musclesim.analysis``) use them.
 
-A case runs on a worker (`run_case`) and writes nothing there: its results come back to this
-process, which alone writes the case's folder (`write_case`) with the run's writers, so that the
-workers need no access to the output folder, and the folder's guarantees are those of one run
-(`musclesim.cosim.write_results`).
+Cases run on a worker in chunks (`chunks`, `run_chunk`: one compiled pass where they fuse) and
+write nothing there: their results come back to this process, results.csv's rows formatted by
+the worker, and this process alone writes each case's folder (`write_case`) with the run's
+writers, so that the workers need no access to the output folder, and the folder's guarantees
+are those of one run (`musclesim.cosim.write_results`).
 """
 from __future__ import annotations
 
@@ -22,7 +23,9 @@ from typing import Any
 
 from musclesim.batch.cluster import dask_client, ship_fmus
 from musclesim.batch.shipped import FmuFolder
-from musclesim.cosim import Results, Scenario, Signal, clear_run_outputs, replace_file
+from musclesim.cosim import (Master, Results, Scenario, Signal, apply_overrides, clear_run_outputs,
+                             csv_rows, replace_file, signal_units)
+from musclesim.cosim import run_cases as run_together
 from musclesim.errors import UserError
 
 
@@ -41,36 +44,71 @@ def write_failure(case_dir: str | Path, error: str | None) -> dict[str, Any]:
 
 @dataclass(frozen=True)
 class Outcome:
-    """What a case's run hands back (`run_case`): the case's `scenario`, the master's `results`
-    (failed or not: ``results.error``) with the recorded signals' `units` and the `hosts` that
-    ran each instance (``Master.hosts``); or only the `error` of a run that could not start."""
+    """What a case's run hands back (`run_case`, `run_chunk`): the case's `scenario`, the
+    master's `results` (failed or not: ``results.error``) with the recorded signals' `units`, the
+    `hosts` that ran each instance (``Master.hosts``) and results.csv's `rows` formatted
+    (``musclesim.cosim.csv_rows``, encoded); or only the `error` of a run that could not start."""
 
     scenario: Scenario | None = None
     results: Results | None = None
     units: dict[Signal, str] | None = None
     hosts: dict[str, str] | None = None
     error: str | None = None
+    rows: bytes | None = None
 
 
 def run_case(scenario: Scenario, fmu_dir: str | Path | FmuFolder, overrides: Iterable[str] = ()
              ) -> Outcome:
     """Run one case, the loaded `scenario` with `overrides` (``"inst.param=value"``) on the FMUs
-    in `fmu_dir` (a Dask worker's task); return its `Outcome`, failed or not. Writes nothing."""
-    from musclesim.cosim import Master, apply_overrides, signal_units
-
+    in `fmu_dir`; return its `Outcome`, failed or not. Writes nothing."""
     try:
-        problems: list[str] = []
-        s = apply_overrides(scenario, overrides, problems)
-        if problems:
-            raise UserError(f"scenario {scenario.path} has {len(problems)} problem(s): "
-                            + "; ".join(problems))
-        m = Master(s, fmu_dir)
-        res = m.run()
-    except UserError as exc:
-        return Outcome(error=str(exc))
+        m = _master(scenario, fmu_dir, overrides)
+        return _outcome(m, m.run())
     except Exception as exc:  # whatever breaks one case is recorded; the sweep goes on
-        return Outcome(error=f"{type(exc).__name__}: {exc}")
-    return Outcome(s, res, signal_units(m), dict(m.hosts))
+        return _failed(exc)
+
+
+def run_chunk(scenario: Scenario, fmu_dir: str | Path | FmuFolder,
+              chunk: Sequence[Sequence[str]]) -> list[Outcome]:
+    """Run the cases `chunk` (each its overrides of the loaded `scenario`) on the FMUs in
+    `fmu_dir` (a Dask worker's task): in one compiled pass where they fuse
+    (`musclesim.cosim.run_cases`), else one after the other; each case's `Outcome`, failed or
+    not, in `chunk`'s order. A case that breaks the pass (a bug) is run again alone, as are the
+    others, so that its error stays its own. Writes nothing."""
+    made: list[Master | Outcome] = []
+    for overrides in chunk:
+        try:
+            made.append(_master(scenario, fmu_dir, overrides))
+        except Exception as exc:
+            made.append(_failed(exc))
+    masters = [m for m in made if isinstance(m, Master)]
+    try:
+        results = iter(run_together(masters))
+    except Exception:
+        return [run_case(scenario, fmu_dir, overrides) for overrides in chunk]
+    return [m if isinstance(m, Outcome) else _outcome(m, next(results)) for m in made]
+
+
+def _master(scenario: Scenario, fmu_dir: str | Path | FmuFolder, overrides: Iterable[str]) -> Master:
+    """The `Master` of `scenario` with `overrides` on the FMUs in `fmu_dir`."""
+    problems: list[str] = []
+    s = apply_overrides(scenario, overrides, problems)
+    if problems:
+        raise UserError(f"scenario {scenario.path} has {len(problems)} problem(s): "
+                        + "; ".join(problems))
+    return Master(s, fmu_dir)
+
+
+def _outcome(m: Master, res: Results) -> Outcome:
+    """The `Outcome` of master `m`'s run `res`, its rows formatted for results.csv here: on a
+    worker, the formatting (most of a long case's writing) runs beside the other workers'."""
+    return Outcome(m.scenario, res, signal_units(m), dict(m.hosts),
+                   rows=csv_rows(res.time, res.data).encode())
+
+
+def _failed(exc: Exception) -> Outcome:
+    """The `Outcome` of a case that could not run: a user's error as it is, a bug named."""
+    return Outcome(error=str(exc) if isinstance(exc, UserError) else f"{type(exc).__name__}: {exc}")
 
 
 def write_case(case_dir: str | Path, outcome: Outcome) -> dict[str, Any]:
@@ -83,7 +121,7 @@ def write_case(case_dir: str | Path, outcome: Outcome) -> dict[str, Any]:
         return write_failure(case_dir, outcome.error)
     assert outcome.scenario is not None and outcome.units is not None  # set with results
     return write_results(case_dir, outcome.scenario, outcome.results, outcome.units,
-                         with_plot=False)
+                         with_plot=False, rows=outcome.rows)
 
 
 def case_summary(case_dir: str | Path) -> dict[str, Any] | None:
@@ -135,12 +173,14 @@ def claim(out: str | Path, scenario_path: str | Path, **settings: Any) -> None:
 
 def run_cases(out: str | Path, todo: Sequence[tuple[str, Sequence[str]]], scenario: Scenario,
               fmu_dir: str | Path, scheduler: str | None = None, workers: int | None = None,
-              record: Callable[[str, dict[str, Any]], None] | None = None) -> None:
+              record: Callable[[str, dict[str, Any], Results | None], None] | None = None
+              ) -> None:
     """Run the cases `todo` of `scenario` on Dask (a LocalCluster unless `scheduler` is given),
     writing each into out/cases/<id>/ in this process as it finishes.
 
     The workers get the FMUs (`ship_fmus`) and the scenario once each, and send every case's
-    results back: they need no access to this machine's files.
+    results back: they need no access to this machine's files. Each task is a chunk of cases
+    (`chunks`) run in one compiled pass where they fuse (`run_chunk`).
 
     Parameters
     ----------
@@ -157,8 +197,9 @@ def run_cases(out: str | Path, todo: Sequence[tuple[str, Sequence[str]]], scenar
     workers : int or None
         Worker processes of the local cluster (default: the cores, at most one per case).
     record : callable, optional
-        ``record(case id, summary)``, called as each case has been written (a case whose worker
-        died gets a failure summary).
+        ``record(case id, summary, results)``, called as each case has been written, with the
+        run's `Results` (None for a case that did not start, or whose worker died: it gets a
+        failure summary).
     """
     from distributed import as_completed
     from tqdm import tqdm
@@ -167,14 +208,32 @@ def run_cases(out: str | Path, todo: Sequence[tuple[str, Sequence[str]]], scenar
     with dask_client(scheduler, workers, len(todo)) as client:
         fmus = ship_fmus(client, fmu_dir, components)
         sent = client.scatter(scenario, broadcast=True, hash=False)
-        futures = {client.submit(run_case, sent, fmus, list(overrides), pure=False): cid
-                   for cid, overrides in todo}
-        for fut in tqdm(as_completed(futures), total=len(futures), desc="sweep", unit="case"):
-            cid = futures.pop(fut)
-            try:
-                outcome = fut.result()
-            except Exception as exc:  # the worker itself died (e.g. KilledWorker)
-                outcome = Outcome(error=f"{type(exc).__name__}: {exc}")
-            summary = write_case(Path(out) / "cases" / cid, outcome)
-            if record is not None:
-                record(cid, summary)
+        parts = chunks(todo, scenario, len(client.scheduler_info()["workers"]))
+        futures = {client.submit(run_chunk, sent, fmus, [list(o) for _, o in part], pure=False):
+                   [cid for cid, _ in part] for part in parts}
+        with tqdm(total=len(todo), desc="sweep", unit="case") as bar:
+            for fut in as_completed(futures):
+                cids = futures.pop(fut)
+                try:
+                    outcomes = fut.result()
+                except Exception as exc:  # the worker itself died (e.g. KilledWorker)
+                    outcomes = [Outcome(error=f"{type(exc).__name__}: {exc}")] * len(cids)
+                for cid, outcome in zip(cids, outcomes):
+                    summary = write_case(Path(out) / "cases" / cid, outcome)
+                    if record is not None:
+                        record(cid, summary, outcome.results)
+                    bar.update()
+
+
+CHUNK_VALUES = 20_000_000  # recorded values a task's chunk of cases holds at most (160 MB)
+
+
+def chunks(todo: Sequence[tuple[str, Sequence[str]]], scenario: Scenario, workers: int
+           ) -> list[list[tuple[str, Sequence[str]]]]:
+    """The cases `todo` of `scenario` cut into chunks, a task each: about two chunks per worker
+    of `workers` (so that a slow one does not hold the others back), each holding at most
+    `CHUNK_VALUES` recorded values (rows x recorded signals: the case's results, and their rows
+    as text, wait on the worker until sent)."""
+    per_case = (scenario.n_steps + 1) * (len(scenario.recorded()) + 1)
+    size = max(1, min(-(-len(todo) // (2 * max(1, workers))), CHUNK_VALUES // per_case))
+    return [list(todo[k:k + size]) for k in range(0, len(todo), size)]

@@ -275,7 +275,7 @@ def run(scenario_path: str | Path, grid: Sequence[str], out: str | Path,
 
     points = dict(all_cases)
 
-    def record(cid: str, summary: dict[str, Any]) -> None:
+    def record(cid: str, summary: dict[str, Any], _: Any = None) -> None:
         point = points[cid]
         if not summary.get("completed"):
             failed[cid] = summary.get("error") or "the case did not complete"

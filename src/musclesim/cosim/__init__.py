@@ -16,7 +16,8 @@ such pass, one thread per case; ``run_scenario`` does all three (with the freshn
 command line and for every case of a sweep, writing the rows as the run goes. What every layer's
 outputs rely on lives here too: output paths checked before the work (``check_output_dir``,
 ``check_output_file``, ``check_archive``), files replaced whole (``replace_file``,
-``replace_zip``, ``save_figure``), a run's outputs removed together (``clear_run_outputs``), and
+``replace_zip``, ``save_figure``), long signals reduced for plotting (``envelope``), a run's
+outputs removed together (``clear_run_outputs``), and
 stopping on SIGINT or SIGTERM at the next step with what was written kept (``interruptible``,
 raising ``Interrupted``).
 """
@@ -30,8 +31,9 @@ from musclesim.cosim.loader import compile_loader, loader_unavailable
 from musclesim.cosim.cases import run_cases
 from musclesim.cosim.master import Master, signal_units
 from musclesim.cosim.outputs import (check_archive, check_output_dir, check_output_file,
-                                     replace_file, replace_zip, save_figure)
-from musclesim.cosim.results import Results, clear_run_outputs, compute_metrics, metric_unit
+                                     envelope, replace_file, replace_zip, save_figure)
+from musclesim.cosim.results import (Results, clear_run_outputs, compute_metrics, csv_rows,
+                                     metric_unit)
 from musclesim.cosim.results import write_all as write_results
 from musclesim.cosim.run import run_scenario
 from musclesim.cosim.scenario import (Instance, Metric, Panel, Scenario, apply_overrides,
@@ -49,7 +51,7 @@ __all__ = ["Signal", "ParamRef", "with_values",
            "locate_scenario", "shipped_scenarios", "implausible", "unknown_instance",
            "format_problem", "renamed_signals", "Graph", "Link",
            "Master", "Results", "KINDS", "run_scenario", "run_cases",
-           "compute_metrics", "metric_unit", "signal_units", "write_results", "clear_run_outputs",
-           "read_time_series", "Interrupted", "interruptible",
+           "compute_metrics", "metric_unit", "signal_units", "write_results", "csv_rows",
+           "clear_run_outputs", "read_time_series", "Interrupted", "interruptible",
            "check_output_dir", "check_output_file", "check_archive", "replace_file", "replace_zip",
-           "save_figure"]
+           "save_figure", "envelope"]

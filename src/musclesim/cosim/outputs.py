@@ -1,4 +1,5 @@
-"""Output paths checked before the work, and files replaced whole (never left half-written)."""
+"""Output paths checked before the work, files replaced whole (never left half-written), and
+long signals reduced for plotting (`envelope`)."""
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -8,6 +9,8 @@ import os
 import tempfile
 import zipfile
 from pathlib import Path
+
+import numpy as np
 
 from musclesim.errors import UserError
 
@@ -82,6 +85,20 @@ def save_figure(fig: Any, path: str | Path, **options: Any) -> None:
     tmp = path.with_name(f".{path.stem}.tmp{path.suffix}")  # the suffix names the format
     fig.savefig(tmp, **options)
     os.replace(tmp, path)
+
+
+def envelope(t: np.ndarray, y: np.ndarray, bins: int) -> tuple[np.ndarray, np.ndarray]:
+    """(`t`, `y`) reduced to the minimum and maximum of each of `bins` runs of samples (each at
+    its run's first time), so that a plot of millions of samples keeps every peak (and draws in a fraction of the
+    time: matplotlib's line and legend placement cost grows with the points)."""
+    k = len(y) // bins
+    if k < 2:
+        return t, y
+    n = len(y) // k * k
+    runs = y[:n].reshape(-1, k)
+    tt = np.repeat(t[:n:k], 2)
+    yy = np.column_stack([runs.min(axis=1), runs.max(axis=1)]).ravel()
+    return np.append(tt, t[n:]), np.append(yy, y[n:])
 
 
 def check_archive(path: str | Path, suffix: str, what: str) -> Path:

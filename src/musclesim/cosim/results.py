@@ -30,11 +30,12 @@ from typing import Any
 import numpy as np
 
 from musclesim.cosim.address import Signal
-from musclesim.cosim.outputs import replace_file, save_figure
+from musclesim.cosim.outputs import envelope, replace_file, save_figure
 from musclesim.cosim.scenario import Metric, Panel, Scenario
 
 PART = ".part"  # suffix of a file whose run is still writing it
 OUTPUTS = ("summary.json", "results.csv", "results.csv" + PART, "results.png")
+PLOT_BINS = 2000  # a plotted signal's min-max pairs: 4000 points over the plot's ~1000 pixels
 
 
 @dataclass
@@ -182,7 +183,7 @@ def plot(path: Path, results: Results, panels: Sequence[Panel], units: Mapping[S
         warnings.simplefilter("ignore", RuntimeWarning)
         for ax, panel in zip(axes[:, 0], panels):
             for sig in panel.signals:
-                ax.plot(results.time, results[sig], label=f"{sig} [{units.get(sig) or '1'}]",
+                ax.plot(*envelope(results.time, results[sig], PLOT_BINS), label=f"{sig} [{units.get(sig) or '1'}]",
                         lw=0.8)
             ax.set_title(panel.title, fontsize=9)
             ax.legend(fontsize=7, loc="best")
@@ -266,12 +267,18 @@ class RunWriter:
 
 
 def write_all(out_dir: str | Path, scenario: Scenario, results: Results,
-              units: Mapping[Signal, str], with_plot: bool = True) -> dict[str, Any]:
+              units: Mapping[Signal, str], with_plot: bool = True,
+              rows: bytes | None = None) -> dict[str, Any]:
     """Write results.csv, summary.json and (unless not `with_plot`) results.png of a finished
-    run of `scenario` (its `results`, the signals' `units`) into `out_dir`; return the summary dict (metrics at top level, their units under
-    ``"units"``, the run's id, scenario, algorithm, step, times, parameters and error)."""
+    run of `scenario` (its `results`, the signals' `units`) into `out_dir`; return the summary
+    dict (metrics at top level, their units under ``"units"``, the run's id, scenario,
+    algorithm, step, times, parameters and error). `rows`: results.csv's rows as `csv_rows`
+    formats them (encoded), where they were formatted already (by the worker that ran it)."""
     writer = RunWriter(out_dir, scenario, results.names, units, with_plot)
     writer.start()
-    writer.rows(results.time, results.data)
+    if rows is None:
+        writer.rows(results.time, results.data)
+    elif rows:
+        writer.csv.write(rows)
     return writer.finish(results)
 
