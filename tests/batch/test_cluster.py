@@ -1,6 +1,7 @@
 """musclesim.batch.cluster: the maps without a cluster (`dask_map` over a stand-in client), the
 worker plugins called as a worker would, and two local clusters started at once. A cluster that
 shares no files with the client: test_cluster_without_shared_files.py."""
+import contextlib
 import json
 import os
 from pathlib import Path
@@ -8,7 +9,8 @@ from types import SimpleNamespace
 
 import pytest
 
-from musclesim.batch import FmuFolder, dask_client, dask_map, serial_map
+from musclesim.batch import (FmuFolder, cluster, cluster_map, dask_client, dask_map, in_process,
+                            serial_map)
 from musclesim.batch.shipped import folder_files
 from musclesim.errors import UserError
 
@@ -127,3 +129,18 @@ def test_two_local_clusters_at_once_start_quietly_and_this_process_blas_on_one_t
 
 def test_serial_map():
     assert serial_map(lambda x: x + 1, (1, 2)) == [2, 3]
+
+
+def test_one_worker_and_no_scheduler_work_in_this_process_else_on_a_cluster(monkeypatch):
+    assert in_process(None, 1)
+    assert not in_process(None, 2) and not in_process(None, None)
+    assert not in_process("tcp://127.0.0.1:8786", 1)  # a scheduler's workers, whatever their number
+    started = []
+    monkeypatch.setattr(cluster, "dask_client", lambda *args: started.append(args) or
+                        contextlib.nullcontext(FakeClient()))
+    with cluster_map(None, 1) as pmap:
+        assert pmap is serial_map
+    with cluster_map(None, 2) as pmap:
+        assert pmap(abs, [-1, 2]) == [1, 2] and pmap is not serial_map
+    assert started == [(None, 2)]
+

@@ -6,7 +6,7 @@ import math
 import pytest
 
 from musclesim import cli
-from musclesim.batch import sweep
+from musclesim.batch import cases, sweep
 from musclesim.cosim import load_scenario
 from musclesim.errors import UserError
 
@@ -112,6 +112,20 @@ def test_sweep_writes_one_result_per_case_on_a_local_cluster(fmu_dir, tmp_path):
         assert case["completed"] and case["stop_time"] == STOP
         assert float(row["x1_final"]) == case["x1_final"]
     assert (out / "sweep.png").is_file()
+
+
+def test_one_worker_runs_the_cases_in_this_process_as_a_cluster_would(fmu_dir, tmp_path,
+                                                                       scheduler, monkeypatch):
+    grid = ["inputs.phi=0,pi", "body.c=-1,1.3"]
+    sweep.run(IDEAL, grid, tmp_path / "cluster", fmu_dir=fmu_dir, scheduler=scheduler,
+              stop_time=STOP)
+    monkeypatch.setattr(cases, "dask_client", None)  # no cluster may start
+    here = sweep.run(IDEAL, grid, tmp_path / "here", fmu_dir=fmu_dir, workers=1, stop_time=STOP)
+    assert (here["ran"], here["completed"], len(here["failed"])) == (4, 2, 2)
+    assert _rows(tmp_path / "here") == _rows(tmp_path / "cluster")
+    for cid in _rows(tmp_path / "here"):
+        assert ((tmp_path / "here" / "cases" / cid / "results.csv").read_bytes() ==
+                (tmp_path / "cluster" / "cases" / cid / "results.csv").read_bytes())
 
 
 def test_resume_skips_finished_cases(fmu_dir, tmp_path, scheduler):

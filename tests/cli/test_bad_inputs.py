@@ -829,7 +829,9 @@ def wait_for(proc, ready, what, timeout=90):
 
 
 def test_sigterm_stops_a_sweep_keeping_its_finished_cases_and_it_resumes(ws, capsys):
-    argv = ["sweep", str(IDEAL), "--grid", "inputs.phi=0:3:6", "--stop-time", "20", "--out",
+    # one worker: the cases run in this process, about 0.5 s each (most of it writing 100 000
+    # rows), so that the signal lands before the last one ends
+    argv = ["sweep", str(IDEAL), "--grid", "inputs.phi=0:3:6", "--stop-time", "100", "--out",
             str(ws.root / "sweep"), "--fmus", str(ws.fmus_dir), "--workers", "1"]
     proc = subprocess.Popen([sys.executable, "-m", "musclesim.cli", *argv], cwd=ws.root,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)

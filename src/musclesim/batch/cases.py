@@ -16,12 +16,12 @@ from __future__ import annotations
 
 import hashlib
 import json
-from collections.abc import Callable, Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from musclesim.batch.cluster import dask_client, ship_fmus
+from musclesim.batch.cluster import dask_client, in_process, ship_fmus
 from musclesim.batch.shipped import FmuFolder
 from musclesim.cosim import (Master, Results, Scenario, Signal, apply_overrides, clear_run_outputs,
                              csv_rows, replace_file, signal_units)
@@ -195,15 +195,35 @@ def run_cases(out: str | Path, todo: Sequence[tuple[str, Sequence[str]]], scenar
     scheduler : str or None
         Address of a running Dask scheduler.
     workers : int or None
-        Worker processes of the local cluster (default: the cores, at most one per case).
+        Worker processes of the local cluster (default: the cores, at most one per case); 1
+        runs the cases in this process, no cluster (`in_process`).
     record : callable, optional
         ``record(case id, summary, results)``, called as each case has been written, with the
         run's `Results` (None for a case that did not start, or whose worker died: it gets a
         failure summary).
     """
-    from distributed import as_completed
     from tqdm import tqdm
 
+    with tqdm(total=len(todo), desc="sweep", unit="case") as bar:
+        for cids, outcomes in _outcomes(todo, scenario, fmu_dir, scheduler, workers):
+            for cid, outcome in zip(cids, outcomes):
+                summary = write_case(Path(out) / "cases" / cid, outcome)
+                if record is not None:
+                    record(cid, summary, outcome.results)
+                bar.update()
+
+
+def _outcomes(todo: Sequence[tuple[str, Sequence[str]]], scenario: Scenario, fmu_dir: str | Path,
+              scheduler: str | None, workers: int | None
+              ) -> Iterator[tuple[list[str], list[Outcome]]]:
+    """(case ids, their outcomes) of each chunk of `todo` as it ends: in this process where the
+    options ask it (`in_process`), else on Dask."""
+    from distributed import as_completed
+
+    if in_process(scheduler, workers):
+        for part in chunks(todo, scenario, 4):  # eight chunks or more: the progress bar moves
+            yield [cid for cid, _ in part], run_chunk(scenario, fmu_dir, [o for _, o in part])
+        return
     components = {i.component for i in scenario.instances.values()}
     with dask_client(scheduler, workers, len(todo)) as client:
         fmus = ship_fmus(client, fmu_dir, components)
@@ -211,18 +231,12 @@ def run_cases(out: str | Path, todo: Sequence[tuple[str, Sequence[str]]], scenar
         parts = chunks(todo, scenario, len(client.scheduler_info()["workers"]))
         futures = {client.submit(run_chunk, sent, fmus, [list(o) for _, o in part], pure=False):
                    [cid for cid, _ in part] for part in parts}
-        with tqdm(total=len(todo), desc="sweep", unit="case") as bar:
-            for fut in as_completed(futures):
-                cids = futures.pop(fut)
-                try:
-                    outcomes = fut.result()
-                except Exception as exc:  # the worker itself died (e.g. KilledWorker)
-                    outcomes = [Outcome(error=f"{type(exc).__name__}: {exc}")] * len(cids)
-                for cid, outcome in zip(cids, outcomes):
-                    summary = write_case(Path(out) / "cases" / cid, outcome)
-                    if record is not None:
-                        record(cid, summary, outcome.results)
-                    bar.update()
+        for fut in as_completed(futures):
+            cids = futures.pop(fut)
+            try:
+                yield cids, fut.result()
+            except Exception as exc:  # the worker itself died (e.g. KilledWorker)
+                yield cids, [Outcome(error=f"{type(exc).__name__}: {exc}")] * len(cids)
 
 
 CHUNK_VALUES = 20_000_000  # recorded values a task's chunk of cases holds at most (160 MB)

@@ -1,8 +1,9 @@
 """The one place for Dask: the client (a local cluster or a running scheduler) and the maps.
 
 A map is ``pmap(fn, items) -> [fn(item) for item in items]`` (results in the items' order): the
-diagnosis fits its candidates with the one it is given, `serial_map` by default, `dask_map`'s on
-the command line; sweeps and tables submit their cases on `dask_client` (`cases.run_cases`).
+diagnosis fits its candidates with the one it is given, `serial_map` by default, `cluster_map`'s
+on the command line (in this process for one worker: `in_process`); sweeps and tables submit
+their cases on `dask_client` (`cases.run_cases`).
 The workers need none of the client's files: `ship_fmus` sends them the FMUs as bytes, a task
 takes its scenario as an object, and its results come back to the client.
 """
@@ -190,6 +191,26 @@ class DaskMap:
                   ) -> FmuFolder:
         """`ship_fmus` of `fmu_dir` (the FMUs of `components`) on this client."""
         return ship_fmus(self.client, fmu_dir, components)
+
+
+def in_process(scheduler: str | None, workers: int | None) -> bool:
+    """Whether work asked of `scheduler` and `workers` (the command line's ``--scheduler`` and
+    ``--workers``) runs in this process: one worker and no scheduler. No cluster starts, no
+    worker imports musclesim and loads its compiled code again (seconds each), and a case's
+    simulations still run in one compiled pass."""
+    return scheduler is None and workers == 1
+
+
+@contextlib.contextmanager
+def cluster_map(scheduler: str | None = None, workers: int | None = None
+                ) -> Iterator[Callable[[Callable[[Any], Any], Iterable[Any]], list[Any]]]:
+    """The map work runs on: `serial_map` where it runs `in_process`, else `dask_map` on
+    `dask_client` (`scheduler`, `workers`), closed on exit."""
+    if in_process(scheduler, workers):
+        yield serial_map
+        return
+    with dask_client(scheduler, workers) as client:
+        yield dask_map(client)
 
 
 def dask_map(client: Any) -> DaskMap:

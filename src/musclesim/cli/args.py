@@ -26,7 +26,8 @@ def add_dask_args(q: argparse.ArgumentParser) -> None:
     q.add_argument("--scheduler", help="address of a running Dask scheduler (default: a "
                    "local cluster)")
     q.add_argument("--workers", type=positive,
-                   help="local worker processes (default: cores)")
+                   help="local worker processes (default: cores; 1: in this process, no "
+                   "cluster)")
 
 
 def count(text: str) -> int:

@@ -11,15 +11,15 @@ from musclesim.cli.args import add_dask_args, add_fmus, count, duration, positiv
 
 
 def _cmd_benchmark_diagnosis(args: argparse.Namespace) -> int:
-    from musclesim.batch import dask_client, dask_map
+    from musclesim.batch import cluster_map
     from musclesim.cosim import check_fresh, shipped_scenarios
     from musclesim.benchmark import run_blind_benchmark
 
     check_fresh(args.fmus)
-    with dask_client(args.scheduler, args.workers) as client:
+    with cluster_map(args.scheduler, args.workers) as pmap:
         scores = run_blind_benchmark(args.cases, args.seed, args.out, args.fmus,
                                      args.scenarios or shipped_scenarios(),
-                                     dask_map(client),
+                                     pmap,
                                      lambda text: print(f"musclesim: {text}", file=sys.stderr),
                                      bench=args.bench, duration=args.duration,
                                      multiplier=args.multiplier, crawler=args.crawler,

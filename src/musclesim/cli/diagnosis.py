@@ -24,7 +24,7 @@ def _cmd_dataset_check(args: argparse.Namespace) -> int:
 
 
 def _cmd_diagnose(args: argparse.Namespace) -> int:
-    from musclesim.batch import dask_client, dask_map
+    from musclesim.batch import cluster_map
     from musclesim.cosim import check_fresh
     from musclesim.diagnosis import diagnose, load_dataset, write_report
 
@@ -41,8 +41,8 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
                         "calibrate")
     check_fresh(args.fmus)
     traces: dict = {}
-    with dask_client(args.scheduler, args.workers) as client:
-        report = diagnose(ds, args.fmus, dask_map(client),
+    with cluster_map(args.scheduler, args.workers) as pmap:
+        report = diagnose(ds, args.fmus, pmap,
                           lambda text: print(f"musclesim: {text}", file=sys.stderr), traces)
     paths = write_report(args.out, report, traces)
     document = report.to_json()  # the Report as report.json holds it
@@ -55,15 +55,15 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
 
 
 def _cmd_calibrate(args: argparse.Namespace) -> int:
-    from musclesim.batch import dask_client, dask_map
+    from musclesim.batch import cluster_map
     from musclesim.cosim import check_fresh
     from musclesim.diagnosis import (calibrate, calibration_bound_sentence,
                                      calibration_markdown, load_dataset)
 
     ds = load_dataset(args.dataset, check_model=True, fmu_dir=args.fmus)
     check_fresh(args.fmus)
-    with dask_client(args.scheduler, args.workers) as client:
-        report = calibrate(ds, args.fmus, dask_map(client),
+    with cluster_map(args.scheduler, args.workers) as pmap:
+        report = calibrate(ds, args.fmus, pmap,
                            lambda text: print(f"musclesim: {text}", file=sys.stderr))
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
