@@ -71,3 +71,27 @@ def test_a_hidden_multiplier_effect_changes_the_recording(fmu_dir, effect):
     assert t[-1] == pytest.approx(cases.STOP_TIME["multiplier"])
     assert sorted(map(str, nominal)) == ["laser.s_meas", "mult.u", "thermocouple.T_meas"]
     assert not np.allclose(nominal[LASER], changed[LASER], atol=2e-5)
+
+
+def test_a_benchs_cases_recorded_in_one_pass_are_each_the_bits_of_its_own_recording(
+        fmu_dir, monkeypatch):
+    from musclesim.cosim import fused
+
+    passes = []
+    batchable = fused.Fused.batchable
+    monkeypatch.setattr(fused.Fused, "batchable",
+                        staticmethod(lambda plans: passes.append(batchable(plans)) or passes[-1]))
+    base = {"case": "c", "kind": "none", "bench": "multiplier", "effect": None, "values": {},
+            "latency_samples": 1, "seed": 5}
+    hidden = dict(base, case="d", kind="effect", effect="capstan friction", seed=6,
+                  values={f"mult.{p}": v for (_, p, _, v) in cases.MAGNITUDES["capstan friction"]})
+    pairs = [(c, recording.bench_scenario(c, SCENARIOS)) for c in (base, hidden)]
+    together = recording.record_many(pairs, fmu_dir)
+    assert passes == [True]  # both in one compiled call
+    for (t, cols), (case, s) in zip(together, pairs):
+        t1, cols1 = recording.record(case, s, fmu_dir)
+        np.testing.assert_array_equal(t, t1)
+        assert cols.keys() == cols1.keys()
+        for c in cols:
+            np.testing.assert_array_equal(cols[c], cols1[c])
+    assert not np.array_equal(together[0][1][LASER], together[1][1][LASER])

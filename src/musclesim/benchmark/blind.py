@@ -55,7 +55,8 @@ from musclesim.batch import serial_map
 from musclesim.benchmark import calibrate
 from musclesim.benchmark import plan as independent_plan
 from musclesim.benchmark.cases import BENCHES, DECOYS, MAGNITUDES, OUTSIDE, plan, plan_multiplier
-from musclesim.benchmark.recording import bench_scenario, make_case, record, write_case
+from musclesim.benchmark.recording import (bench_scenario, make_case, record, record_many,
+                                           write_case)
 from musclesim.benchmark.scoring import oracle, reliability, score, weighed, write_scores
 from musclesim.cosim import replace_file
 from musclesim.diagnosis import diagnose, load_dataset
@@ -66,9 +67,22 @@ __all__ = ["run", "each", "plan", "plan_multiplier", "record", "bench_scenario",
            "score", "weighed", "reliability", "BENCHES", "DECOYS", "MAGNITUDES", "OUTSIDE"]
 
 
-def _record(args: tuple[dict[str, Any], Any, Any]) -> tuple:
-    case, s, fmu_dir = args
-    return record(case, s, fmu_dir)
+def _record(args: tuple[list[tuple[dict[str, Any], Any]], Any]) -> list[tuple]:
+    """The recordings of the own bench's (case, scenario) pairs of `args` (pairs, FMU folder),
+    in one compiled pass where they fuse (`record_many`)."""
+    pairs, fmu_dir = args
+    return record_many(pairs, fmu_dir)
+
+
+def _by_bench(cases: Sequence[dict[str, Any]], todo: Sequence[int], width: int
+              ) -> list[list[int]]:
+    """The cases `todo` (indices into `cases`) in runs of one bench each, about two per task the
+    map runs at once (`width`), so that each run is one compiled pass and the map stays busy."""
+    benches: dict[str, list[int]] = {}
+    for i in todo:
+        benches.setdefault(cases[i]["bench"], []).append(i)
+    size = max(1, -(-len(todo) // (2 * width)))
+    return [same[k:k + size] for same in benches.values() for k in range(0, len(same), size)]
 
 
 def _diagnose(args: tuple[Any, Any]) -> dict[str, Any]:
@@ -131,7 +145,7 @@ def run(count: int, seed: int, out: str | Path, fmu_dir: str | Path = "fmus",
     score_gap: Callable[[Any], dict[str, Any]]
     if bench == "own":
         cases = plan(count, seed) + plan_multiplier(multiplier, seed)
-        recorded = (_record, [(c, bench_scenario(c, scenarios_dir), fmus) for c in cases])
+        scenarios = [bench_scenario(c, scenarios_dir) for c in cases]
         score_gap = oracle
     elif bench in calibrate.FAMILIES:
         fam = calibrate.FAMILIES[bench]
@@ -157,8 +171,15 @@ def run(count: int, seed: int, out: str | Path, fmu_dir: str | Path = "fmus",
         todo = [i for i, d in enumerate(dirs) if not (d / "report.json").is_file()]
         say(f"resuming: {len(cases) - len(todo)} of {len(cases)} cases diagnosed before")
     say(f"recording {len(todo)} cases on the {bench} virtual hardware")
-    fn, items = recorded
-    for i, (time, cols, *stated) in zip(todo, pmap(fn, [items[i] for i in todo])):
+    if bench == "own":  # a bench's cases in one compiled pass
+        runs = _by_bench(cases, todo, pmap.width() if hasattr(pmap, "width") else 1)
+        order = [i for part in runs for i in part]
+        recordings = [r for part in pmap(_record, [([(cases[i], scenarios[i]) for i in part],
+                                                    fmus) for part in runs]) for r in part]
+    else:
+        fn, items = recorded
+        order, recordings = list(todo), pmap(fn, [items[i] for i in todo])
+    for i, (time, cols, *stated) in zip(order, recordings):
         write_case(cases[i], dirs[i], time, cols, (stated or [None])[0], scenarios_dir)
     # sealed: `sha256sum -c key.sha256` checks key.json once it is written, after the diagnosis
     (out / "key.sha256").write_text(digest + "  key.json\n")

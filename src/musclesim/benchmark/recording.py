@@ -1,6 +1,7 @@
 """Recording the blind benchmark's cases: the own bench's virtual hardware run with a case's
-hidden values and the sensors' nuisances (`record`), and a recording written as an unlabelled
-measured data set (`write_case`, `make_case`).
+hidden values and the sensors' nuisances (`record`; `record_many` runs a bench's cases in one
+compiled pass), and a recording written as an unlabelled measured data set (`write_case`,
+`make_case`).
 
 A case is a dict as `musclesim.benchmark.cases.plan` (or `musclesim.benchmark.plan`) makes it,
 written to key.json as it is: its hidden ``values`` keep their ``"instance.parameter"`` keys and
@@ -8,6 +9,7 @@ are parsed here, once, into `ParamRef`s.
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
@@ -16,7 +18,8 @@ import numpy as np
 
 from musclesim.benchmark import plan as independent_plan
 from musclesim.benchmark.cases import BENCHES, STOP_TIME
-from musclesim.cosim import Master, ParamRef, Scenario, Signal, load_scenario, with_values
+from musclesim.cosim import (Master, ParamRef, Results, Scenario, Signal, load_scenario, run_cases,
+                             with_values)
 from musclesim.diagnosis import write_data_set
 from musclesim.errors import UserError
 
@@ -56,13 +59,32 @@ def record(case: dict[str, Any], s: Scenario,
            fmu_dir: str | Path) -> tuple[np.ndarray, dict[Signal, np.ndarray]]:
     """Run the virtual hardware of `case` on its bench's scenario `s` (`bench_scenario`) with
     the FMUs in `fmu_dir`: (time, {column: values}) as the bench records them."""
-    name, inputs, outputs, _ = BENCHES[case["bench"]]
+    return record_many([(case, s)], fmu_dir)[0]
+
+
+def record_many(items: Sequence[tuple[dict[str, Any], Scenario]], fmu_dir: str | Path
+                ) -> list[tuple[np.ndarray, dict[Signal, np.ndarray]]]:
+    """`record` of each (case, its bench's scenario) of `items`: the cases of one bench in one
+    compiled pass where they fuse (`musclesim.cosim.run_cases`), each with its own run's bits."""
+    masters = [Master(_with_nuisances(case, s), fmu_dir) for case, s in items]
+    return [_as_recorded(case, res) for (case, _), res in zip(items, run_cases(masters))]
+
+
+def _with_nuisances(case: dict[str, Any], s: Scenario) -> Scenario:
+    """`s` with the nuisances on the sensors `case`'s bench has, recording what it records."""
+    _, inputs, outputs, _ = BENCHES[case["bench"]]
     # the nuisances on the sensors this bench has (with_values skips the others)
     s = with_values(s, {ParamRef(inst, par): v for inst, noise, quantum, modulus in NUISANCES
                         for par, v in (("noise_std", noise), ("quantum", quantum),
                                        ("seed", case["seed"] % modulus))})
-    s = replace(s, record=tuple(inputs + outputs), metrics={}, plots=())
-    res = Master(s, fmu_dir).run()
+    return replace(s, record=tuple(inputs + outputs), metrics={}, plots=())
+
+
+def _as_recorded(case: dict[str, Any], res: Results
+                 ) -> tuple[np.ndarray, dict[Signal, np.ndarray]]:
+    """(time, {column: values}) of `case`'s run `res` as its bench records them: the strain
+    gauge's and the video's noise and quantisation, the acquisition's lag."""
+    _, inputs, outputs, _ = BENCHES[case["bench"]]
     if res.error:
         raise UserError(f"{case['case']}: the virtual hardware failed: {res.error}")
     rng = np.random.default_rng(case["seed"])
