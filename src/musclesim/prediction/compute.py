@@ -7,15 +7,16 @@ The steps, each with the library's own code:
    on its training part at the values the scenarios ship (`musclesim.diagnosis.simulate_unit`)
    and compared with its metrics by the diagnosis's `residuals`, each divided by its metric's
    stated uncertainty as `musclesim calibrate` divides them. Its Jacobian is taken by central
-   differences (`propagate.STEP`), not by the fit's forward differences of a thousandth of the
-   range, which a relay's stepping metrics make unreliable (§study-outcomes); covariance
-   ``(J^T J)^-1`` (`propagate.covariance`).
+   differences of `propagate.STEP` of each range, not by the fit's forward differences of a
+   thousandth of it, which a relay's stepping metrics make unreliable (§study-outcomes);
+   covariance ``(J^T J)^-1`` (`propagate.covariance`).
 2. The alternative models: each data set with its opened values fitted by
    `musclesim.diagnosis.calibrate`, its chi-square on the data set's stated uncertainties; those
    within `propagate.ADMIT` of the first alternative's (the reference: nothing opened) are
    admitted.
 3. Each scenario: run as shipped (the prediction), with each fitted value it carries stepped
-   either side (its slopes, so its standard deviation through the covariance), and with each
+   by its standard deviation either side (its slopes, so its standard deviation through the
+   covariance: the delta method), and with each
    admitted model's values (their spread); the interval by `propagate.interval`.
 """
 from __future__ import annotations
@@ -112,7 +113,7 @@ def fit_covariance(declaration: Declaration, fmu_dir: Any,
         f"{', '.join(problem.part_names[0])}")
     J = np.empty((len(rows), len(tables)))
     for k, t in enumerate(tables):
-        lo, hi = propagate.points(base[k], t.lower, t.upper)
+        lo, hi = propagate.points(base[k], t.lower, t.upper, propagate.STEP * (t.upper - t.lower))
         J[:, k] = (weighted(base[:k] + [hi] + base[k + 1:])
                    - weighted(base[:k] + [lo] + base[k + 1:])) / (hi - lo)
     try:
@@ -229,7 +230,8 @@ def scenario_predictions(s: Scenario, fit: Mapping[str, Any], models: list[dict[
     for k, refs in enumerate(carried):
         if refs:
             t = fit["values"][k]
-            lo, hi = propagate.points(t["value"], *t["bounds"])
+            lower, upper = t["bounds"]
+            lo, hi = propagate.points(t["value"], lower, upper, t["sd"])
             cases += [dict.fromkeys(refs, lo), dict.fromkeys(refs, hi)]
             steps.append((k, hi - lo))
     reach = [_model_values(s, carried, fit, m) for m in models]

@@ -5,8 +5,8 @@ alternative models fit about as well as the reference, and how the two parts mak
 >>> cov = covariance(np.array([[2.0, 0.0], [0.0, 4.0]]))   # residuals over their sd
 >>> float(outcome_sd(np.array([1.0, 1.0]), cov))           # sqrt(1/4 + 1/16)
 0.5590169943749475
->>> interval(10.0, 1.0, [9.0, 12.0])                       # spread [9, 12], +- 1.645 sd
-(7.355146373048527, 13.644853626951473)
+>>> [round(v, 4) for v in interval(10.0, 1.0, [9.0, 12.0])]  # spread [9, 12], +- 1.645 sd
+[7.3551, 13.6449]
 """
 from __future__ import annotations
 
@@ -25,12 +25,13 @@ Z = float(stats.norm.ppf(0.5 + LEVEL / 2))
 # tolerates for one parameter. Each alternative opens one or more values on top of the
 # reference, so a proper fit can only lower its chi-square; one that ends far above it failed.
 ADMIT = float(stats.chi2.ppf(LEVEL, 1))
-# Central differences step each fitted value by this fraction of its bounds' range: above the
-# scale at which the relay's metrics step (a switching instant resolved to one communication
-# step) and at or below the scale of the shipped fit's intervals, so that the slope is the
-# outcome's trend over the values the fit allows, not a single step of the relay.
+# The fit's Jacobian is taken by central differences of this fraction of each value's bounds'
+# range: above the scale at which the relay's metrics step (a switching instant resolved to one
+# communication step; the fit's own forward differences, a thousandth of the range, measure that
+# step), below the scale of the fit's uncertainty for the values the relay sets. An outcome's
+# slopes are secants over one standard deviation of each value either side (`points`): its
+# trend over the values the fit allows, which a slope at a point misses where the outcome bends.
 STEP = 0.01
-
 
 def covariance(weighted_jacobian: np.ndarray) -> np.ndarray:
     """Covariance ``(J^T J)^-1`` of fitted values from the Jacobian of their residuals, each row
@@ -52,12 +53,10 @@ def outcome_sd(gradient: np.ndarray, cov: np.ndarray) -> float:
     return float(math.sqrt(max(float(g @ cov @ g), 0.0)))
 
 
-def points(value: float, lower: float, upper: float, fraction: float = STEP
-           ) -> tuple[float, float]:
-    """The two values a central difference at `value` runs: `fraction` of the range
-    (`lower`, `upper`) either side, held within it (one-sided at a bound)."""
-    h = fraction * (upper - lower)
-    return max(lower, value - h), min(upper, value + h)
+def points(value: float, lower: float, upper: float, step: float) -> tuple[float, float]:
+    """The two values a central difference of `step` at `value` runs, held within (`lower`,
+    `upper`) (one-sided at a bound)."""
+    return max(lower, value - step), min(upper, value + step)
 
 
 def admitted(chi2: float, reference: float) -> bool:
