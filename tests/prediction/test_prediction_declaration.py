@@ -23,7 +23,7 @@ def test_the_shipped_predictions_are_their_inputs_own(path):
     """Fails when a scenario file, a data set's manifest, a component's source, the diagnosis or
     this package changed since the predictions were computed: recompute them with `musclesim
     predict scenarios/predictions/fast-actuation.toml --out
-    scenarios/predictions/fast-actuation.json --workers 1` (about 5 minutes on two cores)."""
+    scenarios/predictions/fast-actuation.json --workers 1` (about 4 minutes on two cores)."""
     declaration = load_declaration(path)
     doc = json.loads(path.with_suffix(".json").read_text())
     assert doc["fingerprint"] == fingerprint(declaration), (

@@ -2,7 +2,7 @@
 values the scenarios ship, the alternative models the diagnosis fitted, the scenarios whose
 outcomes are predicted and the study's values our docs give; and the fingerprint of every input.
 
-The format (§predictions in docs/results.md has the whole set)::
+The format (§predictions says what is made of it)::
 
     description = "..."
     reference = "§study-outcomes"
