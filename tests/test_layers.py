@@ -2,10 +2,11 @@
 
 Layers, each importing only those below it: errors and fmu < components < cosim < batch and
 export (peers: many runs; a scenario packaged for other tools) < analysis, hysteresis, diagnosis
-(peers, never importing each other) < benchmark (the diagnosis's blind test lab) < cli. Across layers a module
-imports a framework layer's public interface only (`from musclesim.cosim import Master`, the name
-listed in the layer's ``__all__``); inside a layer it imports its siblings by module. No module
-uses another's ``_private`` names, and no import cycle joins modules.
+(peers, never importing each other) < benchmark (the diagnosis's blind test lab) and prediction
+(the scenarios' outcomes with intervals from the diagnosis's fits; peers) < cli. Across layers a
+module imports a framework layer's public interface only (`from musclesim.cosim import Master`,
+the name listed in the layer's ``__all__``); inside a layer it imports its siblings by module. No
+module uses another's ``_private`` names, and no import cycle joins modules.
 """
 import ast
 import importlib
@@ -16,9 +17,9 @@ import pytest
 ROOT = Path(__file__).resolve().parents[1]
 SOURCES = {"musclesim": ROOT / "src" / "musclesim", "musclesim.components": ROOT / "components"}
 RANK = {"errors": 0, "fmu": 0, "components": 1, "cosim": 2, "batch": 3, "export": 3, "analysis": 4,
-        "hysteresis": 4, "diagnosis": 4, "benchmark": 5, "cli": 6, "root": 0}
+        "hysteresis": 4, "diagnosis": 4, "benchmark": 5, "prediction": 5, "cli": 6, "root": 0}
 FRAMEWORK = ("fmu", "cosim", "batch", "export", "analysis", "hysteresis", "diagnosis",
-             "benchmark")
+             "benchmark", "prediction")
 
 
 def _module_files():

@@ -335,6 +335,16 @@ REFUSED = {
     "calibrate-no-open-value": lambda ws: (
         ["calibrate", SCENARIOS / "data" / "crawler-real", "--out", ws.root / "cal", "--fmus",
          ws.fmus_dir], ["crawler-real names no open value", "[[calibrate]]"]),
+    "predict-declaration-missing": lambda ws: (
+        ["predict", ws.root / "none.toml", "--out", ws.root / "p.json", "--fmus", ws.fmus_dir],
+        [f"predictions declaration {ws.root / 'none.toml'}", "No such file"]),
+    "predict-a-scenario-as-declaration": lambda ws: (
+        ["predict", IDEAL, "--out", ws.root / "p.json", "--fmus", ws.fmus_dir],
+        [f"predictions declaration {IDEAL}", "unknown key 'connections'"]),
+    "predict-out-under-a-file": lambda ws: (
+        ["predict", SCENARIOS / "predictions" / "fast-actuation.toml", "--out",
+         ws.afile / "p.json", "--fmus", ws.fmus_dir],
+        [f"--out {ws.afile / 'p.json'} cannot be written"]),
     "loops-plot-under-a-file": lambda ws: (
         ["loops", "--stress", "1.25e8", "--band", "30:130", "--plot", ws.afile / "x.png"],
         [f"--plot {ws.afile / 'x.png'} cannot be written"]),

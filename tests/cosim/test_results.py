@@ -103,6 +103,21 @@ def test_a_failed_run_leaves_no_earlier_runs_results_csv(tmp_path):
     assert json.loads((out / "summary.json").read_text())["run_id"] == summary["run_id"]
 
 
+def test_a_layer_above_adds_summary_entries_but_never_over_the_runs_own(tmp_path):
+    """`extra` entries (the predictions the cli gives) reach the final summary; one named like
+    a metric or the run's state is refused."""
+    time, data = np.array([0.0]), np.array([[5.0]])
+    writer = RunWriter(tmp_path, _tiny(tmp_path), [S("a.y")], {S("a.y"): "m"}, with_plot=False)
+    writer.start()
+    writer.rows(time, data)
+    summary = writer.finish(Results(time, (S("a.y"),), data), {"predictions": {"applies": False}})
+    assert json.loads((tmp_path / "summary.json").read_text())["predictions"] == {
+        "applies": False} == summary["predictions"]
+    for key in ("status", "warnings"):
+        with pytest.raises(ValueError, match=key):
+            writer.finish(Results(time, (S("a.y"),), data), {key: 1})
+
+
 @pytest.fixture(scope="module")
 def run(fmu_dir, tmp_path_factory):
     """A short crawler-ideal run: its folder and its results as the runner returned them."""

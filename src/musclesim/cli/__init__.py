@@ -1,11 +1,12 @@
 """The `musclesim` command line: build, run, export, sweep, loops, identify, drift, dataset,
-diagnose, calibrate, benchmark-diagnosis, bench, linear, characterise, table.
+diagnose, calibrate, predict, benchmark-diagnosis, bench, linear, characterise, table.
 
 The top layer: it parses arguments, calls the public interfaces of the layers below (cosim, batch,
-analysis, hysteresis, diagnosis, benchmark) and prints; nothing imports it. Each command's
-arguments sit next to its handler, by the layer it calls: scenarios (build, run, export, sweep),
-hysteresis (loops, drift, identify, bench), diagnosis (dataset, diagnose, calibrate), benchmark
-(benchmark-diagnosis), analysis (table, characterise, linear); args holds the shared arguments.
+analysis, hysteresis, diagnosis, prediction, benchmark) and prints; nothing imports it. Each
+command's arguments sit next to its handler, by the layer it calls: scenarios (build, run, export,
+sweep), hysteresis (loops, drift, identify, bench), diagnosis (dataset, diagnose, calibrate),
+prediction (predict), benchmark (benchmark-diagnosis), analysis (table, characterise, linear);
+args holds the shared arguments.
 
 Mistakes a user can fix end in one sentence on stderr and exit status 2; a failed simulation
 exits with status 1 after writing the results it reached.
@@ -15,7 +16,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from musclesim.cli import analysis, benchmark, diagnosis, hysteresis, scenarios
+from musclesim.cli import analysis, benchmark, diagnosis, hysteresis, prediction, scenarios
 from musclesim.errors import UserError
 
 __all__ = ["main"]
@@ -24,6 +25,7 @@ __all__ = ["main"]
 _COMMANDS = [scenarios.add_build, scenarios.add_run, scenarios.add_export, scenarios.add_sweep,
              hysteresis.add_loops, hysteresis.add_drift, hysteresis.add_identify,
              diagnosis.add_dataset, diagnosis.add_diagnose, diagnosis.add_calibrate,
+             prediction.add_predict,
              benchmark.add_benchmark_diagnosis, analysis.add_table, hysteresis.add_bench,
              analysis.add_characterise, analysis.add_linear]
 
@@ -46,6 +48,7 @@ _OUTPUTS = {"build": [("fmus", "dir")], "run": [("out", "dir")],
             "export": [("ssp", "file"), ("fmu", "file")],
             "sweep": [("out", "dir")], "loops": [("plot", "file")], "identify": [("out", "file")],
             "diagnose": [("out", "dir")], "calibrate": [("out", "dir")],
+            "predict": [("out", "file")],
             "benchmark-diagnosis": [("out", "dir")],
             "table": [("out", "dir")], "characterise": [("out", "dir"), ("write", "file")],
             "linear": [("write", "file")]}

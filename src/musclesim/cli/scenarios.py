@@ -22,10 +22,13 @@ def _cmd_build(args: argparse.Namespace) -> int:
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
-    from musclesim.cosim import run_scenario
+    from musclesim.cosim import load_scenario, run_scenario
+    from musclesim.prediction import SUMMARY_KEY, describe, summary_entry
 
+    # the shipped predictions of this scenario, when the run is the one they were made for
+    extra = summary_entry(load_scenario(args.scenario, args.set, args.stop_time))
     summary, res = run_scenario(args.scenario, args.out, args.fmus, args.set, args.stop_time,
-                                host=args.host, isolate=args.isolate)
+                                host=args.host, isolate=args.isolate, extra=extra)
     out = Path(args.out)
     if summary["description"]:  # the file's words: overrides may have changed what it says
         print(summary["description"] + (f" (with --set {', '.join(args.set)})" if args.set else ""))
@@ -36,6 +39,8 @@ def _cmd_run(args: argparse.Namespace) -> int:
         print(f"wrote {out / 'results.csv'}, {out / 'summary.json'} and {out / 'results.png'}")
     else:  # no plot of fewer than two rows
         print(f"wrote {out / 'results.csv'} and {out / 'summary.json'}")
+    for line in describe(extra[SUMMARY_KEY]) if extra else ():
+        print(line)
     for warning in summary["warnings"]:
         print(f"musclesim: warning from {warning}", file=sys.stderr)
     if res.error:

@@ -229,9 +229,17 @@ class RunWriter:
         if len(time):
             self.csv.write(csv_rows(time, data).encode())
 
-    def finish(self, results: Results) -> dict[str, Any]:
+    def finish(self, results: Results, extra: Mapping[str, Any] | None = None
+               ) -> dict[str, Any]:
         """Close the rows and name them results.csv, draw the plot of `results`, write the final
-        summary; return the summary."""
+        summary (with the entries of `extra`, which a layer above gives); return the summary.
+
+        Raises
+        ------
+        ValueError
+            If a key of `extra` is a metric's or one of the run's state (its identity, written
+            last, wins over `extra`).
+        """
         if self.csv is not None:
             self.csv.close()
             self.csv = None
@@ -246,14 +254,17 @@ class RunWriter:
             s = self.scenario
             plot(self.out / "results.png", results, s.plots, self.units,
                  title=f"{s.name} ({s.reference})" if s.reference else s.name)
-        return self._summary({
+        state = {
             **{name: None if math.isnan(v) else v for name, v in metrics.items()},  # JSON null
             "units": {name: metric_unit(self.units.get(m.signal), m.op, m.over is not None)
                       for name, m in self.scenario.metrics.items()},
             "completed": results.error is None, "error": results.error,
             "status": "completed" if results.error is None else "stopped",
             "warnings": warnings,
-            "end_time": float(results.time[-1]) if len(results.time) else None})
+            "end_time": float(results.time[-1]) if len(results.time) else None}
+        if clash := set(extra or {}) & set(state):
+            raise ValueError(f"summary entries {sorted(clash)} would replace the run's own")
+        return self._summary({**state, **(extra or {})})
 
     def _summary(self, state: dict[str, Any]) -> dict[str, Any]:
         s = self.scenario

@@ -1,7 +1,7 @@
 """One scenario run from file to folder: load, check the FMUs are fresh, run, write as it goes."""
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -13,12 +13,15 @@ from musclesim.errors import UserError
 
 def run_scenario(path: str | Path, out: str | Path, fmu_dir: str | Path = "fmus",
                  overrides: Iterable[str] = (), stop_time: float | None = None,
-                 with_plot: bool = True, host: str = "direct", isolate: bool = False
+                 with_plot: bool = True, host: str = "direct", isolate: bool = False,
+                 extra: Mapping[str, Any] | None = None
                  ) -> tuple[dict[str, Any], results.Results]:
     """Load the scenario at `path` (with the ``--set`` `overrides` and `stop_time`), run it on
     the FMUs in `fmu_dir` on `host` (`master.HOSTS`; every instance in a child process of its
     own if `isolate`) and write it into `out` (the plot only `with_plot`); return (summary,
-    results).
+    results). `extra` holds entries for the final summary that layers above give (the
+    predictions a run's summary carries, `musclesim.prediction`); their keys must not be a
+    metric's or one of the summary's own.
 
     The rows reach `out`/results.csv as the run goes (`results.RunWriter`). When a signal stops
     the run, its rows so far are kept, the summary says ``completed: false`` with the signal and
@@ -44,4 +47,4 @@ def run_scenario(path: str | Path, out: str | Path, fmu_dir: str | Path = "fmus"
     except UserError as exc:
         writer.finish(no_rows(str(exc)))
         raise
-    return writer.finish(res), res
+    return writer.finish(res, extra), res
