@@ -56,3 +56,10 @@ def test_a_model_is_admitted_when_it_fits_about_as_well_as_the_reference():
     assert ADMIT == pytest.approx(2.7055, abs=1e-4)  # chi-square, one degree of freedom, 90 %
     assert admitted(160.0, 163.0) and admitted(165.0, 163.0)
     assert not admitted(166.0, 163.0) and not admitted(math.inf, 163.0)
+
+
+def test_the_written_out_quantiles_are_scipys():
+    from scipy import stats
+
+    assert Z == float(stats.norm.ppf(0.5 + LEVEL / 2))
+    assert ADMIT == float(stats.chi2.ppf(LEVEL, 1))

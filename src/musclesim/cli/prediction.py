@@ -12,15 +12,15 @@ from musclesim.cli.args import add_dask_args, add_fmus
 
 
 def _cmd_predict(args: argparse.Namespace) -> int:
-    from musclesim.batch import dask_client, dask_map
+    from musclesim.batch import cluster_map
     from musclesim.cosim import check_fresh, replace_file
     from musclesim.prediction import load_declaration, predict
 
     declaration = load_declaration(args.declaration)
     check_fresh(args.fmus)
     start = time.monotonic()
-    with dask_client(args.scheduler, args.workers) as client:
-        doc = predict(declaration, args.fmus, dask_map(client),
+    with cluster_map(args.scheduler, args.workers) as pmap:
+        doc = predict(declaration, args.fmus, pmap,
                       lambda text: print(f"musclesim: {text}", file=sys.stderr))
     doc["seconds"] = round(time.monotonic() - start, 1)
     out = Path(args.out)

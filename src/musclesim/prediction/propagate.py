@@ -14,17 +14,18 @@ import math
 from collections.abc import Sequence
 
 import numpy as np
-from scipy import stats
 
 LEVEL = 0.90  # the intervals' level
-# two-sided normal quantile of LEVEL: the fit's part is +- Z standard deviations
-Z = float(stats.norm.ppf(0.5 + LEVEL / 2))
+# two-sided normal quantile of LEVEL: the fit's part is +- Z standard deviations. The quantiles
+# are written out, as scipy.stats gives them (a test checks them): importing scipy.stats here
+# would cost every `musclesim run` a second, since the run reads the shipped predictions
+Z = 1.6448536269514722  # scipy.stats.norm.ppf(0.5 + LEVEL / 2)
 # An alternative model is admitted to the spread when its chi-square on its data set is at most
 # this much above the reference model's (the same data set fitted with nothing opened): the
 # 90 % quantile of chi-square with one degree of freedom, what a likelihood-ratio test at 90 %
 # tolerates for one parameter. Each alternative opens one or more values on top of the
 # reference, so a proper fit can only lower its chi-square; one that ends far above it failed.
-ADMIT = float(stats.chi2.ppf(LEVEL, 1))
+ADMIT = 2.705543454095404  # scipy.stats.chi2.ppf(LEVEL, 1)
 # The fit's Jacobian is taken by central differences of this fraction of each value's bounds'
 # range: above the scale at which the relay's metrics step (a switching instant resolved to one
 # communication step; the fit's own forward differences, a thousandth of the range, measure that
