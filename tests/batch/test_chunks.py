@@ -1,6 +1,6 @@
 """Cases in chunks (musclesim.batch.cases): a chunk of cases runs in one compiled pass, each case
 with the bits and results.csv rows of its own run; a case that fails, or breaks the pass, keeps
-its error to itself; chunks come about two per worker within a bound on the values they hold."""
+its error to itself; chunks come about eight per worker within a bound on the values they hold."""
 import numpy as np
 
 from musclesim.batch import cases, chunks, run_case, run_chunk
@@ -54,12 +54,13 @@ def test_a_failing_case_or_one_that_breaks_the_pass_keeps_its_error_to_itself(
         _same(a, b)
 
 
-def test_chunks_come_about_two_per_worker_within_the_values_bound():
+def test_chunks_come_about_eight_per_worker_within_the_values_bound():
     short = load_scenario(IDEAL, (), 10.0)  # 10 001 rows: a few hundred thousand values a case
-    todo = [(f"c{k}", [f"inputs.f_f={k}"]) for k in range(25)]
+    todo = [(f"c{k}", [f"inputs.f_f={k}"]) for k in range(100)]
     parts = chunks(todo, short, 3)
     assert [c for part in parts for c in part] == todo  # every case once, in order
-    assert len(parts) == 5 and len(parts[0]) == 5  # ceil(25 / 6) = 5 cases a chunk
+    assert cases.PER_WORKER == 8
+    assert len(parts) == 20 and len(parts[0]) == 5  # ceil(100 / 24) = 5 cases a chunk
     assert chunks(todo[:1], short, 3) == [todo[:1]]
     per_case = (short.n_steps + 1) * (len(short.recorded()) + 1)
     assert max(map(len, chunks(todo * 100, short, 1))) == cases.CHUNK_VALUES // per_case

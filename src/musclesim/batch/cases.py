@@ -221,7 +221,7 @@ def _outcomes(todo: Sequence[tuple[str, Sequence[str]]], scenario: Scenario, fmu
     from distributed import as_completed
 
     if in_process(scheduler, workers):
-        for part in chunks(todo, scenario, 4):  # eight chunks or more: the progress bar moves
+        for part in chunks(todo, scenario, 1):
             yield [cid for cid, _ in part], run_chunk(scenario, fmu_dir, [o for _, o in part])
         return
     components = {i.component for i in scenario.instances.values()}
@@ -240,14 +240,16 @@ def _outcomes(todo: Sequence[tuple[str, Sequence[str]]], scenario: Scenario, fmu
 
 
 CHUNK_VALUES = 20_000_000  # recorded values a task's chunk of cases holds at most (160 MB)
+PER_WORKER = 8  # chunks per worker: results come back while the others run (measured best)
 
 
 def chunks(todo: Sequence[tuple[str, Sequence[str]]], scenario: Scenario, workers: int
            ) -> list[list[tuple[str, Sequence[str]]]]:
-    """The cases `todo` of `scenario` cut into chunks, a task each: about two chunks per worker
-    of `workers` (so that a slow one does not hold the others back), each holding at most
+    """The cases `todo` of `scenario` cut into chunks, a task each: about `PER_WORKER` chunks per
+    worker of `workers` (so that results come back, and are written, while the workers run the
+    next chunks, and a slow chunk does not hold the others back), each holding at most
     `CHUNK_VALUES` recorded values (rows x recorded signals: the case's results, and their rows
     as text, wait on the worker until sent)."""
     per_case = (scenario.n_steps + 1) * (len(scenario.recorded()) + 1)
-    size = max(1, min(-(-len(todo) // (2 * max(1, workers))), CHUNK_VALUES // per_case))
+    size = max(1, min(-(-len(todo) // (PER_WORKER * max(1, workers))), CHUNK_VALUES // per_case))
     return [list(todo[k:k + size]) for k in range(0, len(todo), size)]
