@@ -88,3 +88,16 @@ def two_blas_kernels():
     if "avx" in flags:
         return "Sandybridge", "Nehalem"
     pytest.skip("no two differing OpenBLAS kernels known to run on this CPU")
+
+
+@pytest.fixture
+def passes(monkeypatch):
+    """A list that records, for every many-cases call of the master (`musclesim.cosim.run_cases`),
+    whether its cases ran in one compiled pass (`Fused.batchable`)."""
+    from musclesim.cosim import fused
+
+    seen = []
+    batchable = fused.Fused.batchable
+    monkeypatch.setattr(fused.Fused, "batchable",
+                        staticmethod(lambda plans: seen.append(batchable(plans)) or seen[-1]))
+    return seen

@@ -4,7 +4,7 @@ its error to itself; chunks come about eight per worker within a bound on the va
 import numpy as np
 
 from musclesim.batch import cases, chunks, run_case, run_chunk
-from musclesim.cosim import csv_rows, fused, load_scenario
+from musclesim.cosim import csv_rows, load_scenario
 
 from conftest import SCENARIOS
 
@@ -23,11 +23,7 @@ def _same(a, b):
 
 
 def test_a_chunk_runs_in_one_pass_each_case_with_the_bits_and_rows_of_its_own_run(
-        fmu_dir, monkeypatch):
-    passes = []
-    batchable = fused.Fused.batchable
-    monkeypatch.setattr(fused.Fused, "batchable",
-                        staticmethod(lambda plans: passes.append(batchable(plans)) or passes[-1]))
+        fmu_dir, passes):
     s = load_scenario(IDEAL, (), 0.5)
     chunk = [["inputs.f_f=0.5"], ["inputs.f_f=1.0"], []]
     together = run_chunk(s, fmu_dir, chunk)

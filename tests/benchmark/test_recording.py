@@ -74,13 +74,7 @@ def test_a_hidden_multiplier_effect_changes_the_recording(fmu_dir, effect):
 
 
 def test_a_benchs_cases_recorded_in_one_pass_are_each_the_bits_of_its_own_recording(
-        fmu_dir, monkeypatch):
-    from musclesim.cosim import fused
-
-    passes = []
-    batchable = fused.Fused.batchable
-    monkeypatch.setattr(fused.Fused, "batchable",
-                        staticmethod(lambda plans: passes.append(batchable(plans)) or passes[-1]))
+        fmu_dir, passes):
     base = {"case": "c", "kind": "none", "bench": "multiplier", "effect": None, "values": {},
             "latency_samples": 1, "seed": 5}
     hidden = dict(base, case="d", kind="effect", effect="capstan friction", seed=6,
