@@ -24,7 +24,7 @@ from typing import Any
 from musclesim.batch.cluster import dask_client, in_process, ship_fmus
 from musclesim.batch.shipped import FmuFolder
 from musclesim.cosim import (Master, Results, Scenario, Signal, apply_overrides, clear_run_outputs,
-                             csv_rows, replace_file, signal_units)
+                             csv_rows, replace_file, reuse_fmus, signal_units)
 from musclesim.cosim import run_cases as run_together
 from musclesim.errors import UserError
 
@@ -89,7 +89,8 @@ def run_chunk(scenario: Scenario, fmu_dir: str | Path | FmuFolder,
     return [m if isinstance(m, Outcome) else _outcome(m, next(results)) for m in made]
 
 
-def _master(scenario: Scenario, fmu_dir: str | Path | FmuFolder, overrides: Iterable[str]) -> Master:
+def _master(scenario: Scenario, fmu_dir: str | Path | FmuFolder, overrides: Iterable[str]
+            ) -> Master:
     """The `Master` of `scenario` with `overrides` on the FMUs in `fmu_dir`."""
     problems: list[str] = []
     s = apply_overrides(scenario, overrides, problems)
@@ -221,8 +222,9 @@ def _outcomes(todo: Sequence[tuple[str, Sequence[str]]], scenario: Scenario, fmu
     from distributed import as_completed
 
     if in_process(scheduler, workers):
-        for part in chunks(todo, scenario, 1):
-            yield [cid for cid, _ in part], run_chunk(scenario, fmu_dir, [o for _, o in part])
+        with reuse_fmus():  # each FMU unpacked once, as a worker keeps it
+            for part in chunks(todo, scenario, 1):
+                yield [cid for cid, _ in part], run_chunk(scenario, fmu_dir, [o for _, o in part])
         return
     components = {i.component for i in scenario.instances.values()}
     with dask_client(scheduler, workers, len(todo)) as client:

@@ -89,8 +89,8 @@ def save_figure(fig: Any, path: str | Path, **options: Any) -> None:
 
 def envelope(t: np.ndarray, y: np.ndarray, bins: int) -> tuple[np.ndarray, np.ndarray]:
     """(`t`, `y`) reduced to the minimum and maximum of each of `bins` runs of samples (each at
-    its run's first time), so that a plot of millions of samples keeps every peak (and draws in a fraction of the
-    time: matplotlib's line and legend placement cost grows with the points)."""
+    its run's first time), so that a plot of millions of samples keeps every peak (and draws in a
+    fraction of the time: matplotlib's line and legend placement cost grows with the points)."""
     k = len(y) // bins
     if k < 2:
         return t, y
