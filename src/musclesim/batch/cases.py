@@ -176,8 +176,9 @@ def run_cases(out: str | Path, todo: Sequence[tuple[str, Sequence[str]]], scenar
               fmu_dir: str | Path, scheduler: str | None = None, workers: int | None = None,
               record: Callable[[str, dict[str, Any], Results | None], None] | None = None
               ) -> None:
-    """Run the cases `todo` of `scenario` on Dask (a LocalCluster unless `scheduler` is given),
-    writing each into out/cases/<id>/ in this process as it finishes.
+    """Run the cases `todo` of `scenario` on Dask (a LocalCluster unless `scheduler` is given;
+    in this process for one worker, `in_process`), writing each into out/cases/<id>/ in this
+    process as it finishes.
 
     The workers get the FMUs (`ship_fmus`) and the scenario once each, and send every case's
     results back: they need no access to this machine's files. Each task is a chunk of cases
