@@ -12,17 +12,13 @@ can tell when they are stale.
 """
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator
+from collections.abc import Iterable
 from typing import Any
 
-import concurrent.futures
-import contextlib
 import functools
 import hashlib
 import importlib
 import json
-import multiprocessing
-import os
 import shutil
 import tempfile
 from pathlib import Path
@@ -33,10 +29,8 @@ from pythonfmu3 import FmuBuilder as Fmu3Builder
 
 import musclesim
 import musclesim.fmu
-from musclesim.fmu import COMPILED
 from musclesim.components import CATALOGUE
 from musclesim.cosim import loader
-from musclesim.cosim.host import forget_fmu_resource_paths
 from musclesim.errors import UserError
 
 
@@ -131,41 +125,6 @@ def build_all(dest: str | Path = "fmus", names: Iterable[str] | None = None, fmi
     """
     if fmi not in (2, 3):
         raise UserError(f"FMI version {fmi!r}: musclesim builds FMI 2.0 or 3.0 FMUs (2 or 3)")
-    entries = {name: CATALOGUE[name] for name in names or CATALOGUE}  # "module:class" each
-    with_loader = loader.loader_unavailable(fmi) is None
-    if not COMPILED:
-        return _build(dest, entries, fmi, bool(names), with_loader)
-    # Writing a model description runs each slave's setup and outputs once (their start values):
-    # compiled, that would compile every component's cores, some 16 s of a first build, for
-    # components a run may never use. A child process builds them as plain Python instead, the
-    # same source and the same start values (`musclesim.fmu.compiled`); runs compile what they use.
-    forget_fmu_resource_paths()  # the child inherits sys.path: no FMU's copy of musclesim in it
-    context = multiprocessing.get_context("spawn")
-    with _environment(MUSCLESIM_COMPILE="0"), \
-            concurrent.futures.ProcessPoolExecutor(1, mp_context=context) as child:
-        return child.submit(_build, dest, entries, fmi, bool(names), with_loader).result()
-
-
-@contextlib.contextmanager
-def _environment(**values: str) -> Iterator[None]:
-    """`values` set in os.environ (what a process started within inherits), restored after."""
-    old = {k: os.environ.get(k) for k in values}
-    os.environ.update(values)
-    try:
-        yield
-    finally:
-        for k, v in old.items():
-            if v is None:
-                os.environ.pop(k, None)
-            else:
-                os.environ[k] = v
-
-
-def _build(dest: str | Path, entries: dict[str, str], fmi: int, partial: bool,
-           with_loader: bool) -> list[Any]:
-    """`build_all` in this process: the components of `entries` (name: "module:class"), `partial`
-    where they are not the whole catalogue, each with our loader in front of pythonfmu's binary
-    `with_loader`."""
     builder = FmuBuilder if fmi == 2 else Fmu3Builder
     dest = Path(dest)
     dest.mkdir(parents=True, exist_ok=True)
@@ -177,14 +136,15 @@ def _build(dest: str | Path, entries: dict[str, str], fmi: int, partial: bool,
             shutil.copy2(src, stage / rel)
         (stage / "musclesim" / "__init__.py").write_text('"""musclesim FMU runtime."""\n')
         shipped = [stage / "musclesim"]
-        binary = loader.compile_loader(Path(tmp), fmi=fmi) if with_loader else None
+        binary = None if loader.loader_unavailable(fmi) else \
+            loader.compile_loader(Path(tmp), fmi=fmi)
         if fmi == 3:  # the FMI 2.0 base the slaves derive from, as pythonfmu ships it in its FMUs
             (stage / "pythonfmu").mkdir()
             for src in Path(pythonfmu.__file__).parent.glob("*.py"):
                 shutil.copy2(src, stage / "pythonfmu" / src.name)
             shipped.append(stage / "pythonfmu")
-        for name, entry in entries.items():
-            module, cls = entry.split(":")
+        for name in names or CATALOGUE:
+            module, cls = CATALOGUE[name].split(":")
             _check_imports(name, module)
             # pythonfmu loads the deepest Fmi2Slave subclass of a one-class script: a stub per FMU
             # the script's module name, unique per FMI version: FMUs of both in one process
@@ -200,7 +160,7 @@ def _build(dest: str | Path, entries: dict[str, str], fmi: int, partial: bool,
                 loader.install(Path(fmu), binary, fmi)
             built.append(fmu)
     sources, fmus = source_digest(), dict[str, str]()
-    if partial:  # a partial build keeps the digests of the FMUs built before from the same sources
+    if names:  # a partial build keeps the digests of the FMUs built before from the same sources
         old = _stamp(dest)
         fmus = old.get("fmus", {}) if old.get("sources") == sources else {}
     fmus.update({Path(b).name: _file_digest(b) for b in built})
