@@ -144,3 +144,21 @@ def test_one_worker_and_no_scheduler_work_in_this_process_else_on_a_cluster(monk
         assert pmap(abs, [-1, 2]) == [1, 2] and pmap is not serial_map
     assert started == [(None, 2)]
 
+
+
+def test_asyncios_unretrieved_task_errors_are_dropped_while_a_signal_stops_the_command():
+    import logging
+    import signal
+
+    from musclesim.cosim import interrupt
+
+    def record(text):
+        return logging.LogRecord("asyncio", logging.ERROR, __file__, 1, text, None, None)
+    noise = record("Task exception was never retrieved\nfuture: <Task finished ...>")
+    other = record("something else went wrong")
+    assert cluster._NOISE.filter(noise) and cluster._NOISE.filter(other)  # no signal: all shown
+    interrupt.STATE["signum"] = signal.SIGINT
+    try:
+        assert not cluster._NOISE.filter(noise) and cluster._NOISE.filter(other)
+    finally:
+        interrupt.STATE["signum"] = None

@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from musclesim.batch.shipped import FOLDERS, FmuFolder, folder_files
+from musclesim.cosim import interrupt_requested
 from musclesim.errors import UserError
 
 
@@ -31,6 +32,19 @@ from musclesim.errors import UserError
 QUIET = {"distributed.worker.profile.enabled": False,
          "distributed.admin.system-monitor.interval": "5s",
          "distributed.admin.tick.interval": "500ms"}
+
+
+class _StoppingNoise(logging.Filter):
+    """Drops asyncio's "Task exception was never retrieved" while a signal stops the command: a
+    local cluster's scheduler (in this process) leaves one when the stopping client releases the
+    keys of a scatter it is still replicating. The command's one line says what happened."""
+
+    def filter(self, record: logging.LogRecord) -> bool:
+        return interrupt_requested() is None or not record.getMessage().startswith(
+            "Task exception was never retrieved")
+
+
+_NOISE = _StoppingNoise()
 
 
 @contextlib.contextmanager
@@ -52,6 +66,7 @@ def dask_client(scheduler: str | None = None, workers: int | None = None,
     from musclesim.cosim import forget_fmu_resource_paths
 
     forget_fmu_resource_paths()  # workers inherit sys.path: no FMU's copy of musclesim in it
+    logging.getLogger("asyncio").addFilter(_NOISE)  # once: a filter is added only once
     cluster = None
     try:
         if scheduler is None:

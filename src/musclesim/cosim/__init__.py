@@ -27,6 +27,7 @@ from musclesim.cosim.build import build_all, check_fresh, source_digest
 from musclesim.cosim.graph import Graph, Link
 from musclesim.cosim.host import forget_fmu_resource_paths, read_fmu, reuse_fmus
 from musclesim.cosim.interrupt import Interrupted, interruptible
+from musclesim.cosim.interrupt import requested as interrupt_requested
 from musclesim.cosim.loader import compile_loader, loader_unavailable
 from musclesim.cosim.cases import run_cases
 from musclesim.cosim.master import Master, signal_units
@@ -52,6 +53,6 @@ __all__ = ["Signal", "ParamRef", "with_values",
            "format_problem", "renamed_signals", "Graph", "Link",
            "Master", "Results", "KINDS", "run_scenario", "run_cases",
            "compute_metrics", "metric_unit", "signal_units", "write_results", "csv_rows",
-           "clear_run_outputs", "read_time_series", "Interrupted", "interruptible",
+           "clear_run_outputs", "read_time_series", "Interrupted", "interruptible", "interrupt_requested",
            "check_output_dir", "check_output_file", "check_archive", "replace_file", "replace_zip",
            "save_figure", "envelope"]
