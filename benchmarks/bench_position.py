@@ -9,12 +9,16 @@ timed as a whole in this process -> real-time factors (simulated time / wall tim
 faster than real time) and their ratio. Then the same on the direct host with the reference chain
 (the two profiles and the Preisach inverse) stepping every `--every` points (multi-rate,
 docs/user/scenarios.md): its real-time factor and how far the wire's strain moves from the
-single-rate run (a choice a user makes, not the study's scenario). Then a profiled run of the
+single-rate run (a choice a user makes, not the study's scenario). Then the monolithic model of the
+same equations, compiled (components/sma/monolithic.py: the limit), from the scenario's state after
+initialization (its loading and initialization untimed, ours timed whole), its rows checked equal
+to ours bit for bit. Then a profiled run of the
 direct host: the time spent in each component's `advance` and `evaluate`, and in the master's
 loop around them, stepped per call (the profiler's overhead inflates all of them; the split is
 what it is for). Every run is timed after an untimed one of the same scenario (the compiled code
-loaded, the hysteresis tables read once per process). Goal: at least 50x faster than real time,
-stepping every point. Run it on a quiet machine; nothing here is part of the test suite.
+loaded, the hysteresis tables read once per process). Goals (issue 56): at least 50x faster than
+real time, stepping every point; ours (the direct host) within 2x the monolithic model's time.
+Run it on a quiet machine; nothing here is part of the test suite.
 """
 import argparse
 import cProfile
@@ -26,10 +30,12 @@ from pathlib import Path
 
 import numpy as np
 
+from musclesim.components.sma.monolithic import INSTANCES, RECORD, simulate_position
 from musclesim.cosim import Master, Signal, check_fresh, load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
 GOAL = 50.0  # real-time factor (issue 56: stepping every point, no multi-rate)
+GOAL_VS_COMPILED = 2.0  # ours (direct host) at most this many times the monolithic model's time
 SLOW = ("strain", "loading", "inverse")  # the reference chain: profiles and the inverse
 
 STRAIN = Signal("wire", "strain")  # the signal the runs are compared on
@@ -43,6 +49,26 @@ def timed_run(s, fmu_dir, host):
     if res.error:
         raise SystemExit(f"the run failed: {res.error}")
     return wall, res
+
+
+def timed_monolithic(s, fmu_dir):
+    """(wall seconds of the monolithic model's run, whether its rows are ours bit for bit),
+    started from the state our run of `s` reached at initialization."""
+    m = Master(s, fmu_dir)
+    with m.session(None) as run:
+        slaves = {name: inst.slave.slave for name, inst in m.instances.items()}
+        parts = {name: (slaves[name].kp.copy(), slaves[name].kx.copy()) for name in INSTANCES}
+        T_amb = slaves["wire"].T_amb
+        run.error = m.steps(run)
+    res = run.results
+    if res is None or res.error:
+        raise SystemExit(f"the run failed: {res.error if res else 'no results'}")
+    t0 = time.perf_counter()
+    times, rows = simulate_position(parts, T_amb, s.step, s.n_steps)
+    wall = time.perf_counter() - t0
+    same = np.array_equal(times, res.time) and all(
+        np.array_equal(rows[:, j], res[Signal.parse(name)]) for j, name in enumerate(RECORD))
+    return wall, same
 
 
 def multirate(s, every):
@@ -75,6 +101,8 @@ def main():
     s = load_scenario(ROOT / "scenarios" / "sma-position-control.toml", stop_time=args.stop_time)
     timed_run(s, args.fmus, "direct")  # compiled, or loaded from the cache, before timing
     timed_run(multirate(s, args.every), args.fmus, "direct")
+    timed_monolithic(s, args.fmus)  # compiled, or loaded from the cache
+    wall_mono, same = timed_monolithic(s, args.fmus)
     runs = {host: timed_run(s, args.fmus, host) for host in ("direct", "fmpy")}
     wall_m, res_m = timed_run(multirate(s, args.every), args.fmus, "direct")
     walls = {host: wall for host, (wall, _) in runs.items()}
@@ -83,6 +111,8 @@ def main():
     spent = split(s, args.fmus)
     report = {"simulated_s": s.stop_time, "steps": s.n_steps, "wall_s": walls,
               "real_time_factor": rtf, "fmpy_over_direct": walls["fmpy"] / walls["direct"],
+              "monolithic_compiled_s": wall_mono, "monolithic_bits_equal": same,
+              "ours_over_monolithic_compiled": walls["direct"] / wall_mono,
               "us_per_step": {h: 1e6 * w / s.n_steps for h, w in walls.items()},
               "multirate": {"every": args.every, "instances": SLOW, "wall_s": wall_m,
                             "real_time_factor": s.stop_time / wall_m,
@@ -96,6 +126,10 @@ def main():
               f"({report['us_per_step'][host]:.1f} us per communication step)")
     print(f"  fmpy / direct: {report['fmpy_over_direct']:.2f}; goal >= {GOAL:g}x real time: "
           f"{'met' if rtf['direct'] >= GOAL else 'MISSED'}")
+    ratio = report["ours_over_monolithic_compiled"]
+    print(f"  monolithic compiled: {wall_mono:.2f} s (its rows ours bit for bit: {same}); ours "
+          f"{ratio:.2f}x its time (goal <= {GOAL_VS_COMPILED:g}x: "
+          f"{'met' if ratio <= GOAL_VS_COMPILED else 'MISSED'})")
     m = report["multirate"]
     print(f"  direct, {', '.join(SLOW)} every {m['every']} points: {m['wall_s']:.1f} s, real-time "
           f"factor {m['real_time_factor']:.2f}; wire strain moves by at most "
