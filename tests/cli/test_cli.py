@@ -148,6 +148,35 @@ def test_build_command_writes_every_fmu(tmp_path, capsys):
     assert (tmp_path / "BUILD.json").is_file() and "built" in out
 
 
+def test_the_build_command_runs_the_cores_as_plain_python_and_writes_the_same_fmus(fmu_dir,
+                                                                                   tmp_path):
+    """`musclesim build` in a process of its own compiles nothing, and every model description
+    it writes (the start values come from running each slave's setup and outputs) is that of the
+    session's build, whose cores ran compiled."""
+    import os
+    import re
+    import subprocess
+    import sys
+    import zipfile
+
+    script = ("import sys; from musclesim import cli; code = cli.main(sys.argv[1:]); "
+              "from musclesim.fmu import COMPILED; print('compiled:', COMPILED); sys.exit(code)")
+    env = {k: v for k, v in os.environ.items() if k != "MUSCLESIM_COMPILE"}
+    done = subprocess.run([sys.executable, "-c", script, "build", "--fmus", str(tmp_path)],
+                          env=env, capture_output=True, text=True, timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.splitlines()[-1] == "compiled: False"
+
+    def description(fmu):
+        with zipfile.ZipFile(fmu) as zf:
+            text = zf.read("modelDescription.xml").decode()
+        return re.sub(r'(generationDateAndTime|guid)="[^"]*"', "", text)
+    built = sorted(tmp_path.glob("*.fmu"))
+    assert [f.name for f in built] == sorted(f.name for f in fmu_dir.glob("*.fmu"))
+    for fmu in built:
+        assert description(fmu) == description(fmu_dir / fmu.name), fmu.name
+
+
 def test_parameters_file_is_read_and_inline_values_win(fmu_dir, tmp_path, capsys):
     (tmp_path / "body.toml").write_text("m1 = 0.3\nk = 150.0\n")
     path = ideal_with(tmp_path,

@@ -14,6 +14,7 @@ exits with status 1 after writing the results it reached.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 from musclesim.cli import analysis, benchmark, diagnosis, hysteresis, prediction, scenarios
@@ -76,6 +77,13 @@ def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     if args.command == "build" and args.fmus is None:  # each FMI version its own folder
         args.fmus = "fmus" if args.fmi == 2 else "fmus3"
+    if args.command == "build" and "musclesim.fmu.compiled" not in sys.modules:
+        # Writing a model description runs each slave's setup and outputs once (their start
+        # values): compiled, that compiles every component's cores, some 17 s on a fresh
+        # machine, for components a run may never use. This process, which has not imported the
+        # cores yet, runs them as plain Python: the same start values (tests/cli/test_cli.py);
+        # each run compiles what it uses. A process that imported them keeps its mode.
+        os.environ.setdefault("MUSCLESIM_COMPILE", "0")
     if getattr(args, "cases", None) == 0 and not args.crawler:  # benchmark-diagnosis
         args.subparser.error("argument --cases: 0 must be at least 1 (0 only with --crawler)")
     try:
