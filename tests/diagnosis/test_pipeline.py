@@ -142,6 +142,37 @@ held_out = ["second"]
     assert report["parts"] == {"train": ["first"], "held_out": ["second"]}
 
 
+def test_a_data_sets_declared_open_values_are_the_diagnosis_s_calibration(fmu_dir, tmp_path):
+    """A scalar-only set that declares an open value ([[calibrate]]: the thermocouple's bias,
+    which `musclesim calibrate` fits) is diagnosed with it as the model's calibration, not the
+    components' own: fitted on the training experiment to the bias hidden in both, it closes the
+    held-out gap, so calibration alone explains the data."""
+    text = (SCENARIOS / "sma-bench-stress.toml").read_text().replace(
+        "stop_time = 60.0", "stop_time = 3.0").replace("from = 10.0", "from = 0.5")
+    text = text.replace("[metrics]\n", '[metrics]\nT_max = { signal = "thermocouple.T_meas", '
+                        'op = "max" }\n')
+    measured = {}
+    for name, amplitude in (("low", 0.4), ("high", 0.5)):
+        path = tmp_path / f"bench-{name}.toml"
+        path.write_text(text.replace("amplitude = 0.5,", f"amplitude = {amplitude},"))
+        s = load_scenario(path, ["thermocouple.bias=3.0"])
+        measured[name] = compute_metrics(Master(s, fmu_dir).run(), s.metrics)
+    d = tmp_path / "metrics"
+    d.mkdir()
+    (d / "manifest.toml").write_text("".join(
+        f'[experiments.{n}]\nscenario = "../bench-{n}.toml"\n'
+        f'metrics.T_max = {{ value = {m["T_max"]!r}, unit = "K", uncertainty = 0.2 }}\n'
+        for n, m in measured.items()) + '[split]\nheld_out = ["high"]\n'
+        '[[calibrate]]\nset = ["thermocouple.bias"]\nbounds = [-5.0, 5.0]\n'
+        'why = "the thermocouple\'s offset"\n')
+    report = diagnose(dataset.load(d), fmu_dir).to_json()
+    cal = report["calibration"]
+    assert list(cal["parameters"]) == ["thermocouple.bias"]
+    assert cal["parameters"]["thermocouple.bias"]["value"] == pytest.approx(3.0, abs=0.05)
+    assert cal["heldout_gap_before"] > 10 * cal["heldout_gap_after"]
+    assert report["verdict"] == "recalibration"
+
+
 def test_scalar_only_data_are_diagnosed_from_metrics(fmu_dir, tmp_path):
     """Metrics only (like the real crawler's speeds): two short experiments of the stress bench
     at two drive levels, the thermocouple reading 3 K high; one experiment trains, one is held

@@ -74,6 +74,7 @@ from musclesim.diagnosis.regimes import regime_table, regimes
 from musclesim.diagnosis.sections import (CalibrationSection, GapSection, IsolationSection,
                                           Report, ShrinkageSection, VerdictSection)
 from musclesim.diagnosis.judging import NO_GAP
+from musclesim.diagnosis.openvalues import open_values
 from musclesim.diagnosis.parameters import calibration, calibration_table, scanned
 from musclesim.diagnosis.simulate import residuals, signal_gap, simulate
 from musclesim.diagnosis.stages import Calibration, FitUnit, Isolation, Nominal, Residuals
@@ -214,13 +215,18 @@ def _nominal_runs(problem, whole, cut, pmap):
 
 def _calibrate(problem, cut, units, pmap):
     """Section 2: the calibration parameters of the model with every measured signal replayed
-    (`cut`: that unit and its nominal residuals) and, separately, of every isolation unit
+    (`cut`: that unit and its nominal residuals; the data set's open values where it declares
+    them) and, separately, of every isolation unit
     (`Nominal` each) fitted on the training part from the nominal values (one mapped task
     each): a unit is judged on its own calibration, so that calibrating the whole model around
     a sensor's fault cannot make the plant's unit deviate. Return the model's `Calibration`
     and an `Isolation` per unit."""
     cut, res_cut = cut
-    jobs = [(u, calibration(problem, u)) for u in [cut] + [n.unit for n in units]]
+    # the open values a data set declares ([[calibrate]]) are its model's calibration, as
+    # `musclesim calibrate` fits them; an isolation unit takes its components' own
+    declared = open_values(problem) if problem.ds.calibrate else None
+    jobs = [(cut, declared if declared is not None else calibration(problem, cut))]
+    jobs += [(n.unit, calibration(problem, n.unit)) for n in units]
     # a unit that is the whole model again (the same instances, signals and replays) is
     # calibrated once
     same = [i for i, (u, _) in enumerate(jobs) if i and _same(u, cut)]
