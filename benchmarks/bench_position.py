@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from musclesim.components.sma.monolithic import INSTANCES, RECORD, simulate_position
+from musclesim.components.sma.monolithic import RECORD, simulate_position
 from musclesim.cosim import Master, Signal, check_fresh, load_scenario
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -56,15 +56,13 @@ def timed_monolithic(s, fmu_dir):
     started from the state our run of `s` reached at initialization."""
     m = Master(s, fmu_dir)
     with m.session(None) as run:
-        slaves = {name: inst.slave.slave for name, inst in m.instances.items()}
-        parts = {name: (slaves[name].kp.copy(), slaves[name].kx.copy()) for name in INSTANCES}
-        T_amb = slaves["wire"].T_amb
+        parts = m.kernels()
         run.error = m.steps(run)
     res = run.results
     if res is None or res.error:
         raise SystemExit(f"the run failed: {res.error if res else 'no results'}")
     t0 = time.perf_counter()
-    times, rows = simulate_position(parts, T_amb, s.step, s.n_steps)
+    times, rows = simulate_position(parts, s.step, s.n_steps)
     wall = time.perf_counter() - t0
     same = np.array_equal(times, res.time) and all(
         np.array_equal(rows[:, j], res[Signal.parse(name)]) for j, name in enumerate(RECORD))

@@ -16,8 +16,8 @@ temperature reference taken by one committing `inversekernel.step` per point ins
 electromagnet's input is.
 
 The model starts from the components' kernel arrays as their slaves left them after
-initialization (`parts`), so that it and the co-simulation start from one state; it copies
-them. Time is counted as the master counts its points, t = k h.
+initialization (`parts`: `musclesim.cosim.Master.kernels`), so that it and the co-simulation start
+from one state; it copies them. Time is counted as the master counts its points, t = k h.
 """
 from __future__ import annotations
 
@@ -43,18 +43,18 @@ RECORD = ("strain.eps_ref", "laser.s_meas", "wire.strain", "loading.sigma_ref", 
           "inverse.T_ref", "thermocouple.T_meas", "tpid.y", "spid.y", "loadcell.f_meas")
 
 
-def simulate_position(parts: Mapping[str, tuple[np.ndarray, np.ndarray]], T_amb: float,
-                      step: float, n: int) -> tuple[np.ndarray, np.ndarray]:
+def simulate_position(parts: Mapping[str, tuple[np.ndarray, ...]], step: float,
+                      n: int) -> tuple[np.ndarray, np.ndarray]:
     """Simulate §position-control for `n` steps of `step` [s] and return (time, rows): the
     `RECORD` signals at the n + 1 points.
 
     Parameters
     ----------
     parts
-        Per instance of `INSTANCES`, its kernel's (parameters, state) after initialization
-        (``kp``, ``kx`` of its slave); copied, not changed.
-    T_amb : float
-        The wire's ambient temperature [K] (its unconnected input).
+        Per instance of `INSTANCES`, its kernel's parameters, state and inputs after
+        initialization (``kp``, ``kx`` and `Kernel.inputs` of its slave, as
+        `musclesim.cosim.Master.kernels` gives them); copied, not changed. Of the inputs only the
+        wire's ambient temperature is read: it is the one no other component sets.
     step : float
         The communication step [s] (the scenario's 0.4 ms).
     n : int
@@ -62,6 +62,7 @@ def simulate_position(parts: Mapping[str, tuple[np.ndarray, np.ndarray]], T_amb:
     """
     p = [np.asarray(parts[name][0], dtype=float) for name in INSTANCES]
     x = [np.array(parts[name][1], dtype=float) for name in INSTANCES]
+    T_amb = float(parts["wire"][2][wirekernel.INPUTS.index("T_amb")])
     times, rows = np.empty(n + 1), np.empty((n + 1, len(RECORD)))
     _simulate(*p, *x, T_amb, step, n, times, rows)
     return times, rows

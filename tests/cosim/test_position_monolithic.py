@@ -13,17 +13,16 @@ POSITION = SCENARIOS / "sma-position-control.toml"
 
 
 def cosim_and_start(fmu_dir, overrides=(), stop_time=3.0):
-    """(results of the co-simulated run, each instance's (kp, kx) after initialization, the
-    wire's ambient temperature [K], the scenario)."""
+    """(results of the co-simulated run, each instance's kernel arrays after initialization,
+    the scenario)."""
     s = scenario.load(POSITION, overrides, stop_time)
     m = Master(s, fmu_dir)
     with m.session(None) as run:
-        slaves = {name: inst.slave.slave for name, inst in m.instances.items()}
-        parts = {name: (slaves[name].kp.copy(), slaves[name].kx.copy()) for name in INSTANCES}
-        T_amb = slaves["wire"].T_amb
+        parts = m.kernels()
         run.error = m.steps(run)
     assert run.results is not None and run.results.error is None and m.fused
-    return run.results, parts, T_amb, s
+    assert sorted(parts) == sorted(INSTANCES)
+    return run.results, parts, s
 
 
 @pytest.mark.parametrize("overrides", [
@@ -31,9 +30,9 @@ def cosim_and_start(fmu_dir, overrides=(), stop_time=3.0):
          "thermocouple.tau=0.05", "loadcell.noise_std=0.01")],
     ids=["SP-I-LP-I", "SP-II-LP-III-stress-ignored-lag-noise"])
 def test_the_cosimulation_gives_the_monolithic_models_bits(fmu_dir, overrides):
-    res, parts, T_amb, s = cosim_and_start(fmu_dir, overrides)
-    held = {name: (p.copy(), x.copy()) for name, (p, x) in parts.items()}
-    times, rows = simulate_position(parts, T_amb, s.step, s.n_steps)
+    res, parts, s = cosim_and_start(fmu_dir, overrides)
+    held = {name: tuple(a.copy() for a in arrays) for name, arrays in parts.items()}
+    times, rows = simulate_position(parts, s.step, s.n_steps)
     np.testing.assert_array_equal(times, res.time)
     for j, name in enumerate(RECORD):
         np.testing.assert_array_equal(rows[:, j], res[Signal.parse(name)], err_msg=name)

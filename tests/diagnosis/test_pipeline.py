@@ -142,21 +142,29 @@ held_out = ["second"]
     assert report["parts"] == {"train": ["first"], "held_out": ["second"]}
 
 
-def test_a_data_sets_declared_open_values_are_the_diagnosis_s_calibration(fmu_dir, tmp_path):
-    """A scalar-only set that declares an open value ([[calibrate]]: the thermocouple's bias,
-    which `musclesim calibrate` fits) is diagnosed with it as the model's calibration, not the
-    components' own: fitted on the training experiment to the bias hidden in both, it closes the
-    held-out gap, so calibration alone explains the data."""
+def biased_stress_bench(fmu_dir, folder):
+    """{"low": metrics, "high": metrics} of two short runs of the stress bench at two drive
+    levels (scenarios bench-low.toml, bench-high.toml written in `folder`, with the
+    thermocouple's peak `T_max` as a metric), the thermocouple reading 3 K high."""
     text = (SCENARIOS / "sma-bench-stress.toml").read_text().replace(
         "stop_time = 60.0", "stop_time = 3.0").replace("from = 10.0", "from = 0.5")
     text = text.replace("[metrics]\n", '[metrics]\nT_max = { signal = "thermocouple.T_meas", '
                         'op = "max" }\n')
     measured = {}
     for name, amplitude in (("low", 0.4), ("high", 0.5)):
-        path = tmp_path / f"bench-{name}.toml"
+        path = folder / f"bench-{name}.toml"
         path.write_text(text.replace("amplitude = 0.5,", f"amplitude = {amplitude},"))
         s = load_scenario(path, ["thermocouple.bias=3.0"])
         measured[name] = compute_metrics(Master(s, fmu_dir).run(), s.metrics)
+    return measured
+
+
+def test_a_data_sets_declared_open_values_are_the_diagnosis_s_calibration(fmu_dir, tmp_path):
+    """A scalar-only set that declares an open value ([[calibrate]]: the thermocouple's bias,
+    which `musclesim calibrate` fits) is diagnosed with it as the model's calibration, not the
+    components' own: fitted on the training experiment to the bias hidden in both, it closes the
+    held-out gap, so calibration alone explains the data."""
+    measured = biased_stress_bench(fmu_dir, tmp_path)
     d = tmp_path / "metrics"
     d.mkdir()
     (d / "manifest.toml").write_text("".join(
@@ -177,17 +185,7 @@ def test_scalar_only_data_are_diagnosed_from_metrics(fmu_dir, tmp_path):
     """Metrics only (like the real crawler's speeds): two short experiments of the stress bench
     at two drive levels, the thermocouple reading 3 K high; one experiment trains, one is held
     out."""
-    text = (SCENARIOS / "sma-bench-stress.toml").read_text().replace(
-        "stop_time = 60.0", "stop_time = 3.0").replace("from = 10.0", "from = 0.5")
-    text = text.replace("[metrics]\n", '[metrics]\nT_max = { signal = "thermocouple.T_meas", '
-                        'op = "max" }\n')
-    measured = {}
-    for name, amplitude in (("low", 0.4), ("high", 0.5)):
-        path = tmp_path / f"bench-{name}.toml"
-        path.write_text(text.replace("amplitude = 0.5,", f"amplitude = {amplitude},"))
-        s = load_scenario(path, ["thermocouple.bias=3.0"])
-        res = Master(s, fmu_dir).run()
-        measured[name] = compute_metrics(res, s.metrics)
+    measured = biased_stress_bench(fmu_dir, tmp_path)
     d = tmp_path / "metrics"
     d.mkdir()
     (d / "manifest.toml").write_text("".join(

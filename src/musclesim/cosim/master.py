@@ -62,6 +62,7 @@ from musclesim.cosim.results import Results
 from musclesim.cosim.scenario import Scenario
 from musclesim.cosim.wiring import Loaded
 from musclesim.errors import UserError
+from musclesim.fmu import KernelSlave
 
 __all__ = ["Master", "Run", "Results", "signal_units", "HOSTS", "MAX_VALUES", "FLUSH_SECONDS"]
 
@@ -314,6 +315,15 @@ class Master:
                               run.data[:self.row].copy(), run.error, warnings)
         if stopped is not None:
             raise interrupt.Interrupted(stopped, run.results)
+
+    def kernels(self) -> dict[str, tuple[np.ndarray, np.ndarray, np.ndarray]]:
+        """Copies of the parameters, state and inputs (``kp``, ``kx``, `Kernel.inputs` as set)
+        of each loaded instance whose slave is a compiled kernel (`musclesim.fmu.KernelSlave`)
+        on the direct host, as they are now: within a `session`, after initialization, what a
+        model stepping the same kernels by hand starts from."""
+        slaves = {name: getattr(inst.slave, "slave", None) for name, inst in self.instances.items()}
+        return {name: (s.kp.copy(), s.kx.copy(), np.array(s.kernel_inputs(), dtype=float))
+                for name, s in slaves.items() if isinstance(s, KernelSlave)}
 
     def _flush(self, time: np.ndarray, data: np.ndarray) -> None:
         """Hand the rows recorded since the last call to `on_rows`."""
