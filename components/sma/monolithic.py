@@ -64,16 +64,17 @@ def simulate_position(parts: Mapping[str, tuple[np.ndarray, ...]], step: float,
     x = [np.array(parts[name][1], dtype=float) for name in INSTANCES]
     T_amb = float(parts["wire"][2][wirekernel.INPUTS.index("T_amb")])
     times, rows = np.empty(n + 1), np.empty((n + 1, len(RECORD)))
-    _simulate(*p, *x, T_amb, step, n, times, rows)
+    _simulate(tuple(p), tuple(x), T_amb, step, n, times, rows)
     return times, rows
 
 
 @jit
-def _simulate(p_s, p_l, p_i, p_t, p_tc, p_w, p_f, p_m, p_lc, p_ls,
-              x_s, x_l, x_i, x_t, x_tc, x_w, x_f, x_m, x_lc, x_ls,
-              T_amb, h, n, times, rows):
-    """`simulate_position` on each instance's parameters ``p_*`` and state ``x_*`` (`INSTANCES`'
-    order: strain, loading, inverse, tpid, thermocouple, wire, spid, magnet, loadcell, laser)."""
+def _simulate(p, x, T_amb, h, n, times, rows):
+    """`simulate_position` on the instances' parameters `p` and states `x` (tuples in
+    `INSTANCES`' order: strain, loading, inverse, tpid, thermocouple, wire, spid, magnet,
+    loadcell, laser)."""
+    p_s, p_l, p_i, p_t, p_tc, p_w, p_f, p_m, p_lc, p_ls = p
+    x_s, x_l, x_i, x_t, x_tc, x_w, x_f, x_m, x_lc, x_ls = x
     ys, yl, yw, ym = np.empty(1), np.empty(2), np.empty(7), np.empty(2)
     yt, yf, y1 = np.empty(2), np.empty(2), np.empty(1)
     ut, uf, u1, uw, um = np.empty(2), np.empty(2), np.empty(1), np.empty(3), np.empty(2)
