@@ -181,6 +181,23 @@ def test_a_data_sets_declared_open_values_are_the_diagnosis_s_calibration(fmu_di
     assert report["verdict"] == "recalibration"
 
 
+def test_declared_open_values_calibrate_a_time_series_set_and_its_whole_model_units(fmu_dir,
+                                                                                   tmp_path):
+    """A time-series set that declares an open value (the wire's convection) is calibrated on it
+    alone, and an isolation unit that is the whole model again takes the same calibration (it
+    once took its components' own values with the declared value's fit: a KeyError)."""
+    import shutil
+
+    d = tmp_path / "lag"
+    shutil.copytree(SCENARIOS / "data" / "sma-independent-thermocouple-lag", d)
+    with open(d / "manifest.toml", "a") as f:
+        f.write('\n[[calibrate]]\nset = ["wire.h"]\nbounds = [50.0, 200.0]\n'
+                'why = "the convection of the bench\'s air"\n')
+    report = diagnose(dataset.load(d), fmu_dir).to_json()
+    assert list(report["calibration"]["parameters"]) == ["wire.h"]
+    assert report["verdict"] == "thermocouple lag"
+
+
 def test_scalar_only_data_are_diagnosed_from_metrics(fmu_dir, tmp_path):
     """Metrics only (like the real crawler's speeds): two short experiments of the stress bench
     at two drive levels, the thermocouple reading 3 K high; one experiment trains, one is held

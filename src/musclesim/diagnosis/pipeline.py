@@ -223,10 +223,11 @@ def _calibrate(problem, cut, units, pmap):
     and an `Isolation` per unit."""
     cut, res_cut = cut
     # the open values a data set declares ([[calibrate]]) are its model's calibration, as
-    # `musclesim calibrate` fits them; an isolation unit takes its components' own
+    # `musclesim calibrate` fits them (and so of a unit that is the model again); any other
+    # isolation unit takes its components' own
     declared = open_values(problem) if problem.ds.calibrate else None
-    jobs = [(cut, declared if declared is not None else calibration(problem, cut))]
-    jobs += [(n.unit, calibration(problem, n.unit)) for n in units]
+    jobs = [(u, declared if declared is not None and (u is cut or _same(u, cut))
+             else calibration(problem, u)) for u in [cut] + [n.unit for n in units]]
     # a unit that is the whole model again (the same instances, signals and replays) is
     # calibrated once
     same = [i for i, (u, _) in enumerate(jobs) if i and _same(u, cut)]
