@@ -159,20 +159,29 @@ def biased_stress_bench(fmu_dir, folder):
     return measured
 
 
+def metrics_set(folder, measured, strain=False, tail=""):
+    """The scalar-only data set folder/metrics of the `measured` runs (`biased_stress_bench`):
+    each run's T_max (0.2 K) and, with `strain`, its strain peak-to-peak (2e-4), the "high" run
+    held out; `tail` (TOML) appended to its manifest."""
+    d = folder / "metrics"
+    d.mkdir()
+    (d / "manifest.toml").write_text("".join(
+        f'[experiments.{n}]\nscenario = "../bench-{n}.toml"\n'
+        f'metrics.T_max = {{ value = {m["T_max"]!r}, unit = "K", uncertainty = 0.2 }}\n'
+        + (f'metrics.strain_peak_to_peak = {{ value = {m["strain_peak_to_peak"]!r}, '
+           f'uncertainty = 2e-4 }}\n' if strain else "")
+        for n, m in measured.items()) + '[split]\nheld_out = ["high"]\n' + tail)
+    return d
+
+
 def test_a_data_sets_declared_open_values_are_the_diagnosis_s_calibration(fmu_dir, tmp_path):
     """A scalar-only set that declares an open value ([[calibrate]]: the thermocouple's bias,
     which `musclesim calibrate` fits) is diagnosed with it as the model's calibration, not the
     components' own: fitted on the training experiment to the bias hidden in both, it closes the
     held-out gap, so calibration alone explains the data."""
     measured = biased_stress_bench(fmu_dir, tmp_path)
-    d = tmp_path / "metrics"
-    d.mkdir()
-    (d / "manifest.toml").write_text("".join(
-        f'[experiments.{n}]\nscenario = "../bench-{n}.toml"\n'
-        f'metrics.T_max = {{ value = {m["T_max"]!r}, unit = "K", uncertainty = 0.2 }}\n'
-        for n, m in measured.items()) + '[split]\nheld_out = ["high"]\n'
-        '[[calibrate]]\nset = ["thermocouple.bias"]\nbounds = [-5.0, 5.0]\n'
-        'why = "the thermocouple\'s offset"\n')
+    d = metrics_set(tmp_path, measured, tail='[[calibrate]]\nset = ["thermocouple.bias"]\n'
+                    'bounds = [-5.0, 5.0]\nwhy = "the thermocouple\'s offset"\n')
     report = diagnose(dataset.load(d), fmu_dir).to_json()
     cal = report["calibration"]
     assert list(cal["parameters"]) == ["thermocouple.bias"]
@@ -203,13 +212,7 @@ def test_scalar_only_data_are_diagnosed_from_metrics(fmu_dir, tmp_path):
     at two drive levels, the thermocouple reading 3 K high; one experiment trains, one is held
     out."""
     measured = biased_stress_bench(fmu_dir, tmp_path)
-    d = tmp_path / "metrics"
-    d.mkdir()
-    (d / "manifest.toml").write_text("".join(
-        f'[experiments.{n}]\nscenario = "../bench-{n}.toml"\n'
-        f'metrics.T_max = {{ value = {m["T_max"]!r}, unit = "K", uncertainty = 0.2 }}\n'
-        f'metrics.strain_peak_to_peak = {{ value = {m["strain_peak_to_peak"]!r}, '
-        f'uncertainty = 2e-4 }}\n' for n, m in measured.items()) + '[split]\nheld_out = ["high"]\n')
+    d = metrics_set(tmp_path, measured, strain=True)
     report = diagnose(dataset.load(d), fmu_dir).to_json()
     assert report["scalar_only"] and report["units"] == []
     assert report["gap"]["signals"]["T_max"]["relative_error"][0] == pytest.approx(
